@@ -1,0 +1,1 @@
+"""Speed benchmarks (``stripebench perf``). Targets live here, never in unit tests."""

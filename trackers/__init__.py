@@ -1,0 +1,50 @@
+"""Laser-stripe trackers: one interface, a registry and the seed trackers.
+
+>>> import trackers
+>>> trackers.available()[:4]
+['centroid', 'dp4', 'dp8', 'threshold']
+>>> t = trackers.make("dp8")
+>>> t.name
+'dp8'
+
+Importing this package imports no tracker module, Mitsuba, matplotlib or
+pyvista; built-in trackers are imported when first made, third-party ones
+(entry-point group ``stripebench.trackers``) when the registry is first asked.
+"""
+
+from ._base import Track, Tracker
+from ._registry import ENTRY_POINT_GROUP, Registry
+
+__all__ = ["Track", "Tracker", "available", "make", "register", "ENTRY_POINT_GROUP"]
+
+_REGISTRY = Registry(ENTRY_POINT_GROUP)
+for _name, _target in {
+    "threshold": "trackers.threshold:ThresholdTracker",
+    "centroid": "trackers.centroid:CentroidTracker",
+    "dp4": "trackers.dp:DP4Tracker",
+    "dp8": "trackers.dp:DP8Tracker",
+}.items():
+    _REGISTRY.register(_name, _target)
+del _name, _target
+
+
+def available() -> list[str]:
+    """Sorted names of all registered trackers (built-in and plugins)."""
+    return _REGISTRY.available()
+
+
+def make(name: str, **params) -> Tracker:
+    """A new tracker: ``make("dp8", eps=2.0)``.
+
+    Raises
+    ------
+    KeyError
+        For an unknown name; the message lists the available ones.
+    """
+    return _REGISTRY.make(name, **params)
+
+
+def register(name: str, factory=None):
+    """Register a tracker factory (class, callable or ``'module:attr'``) under
+    ``name``; usable as a decorator. Raises ``ValueError`` if the name is taken."""
+    return _REGISTRY.register(name, factory)

@@ -1,0 +1,51 @@
+import numpy as np
+
+from trackers import _dp_kernels as K
+
+
+def _field(img, conn8):
+    hc = 0.5 / (img.astype(np.float64) + 1.0)
+    D = np.empty_like(hc)
+    K.accumulate(hc, conn8, True, D)
+    return hc, D
+
+
+def _union(img, conn8):
+    hc, D = _field(img, conn8)
+    H, W = img.shape
+    mark = np.zeros((H, W), np.uint8)
+    r = np.empty(H * W, np.int64)
+    c = np.empty(H * W, np.int64)
+    n = K.optimal_nodes(D, hc, conn8, 1e-11, mark, r, c)
+    return mark, n
+
+
+def test_union_of_optimal_paths_is_flip_symmetric_with_ties():
+    rng = np.random.default_rng(0)
+    img = rng.integers(0, 4, (30, 20)).astype(np.uint8)  # many exact ties
+    for conn8 in (False, True):
+        a, _ = _union(img, conn8)
+        b, _ = _union(img[::-1].copy(), conn8)
+        assert np.array_equal(a, b[::-1])
+
+
+def test_union_contains_the_backtracked_path_and_every_tie():
+    img = np.zeros((4, 3), np.uint8)  # every straight column is optimal
+    mark, n = _union(img, False)
+    assert n == 12 and mark.all()
+    hc, D = _field(img, False)
+    rows = np.empty(12, np.int64)
+    cols = np.empty(12, np.int64)
+    m = K.backtrack(D, hc, False, rows, cols)
+    assert (mark[rows[:m], cols[:m]] == 1).all()
+
+
+def test_bounded_and_exact_fields_agree_on_the_optimum():
+    rng = np.random.default_rng(1)
+    img = rng.integers(0, 255, (50, 40)).astype(np.uint8)
+    for conn8 in (False, True):
+        hc, D = _field(img, conn8)
+        Dx = np.empty_like(D)
+        K.accumulate(hc, conn8, False, Dx)
+        assert D[-1].min() == Dx[-1].min() or abs(D[-1].min() - Dx[-1].min()) <= 1e-12 * Dx[-1].min()
+        assert (D >= Dx * (1 - 1e-12)).all()  # bounded values are upper bounds

@@ -1,0 +1,121 @@
+"""The conformance suite, applied to every registered tracker, and shown to
+catch broken trackers."""
+
+import numpy as np
+import pytest
+
+import trackers
+from trackers import Track, Tracker
+from trackers.testing import all_checks, check_tracker, make_stripe_image, parametrize_with_checks
+
+
+@parametrize_with_checks([trackers.make(name) for name in trackers.available()])
+def test_registered_trackers_conform(tracker, check):
+    check(tracker)
+
+
+def test_make_stripe_image_truth():
+    img, truth = make_stripe_image(height=50, width=70, noise=0.0, seed=3)
+    assert img.dtype == np.uint8 and img.shape == (50, 70) and truth.shape == (50,)
+    # noise-free: the intensity centroid of the background-subtracted row is the truth
+    w = img.astype(float) - 10.0
+    centroid = (w * np.arange(70)).sum(1) / w.sum(1)
+    assert np.abs(centroid - truth).max() < 0.05
+
+
+class _Good(Tracker):
+    name = "good"
+    subpixel = True
+
+    def __init__(self, half=3):
+        self.half = half
+
+    def _track(self, image, background):
+        img = image.astype(float)
+        bg = np.median(img)
+        peak = img.argmax(1)
+        cols = np.full(img.shape[0], np.nan)
+        for r, p in enumerate(peak):
+            if img[r, p] - bg > 20:
+                lo, hi = max(p - self.half, 0), min(p + self.half + 1, img.shape[1])
+                w = np.clip(img[r, lo:hi] - bg, 0, None)
+                cols[r] = (w * np.arange(lo, hi)).sum() / w.sum()
+        return Track(cols, np.where(np.isnan(cols), np.nan, 1.0))
+
+
+def test_a_correct_tracker_passes():
+    check_tracker(_Good())
+
+
+def _broken(params=None, **overrides):
+    return type("Broken", (_Good,), overrides)(**(params or {}))
+
+
+@pytest.mark.parametrize(
+    "tracker, failing_check, message",
+    [
+        (
+            _broken(_track=lambda self, image, background: Track(np.full(image.shape[0], 1e6), np.ones(image.shape[0]))),
+            "check_output_types",
+            "columns outside the image",
+        ),
+        (
+            _broken(_track=lambda self, image, background: Track(np.zeros(image.shape[0]), np.ones(image.shape[0]))),
+            "check_blank_image",
+            "reported a stripe in a constant",
+        ),
+        (_broken({"half": 0}), "check_synthetic_accuracy", "mean absolute error"),
+        (
+            _broken(_validate_params=lambda self: setattr(self, "half", self.half + 1)),
+            "check_no_state_change",
+            "changed the tracker's state",
+        ),
+    ],
+)
+def test_the_checks_catch_broken_trackers(tracker, failing_check, message):
+    check = {c.__name__: c for c in all_checks()}[failing_check]
+    with pytest.raises(AssertionError, match=message):
+        check(tracker)
+
+
+def test_check_catches_input_modification():
+    class Scribbler(_Good):
+        def track(self, image, *, background=None):
+            out = super().track(image, background=background)
+            if isinstance(image, np.ndarray) and image.flags.writeable:
+                image[0, 0] = 99
+            return out
+
+    check = {c.__name__: c for c in all_checks()}["check_readonly_input"]
+    check(Scribbler())  # read-only inputs cannot be scribbled on ...
+    with pytest.raises(AssertionError, match="uint8 and float64 copies"):
+        # ... but a writable copy is, and the dtype check sees the difference
+        {c.__name__: c for c in all_checks()}["check_dtype_invariance"](
+            type("Order", (_Good,), {"_track": lambda self, image, background: Track(
+                np.full(image.shape[0], 1.0 if image.dtype == np.uint8 else 2.0), np.ones(image.shape[0]))})()
+        )
+
+
+def test_check_catches_missing_validation_and_flip_asymmetry():
+    class Lax(_Good):
+        def track(self, image, *, background=None):
+            img = np.atleast_2d(np.asarray(image, dtype=float).reshape(image.shape[0], -1)) if np.ndim(image) else image
+            return super().track(np.nan_to_num(img.real if np.iscomplexobj(img) else img))
+
+    with pytest.raises(AssertionError, match="accepted a"):
+        {c.__name__: c for c in all_checks()}["check_bad_input"](Lax())
+
+    class TopDown(_Good):
+        def _track(self, image, background):
+            out = super()._track(image, background)
+            cols = out.columns.copy()
+            cols[: image.shape[0] // 2] += 0.25
+            return Track(cols, out.score)
+
+    with pytest.raises(AssertionError, match="flipped"):
+        {c.__name__: c for c in all_checks()}["check_vertical_flip"](TopDown())
+
+
+def test_check_tracker_refuses_non_trackers():
+    with pytest.raises(TypeError, match="`tracker` must be a trackers.Tracker instance, got int"):
+        check_tracker(3)

@@ -1,0 +1,142 @@
+"""The tracker interface: :class:`Track` and :class:`Tracker`."""
+
+from __future__ import annotations
+
+import abc
+import inspect
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ._validation import check_background, check_image
+
+__all__ = ["Track", "Tracker"]
+
+
+@dataclass(frozen=True, eq=False)
+class Track:
+    """The stripe found in one frame.
+
+    Attributes
+    ----------
+    columns : ndarray of float64, shape (H,)
+        Sub-pixel column of the stripe in each image row (row 0 at the top), in
+        pixel units where an integer is the centre of that pixel. NaN where the
+        tracker reports no stripe.
+    score : ndarray of float64, shape (H,)
+        The tracker's own confidence per row, higher is more confident, NaN
+        exactly where ``columns`` is NaN. Its meaning is documented per tracker.
+
+    Both arrays are stored read-only.
+    """
+
+    columns: np.ndarray
+    score: np.ndarray
+
+    def __post_init__(self):
+        cols = np.array(self.columns, dtype=np.float64, copy=True)
+        score = np.array(self.score, dtype=np.float64, copy=True)
+        if cols.ndim != 1:
+            raise ValueError(f"`columns` must be 1-D, got shape {cols.shape}")
+        if score.shape != cols.shape:
+            raise ValueError(f"`score` must have the shape of `columns` {cols.shape}, got {score.shape}")
+        if np.isinf(cols).any():
+            raise ValueError("`columns` must be finite or NaN, got infinite value(s)")
+        missing = np.isnan(cols)
+        if not np.array_equal(missing, np.isnan(score)):
+            raise ValueError("`score` must be NaN exactly where `columns` is NaN")
+        cols.flags.writeable = False
+        score.flags.writeable = False
+        object.__setattr__(self, "columns", cols)
+        object.__setattr__(self, "score", score)
+
+    @property
+    def height(self) -> int:
+        """Number of image rows."""
+        return int(self.columns.shape[0])
+
+    @property
+    def detected(self) -> np.ndarray:
+        """Boolean mask (H,) of the rows with a reported stripe."""
+        return ~np.isnan(self.columns)
+
+    @classmethod
+    def empty(cls, height: int) -> "Track":
+        """A track that reports nothing in any of ``height`` rows."""
+        nan = np.full(height, np.nan)
+        return cls(nan, nan)
+
+
+class Tracker(abc.ABC):
+    """Base class of every stripe tracker.
+
+    Subclasses declare their parameters as keyword arguments of ``__init__``
+    and store them unchanged under the same attribute names (scikit-learn's
+    rule: no validation and no work in the constructor; parameters are
+    validated when :meth:`track` is called).
+
+    Class attributes
+    ----------------
+    name : str
+        The registered name (``trackers.make(name)``).
+    subpixel : bool
+        Whether the tracker claims sub-pixel precision (the conformance suite
+        holds sub-pixel trackers to 0.1 px and the others to 0.6 px mean
+        absolute error on a synthetic stripe).
+    """
+
+    name: ClassVar[str] = ""
+    subpixel: ClassVar[bool] = False
+
+    @classmethod
+    def _param_names(cls) -> list[str]:
+        sig = inspect.signature(cls.__init__)
+        names = []
+        for p in sig.parameters.values():
+            if p.name == "self":
+                continue
+            if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
+                raise TypeError(f"{cls.__name__}.__init__ must take explicit keyword parameters, not *{p.name}")
+            names.append(p.name)
+        return names
+
+    def get_params(self) -> dict[str, Any]:
+        """The constructor parameters and their current values."""
+        return {n: getattr(self, n) for n in self._param_names()}
+
+    def __repr__(self) -> str:
+        args = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items())
+        return f"{type(self).__name__}({args})"
+
+    def track(self, image, *, background=None) -> Track:
+        """Find the stripe in one frame.
+
+        Parameters
+        ----------
+        image : array_like, shape (H, W)
+            Real 2-D frame in camera units (uint8 DN or float), stripe roughly
+            vertical (one crossing per row). Never modified.
+        background : array_like, shape (H, W), optional
+            A laser-off frame of the same scene; a tracker may use or ignore it.
+
+        Returns
+        -------
+        Track
+        """
+        img = check_image(image)
+        bg = check_background(background, img.shape)
+        self._validate_params()
+        track = self._track(img, bg)
+        if track.columns.shape != (img.shape[0],):
+            raise RuntimeError(
+                f"{type(self).__name__} returned {track.columns.shape[0]} rows for an image of {img.shape[0]}"
+            )
+        return track
+
+    def _validate_params(self) -> None:
+        """Raise ``ValueError`` naming a bad parameter (override)."""
+
+    @abc.abstractmethod
+    def _track(self, image: np.ndarray, background: np.ndarray | None) -> Track:
+        """Track a validated ``uint8`` or ``float64`` image."""

@@ -1,0 +1,511 @@
+"""Numba kernels for the minimum-cost stripe path (see :mod:`trackers.dp`).
+
+The graph: one node per pixel, node cost ``c = 1 / (max(I, 0) + eps)``; an
+edge between neighbouring pixels p, q costs ``(c_p + c_q) / 2`` times the
+step length (1 axial, sqrt(2) diagonal). Sources: every pixel of the top row
+(distance 0). Goal: any pixel of the bottom row.
+
+Algorithm (exact, label-correcting by row sweeps):
+
+1. One forward sweep, top to bottom. Row r is relaxed from row r-1 (vertical
+   and, for 8-connectivity, diagonal edges), then along the row by two
+   independent chains (left-to-right and right-to-left, interleaved for
+   instruction-level parallelism): the shortest path *inside* one row from a
+   set of seeds is monotone, so ``min(L(a), R(a))`` is exact. After this
+   sweep ``D`` is exact for every path that never steps upwards, and
+   ``U = min(D[H-1])`` is the cost of a real path (an upper bound).
+2. Certificate sweeps, alternately bottom-up and top-down, relax every edge
+   again and propagate improvements along the row from the changed columns
+   only. An improvement is *relevant* only if the new value is below
+   ``U - LB[r]``, where ``LB[r]`` is a lower bound on the cost from row r to
+   the bottom row (the sum over the rows below of the cheapest possible edge
+   into that row). A node on any optimal path satisfies
+   ``d(p) <= U* - LB[r] <= U - LB[r]``; by induction along that path, once a
+   sweep finds no relevant improvement, every node of every optimal path
+   holds its exact distance. The sweeps stop then.
+3. Backtracking from the cheapest bottom node follows, at each node, the
+   neighbour q minimising ``D[q] + e(q, p)`` (fixed neighbour order, so ties
+   are broken deterministically). Because the nodes of optimal paths are
+   exact and every other ``D`` is an upper bound of a true distance, that
+   neighbour lies on an optimal path.
+
+With ``bound=False`` the sweeps run until nothing changes at all, which makes
+the whole field exact (used for figures of the accumulated cost).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+SQRT2 = 1.4142135623730951
+_REL_TOL = 1e-12
+
+
+@njit(cache=True, nogil=True)
+def half_cost_u8(image, eps, out):
+    """``out = 0.5 / (image + eps)`` for a uint8 image, through a 256-entry table."""
+    lut = np.empty(256)
+    for v in range(256):
+        lut[v] = 0.5 / (v + eps)
+    H, W = image.shape
+    for r in range(H):
+        for j in range(W):
+            out[r, j] = lut[image[r, j]]
+
+
+@njit(cache=True, nogil=True)
+def half_cost_float(image, eps, out):
+    """``out = 0.5 / (max(image, 0) + eps)`` for a float64 image."""
+    H, W = image.shape
+    for r in range(H):
+        for j in range(W):
+            v = image[r, j]
+            if v < 0.0:
+                v = 0.0
+            out[r, j] = 0.5 / (v + eps)
+
+
+@njit(cache=True, nogil=True)
+def _relax_span(D, hc, r, s, conn8, W, a, b, limit, tol):
+    """Relax nodes a..b of row r through the edges from row s, then
+    propagate along row r from the improved nodes.
+
+    Only values below ``limit`` matter (see the module notes): propagation
+    past the improved range stops at the first node it cannot bring below
+    ``limit``. Returns ``(changed, lo, hi, va, vb)``: whether a value below
+    ``limit`` improved by more than the relative tolerance ``tol``; the hull
+    lo..hi of the columns of the visited range va..vb now below ``limit``
+    (lo > hi if none, or if nothing changed at all)."""
+    first = -1
+    last = -1
+    changed = False
+    for j in range(a, b + 1):
+        v = D[s, j] + (hc[s, j] + hc[r, j])
+        if conn8:
+            if j > 0:
+                w = D[s, j - 1] + SQRT2 * (hc[s, j - 1] + hc[r, j])
+                v = w if w < v else v
+            if j < W - 1:
+                w = D[s, j + 1] + SQRT2 * (hc[s, j + 1] + hc[r, j])
+                v = w if w < v else v
+        old = D[r, j]
+        if v < old:
+            D[r, j] = v
+            if v < limit:
+                if first < 0:
+                    first = j
+                last = j
+                if v < old * (1.0 - tol):
+                    changed = True
+    if first < 0:
+        return False, W, -1, a, b
+    # left-to-right chain over first..last, then onwards while it improves
+    x = D[r, first]
+    j = first + 1
+    while j < W:
+        y = x + (hc[r, j - 1] + hc[r, j])
+        old = D[r, j]
+        if j > last and not (y < limit and y < old):
+            break
+        if y < old:
+            D[r, j] = y
+            if y < limit and y < old * (1.0 - tol):
+                changed = True
+            x = y
+        else:
+            x = old
+        j += 1
+    vb = j - 1
+    # right-to-left chain over vb..first, then onwards while it improves
+    x = D[r, vb]
+    j = vb - 1
+    while j >= 0:
+        y = x + (hc[r, j] + hc[r, j + 1])
+        old = D[r, j]
+        if j < first and not (y < limit and y < old):
+            break
+        if y < old:
+            D[r, j] = y
+            if y < limit and y < old * (1.0 - tol):
+                changed = True
+            x = y
+        else:
+            x = old
+        j -= 1
+    va = j + 1
+    if va > a:
+        va = a
+    if vb < b:
+        vb = b
+    lo = W
+    hi = -1
+    for k in range(va, vb + 1):
+        if D[r, k] < limit:
+            if lo == W:
+                lo = k
+            hi = k
+    return changed, lo, hi, va, vb
+
+
+@njit(cache=True, nogil=True)
+def _span(lo, hi, r, W):
+    a = lo[r] - 1
+    b = hi[r] + 1
+    if a < 0:
+        a = 0
+    if b > W - 1:
+        b = W - 1
+    return a, b
+
+
+@njit(cache=True, nogil=True)
+def _forward(D, hc, conn8, lb, limit0, tol, lo, hi, vlo, vhi):
+    """Banded forward sweep: row r is relaxed from the relevant span of row
+    r - 1 only (nodes with ``D < limit0 - lb``). Returns the least bottom value."""
+    H, W = hc.shape
+    for j in range(W):
+        D[0, j] = 0.0
+    lo[0] = 0
+    hi[0] = W - 1
+    vlo[0] = 0
+    vhi[0] = W - 1
+    for r in range(1, H):
+        a, b = _span(lo, hi, r - 1, W)
+        if lo[r - 1] > hi[r - 1]:
+            lo[r] = W
+            hi[r] = -1
+            vlo[r] = W
+            vhi[r] = -1
+            continue
+        ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, W, a, b, limit0 - lb[r], tol)
+        lo[r] = l_
+        hi[r] = h_
+        vlo[r] = va
+        vhi[r] = vb
+    best = np.inf
+    for j in range(vlo[H - 1], vhi[H - 1] + 1):
+        if D[H - 1, j] < best:
+            best = D[H - 1, j]
+    return best
+
+
+@njit(cache=True, nogil=True)
+def accumulate(hc, conn8, bound, D):
+    """Fill ``D`` with distances from the top row; returns the sweep count.
+
+    Parameters
+    ----------
+    hc : (H, W) float64
+        Half node costs, ``0.5 * c``.
+    conn8 : bool
+        8-connectivity if True, else 4-connectivity.
+    bound : bool
+        If True, only nodes that can lie on an optimal path are guaranteed
+        exact; every other value is the cost of a real path or +inf (an upper
+        bound). If False, the whole field is exact.
+    D : (H, W) float64
+        Output.
+
+    Notes
+    -----
+    With ``bound``, the first (banded) forward sweep needs an upper bound of
+    the optimum before it is known: it guesses ``lb[0] + slack`` with a
+    slack of 1/8 of the lower bound, and doubles the slack until the sweep
+    finds a path below the guess (the work grows geometrically, so the failed
+    guesses cost at most about as much as the last one).
+    """
+    H, W = hc.shape
+    lo = np.empty(H, np.int64)
+    hi = np.empty(H, np.int64)
+    vlo = np.empty(H, np.int64)
+    vhi = np.empty(H, np.int64)
+    lb = np.zeros(H)
+    for r in range(H):
+        for j in range(W):
+            D[r, j] = np.inf
+    if bound:
+        rowmin = np.empty(H)
+        for r in range(H):
+            m = hc[r, 0]
+            for j in range(1, W):
+                x = hc[r, j]
+                m = x if x < m else m
+            rowmin[r] = m
+        for r in range(H - 2, -1, -1):
+            lb[r] = lb[r + 1] + rowmin[r] + rowmin[r + 1]
+        tol = _REL_TOL
+        slack = 0.125 * lb[0]
+        attempts = 0
+        while True:
+            limit0 = lb[0] + slack if attempts < 60 else np.inf
+            best = _forward(D, hc, conn8, lb, limit0, tol, lo, hi, vlo, vhi)
+            attempts += 1
+            if best < limit0:
+                break
+            for r in range(H):
+                for j in range(vlo[r], vhi[r] + 1):
+                    D[r, j] = np.inf
+            slack *= 2.0
+        U = best * (1.0 + 1e-9) + 1e-300
+        # shrink the spans to the nodes relevant under the path just found
+        for r in range(H):
+            l_ = W
+            h_ = -1
+            lim = U - lb[r]
+            for j in range(vlo[r], vhi[r] + 1):
+                if D[r, j] < lim:
+                    if l_ == W:
+                        l_ = j
+                    h_ = j
+            lo[r] = l_
+            hi[r] = h_
+    else:
+        tol = 0.0
+        U = np.inf
+        _forward(D, hc, conn8, lb, U, tol, lo, hi, vlo, vhi)
+        attempts = 1
+    sweeps = attempts
+    if H < 3:
+        return sweeps
+    while True:
+        changed = False
+        for r in range(H - 2, 0, -1):
+            if lo[r + 1] > hi[r + 1]:
+                continue
+            a, b = _span(lo, hi, r + 1, W)
+            ch, l_, h_, va, vb = _relax_span(D, hc, r, r + 1, conn8, W, a, b, U - lb[r], tol)
+            changed |= ch
+            lo[r] = min(lo[r], l_)
+            hi[r] = max(hi[r], h_)
+        sweeps += 1
+        if not changed:
+            break
+        changed = False
+        for r in range(1, H):
+            if lo[r - 1] > hi[r - 1]:
+                continue
+            a, b = _span(lo, hi, r - 1, W)
+            ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, W, a, b, U - lb[r], tol)
+            changed |= ch
+            lo[r] = min(lo[r], l_)
+            hi[r] = max(hi[r], h_)
+        sweeps += 1
+        if not changed:
+            break
+    return sweeps
+
+
+@njit(cache=True, nogil=True)
+def backtrack(D, hc, conn8, rows, cols):
+    """Follow the cheapest predecessors from the best bottom node to row 0.
+
+    Writes the path (bottom to top) into ``rows``/``cols`` and returns its
+    length. Neighbour order (ties resolved by the first): up, up-left,
+    up-right, left, right, down, down-left, down-right (diagonals only with
+    8-connectivity). The end node is the bottom-row node of least ``D``; ties
+    go to the cheapest (brightest) node, then to the leftmost.
+    """
+    H, W = hc.shape
+    r = H - 1
+    j = 0
+    best = D[r, 0]
+    for k in range(1, W):
+        v = D[r, k]
+        if v < best or (v == best and hc[r, k] < hc[r, j]):
+            best = v
+            j = k
+    n = 0
+    rows[n] = r
+    cols[n] = j
+    n += 1
+    limit = rows.shape[0]
+    while r > 0:
+        br = -1
+        bj = -1
+        bv = np.inf
+        for m in range(8):
+            if m == 0:
+                dr, dj, diag = -1, 0, False
+            elif m == 1:
+                dr, dj, diag = -1, -1, True
+            elif m == 2:
+                dr, dj, diag = -1, 1, True
+            elif m == 3:
+                dr, dj, diag = 0, -1, False
+            elif m == 4:
+                dr, dj, diag = 0, 1, False
+            elif m == 5:
+                dr, dj, diag = 1, 0, False
+            elif m == 6:
+                dr, dj, diag = 1, -1, True
+            else:
+                dr, dj, diag = 1, 1, True
+            if diag and not conn8:
+                continue
+            rr = r + dr
+            jj = j + dj
+            if rr < 0 or rr >= H or jj < 0 or jj >= W:
+                continue
+            e = hc[rr, jj] + hc[r, j]
+            if diag:
+                e *= SQRT2
+            v = D[rr, jj] + e
+            if v < bv:
+                bv = v
+                br = rr
+                bj = jj
+        r = br
+        j = bj
+        if n >= limit:
+            return -1
+        rows[n] = r
+        cols[n] = j
+        n += 1
+    return n
+
+
+@njit(cache=True, nogil=True)
+def path_cost(hc, rows, cols):
+    """Sum of edge costs along a path given as pixel indices."""
+    total = 0.0
+    for k in range(1, rows.shape[0]):
+        e = hc[rows[k - 1], cols[k - 1]] + hc[rows[k], cols[k]]
+        if rows[k] != rows[k - 1] and cols[k] != cols[k - 1]:
+            e *= SQRT2
+        total += e
+    return total
+
+
+@njit(cache=True, nogil=True)
+def marked_rows(image, rows, cols, inner, outer, mean_col, contrast, side_sd):
+    """Per-row summary of the labelled optimal-path nodes for the DP trackers.
+
+    ``rows``/``cols`` list the labelled nodes. For every row r:
+    ``mean_col[r]`` the mean column of the labelled nodes in that row (NaN
+    if none); ``contrast[r]`` their mean intensity minus the
+    mean of the side pixels ``inner..outer`` columns left and right of
+    ``mean_col[r]`` (clipped to the image); ``side_sd[r]`` the standard
+    deviation of those side pixels (NaN if fewer than two).
+    """
+    H, W = image.shape
+    cnts = np.zeros(H, np.int64)
+    scols = np.zeros(H)
+    svals = np.zeros(H)
+    for k in range(rows.shape[0]):
+        r = rows[k]
+        cnts[r] += 1
+        scols[r] += cols[k]
+        svals[r] += image[r, cols[k]]
+    for r in range(H):
+        cnt = cnts[r]
+        scol = scols[r]
+        sval = svals[r]
+        if cnt == 0:
+            mean_col[r] = np.nan
+            contrast[r] = np.nan
+            side_sd[r] = np.nan
+            continue
+        m = scol / cnt
+        mean_col[r] = m
+        centre = int(np.floor(m + 0.5))
+        n = 0
+        s1 = 0.0
+        s2 = 0.0
+        for side in range(2):
+            for d in range(inner, outer + 1):
+                j = centre - d if side == 0 else centre + d
+                if j < 0 or j >= W:
+                    continue
+                v = float(image[r, j])
+                n += 1
+                s1 += v
+                s2 += v * v
+        if n >= 2:
+            mu = s1 / n
+            var = (s2 - n * mu * mu) / (n - 1)
+            if var < 0.0:
+                var = 0.0
+            side_sd[r] = np.sqrt(var)
+            contrast[r] = sval / cnt - mu
+        elif n == 1:
+            side_sd[r] = np.nan
+            contrast[r] = sval / cnt - s1
+        else:
+            side_sd[r] = np.nan
+            contrast[r] = 0.0
+
+
+@njit(cache=True, nogil=True)
+def optimal_nodes(D, hc, conn8, rel_tol, mark, out_r, out_c):
+    """Mark every node lying on some optimal top-to-bottom path.
+
+    This is the paper's "expansive" backtracking: start at every bottom node
+    whose ``D`` equals the optimum and repeatedly label each neighbour q of a
+    labelled node p with ``D[q] + e(q, p) == D[p]`` (to a relative tolerance
+    ``rel_tol`` of the optimum), stopping at the top row. Unlike one
+    backtracked path, the labelled set does not depend on tie-breaking, so it
+    is symmetric under flipping the image. Returns the number n of labelled
+    nodes, listed in ``out_r[:n]``/``out_c[:n]`` (each of size H * W);
+    ``mark`` (uint8, H x W, zeroed by the caller) receives 1s.
+    """
+    H, W = hc.shape
+    U = np.inf
+    for j in range(W):
+        if D[H - 1, j] < U:
+            U = D[H - 1, j]
+    tol = rel_tol * U
+    stack_r = np.empty(H * W, np.int64)
+    stack_c = np.empty(H * W, np.int64)
+    n = 0
+    count = 0
+    for j in range(W):
+        if D[H - 1, j] <= U + tol:
+            mark[H - 1, j] = 1
+            out_r[count] = H - 1
+            out_c[count] = j
+            count += 1
+            stack_r[n] = H - 1
+            stack_c[n] = j
+            n += 1
+    while n > 0:
+        n -= 1
+        r = stack_r[n]
+        j = stack_c[n]
+        if r == 0:
+            continue
+        for m in range(8):
+            if m == 0:
+                dr, dj, diag = -1, 0, False
+            elif m == 1:
+                dr, dj, diag = 0, -1, False
+            elif m == 2:
+                dr, dj, diag = 0, 1, False
+            elif m == 3:
+                dr, dj, diag = 1, 0, False
+            elif m == 4:
+                dr, dj, diag = -1, -1, True
+            elif m == 5:
+                dr, dj, diag = -1, 1, True
+            elif m == 6:
+                dr, dj, diag = 1, -1, True
+            else:
+                dr, dj, diag = 1, 1, True
+            if diag and not conn8:
+                continue
+            rr = r + dr
+            jj = j + dj
+            if rr < 0 or rr >= H or jj < 0 or jj >= W or mark[rr, jj]:
+                continue
+            e = hc[rr, jj] + hc[r, j]
+            if diag:
+                e *= SQRT2
+            if abs(D[rr, jj] + e - D[r, j]) <= tol:
+                mark[rr, jj] = 1
+                out_r[count] = rr
+                out_c[count] = jj
+                count += 1
+                stack_r[n] = rr
+                stack_c[n] = jj
+                n += 1
+    return count

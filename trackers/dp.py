@@ -1,0 +1,369 @@
+"""The paper's dynamic programming stripe tracker (Wang et al. 2008, sec. 3).
+
+The image is a graph with one node per pixel. Node cost is the inverse
+brightness ``c = 1 / (max(I, 0) + eps)``; the edge between neighbouring nodes
+p and q costs the mean of their node costs times the step length (1 for an
+axial step, sqrt(2) for a diagonal step with 8-connectivity). Every node of
+the top row is a free start and every node of the bottom row a free goal (the
+paper's zero-cost moves along those rows). The stripe is the global
+minimum-cost path between the two rows. The paper relaxes its forward
+procedure "until no node changes"; on this graph that fixpoint is exactly the
+shortest-path distance, so any exact shortest-path algorithm finds the same
+optimum. Paths may step sideways and, on either connectivity, back up.
+
+Public functions
+----------------
+- :func:`node_cost` - the cost array of an image.
+- :func:`shortest_path` - the fast, exact solver on a positive cost array
+  (numba kernels in ``trackers._dp_kernels``; algorithm described there).
+- :func:`shortest_path_reference` - a slow, literal transcription of the
+  paper's procedure (synchronous relaxation of eq. (8) until no node changes,
+  then backtracking), for tests and teaching.
+- :func:`accumulated_cost` - the paper's accumulated cost field (Fig. 7b).
+
+Trackers ``dp4`` and ``dp8`` (:class:`DP4Tracker`, :class:`DP8Tracker`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _dp_kernels as K
+from ._base import Track, Tracker
+from ._params import check_int, check_optional_real, check_real
+from ._validation import check_image
+
+__all__ = [
+    "node_cost",
+    "shortest_path",
+    "shortest_path_reference",
+    "accumulated_cost",
+    "DPTracker",
+    "DP4Tracker",
+    "DP8Tracker",
+]
+
+_SQRT2 = float(np.sqrt(2.0))
+_TIE_TOL = 1e-11  # relative tolerance deciding that two path costs tie
+
+
+def _check_connectivity(connectivity) -> bool:
+    if connectivity not in (4, 8) or isinstance(connectivity, bool):
+        raise ValueError(f"`connectivity` must be 4 or 8, got {connectivity!r}")
+    return connectivity == 8
+
+
+def _half_cost(image: np.ndarray, eps: float) -> np.ndarray:
+    hc = np.empty(image.shape, dtype=np.float64)
+    if image.dtype == np.uint8:
+        K.half_cost_u8(image, float(eps), hc)
+    else:
+        K.half_cost_float(image, float(eps), hc)
+    return hc
+
+
+def node_cost(image, eps: float = 1.0) -> np.ndarray:
+    """Node cost ``1 / (max(I, 0) + eps)`` of every pixel.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+        Frame in camera units.
+    eps : float, default 1.0
+        Offset in image units (1 DN for 8-bit frames), > 0.
+
+    Returns
+    -------
+    ndarray of float64, shape (H, W)
+
+    Examples
+    --------
+    >>> node_cost(np.array([[0, 1, 3]], np.uint8))
+    array([[1.  , 0.5 , 0.25]])
+    """
+    img = check_image(image)
+    check_real("eps", eps, low=0, low_open=True)
+    return 2.0 * _half_cost(img, eps)
+
+
+def _check_cost(cost) -> np.ndarray:
+    c = check_image(cost, name="cost")
+    if c.dtype != np.float64:
+        c = c.astype(np.float64)
+    if not (c > 0).all():
+        raise ValueError(f"`cost` must be > 0 everywhere, got minimum {float(c.min())!r}")
+    return c
+
+
+def _solve(hc: np.ndarray, conn8: bool):
+    H, W = hc.shape
+    D = np.empty_like(hc)
+    K.accumulate(hc, conn8, True, D)
+    rows = np.empty(H * W, dtype=np.int64)
+    cols = np.empty(H * W, dtype=np.int64)
+    n = K.backtrack(D, hc, conn8, rows, cols)
+    if n < 0:  # pragma: no cover - would mean a bug in the kernels
+        raise RuntimeError("backtracking did not reach the top row")
+    rows = rows[:n][::-1].copy()
+    cols = cols[:n][::-1].copy()
+    return rows, cols, D
+
+
+def shortest_path(cost, connectivity: int = 4):
+    """Global minimum-cost path from the top row to the bottom row.
+
+    Parameters
+    ----------
+    cost : array_like, shape (H, W)
+        Positive, finite node costs.
+    connectivity : {4, 8}, default 4
+
+    Returns
+    -------
+    rows, cols : ndarray of int64, shape (n,)
+        The path's pixels from the top row (``rows[0] == 0``) to the bottom row
+        (``rows[-1] == H - 1``); consecutive pixels are neighbours.
+    total_cost : float
+        Sum over the path's edges of ``(c_p + c_q) / 2`` times the step length
+        (the same cost as :class:`skimage.graph.MCP_Geometric`).
+
+    Notes
+    -----
+    Ties are broken deterministically: the end is the bottom-row node of least
+    cost-to-go, then the cheapest, then the leftmost; backtracking prefers up,
+    up-left, up-right, left, right, down, down-left, down-right in that order.
+
+    Examples
+    --------
+    >>> cost = np.array([[1., 9., 9.], [9., 1., 9.], [9., 9., 1.]])
+    >>> rows, cols, total = shortest_path(cost, connectivity=8)
+    >>> cols.tolist(), round(total, 6)
+    ([0, 1, 2], 2.828427)
+    """
+    c = _check_cost(cost)
+    conn8 = _check_connectivity(connectivity)
+    hc = 0.5 * c
+    rows, cols, D = _solve(hc, conn8)
+    return rows, cols, float(D[-1, cols[-1]])
+
+
+def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0) -> np.ndarray:
+    """The accumulated cost field of an image (the paper's Fig. 7b).
+
+    Every node's exact minimum cost to the top row (the goal line); the
+    bottom row is then filled with its minimum, as the paper's zero-cost moves
+    along the starting line make every bottom node hold the same value.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+    connectivity : {4, 8}, default 4
+    eps : float, default 1.0
+
+    Returns
+    -------
+    ndarray of float64, shape (H, W)
+    """
+    img = check_image(image)
+    check_real("eps", eps, low=0, low_open=True)
+    conn8 = _check_connectivity(connectivity)
+    hc = _half_cost(img, eps)
+    D = np.empty_like(hc)
+    K.accumulate(hc, conn8, False, D)
+    D[-1, :] = D[-1].min()
+    return D
+
+
+def shortest_path_reference(cost, connectivity: int = 4, max_iter: int | None = None):
+    """The paper's procedure, literally: slow, for tests and teaching.
+
+    Forward procedure (sec. 3.2): ``D`` starts at 0 on the goal line (top
+    row; its zero-cost links keep it there) and at a big value elsewhere;
+    every node is replaced, synchronously as in the paper's cellular cells, by
+    ``min(D(i,j), min over neighbours (k,l) of d_ij,kl + D(k,l))`` (eq. 8)
+    until no node changes. The zero-cost links along the starting line
+    (bottom row) would give every bottom node the same value; the
+    backtracking therefore starts at the bottom node where that value is
+    really reached (least ``D``, then cheapest, then leftmost) and moves to
+    the neighbour satisfying eq. (8) (the same neighbour order as
+    :func:`shortest_path`) until the goal line is reached.
+
+    Same parameters, returns and tie-breaking as :func:`shortest_path`.
+    """
+    c = _check_cost(cost)
+    conn8 = _check_connectivity(connectivity)
+    H, W = c.shape
+    if max_iter is None:
+        max_iter = H * W + 1
+    # neighbour order shared with the fast solver's backtracking
+    moves = [(-1, 0, 1.0), (-1, -1, _SQRT2), (-1, 1, _SQRT2), (0, -1, 1.0), (0, 1, 1.0),
+             (1, 0, 1.0), (1, -1, _SQRT2), (1, 1, _SQRT2)]
+    if not conn8:
+        moves = [m for m in moves if m[2] == 1.0]
+    big = 1e300
+    D = np.full((H, W), big)
+    D[0, :] = 0.0
+    pc = np.pad(c, 1, constant_values=np.inf)
+    for _ in range(max_iter):
+        pD = np.pad(D, 1, constant_values=np.inf)
+        new = D.copy()
+        for dr, dj, length in moves:
+            nD = pD[1 + dr : 1 + dr + H, 1 + dj : 1 + dj + W]
+            nc = pc[1 + dr : 1 + dr + H, 1 + dj : 1 + dj + W]
+            new = np.minimum(new, nD + 0.5 * (c + nc) * length)
+        new[0, :] = 0.0  # goal line
+        if np.array_equal(new, D):
+            break
+        D = new
+    else:  # pragma: no cover
+        raise RuntimeError("relaxation did not converge")
+    r, j = H - 1, 0
+    for k in range(1, W):
+        if D[r, k] < D[r, j] or (D[r, k] == D[r, j] and c[r, k] < c[r, j]):
+            j = k
+    total = float(D[r, j])
+    path = [(r, j)]
+    while r > 0:
+        best = None
+        for dr, dj, length in moves:
+            rr, jj = r + dr, j + dj
+            if 0 <= rr < H and 0 <= jj < W:
+                v = D[rr, jj] + 0.5 * (c[r, j] + c[rr, jj]) * length
+                if best is None or v < best[0]:
+                    best = (v, rr, jj)
+        r, j = best[1], best[2]
+        path.append((r, j))
+        if len(path) > H * W:  # pragma: no cover
+            raise RuntimeError("backtracking did not reach the goal line")
+    path.reverse()
+    rows = np.array([p[0] for p in path], dtype=np.int64)
+    cols = np.array([p[1] for p in path], dtype=np.int64)
+    return rows, cols, total
+
+
+class DPTracker(Tracker):
+    """Minimum-cost path tracker; use :class:`DP4Tracker` or :class:`DP8Tracker`.
+
+    The path is the global minimum-cost path of :func:`shortest_path` on
+    :func:`node_cost` of the frame. As in the paper's backtracking, which
+    labels every node satisfying eq. (8) "expansively", the tracker takes
+    the union of all optimal paths (exact cost ties are common in 8-bit
+    frames; the union does not depend on tie-breaking, so flipping the frame
+    flips the result). It crosses every row; in each row the tracker reports
+    the mean column of its pixels there. Where it runs through no stripe at
+    all it is not reported:
+
+    * per row, the path's brightness ``I_p`` (mean of its pixels in the row) is
+      compared with the local background ``b_r``, the mean of the pixels
+      ``side_inner``..``side_outer`` columns to either side of the path; the
+      noise ``s`` is the median over rows of the standard deviation of those
+      side pixels (floored at 1e-3 of the frame's dynamic range);
+    * the row *supports* the path if ``I_p - b_r > k_sigma * s``;
+    * if fewer than ``max(3, min_support * H)`` rows support it, the frame has
+      no stripe and nothing is reported (so a blank frame gives all-NaN);
+    * otherwise every row from the first to the last supporting row is
+      reported: the path's strength is to bridge the rows in between where the
+      stripe is dim or cut (gaps longer than ``max_gap`` rows, if set, are not
+      reported). Rows above the first and below the last supporting row are not.
+
+    ``score`` is the contrast ``(I_p - b_r) / s`` in noise units (low or
+    negative in bridged rows).
+
+    The ``background`` frame is ignored (the paper's method uses one frame).
+
+    Parameters
+    ----------
+    eps : float, default 1.0
+        Node-cost offset in image units (1 DN for 8-bit frames), > 0.
+    k_sigma : float, default 3.0
+    min_support : float, default 0.05
+        Least fraction of rows that must support the path.
+    max_gap : int or None, default None
+        Longest run of unsupported rows reported between supported rows.
+    side_inner, side_outer : int, default 4 and 12
+        The background pixels' distance from the path, in columns.
+    """
+
+    connectivity = 4
+
+    def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12):
+        self.eps = eps
+        self.k_sigma = k_sigma
+        self.min_support = min_support
+        self.max_gap = max_gap
+        self.side_inner = side_inner
+        self.side_outer = side_outer
+
+    def _validate_params(self):
+        check_real("eps", self.eps, low=0, low_open=True)
+        check_real("k_sigma", self.k_sigma, low=0)
+        check_real("min_support", self.min_support, low=0, high=1)
+        if self.max_gap is not None:
+            check_int("max_gap", self.max_gap, low=0)
+        check_int("side_inner", self.side_inner, low=1)
+        check_int("side_outer", self.side_outer, low=1)
+        if self.side_outer < self.side_inner:
+            raise ValueError(f"`side_outer` must be >= `side_inner` ({self.side_inner}), got {self.side_outer!r}")
+
+    def path(self, image):
+        """The minimum-cost path of a frame: ``(rows, cols, total_cost)`` (see
+        :func:`shortest_path`)."""
+        img = check_image(image)
+        self._validate_params()
+        hc = _half_cost(img, self.eps)
+        rows, cols, D = _solve(hc, self.connectivity == 8)
+        return rows, cols, float(D[-1, cols[-1]])
+
+    def _track(self, image, background):
+        H, W = image.shape
+        hc = _half_cost(image, self.eps)
+        conn8 = self.connectivity == 8
+        D = np.empty_like(hc)
+        K.accumulate(hc, conn8, True, D)
+        mark = np.zeros((H, W), dtype=np.uint8)
+        rows = np.empty(H * W, dtype=np.int64)
+        cols = np.empty(H * W, dtype=np.int64)
+        n = K.optimal_nodes(D, hc, conn8, _TIE_TOL, mark, rows, cols)
+        mean_col = np.empty(H)
+        contrast = np.empty(H)
+        side_sd = np.empty(H)
+        K.marked_rows(image, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), mean_col, contrast, side_sd)
+        vmax = float(image.max())
+        vmin = float(image.min())
+        finite_sd = side_sd[np.isfinite(side_sd)]
+        s = float(np.median(finite_sd)) if finite_sd.size else 0.0
+        s = max(s, 1e-3 * (vmax - vmin), np.finfo(np.float64).tiny)
+        z = contrast / s
+        support = z > self.k_sigma
+        n_support = int(np.count_nonzero(support))
+        if n_support < max(3, self.min_support * H):
+            return Track.empty(H)
+        first = int(np.argmax(support))
+        last = H - 1 - int(np.argmax(support[::-1]))
+        report = np.zeros(H, dtype=bool)
+        report[first : last + 1] = True
+        if self.max_gap is not None:
+            gap_start = None
+            for r in range(first, last + 1):
+                if not support[r]:
+                    if gap_start is None:
+                        gap_start = r
+                elif gap_start is not None:
+                    if r - gap_start > self.max_gap:
+                        report[gap_start:r] = False
+                    gap_start = None
+        columns = np.where(report, mean_col, np.nan)
+        score = np.where(report, z, np.nan)
+        return Track(columns, score)
+
+
+class DP4Tracker(DPTracker):
+    __doc__ = "``dp4``: the paper's DP on the 4-connected graph.\n\n" + DPTracker.__doc__.split("\n", 2)[2]
+    name = "dp4"
+    connectivity = 4
+
+
+class DP8Tracker(DPTracker):
+    __doc__ = "``dp8``: the paper's DP on the 8-connected graph.\n\n" + DPTracker.__doc__.split("\n", 2)[2]
+    name = "dp8"
+    connectivity = 8

@@ -1,0 +1,292 @@
+"""Conformance suite for trackers, in the manner of scikit-learn's ``check_estimator``.
+
+Third-party authors run every check on their tracker::
+
+    from trackers.testing import check_tracker
+    check_tracker(MyTracker())
+
+or, with pytest, one test per check::
+
+    from trackers.testing import parametrize_with_checks
+
+    @parametrize_with_checks([MyTracker(), MyTracker(param=2)])
+    def test_conformance(tracker, check):
+        check(tracker)
+
+Each check raises ``AssertionError`` with a message naming the tracker and
+what failed. The synthetic data are generated from fixed seeds.
+"""
+
+from __future__ import annotations
+
+import copy
+from functools import partial
+from typing import Callable, Iterator
+
+import numpy as np
+from scipy.special import erf
+
+from ._base import Track, Tracker
+
+__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image"]
+
+
+def make_stripe_image(
+    height: int = 96,
+    width: int = 128,
+    *,
+    sigma_px: float = 1.5,
+    peak: float = 180.0,
+    background: float = 10.0,
+    noise: float = 2.0,
+    seed: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """A synthetic 8-bit frame with one Gaussian stripe, and its true columns.
+
+    The stripe's centre wanders smoothly (a sine plus a random sub-pixel
+    phase per frame); each pixel holds the Gaussian line profile integrated
+    over the pixel's width (pixel j spans columns j - 0.5 .. j + 0.5), plus a
+    constant background and Gaussian noise, rounded and clipped to 0..255.
+
+    Returns
+    -------
+    image : ndarray of uint8, shape (height, width)
+    columns : ndarray of float64, shape (height,)
+        True stripe centre per row (pixel-centre convention).
+    """
+    rng = np.random.default_rng(seed)
+    rows = np.arange(height)
+    centre = width / 2 + 0.15 * width * np.sin(2 * np.pi * rows / height + rng.uniform(0, 2 * np.pi))
+    centre = centre + rng.uniform(-0.5, 0.5)
+    edges = np.arange(width + 1) - 0.5
+    z = (edges[None, :] - centre[:, None]) / (np.sqrt(2.0) * sigma_px)
+    frac = 0.5 * np.diff(erf(z), axis=1)
+    amplitude = peak * np.sqrt(2 * np.pi) * sigma_px
+    img = background + amplitude * frac + rng.normal(0.0, noise, (height, width))
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8), centre
+
+
+def _name(tracker: Tracker) -> str:
+    return f"{type(tracker).__name__} ({tracker.name!r})"
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    return np.array_equal(a, b, equal_nan=True)
+
+
+def check_output_types(tracker: Tracker) -> None:
+    """`track` returns a Track with float64 (H,) columns and score, NaN together,
+    columns inside the image."""
+    img, _ = make_stripe_image(seed=1)
+    out = tracker.track(img)
+    assert isinstance(out, Track), f"{_name(tracker)}.track returned {type(out).__name__}, not Track"
+    for field in ("columns", "score"):
+        arr = getattr(out, field)
+        assert arr.dtype == np.float64, f"{_name(tracker)}: {field} has dtype {arr.dtype}, not float64"
+        assert arr.shape == (img.shape[0],), f"{_name(tracker)}: {field} has shape {arr.shape}, not {(img.shape[0],)}"
+    assert _same(np.isnan(out.columns), np.isnan(out.score)), f"{_name(tracker)}: score NaN where columns is not"
+    cols = out.columns[~np.isnan(out.columns)]
+    assert cols.size > 0, f"{_name(tracker)} found no stripe in a clear synthetic frame"
+    assert np.all((cols >= -0.5) & (cols <= img.shape[1] - 0.5)), (
+        f"{_name(tracker)}: columns outside the image [{cols.min()}, {cols.max()}]"
+    )
+
+
+def check_blank_image(tracker: Tracker) -> None:
+    """A blank frame (all zeros, or constant) gives all-NaN without an exception."""
+    for value in (0, 37):
+        for dtype in (np.uint8, np.float64):
+            img = np.full((40, 50), value, dtype=dtype)
+            out = tracker.track(img)
+            assert np.all(np.isnan(out.columns)), (
+                f"{_name(tracker)} reported a stripe in a constant {dtype.__name__} frame of value {value}"
+            )
+
+
+def check_bad_input(tracker: Tracker) -> None:
+    """3-D, empty, non-numeric and non-finite images and a background of
+    another shape raise ValueError naming the argument."""
+    good = make_stripe_image(height=20, width=30, seed=2)[0]
+    nan_img = good.astype(np.float64)
+    nan_img[3, 4] = np.nan
+    inf_img = good.astype(np.float64)
+    inf_img[0, 0] = np.inf
+    cases = [
+        ("3-D image", np.zeros((3, 4, 5)), None, "image"),
+        ("1-D image", np.zeros(5), None, "image"),
+        ("empty image", np.zeros((0, 10)), None, "image"),
+        ("string image", np.array([["a", "b"], ["c", "d"]]), None, "image"),
+        ("complex image", np.ones((4, 4), dtype=complex), None, "image"),
+        ("object image", np.array([[object(), object()]]), None, "image"),
+        ("NaN image", nan_img, None, "image"),
+        ("infinite image", inf_img, None, "image"),
+        ("background of another shape", good, np.zeros((5, 5)), "background"),
+        ("3-D background", good, np.zeros(good.shape + (2,)), "background"),
+        ("NaN background", good, np.full(good.shape, np.nan), "background"),
+    ]
+    for what, img, bg, arg in cases:
+        try:
+            tracker.track(img, background=bg)
+        except ValueError as exc:
+            assert f"`{arg}`" in str(exc), f"{_name(tracker)}: the error for a {what} does not name `{arg}`: {exc}"
+        else:
+            raise AssertionError(f"{_name(tracker)} accepted a {what}")
+
+
+def check_dtype_invariance(tracker: Tracker) -> None:
+    """uint8 and float64 copies of one frame give the same columns."""
+    img, _ = make_stripe_image(seed=3)
+    a = tracker.track(img).columns
+    b = tracker.track(img.astype(np.float64)).columns
+    assert _same(a, b), f"{_name(tracker)}: uint8 and float64 copies of a frame give different columns"
+
+
+def check_readonly_input(tracker: Tracker) -> None:
+    """Read-only inputs work and are not modified."""
+    img, _ = make_stripe_image(seed=4)
+    bg = np.full_like(img, 10)
+    for arr in (img, bg):
+        arr.flags.writeable = False
+    keep_img, keep_bg = img.copy(), bg.copy()
+    tracker.track(img, background=bg)
+    flt = img.astype(np.float64)
+    flt.flags.writeable = False
+    tracker.track(flt)
+    assert np.array_equal(img, keep_img) and np.array_equal(bg, keep_bg), f"{_name(tracker)} modified its input"
+
+
+def _equal(a, b) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.dtype == b.dtype and _same(a, b)
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+        return type(a) is type(b) and len(a) == len(b) and all(_equal(x, y) for x, y in zip(a, b))
+    try:
+        return bool(a == b) or (a != a and b != b)
+    except Exception:  # objects without a usable ==
+        return a is b
+
+
+def check_no_state_change(tracker: Tracker) -> None:
+    """`track` leaves the tracker unchanged and is deterministic."""
+    img, _ = make_stripe_image(seed=5)
+    before = copy.deepcopy(vars(tracker))
+    params = copy.deepcopy(tracker.get_params())
+    first = tracker.track(img)
+    second = tracker.track(img)
+    assert _equal(vars(tracker), before), f"{_name(tracker)}: track() changed the tracker's state"
+    assert repr(tracker.get_params()) == repr(params), f"{_name(tracker)}: track() changed get_params()"
+    assert _same(first.columns, second.columns) and _same(first.score, second.score), (
+        f"{_name(tracker)} is not deterministic"
+    )
+
+
+def check_get_params(tracker: Tracker) -> None:
+    """`get_params` returns the constructor's parameters; a tracker rebuilt
+    from them tracks the same; the tracker has a registered-style name."""
+    assert isinstance(tracker.name, str) and tracker.name, f"{type(tracker).__name__} has no `name`"
+    params = tracker.get_params()
+    assert isinstance(params, dict), f"{_name(tracker)}: get_params() returned {type(params).__name__}"
+    clone = type(tracker)(**params)
+    img, _ = make_stripe_image(seed=6)
+    assert _same(clone.track(img).columns, tracker.track(img).columns), (
+        f"{_name(tracker)}: a tracker rebuilt from get_params() tracks differently"
+    )
+
+
+def check_synthetic_accuracy(tracker: Tracker) -> None:
+    """On synthetic Gaussian stripes with noise: mean absolute error within
+    0.1 px for sub-pixel trackers, 0.6 px for the others; at least 95 % of
+    the rows reported."""
+    errors = []
+    reported = 0
+    total = 0
+    for seed in range(4):
+        img, truth = make_stripe_image(seed=100 + seed)
+        cols = tracker.track(img).columns
+        ok = ~np.isnan(cols)
+        reported += int(ok.sum())
+        total += cols.size
+        errors.append(np.abs(cols[ok] - truth[ok]))
+    err = np.concatenate(errors)
+    limit = 0.1 if tracker.subpixel else 0.6
+    assert reported >= 0.95 * total, f"{_name(tracker)} reported only {reported} of {total} rows of a clear stripe"
+    mae = float(err.mean())
+    assert mae <= limit, f"{_name(tracker)}: mean absolute error {mae:.3f} px > {limit} px on synthetic stripes"
+
+
+def check_vertical_flip(tracker: Tracker) -> None:
+    """Flipping the frame upside down flips the result."""
+    img, _ = make_stripe_image(seed=7)
+    a = tracker.track(img).columns
+    b = tracker.track(img[::-1]).columns
+    assert np.allclose(a[::-1], b, rtol=0, atol=1e-9, equal_nan=True), (
+        f"{_name(tracker)}: the track of the flipped frame is not the flipped track"
+    )
+
+
+_CHECKS: tuple[Callable[[Tracker], None], ...] = (
+    check_output_types,
+    check_blank_image,
+    check_bad_input,
+    check_dtype_invariance,
+    check_readonly_input,
+    check_no_state_change,
+    check_get_params,
+    check_synthetic_accuracy,
+    check_vertical_flip,
+)
+
+
+def all_checks() -> tuple[Callable[[Tracker], None], ...]:
+    """Every conformance check, in the order they run."""
+    return _CHECKS
+
+
+def _checks_for(tracker: Tracker) -> Iterator[Callable[[Tracker], None]]:
+    for check in _CHECKS:
+        yield check
+
+
+def check_tracker(tracker: Tracker) -> None:
+    """Run every conformance check on ``tracker``; raise ``AssertionError`` at
+    the first failure.
+
+    Examples
+    --------
+    >>> import trackers
+    >>> check_tracker(trackers.make("centroid"))
+    """
+    if not isinstance(tracker, Tracker):
+        raise TypeError(f"`tracker` must be a trackers.Tracker instance, got {type(tracker).__name__}")
+    for check in _checks_for(tracker):
+        check(tracker)
+
+
+def parametrize_with_checks(trackers_):
+    """A ``pytest.mark.parametrize`` over (tracker, check) pairs.
+
+    Parameters
+    ----------
+    trackers_ : iterable of Tracker
+        Instances to check.
+
+    Returns
+    -------
+    pytest mark decorator with arguments ``tracker`` and ``check``; the test
+    ids read ``ClassName(params)-check_name``.
+    """
+    import pytest
+
+    items = list(trackers_)
+    for t in items:
+        if not isinstance(t, Tracker):
+            raise TypeError(f"`trackers_` must hold Tracker instances, got {type(t).__name__}")
+    params = []
+    ids = []
+    for t in items:
+        for check in _checks_for(t):
+            params.append((t, partial(check)))
+            ids.append(f"{t!r}-{check.__name__}")
+    return pytest.mark.parametrize("tracker, check", params, ids=ids)

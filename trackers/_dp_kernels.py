@@ -43,8 +43,9 @@ _REL_TOL = 1e-12
 
 
 @njit(cache=True, nogil=True)
-def half_cost_u8(image, eps, out):
-    """``out = 0.5 / (image + eps)`` for a uint8 image, through a 256-entry table."""
+def half_cost_u8(image, eps, out, rowmin, centre):
+    """``out = 0.5 / (image + eps)`` for a uint8 image (a 256-entry table);
+    also each row's least half cost and its leftmost column."""
     lut = np.empty(256)
     for v in range(256):
         lut[v] = 0.5 / (v + eps)
@@ -52,18 +53,49 @@ def half_cost_u8(image, eps, out):
     for r in range(H):
         for j in range(W):
             out[r, j] = lut[image[r, j]]
+        m = image[r, 0]
+        for j in range(W):
+            x = image[r, j]
+            m = x if x > m else m
+        k = 0
+        while image[r, k] != m:
+            k += 1
+        rowmin[r] = lut[m]
+        centre[r] = k
 
 
 @njit(cache=True, nogil=True)
-def half_cost_float(image, eps, out):
-    """``out = 0.5 / (max(image, 0) + eps)`` for a float64 image."""
+def half_cost_float(image, eps, out, rowmin, centre):
+    """``out = 0.5 / (max(image, 0) + eps)`` for a float64 image; also each
+    row's least half cost and its leftmost column."""
     H, W = image.shape
     for r in range(H):
         for j in range(W):
             v = image[r, j]
-            if v < 0.0:
-                v = 0.0
+            v = v if v > 0.0 else 0.0
             out[r, j] = 0.5 / (v + eps)
+        row_stats_into(out, r, rowmin, centre)
+
+
+@njit(cache=True, nogil=True)
+def row_stats_into(hc, r, rowmin, centre):
+    W = hc.shape[1]
+    m = hc[r, 0]
+    for j in range(1, W):
+        x = hc[r, j]
+        m = x if x < m else m
+    k = 0
+    while hc[r, k] != m:
+        k += 1
+    rowmin[r] = m
+    centre[r] = k
+
+
+@njit(cache=True, nogil=True)
+def row_stats(hc, rowmin, centre):
+    """Each row's least half cost and its leftmost column."""
+    for r in range(hc.shape[0]):
+        row_stats_into(hc, r, rowmin, centre)
 
 
 @njit(cache=True, nogil=True)
@@ -191,7 +223,55 @@ def _forward(D, hc, conn8, lb, limit0, tol, lo, hi, vlo, vhi):
 
 
 @njit(cache=True, nogil=True)
-def accumulate(hc, conn8, bound, D):
+def _corridor_bound(hc, conn8, left, right):
+    """Cost of the best monotone path (down and along rows) confined to a
+    corridor: row r may use columns ``left[r]..right[r]``; consecutive rows'
+    ranges must overlap. It is the cost of a real path: an upper bound of
+    the optimum, tight when the corridor holds the stripe."""
+    H, W = hc.shape
+    prev = np.full(W, np.inf)
+    cur = np.full(W, np.inf)
+    pa = 0
+    pb = W - 1
+    for j in range(W):
+        prev[j] = 0.0
+    for r in range(1, H):
+        a = left[r]
+        b = right[r]
+        for j in range(a, b + 1):
+            v = prev[j] + (hc[r - 1, j] + hc[r, j])
+            if conn8:
+                if j > 0:
+                    w = prev[j - 1] + SQRT2 * (hc[r - 1, j - 1] + hc[r, j])
+                    v = w if w < v else v
+                if j < W - 1:
+                    w = prev[j + 1] + SQRT2 * (hc[r - 1, j + 1] + hc[r, j])
+                    v = w if w < v else v
+            cur[j] = v
+        for j in range(a + 1, b + 1):
+            y = cur[j - 1] + (hc[r, j - 1] + hc[r, j])
+            if y < cur[j]:
+                cur[j] = y
+        for j in range(b - 1, a - 1, -1):
+            y = cur[j + 1] + (hc[r, j] + hc[r, j + 1])
+            if y < cur[j]:
+                cur[j] = y
+        for j in range(pa, pb + 1):
+            prev[j] = np.inf
+        for j in range(a, b + 1):
+            prev[j] = cur[j]
+            cur[j] = np.inf
+        pa = a
+        pb = b
+    best = np.inf
+    for j in range(pa, pb + 1):
+        if prev[j] < best:
+            best = prev[j]
+    return best
+
+
+@njit(cache=True, nogil=True)
+def accumulate(hc, conn8, bound, D, rowmin, centre):
     """Fill ``D`` with distances from the top row; returns the sweep count.
 
     Parameters
@@ -206,14 +286,17 @@ def accumulate(hc, conn8, bound, D):
         bound). If False, the whole field is exact.
     D : (H, W) float64
         Output.
+    rowmin, centre : (H,) float64 and int64
+        Each row's least ``hc`` and a column where it occurs (see
+        :func:`row_stats`).
 
     Notes
     -----
     With ``bound``, the first (banded) forward sweep needs an upper bound of
-    the optimum before it is known: it guesses ``lb[0] + slack`` with a
-    slack of 1/8 of the lower bound, and doubles the slack until the sweep
-    finds a path below the guess (the work grows geometrically, so the failed
-    guesses cost at most about as much as the last one).
+    the optimum before it is known: the cost of the best monotone path inside
+    a corridor spanning the brightest pixels of the 9 nearest rows, +-8
+    columns. Every node of that path lies inside the band, so the sweep
+    succeeds at once; the doubling retry only guards against rounding.
     """
     H, W = hc.shape
     lo = np.empty(H, np.int64)
@@ -225,17 +308,27 @@ def accumulate(hc, conn8, bound, D):
         for j in range(W):
             D[r, j] = np.inf
     if bound:
-        rowmin = np.empty(H)
-        for r in range(H):
-            m = hc[r, 0]
-            for j in range(1, W):
-                x = hc[r, j]
-                m = x if x < m else m
-            rowmin[r] = m
         for r in range(H - 2, -1, -1):
             lb[r] = lb[r + 1] + rowmin[r] + rowmin[r + 1]
         tol = _REL_TOL
-        slack = 0.125 * lb[0]
+        # an upper bound from a corridor around each row's brightest pixel:
+        # row r spans the brightest pixels of rows r-4..r+4, widened by 8
+        # columns (wide where the brightest pixel jumps: cuts, glints)
+        left = np.empty(H, np.int64)
+        right = np.empty(H, np.int64)
+        for r in range(H):
+            a = r - 4 if r >= 4 else 0
+            b = r + 4 if r + 4 < H else H - 1
+            mn = centre[a]
+            mx = centre[a]
+            for i in range(a + 1, b + 1):
+                x = centre[i]
+                mn = x if x < mn else mn
+                mx = x if x > mx else mx
+            left[r] = mn - 8 if mn >= 8 else 0
+            right[r] = mx + 8 if mx + 8 < W else W - 1
+        U0 = _corridor_bound(hc, conn8, left, right)
+        slack = U0 * (1.0 + 1e-9) - lb[0]
         attempts = 0
         while True:
             limit0 = lb[0] + slack if attempts < 60 else np.inf
@@ -246,7 +339,7 @@ def accumulate(hc, conn8, bound, D):
             for r in range(H):
                 for j in range(vlo[r], vhi[r] + 1):
                     D[r, j] = np.inf
-            slack *= 2.0
+            slack = 2.0 * slack + 1e-300
         U = best * (1.0 + 1e-9) + 1e-300
         # shrink the spans to the nodes relevant under the path just found
         for r in range(H):
@@ -268,28 +361,41 @@ def accumulate(hc, conn8, bound, D):
     sweeps = attempts
     if H < 3:
         return sweeps
+    # certificate sweeps. ver[r] counts the relevant changes of row r;
+    # up[r] / dn[r] remember ver[r-1] / ver[r+1] when row r was last relaxed
+    # from above / below, so a row is only relaxed again from a neighbour
+    # that changed since.
+    ver = np.ones(H, np.int64)
+    up = np.ones(H, np.int64)
+    dn = np.zeros(H, np.int64)
     while True:
         changed = False
         for r in range(H - 2, 0, -1):
-            if lo[r + 1] > hi[r + 1]:
+            if lo[r + 1] > hi[r + 1] or dn[r] == ver[r + 1]:
                 continue
+            dn[r] = ver[r + 1]
             a, b = _span(lo, hi, r + 1, W)
             ch, l_, h_, va, vb = _relax_span(D, hc, r, r + 1, conn8, W, a, b, U - lb[r], tol)
-            changed |= ch
-            lo[r] = min(lo[r], l_)
-            hi[r] = max(hi[r], h_)
+            if ch:
+                changed = True
+                ver[r] += 1
+                lo[r] = min(lo[r], l_)
+                hi[r] = max(hi[r], h_)
         sweeps += 1
         if not changed:
             break
         changed = False
         for r in range(1, H):
-            if lo[r - 1] > hi[r - 1]:
+            if lo[r - 1] > hi[r - 1] or up[r] == ver[r - 1]:
                 continue
+            up[r] = ver[r - 1]
             a, b = _span(lo, hi, r - 1, W)
             ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, W, a, b, U - lb[r], tol)
-            changed |= ch
-            lo[r] = min(lo[r], l_)
-            hi[r] = max(hi[r], h_)
+            if ch:
+                changed = True
+                ver[r] += 1
+                lo[r] = min(lo[r], l_)
+                hi[r] = max(hi[r], h_)
         sweeps += 1
         if not changed:
             break

@@ -53,13 +53,18 @@ def _check_connectivity(connectivity) -> bool:
     return connectivity == 8
 
 
-def _half_cost(image: np.ndarray, eps: float) -> np.ndarray:
+def _half_cost(image: np.ndarray, eps: float):
+    """Half node costs ``0.5 / (max(I, 0) + eps)`` and each row's least one
+    and its column (the kernels' inputs)."""
+    H = image.shape[0]
     hc = np.empty(image.shape, dtype=np.float64)
+    rowmin = np.empty(H)
+    centre = np.empty(H, dtype=np.int64)
     if image.dtype == np.uint8:
-        K.half_cost_u8(image, float(eps), hc)
+        K.half_cost_u8(image, float(eps), hc, rowmin, centre)
     else:
-        K.half_cost_float(image, float(eps), hc)
-    return hc
+        K.half_cost_float(image, float(eps), hc, rowmin, centre)
+    return hc, rowmin, centre
 
 
 def node_cost(image, eps: float = 1.0) -> np.ndarray:
@@ -83,7 +88,7 @@ def node_cost(image, eps: float = 1.0) -> np.ndarray:
     """
     img = check_image(image)
     check_real("eps", eps, low=0, low_open=True)
-    return 2.0 * _half_cost(img, eps)
+    return 2.0 * _half_cost(img, eps)[0]
 
 
 def _check_cost(cost) -> np.ndarray:
@@ -95,10 +100,10 @@ def _check_cost(cost) -> np.ndarray:
     return c
 
 
-def _solve(hc: np.ndarray, conn8: bool):
+def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool):
     H, W = hc.shape
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, True, D)
+    K.accumulate(hc, conn8, True, D, rowmin, centre)
     rows = np.empty(H * W, dtype=np.int64)
     cols = np.empty(H * W, dtype=np.int64)
     n = K.backtrack(D, hc, conn8, rows, cols)
@@ -107,6 +112,13 @@ def _solve(hc: np.ndarray, conn8: bool):
     rows = rows[:n][::-1].copy()
     cols = cols[:n][::-1].copy()
     return rows, cols, D
+
+
+def _stats(hc: np.ndarray):
+    rowmin = np.empty(hc.shape[0])
+    centre = np.empty(hc.shape[0], dtype=np.int64)
+    K.row_stats(hc, rowmin, centre)
+    return rowmin, centre
 
 
 def shortest_path(cost, connectivity: int = 4):
@@ -143,7 +155,7 @@ def shortest_path(cost, connectivity: int = 4):
     c = _check_cost(cost)
     conn8 = _check_connectivity(connectivity)
     hc = 0.5 * c
-    rows, cols, D = _solve(hc, conn8)
+    rows, cols, D = _solve(hc, *_stats(hc), conn8)
     return rows, cols, float(D[-1, cols[-1]])
 
 
@@ -167,9 +179,9 @@ def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0) -> np.nd
     img = check_image(image)
     check_real("eps", eps, low=0, low_open=True)
     conn8 = _check_connectivity(connectivity)
-    hc = _half_cost(img, eps)
+    hc, rowmin, centre = _half_cost(img, eps)
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, False, D)
+    K.accumulate(hc, conn8, False, D, rowmin, centre)
     D[-1, :] = D[-1].min()
     return D
 
@@ -310,16 +322,15 @@ class DPTracker(Tracker):
         :func:`shortest_path`)."""
         img = check_image(image)
         self._validate_params()
-        hc = _half_cost(img, self.eps)
-        rows, cols, D = _solve(hc, self.connectivity == 8)
+        rows, cols, D = _solve(*_half_cost(img, self.eps), self.connectivity == 8)
         return rows, cols, float(D[-1, cols[-1]])
 
     def _track(self, image, background):
         H, W = image.shape
-        hc = _half_cost(image, self.eps)
+        hc, rowmin, centre = _half_cost(image, self.eps)
         conn8 = self.connectivity == 8
         D = np.empty_like(hc)
-        K.accumulate(hc, conn8, True, D)
+        K.accumulate(hc, conn8, True, D, rowmin, centre)
         mark = np.zeros((H, W), dtype=np.uint8)
         rows = np.empty(H * W, dtype=np.int64)
         cols = np.empty(H * W, dtype=np.int64)

@@ -3,10 +3,17 @@ import numpy as np
 from trackers import _dp_kernels as K
 
 
+def _stats(hc):
+    rowmin = np.empty(hc.shape[0])
+    centre = np.empty(hc.shape[0], np.int64)
+    K.row_stats(hc, rowmin, centre)
+    return rowmin, centre
+
+
 def _field(img, conn8):
     hc = 0.5 / (img.astype(np.float64) + 1.0)
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, True, D)
+    K.accumulate(hc, conn8, True, D, *_stats(hc))
     return hc, D
 
 
@@ -46,6 +53,25 @@ def test_bounded_and_exact_fields_agree_on_the_optimum():
     for conn8 in (False, True):
         hc, D = _field(img, conn8)
         Dx = np.empty_like(D)
-        K.accumulate(hc, conn8, False, Dx)
+        K.accumulate(hc, conn8, False, Dx, *_stats(hc))
         assert D[-1].min() == Dx[-1].min() or abs(D[-1].min() - Dx[-1].min()) <= 1e-12 * Dx[-1].min()
         assert (D >= Dx * (1 - 1e-12)).all()  # bounded values are upper bounds
+
+
+def test_half_cost_kernels_agree_and_report_row_minima():
+    rng = np.random.default_rng(2)
+    img = rng.integers(0, 256, (20, 30)).astype(np.uint8)
+    img[5, :] = 7  # a constant row: the leftmost column
+    out = []
+    for arr, kernel in ((img, K.half_cost_u8), (img.astype(np.float64), K.half_cost_float)):
+        hc = np.empty(img.shape)
+        rowmin = np.empty(20)
+        centre = np.empty(20, np.int64)
+        kernel(arr, 1.0, hc, rowmin, centre)
+        out.append((hc, rowmin, centre))
+    (a, am, ac), (b, bm, bc) = out
+    assert np.array_equal(a, b) and np.array_equal(am, bm) and np.array_equal(ac, bc)
+    np.testing.assert_array_equal(a, 0.5 / (img + 1.0))
+    np.testing.assert_array_equal(ac, np.argmax(img, axis=1))
+    assert ac[5] == 0
+    np.testing.assert_array_equal(am, a.min(axis=1))

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Set up stripebench on a fresh machine: a virtual environment in .venv with the
+# package and its test extras, and (when we can) Debian's libLLVM 19, which
+# Mitsuba's fast `llvm_*` variants need (with LLVM 14/15 they abort; without a
+# working LLVM stripebench falls back to the ~4x slower scalar variant).
+# Idempotent: a second run only checks.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+have_llvm19() { ldconfig -p 2>/dev/null | grep -q 'libLLVM\(-19\|\.so\.19\)'; }
+if ! have_llvm19; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "setup: installing libllvm19 (for Mitsuba's LLVM variants)"
+        (apt-get install -y -qq libllvm19 >/dev/null 2>&1 \
+            || (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq libllvm19 >/dev/null 2>&1)) \
+            || echo "setup: could not install libllvm19; rendering will use a slower Mitsuba variant"
+    else
+        echo "setup: libLLVM 19 not found and not root; rendering will use a slower Mitsuba variant" \
+             "(install Debian's libllvm19 to speed it up)"
+    fi
+fi
+
+PY=${PYTHON:-python3}
+if [ ! -x .venv/bin/python ]; then
+    "$PY" -m venv .venv
+fi
+.venv/bin/python -m pip install -q --upgrade pip >/dev/null
+.venv/bin/python -m pip install -q -e '.[test]'
+echo "setup: ready (.venv/bin/stripebench)"

@@ -1,0 +1,223 @@
+"""Experiment configurations: TOML files and the embedded profiles, validated.
+
+A configuration is a TOML document::
+
+    name = "paper"            # free text, names the run
+    seed = 0                  # one seed for renders, noise, samples and bootstrap
+    trackers = []             # tracker names; empty = every registered tracker
+    baselines = ["threshold", "centroid"]   # "without DP"
+    dp = ["dp4", "dp8"]       # the DP trackers compared with them
+    n_samples = 150           # sample points per experiment (the paper's 150)
+    n_boot = 2000             # bootstrap resamples for the confidence intervals
+
+    [render]                  # shared by every experiment
+    width = 512
+    height = 480
+    spp = 16
+
+    [[experiments]]           # one scan each
+    scene = "cone"
+    material = "patchy"
+    n_angles = 40             # or: angles = [-3.0, -2.5, ...] (deg)
+    ambient_lux = 400.0       # optional per-experiment scene overrides:
+    laser_power_mw = 3.0      # ambient_lux, laser_power_mw, line_fwhm_mrad, ...
+
+Every key is checked: an unknown key, a wrong type or an invalid value raises
+:class:`ConfigError` with one line naming the key and echoing the value.
+"""
+
+from __future__ import annotations
+
+import copy
+import numbers
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+__all__ = ["ConfigError", "Config", "Experiment", "load", "parse", "profile", "with_overrides", "PROFILES"]
+
+PROFILES = ("paper", "quick", "ci")
+_TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "render", "experiments"}
+_RENDER = {"width", "height", "spp", "ambient_spp"}
+_SCENE_OVERRIDES = {"ambient_lux", "laser_power_mw", "line_fwhm_mrad", "laser_fan_deg", "ambient_illuminant",
+                    "laser_wavelength_nm", "filter_center_nm", "filter_fwhm_nm", "filter_peak", "exposure_ms",
+                    "f_number", "read_noise_e", "gain_e_per_dn"}
+_EXPERIMENT = {"scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
+
+
+class ConfigError(ValueError):
+    """A configuration problem; ``str(err)`` is one line for the user."""
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One scan: a scene, a material, angles and scene-parameter overrides."""
+
+    scene: str
+    material: str
+    n_angles: int | None = None
+    angles: tuple[float, ...] | None = None
+    overrides: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def key(self) -> str:
+        """A file-name-safe identifier, ``scene-material`` plus any overrides."""
+        extra = "".join(f"_{k}={v}" for k, v in sorted(self.overrides.items()))
+        return f"{self.scene}-{self.material}{extra}".replace("/", "_").replace(" ", "")
+
+
+@dataclass(frozen=True)
+class Config:
+    """A validated experiment configuration (see the module docstring)."""
+
+    name: str
+    seed: int
+    trackers: tuple[str, ...]
+    baselines: tuple[str, ...]
+    dp: tuple[str, ...]
+    n_samples: int
+    n_boot: int
+    render: dict[str, int]
+    experiments: tuple[Experiment, ...]
+    source: str = "<dict>"
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged."""
+        exps = []
+        for e in self.experiments:
+            d = {"scene": e.scene, "material": e.material, **e.overrides}
+            if e.n_angles is not None:
+                d["n_angles"] = e.n_angles
+            if e.angles is not None:
+                d["angles"] = list(e.angles)
+            exps.append(d)
+        return {"name": self.name, "seed": self.seed, "trackers": list(self.trackers),
+                "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
+                "n_boot": self.n_boot, "render": dict(self.render), "experiments": exps}
+
+
+def _where(path: str) -> str:
+    return f"`{path}`"
+
+
+def _int(path: str, value, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise ConfigError(f"{_where(path)} must be an integer >= {low}, got {value!r}")
+    return int(value)
+
+
+def _names(path: str, value, allowed: list[str] | None) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ConfigError(f"{_where(path)} must be a list of names, got {value!r}")
+    if allowed is not None:
+        for v in value:
+            if v not in allowed:
+                raise ConfigError(f"{_where(path)} names unknown tracker {v!r}; available: {', '.join(allowed)}")
+    if len(set(value)) != len(value):
+        raise ConfigError(f"{_where(path)} repeats a name: {value!r}")
+    return tuple(value)
+
+
+def _unknown(path: str, d: dict, allowed: set[str]) -> None:
+    extra = sorted(set(d) - allowed)
+    if extra:
+        key = f"{path}.{extra[0]}" if path else extra[0]
+        raise ConfigError(f"unknown key `{key}` (valid: {', '.join(sorted(allowed))})")
+
+
+def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
+    """Validate a configuration dict (as read from TOML) into a :class:`Config`."""
+    import scenes
+    import trackers
+
+    if not isinstance(data, dict):
+        raise ConfigError(f"a configuration must be a table, got {type(data).__name__}")
+    _unknown("", data, _TOP)
+    name = data.get("name", "custom")
+    if not isinstance(name, str) or not name:
+        raise ConfigError(f"`name` must be a non-empty string, got {name!r}")
+    seed = _int("seed", data.get("seed", 0), 0)
+    registered = trackers.available()
+    names = _names("trackers", data.get("trackers", []), registered) or tuple(registered)
+    baselines = _names("baselines", data.get("baselines", ["threshold", "centroid"]), registered)
+    dp = _names("dp", data.get("dp", ["dp4", "dp8"]), registered)
+    for group, members in (("baselines", baselines), ("dp", dp)):
+        for m in members:
+            if m not in names:
+                raise ConfigError(f"`{group}` names {m!r}, which is not among `trackers` {list(names)}")
+    n_samples = _int("n_samples", data.get("n_samples", 150), 1)
+    n_boot = _int("n_boot", data.get("n_boot", 2000), 10)
+    render_in = data.get("render", {})
+    if not isinstance(render_in, dict):
+        raise ConfigError(f"`render` must be a table, got {render_in!r}")
+    _unknown("render", render_in, _RENDER)
+    render = {k: _int(f"render.{k}", v, 1) for k, v in render_in.items()}
+    exps_in = data.get("experiments")
+    if not isinstance(exps_in, list) or not exps_in:
+        raise ConfigError(f"`experiments` must be a non-empty list of tables, got {exps_in!r}")
+    exps = []
+    scene_names = scenes.available()
+    for i, e in enumerate(exps_in):
+        path = f"experiments[{i}]"
+        if not isinstance(e, dict):
+            raise ConfigError(f"`{path}` must be a table, got {e!r}")
+        _unknown(path, e, _EXPERIMENT)
+        scene = e.get("scene")
+        if scene not in scene_names:
+            raise ConfigError(f"`{path}.scene` must be one of {', '.join(scene_names)}, got {scene!r}")
+        material = e.get("material", "matte")
+        if material not in scenes.MATERIALS:
+            raise ConfigError(f"`{path}.material` must be one of {', '.join(scenes.MATERIALS)}, got {material!r}")
+        n_angles = _int(f"{path}.n_angles", e["n_angles"], 2) if "n_angles" in e else None
+        angles = None
+        if "angles" in e:
+            a = e["angles"]
+            if (not isinstance(a, list) or len(a) < 2
+                    or not all(isinstance(x, numbers.Real) and not isinstance(x, bool) for x in a)):
+                raise ConfigError(f"`{path}.angles` must be a list of at least 2 numbers (deg), got {a!r}")
+            angles = tuple(float(x) for x in a)
+            if n_angles is not None:
+                raise ConfigError(f"`{path}` gives both `n_angles` and `angles`; give one")
+        overrides = {k: e[k] for k in sorted(_SCENE_OVERRIDES & set(e))}
+        try:  # let the scene validate its own parameters
+            scenes.make(scene, material=material, **render, **overrides)
+        except (TypeError, KeyError, ValueError) as exc:
+            msg = exc.args[0] if exc.args else str(exc)
+            raise ConfigError(f"`{path}`: {msg}") from None
+        exps.append(Experiment(scene, material, n_angles, angles, overrides))
+    keys = [e.key for e in exps]
+    dup = sorted({k for k in keys if keys.count(k) > 1})
+    if dup:
+        raise ConfigError(f"`experiments` lists {dup[0]!r} twice")
+    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source)
+
+
+def load(path) -> Config:
+    """Read and validate a TOML configuration file."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"cannot read configuration {str(p)!r}: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
+    return parse(data, source=str(p))
+
+
+def profile(name: str) -> Config:
+    """One of the embedded profiles: ``paper`` (the default experiment), ``quick``, ``ci``."""
+    if name not in PROFILES:
+        raise ConfigError(f"unknown profile {name!r}; available: {', '.join(PROFILES)}")
+    text = resources.files("bench.profiles").joinpath(f"{name}.toml").read_text(encoding="utf-8")
+    return parse(tomllib.loads(text), source=f"profile:{name}")
+
+
+def with_overrides(config: Config, **changes) -> Config:
+    """A copy with top-level fields replaced (e.g. ``seed``, ``trackers``), re-validated."""
+    d = copy.deepcopy(config.to_dict())
+    d.update({k: (list(v) if isinstance(v, tuple) else v) for k, v in changes.items()})
+    return parse(d, source=config.source)

@@ -1,0 +1,83 @@
+"""Accuracy metrics: pure functions on arrays.
+
+Conventions: ``pred`` and ``truth`` are stripe columns (px) over any grid of
+rows (e.g. frames x rows), NaN where the tracker reports nothing / where no
+lit visible stripe exists. Depths are in mm.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["error_stats", "coverage", "outlier_rate", "false_detection_rate", "frame_record", "OUTLIER_PX"]
+
+OUTLIER_PX = 3.0
+
+
+def error_stats(errors) -> dict[str, float]:
+    """MAE, RMSE and 95th percentile of ``|errors|`` (NaNs ignored); NaN if none.
+
+    Examples
+    --------
+    >>> error_stats([3.0, -4.0])["rmse"]
+    3.5355339059327378
+    """
+    e = np.abs(np.asarray(errors, dtype=np.float64))
+    e = e[~np.isnan(e)]
+    if e.size == 0:
+        return {"mae": np.nan, "rmse": np.nan, "p95": np.nan, "n": 0}
+    return {"mae": float(e.mean()), "rmse": float(np.sqrt(np.mean(e * e))), "p95": float(np.percentile(e, 95)),
+            "n": int(e.size)}
+
+
+def coverage(pred, truth) -> float:
+    """Rows with a detection among the rows with a lit visible stripe (NaN if none)."""
+    pred = np.asarray(pred, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    lit = ~np.isnan(truth)
+    n = int(lit.sum())
+    return float(np.count_nonzero(~np.isnan(pred[lit])) / n) if n else float("nan")
+
+
+def outlier_rate(pred, truth, threshold_px: float = OUTLIER_PX) -> float:
+    """Among rows with both a detection and a stripe, the fraction off by more than ``threshold_px``."""
+    pred = np.asarray(pred, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    both = ~np.isnan(pred) & ~np.isnan(truth)
+    n = int(both.sum())
+    return float(np.count_nonzero(np.abs(pred[both] - truth[both]) > threshold_px) / n) if n else float("nan")
+
+
+def false_detection_rate(pred, truth) -> float:
+    """Among rows with no stripe, the fraction where the tracker reports one (NaN if none)."""
+    pred = np.asarray(pred, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    dark = np.isnan(truth)
+    n = int(dark.sum())
+    return float(np.count_nonzero(~np.isnan(pred[dark])) / n) if n else float("nan")
+
+
+def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None) -> dict[str, float]:
+    """Every metric of one tracker on one grid of rows, as a flat dict.
+
+    Keys: ``px_mae, px_rmse, px_p95, depth_mae_mm, depth_rmse_mm, depth_p95_mm,
+    coverage, outlier_rate, false_detections, n_rows, n_lit, n_detected``.
+    """
+    pred = np.asarray(pred, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    px = error_stats(pred - truth)
+    rec = {"px_mae": px["mae"], "px_rmse": px["rmse"], "px_p95": px["p95"]}
+    if depth_pred_mm is not None and depth_true_mm is not None:
+        d = error_stats(np.asarray(depth_pred_mm, float) - np.asarray(depth_true_mm, float))
+    else:
+        d = {"mae": np.nan, "rmse": np.nan, "p95": np.nan}
+    rec.update(depth_mae_mm=d["mae"], depth_rmse_mm=d["rmse"], depth_p95_mm=d["p95"])
+    rec.update(
+        coverage=coverage(pred, truth),
+        outlier_rate=outlier_rate(pred, truth),
+        false_detections=false_detection_rate(pred, truth),
+        n_rows=int(truth.size),
+        n_lit=int(np.count_nonzero(~np.isnan(truth))),
+        n_detected=int(np.count_nonzero(~np.isnan(pred))),
+    )
+    return rec

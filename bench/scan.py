@@ -1,0 +1,206 @@
+"""One experiment's scan: render every mirror angle, run every tracker on it.
+
+The unit of work is :func:`track_frame` (one frame, one tracker: pure). A scan
+keeps its results in one ``.npz`` checkpoint, written atomically after every
+few frames and when interrupted, so a rerun resumes where it stopped (the
+renders themselves come back from the scenes' disk cache).
+
+A tracker that raises, returns something other than a :class:`trackers.Track`
+of the frame's height, or reports columns outside the image is recorded as
+*failed* for that frame (NaN columns, a status code and the message); the scan
+goes on.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .runio import load_npz, save_npz
+
+__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "STATUS"]
+
+STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image"}
+_CHECKPOINT_S = 10.0
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """One tracker on one frame."""
+
+    columns: np.ndarray  # (H,) float64
+    score: np.ndarray  # (H,) float64
+    seconds: float
+    status: int
+    message: str
+
+
+def track_frame(tracker, image, background) -> TrackResult:
+    """Run ``tracker`` on one frame and check what it returns (never raises)."""
+    import trackers
+
+    H, W = image.shape
+    nan = np.full(H, np.nan)
+    t0 = time.perf_counter()
+    try:
+        out = tracker.track(image, background=background)
+    except Exception as exc:  # a tracker's failure is data, not a crash
+        dt = time.perf_counter() - t0
+        tb = traceback.extract_tb(exc.__traceback__)[-1]
+        return TrackResult(nan, nan, dt, 1, f"{type(exc).__name__}: {exc} ({Path(tb.filename).name}:{tb.lineno})")
+    dt = time.perf_counter() - t0
+    if not isinstance(out, trackers.Track):
+        return TrackResult(nan, nan, dt, 2, f"returned {type(out).__name__}, not Track")
+    if out.columns.shape != (H,):
+        return TrackResult(nan, nan, dt, 2, f"returned {out.columns.shape[0]} rows for a frame of {H}")
+    cols = out.columns
+    bad = ~np.isnan(cols) & ((cols < -0.5) | (cols > W - 0.5))
+    if bad.any():
+        return TrackResult(nan, nan, dt, 3, f"{int(bad.sum())} column(s) outside the image, e.g. {cols[bad][0]!r}")
+    return TrackResult(np.array(cols), np.array(out.score), dt, 0, "")
+
+
+@dataclass
+class ScanResult:
+    """Everything one scan produced (arrays indexed frame x row)."""
+
+    key: str
+    angles: np.ndarray  # (F,)
+    truth_columns: np.ndarray  # (F, H)
+    truth_points_cm: np.ndarray  # (F, H, 3)
+    on_object: np.ndarray  # (F, H) bool
+    columns: dict  # name -> (F, H)
+    scores: dict  # name -> (F, H)
+    seconds: dict  # name -> (F,)
+    status: dict  # name -> (F,) int
+    messages: dict  # name -> list[str] (F)
+    done: np.ndarray  # (F,) bool
+    variant: str
+    width: int
+    render_seconds: float
+
+    @property
+    def complete(self) -> bool:
+        return bool(self.done.all())
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        out = {
+            "angles": self.angles, "truth_columns": self.truth_columns, "truth_points_cm": self.truth_points_cm,
+            "on_object": self.on_object, "done": self.done, "variant": np.array(self.variant),
+            "width": np.array(self.width), "render_seconds": np.array(self.render_seconds),
+            "trackers": np.array(sorted(self.columns)),
+        }
+        for n in self.columns:
+            out[f"columns/{n}"] = self.columns[n]
+            out[f"scores/{n}"] = self.scores[n]
+            out[f"seconds/{n}"] = self.seconds[n]
+            out[f"status/{n}"] = self.status[n]
+            out[f"messages/{n}"] = np.array(self.messages[n], dtype=str)
+        return out
+
+    @classmethod
+    def from_arrays(cls, key: str, a: dict[str, np.ndarray]) -> "ScanResult":
+        names = [str(n) for n in a["trackers"]]
+        return cls(
+            key=key, angles=a["angles"], truth_columns=a["truth_columns"], truth_points_cm=a["truth_points_cm"],
+            on_object=a["on_object"].astype(bool), done=a["done"].astype(bool), variant=str(a["variant"]),
+            width=int(a["width"]), render_seconds=float(a["render_seconds"]),
+            columns={n: a[f"columns/{n}"] for n in names}, scores={n: a[f"scores/{n}"] for n in names},
+            seconds={n: a[f"seconds/{n}"] for n in names}, status={n: a[f"status/{n}"] for n in names},
+            messages={n: [str(m) for m in a[f"messages/{n}"]] for n in names},
+        )
+
+
+def _empty(key, angles, height, names) -> ScanResult:
+    F, H = len(angles), height
+    nanFH = lambda: np.full((F, H), np.nan)  # noqa: E731
+    return ScanResult(
+        key=key, angles=np.asarray(angles, float), truth_columns=nanFH(), truth_points_cm=np.full((F, H, 3), np.nan),
+        on_object=np.zeros((F, H), bool), columns={n: nanFH() for n in names}, scores={n: nanFH() for n in names},
+        seconds={n: np.full(F, np.nan) for n in names}, status={n: np.zeros(F, np.int64) for n in names},
+        messages={n: [""] * F for n in names}, done=np.zeros(F, bool), variant="", width=0, render_seconds=0.0,
+    )
+
+
+def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path,
+             progress: bool = True, keep_frame: int | None = None):
+    """Render and track one scan, resuming from ``checkpoint`` if it matches.
+
+    Parameters
+    ----------
+    key : str
+        Experiment identifier (stored with the results).
+    scene : scenes.Scene
+    angles : sequence of float
+        Mirror angles (deg).
+    trackers_ : dict name -> Tracker
+    spp, seed : int
+        Rendering samples per pixel and seed.
+    checkpoint : Path
+        The scan's ``.npz`` file (read to resume, written atomically).
+    progress : bool
+        tqdm bar on stderr.
+    keep_frame : int, optional
+        Index of a frame whose image to return as well (for figures).
+
+    Returns
+    -------
+    ScanResult, and the kept frame's ``(image, background)`` or None.
+    """
+    from tqdm import tqdm
+
+    names = list(trackers_)
+    angles = np.asarray(angles, float)
+    res = None
+    saved = load_npz(checkpoint) if checkpoint.exists() else None
+    if saved is not None:
+        try:
+            prev = ScanResult.from_arrays(key, saved)
+            if np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names):
+                res = prev
+        except KeyError:
+            res = None
+    if res is None:
+        res = _empty(key, angles, scene.rig.height, names)
+    kept = None
+    todo = [i for i in range(len(angles)) if not res.done[i] or (keep_frame is not None and i == keep_frame)]
+    if todo:  # first calls compile (numba); keep that out of the per-frame times
+        H, W = scene.rig.height, scene.rig.width
+        blank = np.zeros((H, W), np.uint8)
+        for n in names:
+            track_frame(trackers_[n], blank, blank)
+    last_save = time.monotonic()
+    bar = tqdm(todo, desc=key, unit="frame", file=sys.stderr, disable=not progress, leave=False)
+    try:
+        for i in bar:
+            t0 = time.perf_counter()
+            frame = scene.render(float(angles[i]), spp=spp, seed=seed)
+            if i == keep_frame:
+                kept = (frame.image, frame.background, frame.truth.columns)
+                if res.done[i]:
+                    continue
+            res.render_seconds += time.perf_counter() - t0
+            res.variant = frame.variant
+            res.width = frame.image.shape[1]
+            res.truth_columns[i] = frame.truth.columns
+            res.truth_points_cm[i] = frame.truth.points_cm
+            res.on_object[i] = frame.truth.on_object
+            for n in names:
+                r = track_frame(trackers_[n], frame.image, frame.background)
+                res.columns[n][i] = r.columns
+                res.scores[n][i] = r.score
+                res.seconds[n][i] = r.seconds
+                res.status[n][i] = r.status
+                res.messages[n][i] = r.message
+            res.done[i] = True
+            if time.monotonic() - last_save > _CHECKPOINT_S:
+                save_npz(checkpoint, **res.to_arrays())
+                last_save = time.monotonic()
+    finally:
+        save_npz(checkpoint, **res.to_arrays())
+    return res, kept

@@ -5,6 +5,12 @@ Mitsuba is imported lazily through :func:`scenes.variant.mitsuba`.  A
 parameters; :meth:`LoadedScene.render` sets *every* per-frame parameter (camera
 and laser pose) before rendering, so the result depends only on its arguments
 and never on the frames rendered before (loading is only a cache).
+
+Reproducibility: ``path`` renders are bit-identical run to run on LLVM; the
+``ptracer`` pass (specular scenes) is rendered on one LLVM thread because its
+atomic splatting order otherwise changes the last float bits.  On CUDA the
+``ptracer`` pass is reproducible only to float32 rounding (the disk cache makes
+reruns identical).
 """
 
 from __future__ import annotations
@@ -79,6 +85,10 @@ class LoadedScene:
         self._scene = self._mi.load_dict(materialise(scene_dict, self._mi, mono=self._mono), optimize=False)
         self._params = self._mi.traverse(self._scene)
         self._shape_ids: Optional[Dict[str, object]] = None
+        # ptracer splats with atomic adds: their order (hence the float sum) varies between
+        # threads; one LLVM thread makes it bit-reproducible (about 2x slower on 2 cores).
+        self._single_thread = (scene_dict.get("integrator", {}).get("type") == "ptracer"
+                               and self.variant.startswith("llvm"))
 
     def set_pose(self, updates: Dict[str, np.ndarray]) -> None:
         """Apply ``{traverse key: 4x4 matrix}`` updates (keys the scene lacks are skipped)."""
@@ -93,7 +103,16 @@ class LoadedScene:
     def render(self, updates: Dict[str, np.ndarray], spp: int, seed: int) -> np.ndarray:
         """Pose, then render; returns float32 (H, W) radiance (one channel)."""
         self.set_pose(updates)
-        img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
+        if self._single_thread:
+            dr = __import__("drjit")
+            threads = dr.thread_count()
+            dr.set_thread_count(1)
+            try:
+                img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
+            finally:
+                dr.set_thread_count(threads)
+        else:
+            img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
         if img.ndim == 3:
             img = img[..., 0]
         return np.ascontiguousarray(img)

@@ -16,7 +16,7 @@ def test_electrons_per_radiance_follows_the_camera_equation():
 
 def test_mean_and_variance_of_captured_dn():
     s = SensorModel(gain_e_per_dn=10.0, full_well_e=100000.0)
-    target_e = 4000.0
+    target_e = 1500.0
     radiance = np.full((200, 200), target_e / s.electrons_per_radiance)
     dn = s.capture(radiance, np.random.default_rng(1)).astype(float)
     assert dn.mean() == pytest.approx(target_e / s.gain_e_per_dn, abs=0.05)

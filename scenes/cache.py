@@ -72,7 +72,7 @@ def load(root: Path, k: str) -> Optional[Dict[str, np.ndarray]]:
     if not p.exists():
         return None
     try:
-        with np.load(p, allow_pickle=False) as z:
+        with open(p, "rb") as fh, np.load(fh, allow_pickle=False) as z:
             return {name: z[name] for name in z.files}
     except Exception:  # corrupt, truncated, foreign: re-render
         return None

@@ -157,6 +157,26 @@ class Scene:
             _cache.store(root, k, out)
         return out
 
+    def visible_points(self, mirror_angle_deg: float):
+        """First surface hit through every pixel centre (not cached).
+
+        Returns
+        -------
+        points_cm : ndarray (H, W, 3), float64
+            NaN where the ray hits nothing.
+        on_object : ndarray (H, W), bool
+        """
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        rig = self.rig
+        laser_scene, _ = self._load(self.params["spp"])
+        laser_scene.set_pose(description.pose_updates(rig, theta))
+        rows, cols = np.meshgrid(np.arange(rig.height, dtype=float), np.arange(rig.width, dtype=float),
+                                 indexing="ij")
+        o, d = rig.pixel_rays(cols, rows, theta)
+        t, part = laser_scene.cast(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
+        t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
+        return o + t[..., None] * d, part.reshape(rig.height, rig.width) == _PARTS.index("object")
+
     def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None) -> Frame:
         """Render one frame.
 

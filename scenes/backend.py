@@ -1,0 +1,184 @@
+"""The only module that talks to Mitsuba: load descriptions, render passes, cast rays.
+
+Mitsuba is imported lazily through :func:`scenes.variant.mitsuba`.  A
+:class:`LoadedScene` keeps a loaded Mitsuba scene and its ``mi.traverse``
+parameters; :meth:`LoadedScene.render` sets *every* per-frame parameter (camera
+and laser pose) before rendering, so the result depends only on its arguments
+and never on the frames rendered before (loading is only a cache).
+
+Reproducibility: ``path`` renders are bit-identical run to run on LLVM; the
+``ptracer`` pass (specular scenes) is rendered on one LLVM thread because its
+atomic splatting order otherwise changes the last float bits.  On CUDA the
+``ptracer`` pass is reproducible only to float32 rounding (the disk cache makes
+reruns identical).
+"""
+
+from __future__ import annotations
+
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+from . import description as _desc
+from . import variant as _variant
+from .rig import CM_TO_M
+
+__all__ = ["materialise", "LoadedScene"]
+
+
+def _mesh(mi, name: str, mesh, bsdf):
+    props = mi.Properties()
+    props["bsdf"] = bsdf
+    m = mi.Mesh(name, len(mesh.vertices_cm), len(mesh.faces), props=props,
+                has_vertex_normals=True, has_vertex_texcoords=True)
+    params = mi.traverse(m)
+
+    def put(key, arr, dtype):
+        params[key] = type(params[key])(np.ascontiguousarray(arr, dtype=dtype).ravel())
+
+    put("vertex_positions", mesh.vertices_cm * CM_TO_M, np.float32)
+    put("vertex_normals", mesh.normals, np.float32)
+    put("vertex_texcoords", mesh.uv, np.float32)
+    put("faces", mesh.faces, np.uint32)
+    params.update()
+    return m
+
+
+def materialise(d, mi, *, mono: bool, name: str = "shape"):
+    """Turn a :mod:`scenes.description` dict into what ``mi.load_dict`` accepts.
+
+    4x4 ``to_world`` arrays become ``ScalarTransform4f``, ``bitmap`` arrays ``mi.Bitmap``,
+    ``numpy_mesh`` entries ``mi.Mesh`` objects with their BSDF; RGB variants get an
+    ``rgb`` film.
+    """
+    if isinstance(d, dict):
+        if d.get("type") == "numpy_mesh":
+            bsdf = mi.load_dict(materialise(d["bsdf"], mi, mono=mono))
+            return _mesh(mi, name, d["mesh"], bsdf)
+        out = {}
+        for k, v in d.items():
+            if k == "to_world" and isinstance(v, np.ndarray):
+                out[k] = mi.ScalarTransform4f(v.tolist())
+            elif k == "bitmap" and isinstance(v, np.ndarray):
+                out[k] = mi.Bitmap(np.array(v, dtype=np.float32, order="C", copy=True))
+            elif k == "pixel_format" and not mono:
+                out[k] = "rgb"
+            else:
+                out[k] = materialise(v, mi, mono=mono, name=k)
+        return out
+    return d
+
+
+class LoadedScene:
+    """A loaded Mitsuba scene that can be re-posed, rendered and ray cast.
+
+    Parameters
+    ----------
+    scene_dict : dict
+        A :mod:`scenes.description` scene dict.
+    """
+
+    def __init__(self, scene_dict: dict):
+        self._mi = _variant.mitsuba()
+        self.variant = self._mi.variant()
+        self._mono = _variant.is_mono(self.variant)
+        self._scene = self._mi.load_dict(materialise(scene_dict, self._mi, mono=self._mono), optimize=False)
+        self._params = self._mi.traverse(self._scene)
+        self._shape_ids: Optional[Dict[str, object]] = None
+        # ptracer splats with atomic adds: their order (hence the float sum) varies between
+        # threads; one LLVM thread makes it bit-reproducible (about 2x slower on 2 cores).
+        self._single_thread = (scene_dict.get("integrator", {}).get("type") == "ptracer"
+                               and self.variant.startswith("llvm"))
+
+    def set_pose(self, updates: Dict[str, np.ndarray]) -> None:
+        """Apply ``{traverse key: 4x4 matrix}`` updates (keys the scene lacks are skipped)."""
+        changed = False
+        for key, m in updates.items():
+            if key in self._params:
+                self._params[key] = self._mi.ScalarTransform4f(np.asarray(m, float).tolist())
+                changed = True
+        if changed:
+            self._params.update()
+
+    def render(self, updates: Dict[str, np.ndarray], spp: int, seed: int) -> np.ndarray:
+        """Pose, then render; returns float32 (H, W) radiance (one channel)."""
+        self.set_pose(updates)
+        if self._single_thread:
+            dr = __import__("drjit")
+            threads = dr.thread_count()
+            dr.set_thread_count(1)
+            try:
+                img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
+            finally:
+                dr.set_thread_count(threads)
+        else:
+            img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
+        if img.ndim == 3:
+            img = img[..., 0]
+        return np.ascontiguousarray(img)
+
+    # -- ray casting --------------------------------------------------------------
+    def _ids(self):
+        if self._shape_ids is None:
+            dr = __import__("drjit")
+            ids = {}
+            for shape in self._scene.shapes():
+                if self.variant.startswith("scalar"):
+                    ids[shape.id()] = shape.id()
+                else:
+                    ptr = self._mi.ShapePtr(shape)
+                    ids[shape.id()] = int(np.array(dr.reinterpret_array(self._mi.UInt32, ptr))[0])
+            self._shape_ids = ids
+        return self._shape_ids
+
+    def cast(self, origins_cm: np.ndarray, dirs: np.ndarray, names: Tuple[str, ...]) -> Tuple[np.ndarray, np.ndarray]:
+        """First hits of rays.
+
+        Parameters
+        ----------
+        origins_cm, dirs : ndarray, shape (N, 3)
+            Ray origins (cm) and unit directions.
+        names : tuple of str
+            Shape ids; the returned index is the position of the hit shape in ``names``.
+
+        Returns
+        -------
+        t_cm : ndarray (N,), float64
+            Hit distance (inf for a miss).
+        part : ndarray (N,), int64
+            Index into ``names`` of the hit shape, -1 for a miss or an unlisted shape.
+        """
+        mi = self._mi
+        o = np.asarray(origins_cm, float).reshape(-1, 3) * CM_TO_M
+        d = np.asarray(dirs, float).reshape(-1, 3)
+        n = len(o)
+        t = np.full(n, np.inf)
+        part = np.full(n, -1, np.int64)
+        if n == 0:
+            return t, part
+        ids = self._ids()
+        if self.variant.startswith("scalar"):
+            for i in range(n):
+                si = self._scene.ray_intersect(mi.Ray3f(mi.Point3f(*o[i]), mi.Vector3f(*d[i])))
+                if si.is_valid():
+                    t[i] = float(si.t) / CM_TO_M
+                    sid = si.shape.id()
+                    part[i] = names.index(sid) if sid in names else -1
+            return t, part
+        dr = __import__("drjit")
+        o32, d32 = o.astype(np.float32), d.astype(np.float32)
+        ray = mi.Ray3f(mi.Point3f(o32[:, 0], o32[:, 1], o32[:, 2]), mi.Vector3f(d32[:, 0], d32[:, 1], d32[:, 2]))
+        si = self._scene.ray_intersect(ray)
+        valid = np.array(si.is_valid(), dtype=bool)
+        tt = np.array(si.t, dtype=np.float64)
+        sid = np.array(dr.reinterpret_array(mi.UInt32, si.shape), dtype=np.int64)
+        t[valid] = tt[valid] / CM_TO_M
+        for k, name in enumerate(names):
+            if name in ids:
+                part[valid & (sid == ids[name])] = k
+        return t, part
+
+
+def laser_pose(rig, theta_deg: float) -> Dict[str, np.ndarray]:
+    """Per-frame ``mi.traverse`` updates for mirror angle ``theta_deg``."""
+    return _desc.pose_updates(rig, theta_deg)

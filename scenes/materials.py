@@ -1,0 +1,83 @@
+"""Surface materials as Mitsuba BSDF dicts (mono: every reflectance is a grey scalar).
+
+``matte``
+    White Lambertian paint, albedo 0.85.
+``absorbing``
+    Dark Lambertian, albedo 0.05 (black cloth/rubber): the stripe is ~17x dimmer.
+``glossy``
+    GGX rough plastic (alpha 0.1, IOR 1.5, diffuse albedo 0.45): a highlight on top of a dimmer
+    diffuse stripe.
+``specular``
+    Smooth aluminium (conductor, ``eta = 1.47``, ``k = 7.79`` at 650 nm; R ≈ 0.91): the true stripe is
+    invisible to a pinhole camera and the reflected laser lands on other surfaces (false stripes).
+``patchy``
+    The ``matte`` white with dark (albedo 0.03) horizontal bands and blotches from a bitmap in the
+    object's planar (front-projected) texture coordinates: the paper's partly invisible stripe.
+
+The backdrop is always :data:`BACKDROP` (grey Lambertian, albedo 0.5).
+
+Bitmaps appear in the dicts as numpy arrays; :mod:`scenes.backend` turns them into ``mi.Bitmap``.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+__all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "patchy_texture", "uses_delta_bsdf"]
+
+MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy")
+BACKDROP_ALBEDO = 0.5
+WHITE_ALBEDO = 0.85
+DARK_ALBEDO = 0.03
+
+
+@functools.lru_cache(maxsize=None)
+def _patchy(size: int) -> np.ndarray:
+    v, u = np.meshgrid((np.arange(size) + 0.5) / size, (np.arange(size) + 0.5) / size, indexing="ij")
+    dark = np.zeros((size, size), bool)
+    for lo, hi in [(0.18, 0.25), (0.47, 0.53), (0.70, 0.80)]:  # horizontal bands (rows of the image)
+        dark |= (v >= lo) & (v < hi)
+    for cu, cv, ru, rv in [(0.30, 0.36, 0.10, 0.06), (0.62, 0.40, 0.06, 0.05),
+                           (0.45, 0.62, 0.08, 0.05), (0.78, 0.88, 0.09, 0.05),
+                           (0.15, 0.90, 0.07, 0.05), (0.85, 0.12, 0.06, 0.05)]:
+        dark |= ((u - cu) / ru) ** 2 + ((v - cv) / rv) ** 2 < 1.0
+    tex = np.where(dark, DARK_ALBEDO, WHITE_ALBEDO).astype(np.float32)[..., None]
+    tex.setflags(write=False)
+    return tex
+
+
+def patchy_texture(size: int = 256) -> np.ndarray:
+    """Albedo bitmap (size, size, 1) float32: white 0.85 with dark 0.03 bands and blotches.
+
+    Row index follows ``v`` (top to bottom of the object), column follows ``u``.
+    """
+    return _patchy(int(size)).copy()
+
+
+def bsdf(material: str) -> dict:
+    """Mitsuba BSDF dict for ``material`` (one of :data:`MATERIALS`)."""
+    if material == "matte":
+        return {"type": "diffuse", "reflectance": WHITE_ALBEDO}
+    if material == "absorbing":
+        return {"type": "diffuse", "reflectance": 0.05}
+    if material == "glossy":
+        return {"type": "roughplastic", "distribution": "ggx", "alpha": 0.1, "int_ior": 1.5,
+                "diffuse_reflectance": 0.45}
+    if material == "specular":
+        return {"type": "conductor", "eta": 1.47, "k": 7.79}
+    if material == "patchy":
+        return {"type": "diffuse",
+                "reflectance": {"type": "bitmap", "bitmap": patchy_texture(), "raw": True}}
+    raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
+
+
+def backdrop_bsdf() -> dict:
+    """The grey Lambertian backdrop."""
+    return {"type": "diffuse", "reflectance": BACKDROP_ALBEDO}
+
+
+def uses_delta_bsdf(material: str) -> bool:
+    """True when the material is a perfect mirror (needs light tracing for laser -> mirror -> diffuse)."""
+    return material == "specular"

@@ -1,0 +1,109 @@
+"""Scene parameters: defaults, groups and validation at the boundary.
+
+Every parameter has a default (:data:`DEFAULTS`).  Groups:
+
+* :data:`RENDER_KEYS` change the cached unit renders and truth (with the name,
+  mirror angle, spp and seed);
+* :data:`SCALE_KEYS` only scale the unit renders (laser power, ambient,
+  spectra, filter): changing them never re-renders;
+* :data:`SENSOR_KEYS` feed :class:`scenes.sensor.SensorModel`;
+* ``n_angles`` (default scan length), ``cache`` and ``cache_dir`` change nothing
+  rendered.
+
+``width`` x ``height`` must keep the default 16:15 square-pixel aspect (64x60,
+128x120, 256x240, 512x480, ...): Mitsuba's pinhole camera has square pixels.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any, Dict
+
+from . import _checks, radiometry
+from .materials import MATERIALS
+from .rig import Rig
+from .sensor import SensorModel
+
+__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "validate"]
+
+SENSOR_KEYS = ("f_number", "lens_transmission", "exposure_ms", "quantum_efficiency", "full_well_e",
+               "gain_e_per_dn", "read_noise_e", "black_level_dn")
+RENDER_KEYS = ("material", "line_fwhm_mrad", "laser_fan_deg", "width", "height", "spp", "ambient_spp", "seed")
+SCALE_KEYS = ("ambient_lux", "ambient_illuminant", "laser_power_mw", "laser_wavelength_nm",
+              "filter_center_nm", "filter_fwhm_nm", "filter_peak")
+
+_SENSOR_DEFAULTS = SensorModel()
+
+DEFAULTS: Dict[str, Any] = {
+    "material": "matte",
+    "ambient_lux": 400.0,
+    "ambient_illuminant": "D65",
+    "laser_power_mw": 3.0,
+    "laser_wavelength_nm": 650.0,
+    "line_fwhm_mrad": 3.0,
+    "laser_fan_deg": 90.0,
+    "filter_center_nm": 650.0,
+    "filter_fwhm_nm": 10.0,
+    "filter_peak": 0.9,
+    "width": 512,
+    "height": 480,
+    "spp": 16,
+    "ambient_spp": 8,
+    "seed": 0,
+    "n_angles": 48,
+    **{k: getattr(_SENSOR_DEFAULTS, k) for k in SENSOR_KEYS},
+    "cache": True,
+    "cache_dir": None,
+}
+
+
+def _seed(value) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 0:
+        raise ValueError(f"`seed` must be an integer >= 0, got {value!r}")
+    return int(value)
+
+
+def validate(params: Dict[str, Any]) -> Dict[str, Any]:
+    """Fill defaults and check every value; returns a new dict.
+
+    Raises
+    ------
+    TypeError
+        An unknown parameter name (the message lists the valid ones).
+    KeyError
+        An unknown ``material`` or ``ambient_illuminant``.
+    ValueError
+        A value out of range; the message names the parameter and echoes the value.
+    """
+    unknown = sorted(set(params) - set(DEFAULTS))
+    if unknown:
+        raise TypeError(f"unknown scene parameter(s) {', '.join(map(repr, unknown))}; "
+                        f"valid: {', '.join(sorted(DEFAULTS))}")
+    p = {**DEFAULTS, **params}
+    if p["material"] not in MATERIALS:
+        raise KeyError(f"unknown `material` {p['material']!r}; valid: {', '.join(MATERIALS)}")
+    p["ambient_lux"] = _checks.non_negative("ambient_lux", p["ambient_lux"])
+    p["laser_power_mw"] = _checks.non_negative("laser_power_mw", p["laser_power_mw"])
+    p["laser_wavelength_nm"] = _checks.in_range("laser_wavelength_nm", p["laser_wavelength_nm"], 360.0, 780.0)
+    p["line_fwhm_mrad"] = _checks.in_range("line_fwhm_mrad", p["line_fwhm_mrad"], 0.0, 100.0, lo_open=True)
+    p["laser_fan_deg"] = _checks.in_range("laser_fan_deg", p["laser_fan_deg"], 0.0, 170.0, lo_open=True)
+    p["filter_center_nm"] = _checks.in_range("filter_center_nm", p["filter_center_nm"], 380.0, 760.0)
+    p["filter_fwhm_nm"] = _checks.in_range("filter_fwhm_nm", p["filter_fwhm_nm"], 0.0, 400.0, lo_open=True)
+    p["filter_peak"] = _checks.in_range("filter_peak", p["filter_peak"], 0.0, 1.0, lo_open=True)
+    for k in ("width", "height", "spp", "ambient_spp", "n_angles"):
+        p[k] = _checks.positive_int(k, p[k])
+    rig = Rig()
+    if not math.isclose(rig.sensor_width_mm / p["width"], rig.sensor_height_mm / p["height"], rel_tol=1e-9):
+        raise ValueError(f"`width` x `height` must keep square pixels ({rig.width}:{rig.height}, e.g. 64x60, "
+                         f"128x120, 256x240, 512x480), got {p['width']!r}x{p['height']!r}")
+    p["seed"] = _seed(p["seed"])
+    if p["ambient_illuminant"] not in radiometry.illuminant_names():
+        raise KeyError(f"unknown `ambient_illuminant` {p['ambient_illuminant']!r}; "
+                       f"valid: {', '.join(radiometry.illuminant_names())}")
+    SensorModel(**{k: p[k] for k in SENSOR_KEYS})  # validates
+    for k in SENSOR_KEYS:
+        p[k] = float(p[k])
+    if not isinstance(p["cache"], bool):
+        raise ValueError(f"`cache` must be True or False, got {p['cache']!r}")
+    return p

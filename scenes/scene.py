@@ -1,0 +1,224 @@
+"""``Scene``: one object x material with its parameters; renders frames.
+
+A frame is a pure function of (parameters, mirror angle, spp, seed):
+
+* the Mitsuba seeds of the two passes and the sensor's two noise draws come from
+  ``numpy.random.SeedSequence([seed, angle bits...])`` (the angle's float64 bits,
+  so every angle has independent noise and the same angle always the same);
+* loaded Mitsuba scenes are kept only as a cache and re-posed completely for
+  every frame;
+* unit renders and truth go through the disk cache (:mod:`scenes.cache`); laser
+  power, ambient, spectra and sensor are applied afterwards.
+
+``frame.image = sensor(ambient + laser)`` and ``frame.background = sensor(ambient)``
+with independent noise draws; both share the ambient render (its Monte Carlo
+noise is therefore common to both, like a fixed pattern).
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import struct
+import sys
+from typing import Any, Dict, Iterable, Iterator, Optional
+
+import numpy as np
+
+from . import _checks, cache as _cache, description, objects, radiometry, variant as _variant
+from .frame import Frame, Truth
+from .laser import profile as _laser_profile
+from .params import RENDER_KEYS, SENSOR_KEYS
+from .rig import Rig
+from .sensor import SensorModel
+from .truth import ground_truth
+
+__all__ = ["Scene"]
+
+_PARTS = ("backdrop", "object")
+
+
+def _angle_words(theta: float):
+    bits = struct.unpack("<Q", struct.pack("<d", theta + 0.0))[0]  # +0.0 folds -0.0 into 0.0
+    return [bits & 0xFFFFFFFF, bits >> 32]
+
+
+class Scene:
+    """An object in front of its backdrop, with material, light and sensor parameters.
+
+    Use :func:`scenes.make` to build one (it validates the parameters).
+
+    Attributes
+    ----------
+    name : str
+    params : dict
+        All parameters, defaults filled in.
+    """
+
+    def __init__(self, name: str, params: Dict[str, Any]):
+        self.name = name
+        self.params = dict(params)
+        self._loaded = None
+
+    # -- pickling: drop Mitsuba objects ---------------------------------------------
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state["_loaded"] = None
+        return state
+
+    def __repr__(self) -> str:
+        return f"Scene({self.name!r}, material={self.params['material']!r})"
+
+    # -- derived, cheap -----------------------------------------------------------------
+    @property
+    def rig(self) -> Rig:
+        """The rig at this scene's image size."""
+        return Rig().with_size(self.params["width"], self.params["height"])
+
+    @property
+    def sensor(self) -> SensorModel:
+        """The sensor model (nominal 10 µm pixels whatever the image size)."""
+        full = Rig()
+        return SensorModel(pixel_pitch_um=1000.0 * full.pitch_x_mm, wavelength_nm=self.params["filter_center_nm"],
+                           **{k: self.params[k] for k in SENSOR_KEYS})
+
+    @property
+    def object(self) -> objects.SceneObject:
+        """Geometry of the object and backdrop (world cm)."""
+        return objects.build(self.name, self.rig.zeta_deg)
+
+    def default_angles(self) -> np.ndarray:
+        """``n_angles`` mirror angles (deg, ascending) sweeping the stripe over the whole object."""
+        return self.object.default_angles(self.rig.zeta_deg, self.params["n_angles"])
+
+    def laser_power_inband_w(self) -> float:
+        """Laser power through the filter (W)."""
+        p = self.params
+        return radiometry.inband_laser_power_w(p["laser_power_mw"], p["laser_wavelength_nm"],
+                                               filter_center_nm=p["filter_center_nm"],
+                                               filter_fwhm_nm=p["filter_fwhm_nm"], filter_peak=p["filter_peak"])
+
+    def sky_radiance_inband(self) -> float:
+        """In-band ambient sky radiance (W m⁻² sr⁻¹)."""
+        p = self.params
+        return radiometry.inband_sky_radiance(p["ambient_lux"], p["ambient_illuminant"],
+                                              filter_center_nm=p["filter_center_nm"],
+                                              filter_fwhm_nm=p["filter_fwhm_nm"], filter_peak=p["filter_peak"])
+
+    # -- rendering ----------------------------------------------------------------------
+    def _load(self, spp: int):
+        from .backend import LoadedScene
+
+        if self._loaded is None:
+            rig, obj, mat = self.rig, self.object, self.params["material"]
+            laser = _laser_profile(self.params["line_fwhm_mrad"], self.params["laser_fan_deg"])
+            self._loaded = (
+                LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp)),
+                LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"])),
+            )
+        return self._loaded
+
+    def _cache_fields(self, theta: float, spp: int, seed: int, variant: str) -> Dict[str, Any]:
+        import dataclasses
+
+        return {
+            "scene": self.name,
+            **{k: self.params[k] for k in RENDER_KEYS if k not in ("spp", "seed")},
+            "spp": spp,
+            "seed": seed,
+            "mirror_angle_deg": theta,
+            "rig": dataclasses.asdict(self.rig),
+            "variant": variant,
+            "mitsuba": importlib.metadata.version("mitsuba"),
+            "drjit": importlib.metadata.version("drjit"),
+        }
+
+    def _unit_passes(self, theta: float, spp: int, seed: int, seeds) -> Dict[str, np.ndarray]:
+        variant = _variant.active_variant()
+        use_cache = self.params["cache"]
+        root = _cache.cache_root(self.params["cache_dir"])
+        k = _cache.key(self._cache_fields(theta, spp, seed, variant))
+        if use_cache:
+            hit = _cache.load(root, k)
+            if hit is not None and {"laser", "ambient", "columns", "points_cm", "on_object"} <= set(hit):
+                return hit
+        laser_scene, ambient_scene = self._load(spp)
+        pose = description.pose_updates(self.rig, theta)
+        laser = laser_scene.render(pose, spp, int(seeds[0].generate_state(1)[0]))
+        ambient = ambient_scene.render(pose, self.params["ambient_spp"], int(seeds[1].generate_state(1)[0]))
+
+        def cast(o, d):
+            return laser_scene.cast(o, d, _PARTS)
+
+        truth = ground_truth(self.rig, theta, cast, fan_deg=self.params["laser_fan_deg"],
+                             object_part=_PARTS.index("object"))
+        out = {"laser": laser, "ambient": ambient, "columns": truth.columns, "points_cm": truth.points_cm,
+               "on_object": truth.on_object}
+        if use_cache:
+            _cache.store(root, k, out)
+        return out
+
+    def visible_points(self, mirror_angle_deg: float):
+        """First surface hit through every pixel centre (not cached).
+
+        Returns
+        -------
+        points_cm : ndarray (H, W, 3), float64
+            NaN where the ray hits nothing.
+        on_object : ndarray (H, W), bool
+        """
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        rig = self.rig
+        laser_scene, _ = self._load(self.params["spp"])
+        laser_scene.set_pose(description.pose_updates(rig, theta))
+        rows, cols = np.meshgrid(np.arange(rig.height, dtype=float), np.arange(rig.width, dtype=float),
+                                 indexing="ij")
+        o, d = rig.pixel_rays(cols, rows, theta)
+        t, part = laser_scene.cast(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
+        t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
+        return o + t[..., None] * d, part.reshape(rig.height, rig.width) == _PARTS.index("object")
+
+    def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None) -> Frame:
+        """Render one frame.
+
+        Parameters
+        ----------
+        mirror_angle_deg : float
+            Mirror angle θ (deg); the camera and the laser sheet turn by 2θ.
+        spp : int, optional
+            Samples per pixel of the laser pass (default ``params['spp']``); the ambient pass
+            always uses ``params['ambient_spp']``.
+        seed : int, optional
+            Seed (default ``params['seed']``); with the angle it fixes every random number.
+
+        Returns
+        -------
+        Frame
+        """
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        spp = _checks.positive_int("spp", self.params["spp"] if spp is None else spp)
+        seed = self.params["seed"] if seed is None else seed
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+            raise ValueError(f"`seed` must be an integer >= 0, got {seed!r}")
+        seeds = np.random.SeedSequence([int(seed), *_angle_words(theta)]).spawn(4)
+        unit = self._unit_passes(theta, spp, int(seed), seeds)
+        laser = (unit["laser"].astype(np.float64) * self.laser_power_inband_w()).astype(np.float32)
+        ambient = (unit["ambient"].astype(np.float64) * self.sky_radiance_inband()).astype(np.float32)
+        radiance = (ambient.astype(np.float64) + laser).astype(np.float32)
+        sensor = self.sensor
+        image = sensor.capture(radiance, np.random.Generator(np.random.PCG64(seeds[2])))
+        background = sensor.capture(ambient, np.random.Generator(np.random.PCG64(seeds[3])))
+        truth = Truth(np.asarray(unit["columns"], float), np.asarray(unit["points_cm"], float),
+                      np.asarray(unit["on_object"], bool))
+        return Frame(image=image, background=background, radiance=radiance, laser_radiance=laser, truth=truth,
+                     mirror_angle_deg=theta, variant=_variant.active_variant())
+
+    def scan(self, angles: Iterable[float], *, spp: Optional[int] = None, seed: Optional[int] = None,
+             progress: bool = True) -> Iterator[Frame]:
+        """Yield :meth:`render` frames for each mirror angle, with a tqdm bar on stderr."""
+        from tqdm import tqdm
+
+        angles = [float(a) for a in np.atleast_1d(np.asarray(angles, float))]
+        bar = tqdm(angles, desc=f"{self.name}/{self.params['material']}", unit="frame", file=sys.stderr,
+                   disable=not progress, leave=False)
+        for a in bar:
+            yield self.render(a, spp=spp, seed=seed)

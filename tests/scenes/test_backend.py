@@ -1,0 +1,80 @@
+"""Mitsuba-backed checks at 128x120 (slow: Mitsuba JIT)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from scenes import description as D, laser, objects, shapes
+from scenes.backend import LoadedScene
+from scenes.rig import Rig
+
+pytestmark = pytest.mark.slow
+
+RIG = Rig().with_size(128, 120)
+
+
+@pytest.fixture(scope="module")
+def wall_only():
+    """The default backdrop with the object hidden far behind it."""
+    obj = objects.build("sphere", RIG.zeta_deg)
+    hidden = shapes.rectangle(1.0, 1.0).transformed(np.diag([1.0, 1.0, 1.0, 1.0]) + np.pad(
+        [[0, 0, 0, 0], [0, 0, 0, 300.0], [0, 0, 0, 0]], ((0, 1), (0, 0))))
+    return objects.SceneObject("wall", hidden, obj.backdrop, obj.phi_range_deg)
+
+
+def _wall_coordinates(theta):
+    """Float64 wall points of pixel edges along the middle row and the row's index."""
+    e0 = RIG.laser_direction(0.0)
+    w0, wn = 55.0 * e0, -e0
+    row = RIG.height // 2
+    edges = np.arange(RIG.width + 1) - 0.5
+    o, d = RIG.pixel_rays(edges, np.full(edges.shape, float(row)), theta)
+    t = ((w0 - o) @ wn) / (d @ wn)
+    return o + t[:, None] * d, row
+
+
+def test_laser_line_carries_its_power_onto_the_wall(wall_only):
+    """Lambertian wall at 65 cm from the laser: ∫ L ds across the line = ρ/π · P / (2 tan(fan/2) d)."""
+    prof = laser.profile(3.0, 90.0)
+    scene = LoadedScene(D.laser_scene(RIG, wall_only, "matte", prof, 0.0, 16))
+    img = scene.render(D.pose_updates(RIG, 0.0), 16, 1).astype(float)
+    pts, row = _wall_coordinates(0.0)
+    _, n = RIG.laser_plane(0.0)
+    s_m = (pts @ n) * 0.01  # across-the-line coordinate on the wall (m) of the pixel edges
+    integral = np.sum(img[row] * np.abs(np.diff(s_m)))
+    d_m = (55.0 + RIG.laser_distance_cm) * 0.01
+    expected = 0.5 / math.pi * 1.0 / (2 * prof.tan_half_y * d_m)
+    assert integral == pytest.approx(expected, rel=0.02)
+    # and the line is where the laser plane meets the wall
+    centre = np.sum(img[row] * np.arange(RIG.width)) / img[row].sum()
+    c_expected = np.interp(0.0, s_m, np.arange(RIG.width + 1) - 0.5)
+    assert centre == pytest.approx(c_expected, abs=0.1)
+
+
+def test_unit_sky_on_an_open_wall_gives_its_albedo(wall_only):
+    scene = LoadedScene(D.ambient_scene(RIG, wall_only, "matte", 0.0, 16))
+    img = scene.render(D.pose_updates(RIG, 0.0), 16, 2)
+    assert img.mean() == pytest.approx(0.5, rel=0.005)
+    assert img.std() < 0.05 * 0.5  # Monte Carlo noise of the sky's visibility sampling
+
+
+def test_rays_hit_the_wall_where_geometry_says(wall_only):
+    scene = LoadedScene(D.ambient_scene(RIG, wall_only, "matte", 0.0, 1))
+    theta = 1.5
+    o, d = RIG.pixel_rays(np.array([3.0, 64.0, 120.0]), np.array([5.0, 60.0, 110.0]), theta)
+    t, part = scene.cast(o, d, ("backdrop", "object"))
+    e0 = RIG.laser_direction(0.0)
+    t_ref = ((55.0 * e0 - o) @ -e0) / (d @ -e0)
+    assert np.allclose(t, t_ref, rtol=2e-6)
+    assert np.all(part == 0)
+    t2, part2 = scene.cast(o, -d, ("backdrop", "object"))  # away from everything
+    assert np.all(np.isinf(t2)) and np.all(part2 == -1)
+
+
+def test_renders_are_reproducible_and_pose_independent(wall_only):
+    scene = LoadedScene(D.laser_scene(RIG, wall_only, "matte", laser.profile(3.0, 90.0), 0.0, 4))
+    a = scene.render(D.pose_updates(RIG, 1.0), 4, 11)
+    scene.render(D.pose_updates(RIG, -2.0), 4, 12)
+    b = scene.render(D.pose_updates(RIG, 1.0), 4, 11)
+    assert np.array_equal(a, b)

@@ -1,0 +1,47 @@
+import numpy as np
+import pytest
+
+from scenes import description as D, laser, objects
+from scenes.materials import MATERIALS
+from scenes.rig import Rig
+
+RIG = Rig().with_size(64, 60)
+OBJ = objects.build("sphere", RIG.zeta_deg)
+LASER = laser.profile(3.0, 90.0)
+
+
+@pytest.mark.parametrize("material", MATERIALS)
+def test_laser_scene_integrator_per_material(material):
+    d = D.laser_scene(RIG, OBJ, material, LASER, 0.0, 8)
+    expected = "ptracer" if material == "specular" else "path"
+    assert d["integrator"] == {"type": expected, "max_depth": D.MAX_DEPTH}
+    assert set(d) == {"type", "integrator", "sensor", "backdrop", "object", "laser"}
+    assert d["object"]["mesh"] is OBJ.mesh and d["backdrop"]["mesh"] is OBJ.backdrop
+
+
+def test_ambient_scene_has_the_sky_and_no_laser():
+    d = D.ambient_scene(RIG, OBJ, "matte", 0.0, 4)
+    assert d["sky"] == {"type": "constant", "radiance": 1.0}
+    assert "laser" not in d and d["integrator"]["type"] == "path"
+    assert d["sensor"]["sampler"] == {"type": "multijitter", "sample_count": 4}
+
+
+def test_sensor_and_projector_follow_the_rig():
+    theta = 2.0
+    s = D.sensor(RIG, theta, 16)
+    assert np.array_equal(s["to_world"], RIG.camera_to_world_m(theta))
+    assert s["film"]["width"] == 64 and s["film"]["height"] == 60 and s["film"]["rfilter"] == {"type": "box"}
+    assert s["fov"] == pytest.approx(RIG.fov_x_deg) and s["fov_axis"] == "x"
+    p = D.projector(RIG, theta, LASER, power_w=2.0)
+    assert np.array_equal(p["to_world"], RIG.laser_to_world_m(theta))
+    assert p["scale"] == pytest.approx(LASER.scale_for_power(2.0))
+    up = D.pose_updates(RIG, theta)
+    assert set(up) == {"sensor.to_world", "laser.to_world"}
+    # the projector's optical axis (local +Z) is the laser direction, its up is +Z
+    m = up["laser.to_world"]
+    assert np.allclose(m[:3, 2], RIG.laser_direction(theta)) and np.allclose(m[:3, 1], [0, 0, 1])
+
+
+def test_integrator_kind_is_checked():
+    with pytest.raises(ValueError, match="`kind` must be 'path' or 'ptracer', got 'bdpt'"):
+        D.integrator("bdpt")

@@ -14,7 +14,8 @@ from .restore import fill_depth_map
 from .stats import STATISTICS, bootstrap_improvement
 from .triangulation import depth_cm
 
-__all__ = ["true_depth_cm", "tracker_depth_cm", "scan_records", "draw_samples", "sample_table", "improvements"]
+__all__ = ["true_depth_cm", "tracker_depth_cm", "scan_records", "draw_samples", "sample_table", "sample_columns",
+           "improvements"]
 
 
 def true_depth_cm(scan) -> np.ndarray:
@@ -79,6 +80,14 @@ def draw_samples(scan, n: int, seed) -> tuple[np.ndarray, np.ndarray]:
     return f[pick], r[pick]
 
 
+SAMPLE_COLUMNS = ("experiment", "scene", "material", "sample", "frame", "row", "mirror_angle_deg", "true_depth_cm")
+
+
+def sample_columns(tracker_names) -> list[str]:
+    """The columns of the sample table for these trackers."""
+    return list(SAMPLE_COLUMNS) + [c for n in sorted(tracker_names) for c in (f"error_mm_{n}", f"filled_{n}")]
+
+
 def sample_table(scan, rig, experiment, n: int, seed) -> list[dict]:
     """The sample points of one scan with each tracker's depth error (mm) on
     its restored surface (missing rows filled from neighbours)."""
@@ -114,14 +123,17 @@ def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group
     Pairs where either error is NaN are dropped (``n`` says how many remain).
     """
     groups = [("all", samples)]
-    if group_by is not None:
+    if group_by is not None and len(samples):
         groups += [(str(k), g) for k, g in samples.groupby(group_by, sort=True)]
     out = []
     for gi, (label, g) in enumerate(groups):
         for dp in dp_names:
             for base in base_names:
-                a = g[f"error_mm_{dp}"].to_numpy(float)
-                b = g[f"error_mm_{base}"].to_numpy(float)
+                if len(g) == 0:
+                    a = b = np.zeros(0)
+                else:
+                    a = g[f"error_mm_{dp}"].to_numpy(float)
+                    b = g[f"error_mm_{base}"].to_numpy(float)
                 ok = ~np.isnan(a) & ~np.isnan(b)
                 for si, stat in enumerate(STATISTICS):
                     if ok.sum() < 2:

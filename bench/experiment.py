@@ -124,7 +124,9 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
             if c:
                 _say(f"  {n}: failed on {c} frame(s): {scan_info[-1]['failure_messages'][n][0]}", quiet)
     metrics = pd.DataFrame.from_records(records)
-    samples_df = pd.DataFrame.from_records(samples)
+    samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(config.trackers))
+    if samples_df.empty:
+        _say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
     stats = analysis.improvements(samples_df, config.dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
     _write_tables(out, metrics, samples_df)
     if fig7 is not None:

@@ -100,7 +100,9 @@ def fig_bars(metrics, scene: str, path) -> Path:
     for a, label in zip(ax, ("depth RMSE on the object (mm)", "coverage (lit rows detected)")):
         a.set_xticks(x + 0.4 - width / 2, mats)
         a.set_ylabel(label)
-    ax[0].set_yscale("log")
+    rmse = m.loc[m["region"] == "object", "depth_rmse_mm"].to_numpy(float)
+    if np.any(np.isfinite(rmse) & (rmse > 0)):
+        ax[0].set_yscale("log")
     ax[1].set_ylim(0, 1.05)
     ax[1].legend(fontsize=8, loc="lower left")
     fig.suptitle(f"{scene}: accuracy and coverage per material")

@@ -74,7 +74,7 @@ def make_figures(run_dir, *, quiet: bool = False) -> dict[str, list[Path]]:
     stats = {(s["group"], s["dp"], s["baseline"], s["statistic"]): s for s in summary["improvement"]}
     dp0 = cfg["dp"][0] if cfg["dp"] else None
     base0 = cfg["baselines"][0] if cfg["baselines"] else None
-    if dp0 and base0:
+    if dp0 and base0 and len(samples):
         for key, g in samples.groupby("experiment", sort=False):
             st = stats.get((key, dp0, base0, "rmse"))
             out["samples"].append(figures.fig_samples(g.reset_index(drop=True), dp0, base0,

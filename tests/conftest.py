@@ -1,7 +1,22 @@
-"""Shared pytest configuration."""
+"""Shared configuration: private caches and run folders for the test session."""
 
 import os
 
-# numba's on-disk cache lives next to the sources; keep test runs from
-# writing elsewhere unless the user chose a cache directory.
+import pytest
+
+# numba's on-disk cache lives next to the sources unless a directory is chosen
 os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(os.path.dirname(__file__), "..", ".cache", "numba"))
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _private_render_cache_and_runs(tmp_path_factory):
+    """Renders and runs of the tests go to temporary folders, never the user's."""
+    saved = {k: os.environ.get(k) for k in ("STRIPEBENCH_CACHE_DIR", "STRIPEBENCH_RUNS")}
+    os.environ["STRIPEBENCH_CACHE_DIR"] = str(tmp_path_factory.mktemp("stripebench-cache"))
+    os.environ["STRIPEBENCH_RUNS"] = str(tmp_path_factory.mktemp("stripebench-runs"))
+    yield
+    for k, v in saved.items():
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v

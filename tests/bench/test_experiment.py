@@ -1,0 +1,88 @@
+"""The harness end to end on tiny renders (64x60)."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bench.config import parse
+from bench.experiment import default_run_dir, run
+
+TINY = {
+    "name": "tiny",
+    "seed": 1,
+    "trackers": ["threshold", "centroid", "dp4", "dp8"],
+    "baselines": ["threshold"],
+    "dp": ["dp4", "dp8"],
+    "n_samples": 12,
+    "n_boot": 50,
+    "render": {"width": 64, "height": 60, "spp": 2, "ambient_spp": 1},
+    "experiments": [
+        {"scene": "cone", "material": "patchy", "n_angles": 3},
+        {"scene": "plane", "material": "absorbing", "n_angles": 2},
+    ],
+}
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run")
+    return run(parse(TINY), out, progress=False, quiet=True), parse(TINY)
+
+
+def test_run_folder_holds_everything(tiny_run):
+    out, cfg = tiny_run
+    for name in ("config.json", "metrics.parquet", "metrics.csv", "samples.csv", "summary.json", "report.html",
+                 "figdata.npz", "scans/cone-patchy.npz", "scans/plane-absorbing.npz",
+                 "figures/fig7_tracking.png", "figures/fig10_cone-patchy.png", "figures/bars_cone.png"):
+        assert (out / name).is_file(), name
+    m = pd.read_parquet(out / "metrics.parquet")
+    assert len(m) == 2 * 4 * 2  # experiments x trackers x regions
+    assert set(m["tracker"]) == set(cfg.trackers)
+    for col in ("px_mae", "px_rmse", "px_p95", "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "coverage",
+                "outlier_rate", "false_detections", "ms_per_frame", "filled_fraction"):
+        assert col in m.columns
+    assert pd.read_csv(out / "metrics.csv").shape == m.shape
+
+
+def test_samples_are_the_same_points_for_every_tracker(tiny_run):
+    out, cfg = tiny_run
+    s = pd.read_csv(out / "samples.csv")
+    assert (s.groupby("experiment").size() <= cfg.n_samples).all()
+    assert {f"error_mm_{n}" for n in cfg.trackers} <= set(s.columns)
+    assert s[["frame", "row"]].notna().all().all() and (s["true_depth_cm"].between(20, 61)).all()
+
+
+def test_summary_has_statistics_versions_and_revision(tiny_run):
+    out, cfg = tiny_run
+    s = json.loads((out / "summary.json").read_text())
+    assert s["seed"] == 1 and s["paper_improvement"] == 0.30
+    assert {"numpy", "mitsuba", "drjit", "numba"} <= set(s["versions"]) and s["git_revision"]
+    groups = {(i["group"], i["dp"], i["baseline"], i["statistic"]) for i in s["improvement"]}
+    assert ("all", "dp4", "threshold", "rmse") in groups and ("cone-patchy", "dp8", "threshold", "std") in groups
+    for i in s["improvement"]:
+        if np.isfinite(i["value"]):
+            assert i["low"] <= i["high"]
+    assert s["coverage"] and all(0 <= c["coverage"] <= 1 for c in s["coverage"] if c["coverage"] == c["coverage"])
+
+
+def test_report_is_self_contained(tiny_run):
+    out, _ = tiny_run
+    page = (out / "report.html").read_text()
+    assert page.count("data:image/png;base64,") >= 4 and "src=\"http" not in page and "Precision improvement" in page
+
+
+def test_same_config_and_seed_give_identical_metrics(tiny_run, tmp_path):
+    out, cfg = tiny_run
+    again = run(cfg, tmp_path / "again", progress=False, quiet=True, report=False)
+    a = pd.read_parquet(out / "metrics.parquet").drop(columns=["ms_per_frame"])
+    b = pd.read_parquet(again / "metrics.parquet").drop(columns=["ms_per_frame"])
+    pd.testing.assert_frame_equal(a, b)
+    pd.testing.assert_frame_equal(pd.read_csv(out / "samples.csv"), pd.read_csv(again / "samples.csv"))
+
+
+def test_default_run_dir_depends_on_the_configuration():
+    a = default_run_dir(parse(TINY))
+    b = default_run_dir(parse({**TINY, "seed": 2}))
+    assert a != b and a.name.startswith("tiny-") and default_run_dir(parse(TINY)) == a

@@ -1,0 +1,118 @@
+"""Scans: fault tolerance and resuming, with a small synthetic scene."""
+
+import numpy as np
+import pytest
+
+import trackers
+from bench.scan import ScanResult, run_scan, track_frame
+from scenes import Frame, Truth
+from trackers import Track, Tracker
+from trackers.testing import make_stripe_image
+
+
+class SyntheticScene:
+    """Stands in for scenes.Scene: analytic stripe frames, counted renders."""
+
+    def __init__(self, height=40, width=50):
+        self.rig = _SmallRig(width, height)
+        self.renders = 0
+
+    def render(self, angle, spp=None, seed=None):
+        self.renders += 1
+        H, W = self.rig.height, self.rig.width
+        img, cols = make_stripe_image(H, W, seed=int(1000 + angle * 10))
+        truth = Truth(cols, np.zeros((H, 3)), np.ones(H, bool))
+        return Frame(img, np.full_like(img, 10), img.astype(np.float32), img.astype(np.float32), truth, float(angle),
+                     "synthetic")
+
+
+class _SmallRig:
+    def __init__(self, width, height):
+        self.width, self.height = width, height
+
+
+class Raises(Tracker):
+    name = "raises"
+
+    def _track(self, image, background):
+        raise RuntimeError("boom")
+
+
+class WrongShape(Tracker):
+    name = "wrong-shape"
+
+    def _track(self, image, background):
+        return Track.empty(image.shape[0] + 2)
+
+
+class Outside(Tracker):
+    name = "outside"
+
+    def _track(self, image, background):
+        return Track(np.full(image.shape[0], 1e4), np.ones(image.shape[0]))
+
+
+class NotATrack(Tracker):
+    name = "not-a-track"
+
+    def _track(self, image, background):
+        return np.zeros(image.shape[0])
+
+
+def test_track_frame_records_failures_instead_of_raising():
+    img, _ = make_stripe_image(20, 30)
+    ok = track_frame(trackers.make("centroid"), img, None)
+    assert ok.status == 0 and ok.message == "" and not np.isnan(ok.columns).all()
+    r = track_frame(Raises(), img, None)
+    assert r.status == 1 and "RuntimeError: boom" in r.message and np.isnan(r.columns).all()
+    w = track_frame(WrongShape(), img, None)
+    assert w.status == 1 and "returned 22 rows for an image of 20" in w.message
+    o = track_frame(Outside(), img, None)
+    assert o.status == 3 and "outside the image" in o.message
+    n = track_frame(NotATrack(), img, None)
+    assert n.status == 1 and "AttributeError" in n.message  # Tracker.track reads .columns
+
+
+def test_scan_goes_on_past_failing_trackers_and_resumes(tmp_path):
+    scene = SyntheticScene()
+    trs = {"centroid": trackers.make("centroid"), "raises": Raises(), "outside": Outside()}
+    ckpt = tmp_path / "scan.npz"
+    res, _ = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    assert res.complete and scene.renders == 3
+    assert (res.status["raises"] == 1).all() and (res.status["outside"] == 3).all()
+    assert (res.status["centroid"] == 0).all() and np.nanmax(np.abs(res.columns["centroid"] - res.truth_columns)) < 1
+    # the checkpoint holds everything; a rerun renders nothing
+    again, _ = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    assert scene.renders == 3
+    assert np.array_equal(again.columns["centroid"], res.columns["centroid"], equal_nan=True)
+    assert again.messages["raises"][0].startswith("RuntimeError: boom")
+
+
+def test_interrupted_scan_keeps_finished_frames(tmp_path):
+    class Interrupting(SyntheticScene):
+        def render(self, angle, spp=None, seed=None):
+            if self.renders == 2:
+                raise KeyboardInterrupt
+            return super().render(angle, spp, seed)
+
+    scene = Interrupting()
+    ckpt = tmp_path / "scan.npz"
+    trs = {"threshold": trackers.make("threshold")}
+    with pytest.raises(KeyboardInterrupt):
+        run_scan("syn", scene, [0.0, 1.0, 2.0, 3.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    from bench.runio import load_npz
+
+    saved = ScanResult.from_arrays("syn", load_npz(ckpt))
+    assert saved.done.tolist() == [True, True, False, False]
+    fresh = SyntheticScene()
+    res, _ = run_scan("syn", fresh, [0.0, 1.0, 2.0, 3.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    assert fresh.renders == 2 and res.complete  # only the two missing frames
+
+
+def test_checkpoint_of_other_angles_is_not_reused(tmp_path):
+    scene = SyntheticScene()
+    ckpt = tmp_path / "scan.npz"
+    trs = {"threshold": trackers.make("threshold")}
+    run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    run_scan("syn", scene, [0.0, 1.5], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    assert scene.renders == 4

@@ -19,7 +19,6 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
-from . import description as _desc
 from . import variant as _variant
 from .rig import CM_TO_M
 
@@ -178,7 +177,3 @@ class LoadedScene:
                 part[valid & (sid == ids[name])] = k
         return t, part
 
-
-def laser_pose(rig, theta_deg: float) -> Dict[str, np.ndarray]:
-    """Per-frame ``mi.traverse`` updates for mirror angle ``theta_deg``."""
-    return _desc.pose_updates(rig, theta_deg)

@@ -2,6 +2,7 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from scenes import variant as V
@@ -36,3 +37,22 @@ def test_importing_scenes_loads_no_renderer():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
     assert out.stdout.strip() == "[]"
+
+
+def test_scalar_fallback_renders_the_same_scene(tmp_path):
+    """The always-available scalar_rgb variant (forced by the environment) agrees with the default one."""
+    code = ("import numpy as np, scenes; f = scenes.make('sphere', width=64, height=60, cache=False).render(0.0); "
+            "np.save('out.npy', np.concatenate([f.laser_radiance.ravel(), f.truth.columns])); print(f.variant)")
+    env = {**os.environ, V.ENV_VARIANT: "scalar_rgb",
+           "PYTHONPATH": os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=tmp_path,
+                         env=env)
+    assert out.stdout.strip() == "scalar_rgb"
+    scalar = np.load(tmp_path / "out.npy")
+    import scenes
+
+    f = scenes.make("sphere", width=64, height=60, cache=False).render(0.0)
+    laser, cols = scalar[:-60].reshape(60, 64), scalar[-60:]
+    assert np.abs(laser - f.laser_radiance).sum() < 0.05 * f.laser_radiance.sum()
+    assert np.array_equal(np.isnan(cols), np.isnan(f.truth.columns))
+    assert np.nanmax(np.abs(cols - f.truth.columns)) < 1e-3

@@ -11,7 +11,7 @@ import numpy as np
 
 __all__ = ["fig_tracking", "fig_samples", "fig_bars", "fig_shapes", "TRACKER_COLOURS"]
 
-TRACKER_COLOURS = {"threshold": "#222222", "centroid": "#1f77b4", "dp4": "#2ca02c", "dp8": "#17becf"}
+TRACKER_COLOURS = {"threshold": "#ffd700", "centroid": "#1f77b4", "dp4": "#2ca02c", "dp8": "#17becf"}
 _FALLBACK = ["#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#ff7f0e"]
 
 
@@ -41,9 +41,9 @@ def fig_tracking(image, cost_field, tracks: dict, truth_columns, path, title: st
     ax[1].set_title("(b) DP accumulated cost (4-conn.)")
     ax[2].imshow(image, cmap="gray", vmin=0, vmax=255)
     rows = np.arange(H)
-    ax[2].plot(truth_columns, rows, color="white", lw=2.2, ls="--", label="ground truth")
     for k, (name, cols) in enumerate(sorted(tracks.items())):
-        ax[2].plot(cols, rows, color=_colour(name, k), lw=1.0, label=name)
+        ax[2].plot(cols, rows, color=_colour(name, k), lw=1.2, label=name)
+    ax[2].plot(truth_columns, rows, color="#ff2020", lw=1.0, ls=(0, (3, 3)), label="ground truth")
     ax[2].legend(loc="lower right", fontsize=7, framealpha=0.8)
     ax[2].set_title("(c) tracks")
     for a in ax:
@@ -124,19 +124,26 @@ def _quads(points):
 
 def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0)) -> Path:
     """Restored 3-D surfaces side by side, coloured by depth R (cm), seen
-    from the rig. ``surfaces`` maps a label to an (F, H, 3) grid of points (cm,
-    NaN where missing); quads with a missing corner are left out."""
+    from the rig's side. ``surfaces`` maps a label to an (F, H, 3) grid of
+    points (cm, NaN where missing); quads with a missing corner are left out.
+    The first surface (the ground truth) sets the view and the colour range,
+    so a tracker's wrong depths saturate the colour map."""
     import pyvista as pv
 
     pv.OFF_SCREEN = True
     labels = list(surfaces)
     grids = [np.asarray(surfaces[k], float) for k in labels]
-    allp = np.concatenate([g[np.isfinite(g).all(-1)] for g in grids if np.isfinite(g).any()]) if grids else np.zeros((0, 3))
-    if allp.size == 0:
+    ref = grids[0][np.isfinite(grids[0]).all(-1)]
+    if ref.size == 0:
         raise ValueError("no surface points to draw")
-    r_all = np.hypot(allp[:, 0], allp[:, 1])
-    clim = (float(np.percentile(r_all, 1)), float(np.percentile(r_all, 99)))
-    centre = np.median(allp, axis=0)
+    r_ref = np.hypot(ref[:, 0], ref[:, 1])
+    clim = (float(np.percentile(r_ref, 1)), float(np.percentile(r_ref, 99)))
+    centre = 0.5 * (ref.min(axis=0) + ref.max(axis=0))
+    extent = float(np.linalg.norm(ref.max(axis=0) - ref.min(axis=0)))
+    view = np.asarray(camera_cm, float) - centre
+    view[2] = 0.0
+    view /= np.linalg.norm(view)
+    eye = centre + 2.6 * extent * view + np.array([0.0, 0.0, 0.25 * extent])
     plotter = pv.Plotter(off_screen=True, shape=(1, len(labels)), window_size=(300 * len(labels), 340), border=False)
     for k, (label, g) in enumerate(zip(labels, grids)):
         plotter.subplot(0, k)
@@ -146,11 +153,10 @@ def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0))
             mesh = pv.PolyData(pts, faces=faces)
             mesh["R (cm)"] = np.hypot(pts[:, 0], pts[:, 1])
             plotter.add_mesh(mesh, scalars="R (cm)", cmap="jet", clim=clim, show_scalar_bar=k == len(labels) - 1,
-                             scalar_bar_args={"title": "R (cm)", "vertical": True})
+                             scalar_bar_args={"title": "R (cm)", "vertical": True, "position_x": 0.82})
         plotter.add_text(label, font_size=10)
-        plotter.camera_position = [tuple(np.asarray(camera_cm, float) + 0.25 * (centre - np.asarray(camera_cm))),
-                                   tuple(centre), (0.0, 0.0, 1.0)]
-        plotter.camera.zoom(1.1)
+        plotter.camera_position = [tuple(eye), tuple(centre), (0.0, 0.0, 1.0)]
+        plotter.reset_camera_clipping_range()
     plotter.screenshot(str(path))
     plotter.close()
     return Path(path)

@@ -117,6 +117,46 @@ def _fmt(v, pct=False):
     return f"{100 * v:.0f} %" if pct else f"{v:.3g}"
 
 
+def _improvement_tables(summary) -> str:
+    """Experiments x (DP, baseline) pairs, one table per statistic."""
+    imp = summary["improvement"]
+    pairs = list(dict.fromkeys((i["dp"], i["baseline"]) for i in imp))
+    groups = list(dict.fromkeys(i["group"] for i in imp))
+    by = {(i["group"], i["dp"], i["baseline"], i["statistic"]): i for i in imp}
+    head = "".join(f"<th>{html.escape(d)} vs {html.escape(b)}</th>" for d, b in pairs)
+    out = []
+    head_stat = by.get(("all", pairs[0][0], pairs[0][1], "rmse")) if pairs else None
+    if head_stat is not None:
+        out.append(f"<p><b>Headline</b>: over all {head_stat['n']} sample points, {pairs[0][0]} is "
+                   f"{_fmt(head_stat['value'], True)} more precise than {pairs[0][1]} by RMSE "
+                   f"(95 % CI [{_fmt(head_stat['low'], True)}, {_fmt(head_stat['high'], True)}]); "
+                   f"the paper reports about {int(100 * summary['paper_improvement'])} %.</p>")
+    for stat, title in (("rmse", "RMSE"), ("mae", "MAE"), ("std", "standard deviation")):
+        rows = []
+        for g in groups:
+            cells = []
+            for d, b in pairs:
+                i = by.get((g, d, b, stat))
+                cells.append("<td>–</td>" if i is None else
+                             f"<td><b>{_fmt(i['value'], True)}</b> [{_fmt(i['low'], True)}, {_fmt(i['high'], True)}]"
+                             f" <small>n={i['n']}</small></td>")
+            rows.append(f"<tr><td>{html.escape(g)}</td>{''.join(cells)}</tr>")
+        out.append(f"<h3>by {title}</h3><table><tr><th>experiment</th>{head}</tr>{''.join(rows)}</table>")
+    return "".join(out)
+
+
+def _coverage_table(metrics) -> str:
+    m = metrics[metrics["region"] == "object"]
+    if m.empty:
+        return ""
+    cov = m.pivot_table(index="experiment", columns="tracker", values="coverage", sort=False)
+    rmse = m.pivot_table(index="experiment", columns="tracker", values="depth_rmse_mm", sort=False)
+    fmt = {"float_format": lambda v: f"{v:.3g}", "na_rep": "–", "border": 0}
+    return ("<h2>Coverage and depth RMSE on the object</h2><p>Coverage: rows with a detection among the object's "
+            "lit rows. Depth RMSE (mm) over the detected rows (before any filling).</p><h3>coverage</h3>"
+            + cov.to_html(**fmt) + "<h3>depth RMSE (mm)</h3>" + rmse.to_html(**fmt))
+
+
 def build_report(run_dir, *, quiet: bool = False) -> Path:
     """Write ``figures/*.png`` and ``report.html`` for a finished run."""
     run_dir = Path(run_dir)
@@ -134,13 +174,8 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                  "S = RMSE, MAE or standard deviation, with a paired bootstrap 95 % confidence interval "
                  f"({cfg['n_boot']} resamples). The paper reports about {int(100 * s['paper_improvement'])} %. "
                  "Negative values mean the method without DP was more precise.</p>")
-    rows = []
-    for st in s["improvement"]:
-        rows.append(f"<tr><td>{html.escape(st['group'])}</td><td>{st['dp']}</td><td>{st['baseline']}</td>"
-                    f"<td>{st['statistic']}</td><td><b>{_fmt(st['value'], True)}</b></td>"
-                    f"<td>[{_fmt(st['low'], True)}, {_fmt(st['high'], True)}]</td><td>{st['n']}</td></tr>")
-    parts.append("<table><tr><th>experiment</th><th>DP</th><th>without DP</th><th>statistic</th><th>improvement</th>"
-                 "<th>95 % CI</th><th>samples</th></tr>" + "".join(rows) + "</table>")
+    parts.append(_improvement_tables(s))
+    parts.append(_coverage_table(metrics))
     if figs["samples"]:
         parts.append("<h2>Sample errors (Fig. 10)</h2>" + "".join(_img(p) for p in figs["samples"]))
     if figs["tracking"]:

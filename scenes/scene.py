@@ -17,7 +17,6 @@ noise is therefore common to both, like a fixed pattern).
 
 from __future__ import annotations
 
-import importlib.metadata
 import struct
 import sys
 from typing import Any, Dict, Iterable, Iterator, Optional
@@ -35,6 +34,15 @@ from .truth import ground_truth
 __all__ = ["Scene"]
 
 _PARTS = ("backdrop", "object")
+
+
+def _mitsuba_versions():
+    """Versions of the renderer, read from the modules themselves (works
+    without package metadata, e.g. from an unpacked wheel)."""
+    import drjit
+    import mitsuba
+
+    return mitsuba.__version__, drjit.__version__
 
 
 def _angle_words(theta: float):
@@ -128,8 +136,8 @@ class Scene:
             "mirror_angle_deg": theta,
             "rig": dataclasses.asdict(self.rig),
             "variant": variant,
-            "mitsuba": importlib.metadata.version("mitsuba"),
-            "drjit": importlib.metadata.version("drjit"),
+            "mitsuba": _mitsuba_versions()[0],
+            "drjit": _mitsuba_versions()[1],
         }
 
     def _unit_passes(self, theta: float, spp: int, seed: int, seeds) -> Dict[str, np.ndarray]:

@@ -50,7 +50,13 @@ def test_specular_frames_are_reproducible():
     s = scenes.make("cone", material="specular", cache=False, spp=4, **SMALL)
     a = s.render(2.3)
     s.render(0.0)
-    assert np.array_equal(a.radiance, s.render(2.3).radiance)
+    b = s.render(2.3)
+    if a.variant.startswith("cuda"):
+        # ptracer's atomic splats on the GPU reproduce only to float32 rounding
+        # (measured on an H100); the LLVM and scalar variants are bit-identical
+        assert np.allclose(a.radiance, b.radiance, rtol=1e-5, atol=1e-12)
+    else:
+        assert np.array_equal(a.radiance, b.radiance)
 
 
 def test_scene_pickles_without_mitsuba_objects(matte):

@@ -88,6 +88,32 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _cmd_check(args) -> int:
+    from . import gate
+
+    run_dir = Path(args.run)
+    if not (run_dir / "metrics.parquet").exists() or not (run_dir / "summary.json").exists():
+        raise UsageError(f"RUN must be a finished run folder (with metrics.parquet), got {str(run_dir)!r}")
+    if args.update:
+        doc = gate.write_baseline(run_dir, args.baseline)
+        print(f"stripebench: wrote baseline {args.baseline} ({len(doc['metrics'])} entries) from {run_dir}")
+        return 0
+    try:
+        baseline = gate.load_baseline(args.baseline)
+    except (FileNotFoundError, ValueError) as exc:
+        raise UsageError(str(exc)) from None
+    rows = gate.compare(baseline, gate.baseline_from_run(run_dir))
+    print(gate.format_table(rows, all_rows=args.all))
+    failed = [r for r in rows if r.failed]
+    if failed:
+        names = sorted({f"{r.key.split('/')[1]}:{r.metric}" for r in failed})
+        print(f"stripebench check: FAILED ({len(failed)} regression(s): {', '.join(names[:12])}"
+              f"{' ...' if len(names) > 12 else ''})", file=sys.stderr)
+        return 1
+    print("stripebench check: passed")
+    return 0
+
+
 def _cmd_trackers(args) -> int:
     import trackers
 
@@ -143,6 +169,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("run", help="run folder")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=_cmd_report)
+    p = sub.add_parser("check", help="compare a run's metrics with a baseline; exit 1 on a regression")
+    p.add_argument("run", help="run folder")
+    p.add_argument("--baseline", type=Path, required=True, help="baseline JSON (e.g. results/baselines/ci.json)")
+    p.add_argument("--update", action="store_true", help="write the run's metrics as the new baseline instead")
+    p.add_argument("--all", action="store_true", help="show every check, not only the changed ones")
+    p.set_defaults(func=_cmd_check)
     sub.add_parser("trackers", help="list the registered trackers").set_defaults(func=_cmd_trackers)
     sub.add_parser("scenes", help="list the scenes and materials").set_defaults(func=_cmd_scenes)
     p = sub.add_parser("perf", help="speed benchmarks: trackers (default) or `perf --scenes`", add_help=False)

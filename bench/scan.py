@@ -23,7 +23,7 @@ import numpy as np
 
 from .runio import load_npz, save_npz
 
-__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "STATUS"]
+__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "scan_fingerprint", "source_fingerprint", "STATUS"]
 
 STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image"}
 _CHECKPOINT_S = 10.0
@@ -83,6 +83,7 @@ class ScanResult:
     variant: str
     width: int
     render_seconds: float
+    fingerprint: str = ""
 
     @property
     def complete(self) -> bool:
@@ -93,7 +94,7 @@ class ScanResult:
             "angles": self.angles, "truth_columns": self.truth_columns, "truth_points_cm": self.truth_points_cm,
             "on_object": self.on_object, "done": self.done, "variant": np.array(self.variant),
             "width": np.array(self.width), "render_seconds": np.array(self.render_seconds),
-            "trackers": np.array(sorted(self.columns)),
+            "trackers": np.array(sorted(self.columns)), "fingerprint": np.array(self.fingerprint),
         }
         for n in self.columns:
             out[f"columns/{n}"] = self.columns[n]
@@ -113,6 +114,7 @@ class ScanResult:
             columns={n: a[f"columns/{n}"] for n in names}, scores={n: a[f"scores/{n}"] for n in names},
             seconds={n: a[f"seconds/{n}"] for n in names}, status={n: a[f"status/{n}"] for n in names},
             messages={n: [str(m) for m in a[f"messages/{n}"]] for n in names},
+            fingerprint=str(a.get("fingerprint", "")),
         )
 
 
@@ -125,6 +127,33 @@ def _empty(key, angles, height, names) -> ScanResult:
         seconds={n: np.full(F, np.nan) for n in names}, status={n: np.zeros(F, np.int64) for n in names},
         messages={n: [""] * F for n in names}, done=np.zeros(F, bool), variant="", width=0, render_seconds=0.0,
     )
+
+
+def source_fingerprint() -> str:
+    """A hash of the source of the packages whose code changes results
+    (``trackers``, ``scenes``): a checkpoint made by other code is not resumed."""
+    import hashlib
+
+    import scenes
+    import trackers
+
+    h = hashlib.sha256()
+    for pkg in (trackers, scenes):
+        root = Path(pkg.__file__).parent
+        for f in sorted(root.rglob("*.py")):
+            h.update(str(f.relative_to(root)).encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
+    """Everything a scan's results depend on, hashed."""
+    from .runio import config_hash
+
+    params = {k: v for k, v in scene.params.items() if k not in ("cache", "cache_dir")}
+    return config_hash({"scene": scene.name, "params": params, "spp": spp, "seed": seed,
+                        "trackers": {n: repr(t) for n, t in sorted(trackers_.items())},
+                        "source": source_fingerprint()})
 
 
 def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path,
@@ -156,17 +185,20 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
 
     names = list(trackers_)
     angles = np.asarray(angles, float)
+    fingerprint = scan_fingerprint(scene, trackers_, spp, seed) if hasattr(scene, "params") else ""
     res = None
     saved = load_npz(checkpoint) if checkpoint.exists() else None
     if saved is not None:
         try:
             prev = ScanResult.from_arrays(key, saved)
-            if np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names):
+            if (np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names)
+                    and str(saved.get("fingerprint", "")) == fingerprint):
                 res = prev
         except KeyError:
             res = None
     if res is None:
         res = _empty(key, angles, scene.rig.height, names)
+    res.fingerprint = fingerprint
     kept = None
     todo = [i for i in range(len(angles)) if not res.done[i] or (keep_frame is not None and i == keep_frame)]
     if todo:  # first calls compile (numba); keep that out of the per-frame times

@@ -91,6 +91,8 @@ class Tracker(abc.ABC):
 
     @classmethod
     def _param_names(cls) -> list[str]:
+        if cls.__init__ is object.__init__:  # no parameters declared
+            return []
         sig = inspect.signature(cls.__init__)
         names = []
         for p in sig.parameters.values():

@@ -116,3 +116,21 @@ def test_checkpoint_of_other_angles_is_not_reused(tmp_path):
     run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     run_scan("syn", scene, [0.0, 1.5], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert scene.renders == 4
+
+
+def test_a_checkpoint_made_with_other_tracker_parameters_is_not_resumed(tmp_path):
+    import scenes
+
+    scene = scenes.make("plane", width=64, height=60, spp=1, ambient_spp=1)
+    ckpt = tmp_path / "scan.npz"
+    calls = []
+    original = scene.render
+    scene.render = lambda *a, **kw: calls.append(1) or original(*a, **kw)
+    run_scan("p", scene, [0.0, 0.5], {"threshold": trackers.make("threshold")}, spp=1, seed=0, checkpoint=ckpt,
+             progress=False)
+    run_scan("p", scene, [0.0, 0.5], {"threshold": trackers.make("threshold")}, spp=1, seed=0, checkpoint=ckpt,
+             progress=False)
+    assert len(calls) == 2  # resumed: nothing rendered again
+    run_scan("p", scene, [0.0, 0.5], {"threshold": trackers.make("threshold", k_sigma=9.0)}, spp=1, seed=0,
+             checkpoint=ckpt, progress=False)
+    assert len(calls) == 4  # other parameters: computed afresh

@@ -98,3 +98,13 @@ def test_varargs_constructor_is_refused():
 def test_tracker_is_abstract():
     with pytest.raises(TypeError):
         Tracker()
+
+
+def test_a_tracker_without_parameters():
+    class Bare(Tracker):
+        name = "bare"
+
+        def _track(self, image, background):
+            return Track.empty(image.shape[0])
+
+    assert Bare().get_params() == {} and repr(Bare()) == "Bare()"

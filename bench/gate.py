@@ -1,0 +1,168 @@
+"""The regression gate: compare a run's metrics with a committed baseline.
+
+``stripebench check RUN --baseline results/baselines/ci.json`` compares every
+gated metric of every (experiment, tracker, region) with the baseline, each
+with its own direction and tolerance, prints a table and exits 1 on any
+regression (or on anything missing from either side), 0 otherwise.
+``--update`` writes the run's metrics as the new baseline, on purpose.
+
+A metric regresses when it moves in its bad direction by more than
+``abs + rel * |baseline|``; a value that becomes NaN (or stops being NaN)
+regresses too. Runtimes are not gated (they depend on the machine).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline"]
+
+# metric -> (direction, absolute tolerance, relative tolerance)
+TOLERANCES: dict[str, tuple[str, float, float]] = {
+    "px_mae": ("lower", 0.05, 0.05),
+    "px_rmse": ("lower", 0.10, 0.05),
+    "px_p95": ("lower", 0.10, 0.05),
+    "depth_mae_mm": ("lower", 0.10, 0.05),
+    "depth_rmse_mm": ("lower", 0.20, 0.05),
+    "depth_p95_mm": ("lower", 0.20, 0.05),
+    "coverage": ("higher", 0.01, 0.0),
+    "outlier_rate": ("lower", 0.01, 0.05),
+    "false_detections": ("lower", 0.01, 0.05),
+}
+_FORMAT = 1
+
+
+@dataclass(frozen=True)
+class Row:
+    key: str  # experiment/tracker/region
+    metric: str
+    baseline: float | None
+    now: float | None
+    verdict: str  # ok, better, REGRESSED, MISSING IN RUN, NOT IN BASELINE
+
+    @property
+    def failed(self) -> bool:
+        return self.verdict not in ("ok", "better")
+
+    @property
+    def delta(self) -> float | None:
+        if self.baseline is None or self.now is None or _nan(self.baseline) or _nan(self.now):
+            return None
+        return self.now - self.baseline
+
+
+def _nan(v) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
+def _clean(v):
+    v = float(v)
+    return None if math.isnan(v) else v
+
+
+def baseline_from_run(run_dir) -> dict:
+    """The gated metrics of a finished run, as a baseline document."""
+    import pandas as pd
+
+    run_dir = Path(run_dir)
+    metrics = pd.read_parquet(run_dir / "metrics.parquet")
+    summary = json.loads((run_dir / "summary.json").read_text())
+    entries = {}
+    for r in metrics.to_dict("records"):
+        key = f"{r['experiment']}/{r['tracker']}/{r['region']}"
+        entries[key] = {m: _clean(r[m]) for m in TOLERANCES}
+    return {
+        "format": _FORMAT,
+        "config": summary["config"],
+        "git_revision": summary.get("git_revision", "unknown"),
+        "variants": summary.get("variants", []),
+        "tolerances": {m: {"direction": d, "abs": a, "rel": rel} for m, (d, a, rel) in TOLERANCES.items()},
+        "metrics": entries,
+    }
+
+
+def write_baseline(run_dir, path) -> dict:
+    """Write the run's metrics as the baseline at ``path`` (atomically)."""
+    from .runio import atomic_write_text
+
+    doc = baseline_from_run(run_dir)
+    atomic_write_text(path, json.dumps(doc, indent=1, sort_keys=True) + "\n")
+    return doc
+
+
+def load_baseline(path) -> dict:
+    try:
+        doc = json.loads(Path(path).read_text())
+    except OSError as exc:
+        raise FileNotFoundError(f"cannot read baseline {str(path)!r}: {exc.strerror}") from None
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"baseline {str(path)!r} is not valid JSON: {exc}") from None
+    if not isinstance(doc, dict) or doc.get("format") != _FORMAT or "metrics" not in doc:
+        raise ValueError(f"baseline {str(path)!r} is not a stripebench baseline (format {_FORMAT})")
+    return doc
+
+
+def _verdict(metric: str, base, now, tol: dict) -> str:
+    if _nan(base) and _nan(now):
+        return "ok"
+    if _nan(base) != _nan(now):
+        return "REGRESSED"
+    worse = (now - base) if tol["direction"] == "lower" else (base - now)
+    allowed = tol["abs"] + tol["rel"] * abs(base)
+    if worse > allowed:
+        return "REGRESSED"
+    if worse < -allowed:
+        return "better"
+    return "ok"
+
+
+def compare(baseline: dict, current: dict) -> list[Row]:
+    """Every (entry, metric) of both documents with its verdict."""
+    tols = baseline.get("tolerances") or {m: {"direction": d, "abs": a, "rel": r}
+                                          for m, (d, a, r) in TOLERANCES.items()}
+    rows = []
+    bm, cm = baseline["metrics"], current["metrics"]
+    for key in sorted(set(bm) | set(cm)):
+        if key not in cm:
+            rows.append(Row(key, "*", None, None, "MISSING IN RUN"))
+            continue
+        if key not in bm:
+            rows.append(Row(key, "*", None, None, "NOT IN BASELINE"))
+            continue
+        for metric in sorted(set(bm[key]) | set(cm[key])):
+            if metric not in cm[key]:
+                rows.append(Row(key, metric, bm[key][metric], None, "MISSING IN RUN"))
+            elif metric not in bm[key] or metric not in tols:
+                rows.append(Row(key, metric, None, cm[key][metric], "NOT IN BASELINE"))
+            else:
+                b, n = bm[key][metric], cm[key][metric]
+                rows.append(Row(key, metric, b, n, _verdict(metric, b, n, tols[metric])))
+    return rows
+
+
+def _f(v) -> str:
+    if v is None:
+        return "–"
+    if isinstance(v, float) and math.isnan(v):
+        return "nan"
+    return f"{v:.4g}"
+
+
+def format_table(rows: list[Row], *, all_rows: bool = False) -> str:
+    """A fixed-width table; by default the failing and improved rows only,
+    then a one-line count."""
+    shown = [r for r in rows if all_rows or r.verdict != "ok"]
+    w = max([len(r.key) for r in shown] + [5])
+    lines = [f"{'entry':<{w}}  {'metric':<17}{'baseline':>11}{'now':>11}{'delta':>11}  verdict"]
+    for r in shown:
+        d = r.delta
+        lines.append(f"{r.key:<{w}}  {r.metric:<17}{_f(r.baseline):>11}{_f(r.now):>11}"
+                     f"{(f'{d:+.3g}' if d is not None else '–'):>11}  {r.verdict}")
+    failed = sum(r.failed for r in rows)
+    better = sum(r.verdict == "better" for r in rows)
+    lines.append(f"{len(rows)} checks: {failed} failed, {better} better, {len(rows) - failed - better} unchanged "
+                 "within tolerance")
+    return "\n".join(lines)

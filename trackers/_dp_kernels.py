@@ -41,6 +41,12 @@ from numba import njit
 SQRT2 = 1.4142135623730951
 _REL_TOL = 1e-12
 
+# neighbours in the order backtracking prefers them (ties go to the first):
+# up, up-left, up-right, left, right, down, down-left, down-right
+_DR = np.array([-1, -1, -1, 0, 0, 1, 1, 1])
+_DJ = np.array([0, -1, 1, -1, 1, 0, -1, 1])
+_DIAG = np.array([False, True, True, False, False, False, True, True])
+
 
 @njit(cache=True, nogil=True)
 def half_cost_u8(image, eps, out, rowmin, centre):
@@ -431,22 +437,7 @@ def backtrack(D, hc, conn8, rows, cols):
         bj = -1
         bv = np.inf
         for m in range(8):
-            if m == 0:
-                dr, dj, diag = -1, 0, False
-            elif m == 1:
-                dr, dj, diag = -1, -1, True
-            elif m == 2:
-                dr, dj, diag = -1, 1, True
-            elif m == 3:
-                dr, dj, diag = 0, -1, False
-            elif m == 4:
-                dr, dj, diag = 0, 1, False
-            elif m == 5:
-                dr, dj, diag = 1, 0, False
-            elif m == 6:
-                dr, dj, diag = 1, -1, True
-            else:
-                dr, dj, diag = 1, 1, True
+            dr, dj, diag = _DR[m], _DJ[m], _DIAG[m]
             if diag and not conn8:
                 continue
             rr = r + dr
@@ -581,22 +572,7 @@ def optimal_nodes(D, hc, conn8, rel_tol, mark, out_r, out_c):
         if r == 0:
             continue
         for m in range(8):
-            if m == 0:
-                dr, dj, diag = -1, 0, False
-            elif m == 1:
-                dr, dj, diag = 0, -1, False
-            elif m == 2:
-                dr, dj, diag = 0, 1, False
-            elif m == 3:
-                dr, dj, diag = 1, 0, False
-            elif m == 4:
-                dr, dj, diag = -1, -1, True
-            elif m == 5:
-                dr, dj, diag = -1, 1, True
-            elif m == 6:
-                dr, dj, diag = 1, -1, True
-            else:
-                dr, dj, diag = 1, 1, True
+            dr, dj, diag = _DR[m], _DJ[m], _DIAG[m]
             if diag and not conn8:
                 continue
             rr = r + dr

@@ -23,6 +23,9 @@ for _name, _target in {
     "centroid": "trackers.centroid:CentroidTracker",
     "dp4": "trackers.dp:DP4Tracker",
     "dp8": "trackers.dp:DP8Tracker",
+    "gauss3": "trackers.gauss3:Gauss3Tracker",
+    "parabolic": "trackers.parabolic:ParabolicTracker",
+    "blais_rioux": "trackers.blais_rioux:BlaisRiouxTracker",
 }.items():
     _REGISTRY.register(_name, _target)
 del _name, _target

@@ -26,6 +26,8 @@ for _name, _target in {
     "gauss3": "trackers.gauss3:Gauss3Tracker",
     "parabolic": "trackers.parabolic:ParabolicTracker",
     "blais_rioux": "trackers.blais_rioux:BlaisRiouxTracker",
+    "com_bg": "trackers.com_bg:ComBgTracker",
+    "steger": "trackers.steger:StegerTracker",
 }.items():
     _REGISTRY.register(_name, _target)
 del _name, _target

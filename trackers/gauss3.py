@@ -45,7 +45,7 @@ class Gauss3Tracker(PeakTracker):
     Examples
     --------
     >>> import numpy as np
-    >>> x = np.arange(9.0)
+    >>> x = np.arange(40.0)
     >>> img = (10 + 100 * np.exp(-0.5 * (x - 4.3) ** 2))[None, :]
     >>> round(float(Gauss3Tracker(threshold=20).track(img).columns[0]), 6)
     4.3

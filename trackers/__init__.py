@@ -28,6 +28,7 @@ for _name, _target in {
     "blais_rioux": "trackers.blais_rioux:BlaisRiouxTracker",
     "com_bg": "trackers.com_bg:ComBgTracker",
     "steger": "trackers.steger:StegerTracker",
+    "dp8_subpixel": "trackers.dp_subpixel:DP8SubpixelTracker",
 }.items():
     _REGISTRY.register(_name, _target)
 del _name, _target

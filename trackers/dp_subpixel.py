@@ -41,7 +41,7 @@ class DPSubpixelTracker(DPTracker):
     ----------
     eps, k_sigma, min_support, max_gap, side_inner, side_outer
         As for :class:`~trackers.dp.DPTracker`.
-    estimator : {'gauss3', 'parabolic', 'blais_rioux', 'centroid'}, default 'gauss3'
+    estimator : {'gauss3', 'parabolic', 'blais_rioux', 'centroid'}, default 'blais_rioux'
         The sub-pixel estimator (see ``docs/estimators.png``).
     search : int, default 2
         Half width, in columns, of the window around the DP column where the
@@ -57,7 +57,7 @@ class DPSubpixelTracker(DPTracker):
     """
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 estimator="gauss3", search=2, frac=0.5, half_window=7):
+                 estimator="blais_rioux", search=2, frac=0.5, half_window=7):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer)
         self.estimator = estimator

@@ -13,7 +13,7 @@ from ._params import check_optional_real, check_real
 from ._stats import default_threshold, robust_level
 from .threshold import ThresholdTracker
 
-__all__ = ["StegerTracker", "gaussian_derivatives", "default_sigma"]
+__all__ = ["StegerTracker", "gaussian_derivatives", "default_sigma", "acceptance"]
 
 
 def default_sigma(width: float) -> float:
@@ -25,6 +25,23 @@ def default_sigma(width: float) -> float:
     least smoothing, best localisation) for ``w = width / 2``.
     """
     return width / (2.0 * math.sqrt(3.0))
+
+
+def acceptance(sigma: float) -> float:
+    """Half side of the square around a pixel centre where a ridge point is accepted, px.
+
+    Steger accepts the point ``t n`` when it lies in the pixel, ``|t n_x|``
+    and ``|t n_y| <= 1/2``. But ``t`` is a Newton step on the smoothed
+    profile, which overshoots: on a Gaussian ridge of standard deviation
+    ``w`` (``w >= sigma`` after smoothing) a pixel at distance ``x`` from the
+    centre gets ``t = x w^2 / (w^2 - x^2)``, so a ridge lying near a pixel
+    boundary is rejected by *both* pixels (measured: about 10 % of the rows
+    of a sharp stripe at sigma = 1.15). For ``|x| <= 1/2`` the overshoot is
+    at most ``(1/8) / (sigma^2 - 1/4)``; the acceptance is widened by that
+    bound, ``1/2 + (1/8) / (sigma^2 - 1/4)`` (0.62 at the default scale),
+    and capped at 1 px.
+    """
+    return min(1.0, 0.5 + 0.125 / (sigma * sigma - 0.25))
 
 
 def gaussian_derivatives(image: np.ndarray, sigma: float) -> np.ndarray:
@@ -115,14 +132,14 @@ def ridge_strength(d, strength, best_col):
 
 
 @njit(cache=True, nogil=True)
-def ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, columns, score):
+def ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, half, columns, score):
     """Per row, the accepted ridge point nearest the strongest response.
 
     Candidates: the row's strongest-response column ``j*`` and its two
     neighbours, in that order of preference (then greater strength, then
     left). A candidate is a ridge point if ``lambda < 0``, its offset
     ``t = -(g . n) / lambda`` along the normal ``n`` satisfies
-    ``|t nx| <= 0.5`` and ``|t ny| <= 0.5``, and ``|nx| >= min_nx``. The row
+    ``|t nx| <= half`` and ``|t ny| <= half``, and ``|nx| >= min_nx``. The row
     reports ``j + t / nx``, where the ridge's tangent line crosses the row,
     and score ``-lambda``, if ``-lambda > s_thr`` and ``image[r, j] > img_thr``.
     """
@@ -144,7 +161,7 @@ def ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, columns, score):
             if lam >= 0.0 or abs(nx) < min_nx:
                 continue
             t = -(float(d[0, j, r]) * nx + float(d[1, j, r]) * ny) / lam
-            if abs(t * nx) > 0.5 or abs(t * ny) > 0.5:
+            if abs(t * nx) > half or abs(t * ny) > half:
                 continue
             dist = 0 if k == 0 else 1
             s = -lam
@@ -170,7 +187,10 @@ class StegerTracker(ThresholdTracker):
     ridge's centre at ``t n`` from the pixel centre,
     ``t = -(r_x n_x + r_y n_y) / lambda``. A bright line pixel has
     ``lambda < 0``, and the point is accepted when it lies within the pixel,
-    ``|t n_x| <= 1/2`` and ``|t n_y| <= 1/2`` (Steger's rule). The ridge
+    ``|t n_x| <= h`` and ``|t n_y| <= h``: Steger's rule has ``h = 1/2``;
+    here ``h`` is widened by the largest overshoot of the Taylor step
+    (:func:`acceptance`: 0.62 px at the default scale), without which a
+    ridge near a pixel boundary is rejected by both pixels. The ridge
     strength ``-lambda`` is the score.
 
     The stripe is roughly vertical, so one point is reported per row: the
@@ -198,17 +218,18 @@ class StegerTracker(ThresholdTracker):
         As for :class:`~trackers.threshold.ThresholdTracker` (the image
         threshold; ``k_sigma`` and ``rel`` also set the strength threshold).
     sigma : float or None, default None
-        Scale of the Gaussian derivatives in pixels; ``None`` uses
+        Scale of the Gaussian derivatives in pixels, > 0.5; ``None`` uses
         :func:`default_sigma` of ``width``.
     width : float, default 4.0
         Expected full width of the stripe in pixels (about its FWHM); gives
-        ``sigma = width / (2 sqrt(3)) = 1.15`` px by default.
+        ``sigma = width / (2 sqrt(3)) = 1.15`` px by default (floored at
+        0.6 px).
     max_tilt : float, default 60.0
         Largest angle between the ridge and the vertical, in degrees.
 
     Notes
     -----
-    The crossing lies at most ``0.5 / cos(max_tilt)^2`` px from the chosen
+    The crossing lies at most ``h / cos(max_tilt)^2`` px from the chosen
     pixel; columns are clipped to the image, [-0.5, W - 0.5]. The derivatives are
     computed in float32; the ``background`` frame is ignored.
     """
@@ -224,7 +245,7 @@ class StegerTracker(ThresholdTracker):
 
     def _validate_params(self):
         super()._validate_params()
-        check_optional_real("sigma", self.sigma, low=0, low_open=True)
+        check_optional_real("sigma", self.sigma, low=0.5, low_open=True)
         check_real("width", self.width, low=0, low_open=True)
         check_real("max_tilt", self.max_tilt, low=0, high=90)
         if self.max_tilt >= 90:
@@ -232,7 +253,7 @@ class StegerTracker(ThresholdTracker):
 
     def scale(self) -> float:
         """The derivative filters' scale in pixels."""
-        return float(self.sigma) if self.sigma is not None else default_sigma(float(self.width))
+        return float(self.sigma) if self.sigma is not None else max(0.6, default_sigma(float(self.width)))
 
     def _track(self, image, background):
         H, W = image.shape
@@ -246,6 +267,6 @@ class StegerTracker(ThresholdTracker):
         columns = np.empty(H)
         score = np.empty(H)
         min_nx = math.cos(math.radians(float(self.max_tilt)))
-        ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, columns, score)
+        ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, acceptance(self.scale()), columns, score)
         np.clip(columns, -0.5, W - 0.5, out=columns)
         return Track(columns, score)

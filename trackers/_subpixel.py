@@ -14,8 +14,11 @@ Anchor rule shared by all estimators: the peak pixel ``p`` may belong to a
 *plateau*, a run ``lo..hi`` of pixels equal to ``image[r, p]`` (saturated or
 quantised stripes). The 3-point estimators then report the plateau's centre
 ``(lo + hi) / 2`` (for a 2-pixel plateau this is exactly what their formulas
-give; for longer ones, clipped profiles, their model does not apply); the
-other estimators are anchored at ``(lo + hi) // 2``.
+give; for longer ones, clipped profiles, their model does not apply); so does
+Blais-Rioux for plateaus of 5 pixels or more (its 5-tap filter then sees only
+the flat top; for 5 and 6 pixels its crossing is that centre anyway). The
+other estimators, and Blais-Rioux on shorter plateaus, are anchored at
+``(lo + hi) // 2``.
 """
 
 from __future__ import annotations
@@ -188,6 +191,8 @@ def estimate(image, r, p, bg, method, frac, half_window):
     if method == COM:
         return com_column(image, r, (lo + hi) // 2, bg + frac * (v - bg), half_window)
     if method == BLAIS_RIOUX:
+        if hi - lo >= 4:  # the 5-tap filter sees only the flat top
+            return 0.5 * (lo + hi)
         return blais_rioux_column(image, r, (lo + hi) // 2)
     if hi > lo:
         return 0.5 * (lo + hi)

@@ -36,7 +36,8 @@ class BlaisRiouxTracker(PeakTracker):
     Notes
     -----
     * ``j*`` is the row's maximum; on a plateau of equal maxima (saturation)
-      its middle pixel.
+      its middle pixel, and on a plateau of 5 pixels or more, where the
+      filter sees only the flat top, the column is the plateau's centre.
     * The filter needs no background level. Being 5 pixels long it averages
       noise better than 3-point fits but is biased on narrow stripes
       (sigma below about 1 px; see ``docs/estimators.png``).

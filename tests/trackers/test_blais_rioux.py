@@ -18,6 +18,14 @@ def test_symmetric_profiles_give_their_centre():
     assert BlaisRiouxTracker().track(img).columns.tolist() == [6.0, 6.5, 6.5]
 
 
+@pytest.mark.parametrize("length", [2, 3, 4, 5, 6, 7, 8, 11])
+def test_saturated_plateaus_of_any_length_give_their_centre(length):
+    img = np.zeros((1, 40))
+    img[0, 10 : 10 + length] = 255
+    img[0, 9] = img[0, 10 + length] = 90  # symmetric flanks
+    assert BlaisRiouxTracker().track(img).columns[0] == pytest.approx(10 + (length - 1) / 2)
+
+
 def test_zero_crossing_is_interpolated_linearly():
     img = np.zeros((1, 24))
     img[0, 2:8] = [20, 70, 100, 80, 30, 5]

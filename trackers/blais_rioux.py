@@ -8,8 +8,7 @@ __all__ = ["BlaisRiouxTracker"]
 
 
 class BlaisRiouxTracker(PeakTracker):
-    """Zero crossing, next to each row's peak, of Blais & Rioux's 4th-order
-    derivative filter.
+    """Blais & Rioux: zero crossing of a 4th-order derivative filter next to each row's peak.
 
     Blais, F. and Rioux, M. (1986), "Real-time numerical peak detector",
     *Signal Processing* 11(2), 145-155; compared by Fisher & Naidu (1996).

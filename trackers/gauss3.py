@@ -8,8 +8,7 @@ __all__ = ["Gauss3Tracker"]
 
 
 class Gauss3Tracker(PeakTracker):
-    """Vertex of the Gaussian through the brightest pixel of each row and its
-    two neighbours.
+    """3-point Gaussian fit: vertex of the log-parabola through each row's peak and its neighbours.
 
     The classic 3-point Gaussian estimator (e.g. Fisher & Naidu 1996, "A
     comparison of algorithms for subpixel peak detection"; Naidu & Fisher,

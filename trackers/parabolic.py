@@ -8,8 +8,7 @@ __all__ = ["ParabolicTracker"]
 
 
 class ParabolicTracker(PeakTracker):
-    """Vertex of the parabola through the brightest pixel of each row and its
-    two neighbours.
+    """3-point parabola fit: vertex of the parabola through each row's peak and its neighbours.
 
     The 3-point parabolic (quadratic) estimator compared by Fisher & Naidu
     (1996, "A comparison of algorithms for subpixel peak detection"): with

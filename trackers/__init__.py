@@ -1,8 +1,8 @@
-"""Laser-stripe trackers: one interface, a registry and the seed trackers.
+"""Laser-stripe trackers: one interface, a registry and the built-in trackers.
 
 >>> import trackers
->>> trackers.available()[:4]
-['centroid', 'dp4', 'dp8', 'threshold']
+>>> {"threshold", "centroid", "dp4", "dp8", "dp8_subpixel", "steger"} <= set(trackers.available())
+True
 >>> t = trackers.make("dp8")
 >>> t.name
 'dp8'
@@ -23,6 +23,12 @@ for _name, _target in {
     "centroid": "trackers.centroid:CentroidTracker",
     "dp4": "trackers.dp:DP4Tracker",
     "dp8": "trackers.dp:DP8Tracker",
+    "gauss3": "trackers.gauss3:Gauss3Tracker",
+    "parabolic": "trackers.parabolic:ParabolicTracker",
+    "blais_rioux": "trackers.blais_rioux:BlaisRiouxTracker",
+    "com_bg": "trackers.com_bg:ComBgTracker",
+    "steger": "trackers.steger:StegerTracker",
+    "dp8_subpixel": "trackers.dp_subpixel:DP8SubpixelTracker",
 }.items():
     _REGISTRY.register(_name, _target)
 del _name, _target

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numbers
 
-__all__ = ["check_real", "check_int", "check_optional_real"]
+__all__ = ["check_real", "check_int", "check_optional_real", "check_choice"]
 
 
 def check_real(name: str, value, *, low=None, high=None, low_open=False) -> None:
@@ -28,3 +28,10 @@ def check_int(name: str, value, *, low=None) -> None:
         raise ValueError(f"`{name}` must be an integer, got {value!r}")
     if low is not None and value < low:
         raise ValueError(f"`{name}` must be >= {low}, got {value!r}")
+
+
+def check_choice(name: str, value, choices) -> None:
+    """Raise ``ValueError`` unless ``value`` is one of ``choices`` (strings)."""
+    if not isinstance(value, str) or value not in choices:
+        listed = ", ".join(repr(c) for c in sorted(choices))
+        raise ValueError(f"`{name}` must be one of {listed}, got {value!r}")

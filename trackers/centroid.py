@@ -2,47 +2,20 @@
 
 from __future__ import annotations
 
-import numpy as np
-from numba import njit
-
-from ._base import Track
 from ._params import check_int, check_real
-from ._stats import row_peaks
-from .threshold import ThresholdTracker
+from ._peak import PeakTracker
 
 __all__ = ["CentroidTracker"]
 
 
-@njit(cache=True, nogil=True)
-def _centroids(image, peak_cols, peak_vals, hit, background, frac, half_window, out):
-    H, W = image.shape
-    for r in range(H):
-        if not hit[r]:
-            out[r] = np.nan
-            continue
-        p = peak_cols[r]
-        level = background + frac * (peak_vals[r] - background)
-        lo = p
-        while lo - 1 >= 0 and lo - 1 >= p - half_window and image[r, lo - 1] > level:
-            lo -= 1
-        hi = p
-        while hi + 1 < W and hi + 1 <= p + half_window and image[r, hi + 1] > level:
-            hi += 1
-        sw = 0.0
-        swx = 0.0
-        for j in range(lo, hi + 1):
-            w = image[r, j] - level
-            sw += w
-            swx += w * j
-        out[r] = swx / sw
-
-
-class CentroidTracker(ThresholdTracker):
+class CentroidTracker(PeakTracker):
     """Gray-gravity centre: intensity-weighted mean column around each row's peak.
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
     parameters, same default threshold). In a detected row with peak value
-    ``p`` at column ``j*`` and frame background ``b``, the window is the run of
+    ``p`` at column ``j*`` (the middle pixel of the run of equal maxima when
+    the peak is flat, e.g. saturated) and frame background ``b``, the window
+    is the run of
     contiguous pixels around ``j*`` brighter than ``level = b + frac * (p - b)``,
     at most ``half_window`` pixels on each side; the column is
     ``sum(w_j * j) / sum(w_j)`` with weights ``w_j = I_j - level`` (continuous
@@ -65,6 +38,7 @@ class CentroidTracker(ThresholdTracker):
 
     name = "centroid"
     subpixel = True
+    _estimator = "centroid"
 
     def __init__(self, threshold=None, k_sigma=5.0, rel=0.25, frac=0.5, half_window=7):
         super().__init__(threshold=threshold, k_sigma=k_sigma, rel=rel)
@@ -78,11 +52,5 @@ class CentroidTracker(ThresholdTracker):
             raise ValueError(f"`frac` must be < 1, got {self.frac!r}")
         check_int("half_window", self.half_window, low=0)
 
-    def _track(self, image, background):
-        bg, noise, thr = self._level(image)
-        cols, peaks = row_peaks(image)
-        hit = peaks > thr
-        columns = np.empty(image.shape[0])
-        _centroids(image, cols, peaks, hit, bg, float(self.frac), int(self.half_window), columns)
-        score = np.where(hit, (peaks - bg) / noise, np.nan)
-        return Track(columns, score)
+    def _estimator_args(self):
+        return float(self.frac), int(self.half_window)

@@ -325,7 +325,14 @@ class DPTracker(Tracker):
         rows, cols, D = _solve(*_half_cost(img, self.eps), self.connectivity == 8)
         return rows, cols, float(D[-1, cols[-1]])
 
-    def _track(self, image, background):
+    def _path_rows(self, image):
+        """The reporting rule's pieces for one frame.
+
+        Returns ``None`` when the frame has no stripe (too few supporting
+        rows), else ``(mean_col, z, support, report)``, all (H,): the mean
+        column of the optimal-path nodes in each row, the contrast in noise
+        units, the rows supporting the path, the rows to report.
+        """
         H, W = image.shape
         hc, rowmin, centre = _half_cost(image, self.eps)
         conn8 = self.connectivity == 8
@@ -348,7 +355,7 @@ class DPTracker(Tracker):
         support = z > self.k_sigma
         n_support = int(np.count_nonzero(support))
         if n_support < max(3, self.min_support * H):
-            return Track.empty(H)
+            return None
         first = int(np.argmax(support))
         last = H - 1 - int(np.argmax(support[::-1]))
         report = np.zeros(H, dtype=bool)
@@ -363,9 +370,14 @@ class DPTracker(Tracker):
                     if r - gap_start > self.max_gap:
                         report[gap_start:r] = False
                     gap_start = None
-        columns = np.where(report, mean_col, np.nan)
-        score = np.where(report, z, np.nan)
-        return Track(columns, score)
+        return mean_col, z, support, report
+
+    def _track(self, image, background):
+        rows = self._path_rows(image)
+        if rows is None:
+            return Track.empty(image.shape[0])
+        mean_col, z, _, report = rows
+        return Track(np.where(report, mean_col, np.nan), np.where(report, z, np.nan))
 
 
 class DP4Tracker(DPTracker):

@@ -51,9 +51,18 @@ WAVELENGTHS_NM = np.arange(360.0, 781.0, 1.0)
 
 
 def _colour():
-    import colour  # lazy: ~1 s import
+    """colour-science, imported lazily (~1 s). Its import switches numpy's
+    print options to the 1.13 legacy style for the whole process; they are
+    restored, so importing scenes changes nothing else."""
+    import sys
 
-    return colour
+    if "colour" not in sys.modules:
+        saved = np.get_printoptions()
+        try:
+            import colour  # noqa: F401
+        finally:
+            np.set_printoptions(**saved)
+    return sys.modules["colour"]
 
 
 @functools.lru_cache(maxsize=None)

@@ -77,3 +77,13 @@ def test_projector_scale_inverts_the_power_formula():
 def test_unknown_illuminant_lists_valid_names():
     with pytest.raises(KeyError, match="D65"):
         rad.inband_sky_radiance(400.0, "D66")
+
+
+def test_importing_colour_science_leaves_numpy_print_options_alone():
+    import subprocess
+    import sys
+
+    code = ("import numpy as np; before = np.get_printoptions(); from scenes import radiometry; "
+            "radiometry.illuminant_names(); print(np.get_printoptions() == before)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "True"

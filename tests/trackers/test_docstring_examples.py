@@ -11,7 +11,12 @@ MODULES = ["trackers", "trackers.threshold", "trackers.gauss3", "trackers.parabo
 
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name):
+    import numpy as np
+
     module = importlib.import_module(name)
-    result = doctest.testmod(module, extraglobs={"np": importlib.import_module("numpy")}, optionflags=doctest.ELLIPSIS)
+    # other libraries imported in the same session (colour-science) change numpy's
+    # print options globally; the examples show numpy's defaults
+    with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
+        result = doctest.testmod(module, extraglobs={"np": np}, optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0, f"{name} has no docstring examples"
     assert result.failed == 0, f"{result.failed} docstring example(s) of {name} failed"

@@ -142,6 +142,12 @@ def _cmd_perf(args) -> int:
     return perf_trackers.main(args.rest)
 
 
+def _cmd_estimators(args) -> int:
+    from . import estimators
+
+    return estimators.main(args.rest)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="stripebench",
                                      description="A physically based rendering benchmark for laser-stripe trackers.")
@@ -177,13 +183,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_check)
     sub.add_parser("trackers", help="list the registered trackers").set_defaults(func=_cmd_trackers)
     sub.add_parser("scenes", help="list the scenes and materials").set_defaults(func=_cmd_scenes)
+    p = sub.add_parser("estimators", help="the sub-pixel estimator study (see `stripebench estimators -h`)",
+                       add_help=False)
+    p.add_argument("rest", nargs=argparse.REMAINDER)
+    p.set_defaults(func=_cmd_estimators)
     p = sub.add_parser("perf", help="speed benchmarks: trackers (default) or `perf --scenes`", add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     return parser
 
 
+_PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators}
+
+
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in _PASSTHROUGH:  # these parse their own options (-h included)
+        return int(_PASSTHROUGH[argv[0]](argparse.Namespace(rest=argv[1:])) or 0)
     parser = build_parser()
     args = parser.parse_args(argv)
     from .config import ConfigError

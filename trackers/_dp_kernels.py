@@ -483,7 +483,11 @@ def marked_rows(image, rows, cols, inner, outer, mean_col, contrast, side_sd):
     if none); ``contrast[r]`` their mean intensity minus the
     mean of the side pixels ``inner..outer`` columns left and right of
     ``mean_col[r]`` (clipped to the image); ``side_sd[r]`` the standard
-    deviation of those side pixels (NaN if fewer than two).
+    deviation of those side pixels (NaN if fewer than two). Where the stripe
+    stays above half its height (over the darkest pixel within ``outer``)
+    for more than ``inner - 2`` columns on a side, that side's window moves
+    out by the difference, so a wide or saturated stripe is not taken for
+    its own background.
     """
     H, W = image.shape
     cnts = np.zeros(H, np.int64)
@@ -506,11 +510,29 @@ def marked_rows(image, rows, cols, inner, outer, mean_col, contrast, side_sd):
         m = scol / cnt
         mean_col[r] = m
         centre = int(np.floor(m + 0.5))
+        # the stripe's half-maximum extent on each side of the path (wide or
+        # saturated stripes push the side windows outwards)
+        level = sval / cnt
+        low = level
+        for j in range(max(centre - outer, 0), min(centre + outer, W - 1) + 1):
+            v = float(image[r, j])
+            low = v if v < low else low
+        half = 0.5 * (level + low)
+        ext = [0, 0]
+        for side in range(2):
+            k = 0
+            while k < 64:
+                j = centre - (k + 1) if side == 0 else centre + (k + 1)
+                if j < 0 or j >= W or image[r, j] < half:
+                    break
+                k += 1
+            ext[side] = k
         n = 0
         s1 = 0.0
         s2 = 0.0
         for side in range(2):
-            for d in range(inner, outer + 1):
+            shift = ext[side] - (inner - 2) if ext[side] > inner - 2 else 0
+            for d in range(inner + shift, outer + shift + 1):
                 j = centre - d if side == 0 else centre + d
                 if j < 0 or j >= W:
                     continue

@@ -267,7 +267,9 @@ class DPTracker(Tracker):
 
     * per row, the path's brightness ``I_p`` (mean of its pixels in the row) is
       compared with the local background ``b_r``, the mean of the pixels
-      ``side_inner``..``side_outer`` columns to either side of the path; the
+      ``side_inner``..``side_outer`` columns to either side of the path (moved
+      outwards on a side where the stripe stays above half its height for
+      more than ``side_inner - 2`` columns: wide or saturated stripes); the
       noise ``s`` is the median over rows of the standard deviation of those
       side pixels (floored at 1e-3 of the frame's dynamic range);
     * the row *supports* the path if ``I_p - b_r > k_sigma * s``;

@@ -73,3 +73,10 @@ def test_run_a_config_file_then_rebuild_its_report(tmp_path, capsys):
     (out_dir / "report.html").unlink()
     assert main(["report", str(out_dir), "--quiet"]) == 0
     assert (out_dir / "report.html").is_file()
+
+
+@pytest.mark.parametrize("argv", [["perf", "-h"], ["perf", "--scenes", "-h"], ["estimators", "-h"]])
+def test_pass_through_commands_show_their_own_help(argv, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 0 and "usage:" in capsys.readouterr().out

@@ -7,14 +7,15 @@ import numbers
 __all__ = ["check_real", "check_int", "check_optional_real", "check_choice"]
 
 
-def check_real(name: str, value, *, low=None, high=None, low_open=False) -> None:
-    """Raise ``ValueError`` unless ``value`` is a real number in range."""
+def check_real(name: str, value, *, low=None, high=None, low_open=False, high_open=False) -> None:
+    """Raise ``ValueError`` unless ``value`` is a real number in range
+    (``low_open``/``high_open`` exclude the bound itself)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or value != value:
         raise ValueError(f"`{name}` must be a real number, got {value!r}")
     if low is not None and (value <= low if low_open else value < low):
         raise ValueError(f"`{name}` must be {'>' if low_open else '>='} {low}, got {value!r}")
-    if high is not None and value > high:
-        raise ValueError(f"`{name}` must be <= {high}, got {value!r}")
+    if high is not None and (value >= high if high_open else value > high):
+        raise ValueError(f"`{name}` must be {'<' if high_open else '<='} {high}, got {value!r}")
 
 
 def check_optional_real(name: str, value, **kw) -> None:

@@ -47,9 +47,7 @@ class CentroidTracker(PeakTracker):
 
     def _validate_params(self):
         super()._validate_params()
-        check_real("frac", self.frac, low=0, high=1)
-        if self.frac >= 1:
-            raise ValueError(f"`frac` must be < 1, got {self.frac!r}")
+        check_real("frac", self.frac, low=0, high=1, high_open=True)
         check_int("half_window", self.half_window, low=0)
 
     def _estimator_args(self):

@@ -69,9 +69,7 @@ class DPSubpixelTracker(DPTracker):
         super()._validate_params()
         check_choice("estimator", self.estimator, _CHOICES)
         check_int("search", self.search, low=0)
-        check_real("frac", self.frac, low=0, high=1)
-        if self.frac >= 1:
-            raise ValueError(f"`frac` must be < 1, got {self.frac!r}")
+        check_real("frac", self.frac, low=0, high=1, high_open=True)
         check_int("half_window", self.half_window, low=0)
 
     def _track(self, image, background):

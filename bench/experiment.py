@@ -74,10 +74,7 @@ def _angles(experiment, scene) -> np.ndarray:
     if experiment.angles is not None:
         return np.asarray(experiment.angles, float)
     if experiment.n_angles is not None:
-        import scenes
-
-        return scenes.make(experiment.scene, material=experiment.material,
-                           n_angles=experiment.n_angles).default_angles()
+        return scene.object.default_angles(scene.rig.zeta_deg, experiment.n_angles)
     return scene.default_angles()
 
 

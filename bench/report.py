@@ -49,14 +49,16 @@ def _restored_points(arrays, name: str | None, rig) -> np.ndarray:
     return pts
 
 
-def make_figures(run_dir, *, quiet: bool = False) -> dict[str, list[Path]]:
-    """Write every figure of a run into ``run_dir/figures``; returns them by section."""
+def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> dict[str, list[Path]]:
+    """Write every figure of a run into ``run_dir/figures``; returns them by
+    section. ``data`` is the run's :func:`~bench.experiment.load_run` if the
+    caller already has it."""
     import scenes
 
     from . import figures
 
     run_dir = Path(run_dir)
-    data = load_run(run_dir)
+    data = load_run(run_dir) if data is None else data
     summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
     cfg = summary["config"]
     figdir = run_dir / "figures"
@@ -160,8 +162,8 @@ def _coverage_table(metrics) -> str:
 def build_report(run_dir, *, quiet: bool = False) -> Path:
     """Write ``figures/*.png`` and ``report.html`` for a finished run."""
     run_dir = Path(run_dir)
-    figs = make_figures(run_dir, quiet=quiet)
     data = load_run(run_dir)
+    figs = make_figures(run_dir, quiet=quiet, data=data)
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]
     parts = [f"<h1>stripebench run <code>{html.escape(run_dir.name)}</code></h1>",

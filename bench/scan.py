@@ -185,7 +185,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
 
     names = list(trackers_)
     angles = np.asarray(angles, float)
-    fingerprint = scan_fingerprint(scene, trackers_, spp, seed) if hasattr(scene, "params") else ""
+    fingerprint = scan_fingerprint(scene, trackers_, spp, seed)
     res = None
     saved = load_npz(checkpoint) if checkpoint.exists() else None
     if saved is not None:

@@ -13,8 +13,11 @@ from trackers.testing import make_stripe_image
 class SyntheticScene:
     """Stands in for scenes.Scene: analytic stripe frames, counted renders."""
 
+    name = "synthetic"
+
     def __init__(self, height=40, width=50):
         self.rig = _SmallRig(width, height)
+        self.params = {"width": width, "height": height}
         self.renders = 0
 
     def render(self, angle, spp=None, seed=None):

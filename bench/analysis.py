@@ -46,7 +46,7 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False) -> list[di
         cols = scan.columns[name]
         r_pred = tracker_depth_cm(scan, name, rig)
         rec = frame_record(
-            np.where(object_only & ~scan.on_object, np.nan, cols) if object_only else cols,
+            np.where(scan.on_object, cols, np.nan) if object_only else cols,
             truth,
             depth_pred_mm=10.0 * np.where(lit, r_pred, np.nan),
             depth_true_mm=10.0 * np.where(lit, r_true, np.nan),

@@ -18,17 +18,12 @@ class UsageError(Exception):
 
 
 def _trackers_arg(value: str | None):
+    """``--trackers``: tracker settings as in configurations (see :func:`bench.config.parse_trackers_arg`)."""
     if value is None:
         return None
-    import trackers
+    from .config import parse_trackers_arg
 
-    names = [n.strip() for n in value.split(",") if n.strip()]
-    if not names:
-        raise UsageError(f"--trackers must name at least one tracker, got {value!r}")
-    for n in names:
-        if n not in trackers.available():
-            raise UsageError(f"--trackers: unknown tracker {n!r}; available: {', '.join(trackers.available())}")
-    return names
+    return parse_trackers_arg(value)
 
 
 def _seed_arg(value: str) -> int:
@@ -46,11 +41,12 @@ def _run_config(config, args) -> int:
     from .experiment import run
 
     changes = {}
-    names = _trackers_arg(args.trackers)
-    if names is not None:
-        changes["trackers"] = names
-        changes["baselines"] = [b for b in config.baselines if b in names]
-        changes["dp"] = [d for d in config.dp if d in names]
+    specs = _trackers_arg(args.trackers)
+    if specs is not None:
+        labels = [s.label for s in specs]
+        changes["trackers"] = [s.to_value() for s in specs]
+        changes["baselines"] = [b for b in config.baselines if b in labels]
+        changes["dp"] = [d for d in config.dp if d in labels]
     if args.seed is not None:
         changes["seed"] = args.seed
     if changes:
@@ -155,7 +151,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
 
     def run_options(p):
-        p.add_argument("--trackers", help="comma-separated tracker names (default: the configuration's)")
+        p.add_argument("--trackers", help="comma-separated tracker names or TOML inline tables "
+                       "{label=..., name=..., params={...}} (default: the configuration's)")
         p.add_argument("--out", type=Path, help="run folder (default: results/runs/<name>-<config hash>; "
                                                  "an existing partial run there is resumed)")
         p.add_argument("--seed", type=_seed_arg, help="seed for renders, noise, samples and bootstrap")

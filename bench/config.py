@@ -4,9 +4,10 @@ A configuration is a TOML document::
 
     name = "paper"            # free text, names the run
     seed = 0                  # one seed for renders, noise, samples and bootstrap
-    trackers = []             # tracker names; empty = every registered tracker
-    baselines = ["threshold", "centroid"]   # "without DP"
-    dp = ["dp4", "dp8"]       # the DP trackers compared with them
+    trackers = []             # tracker names or settings; empty = every registered tracker
+                              # (a setting: {label = "dp4_iso", name = "dp4", params = {h_weight = 1.0}})
+    baselines = ["threshold", "centroid"]   # labels of the trackers "without DP"
+    dp = ["dp4", "dp8"]       # labels of the DP trackers compared with them
     n_samples = 150           # sample points per experiment (the paper's 150)
     n_boot = 2000             # bootstrap resamples for the confidence intervals
 
@@ -36,7 +37,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-__all__ = ["ConfigError", "Config", "Experiment", "load", "parse", "profile", "with_overrides", "PROFILES"]
+__all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
+           "parse", "profile", "with_overrides", "PROFILES"]
 
 PROFILES = ("paper", "quick", "ci")
 _TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "render", "experiments"}
@@ -49,6 +51,140 @@ _EXPERIMENT = {"scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
 
 class ConfigError(ValueError):
     """A configuration problem; ``str(err)`` is one line for the user."""
+
+
+@dataclass(frozen=True)
+class TrackerSpec:
+    """One tracker setting: a registered ``name`` built with ``params``, reported as ``label``.
+
+    Labels are what tables, figures, checkpoints, ``baselines`` and ``dp`` refer
+    to; a plain name in a configuration is the setting ``label = name`` with the
+    tracker's defaults.
+    """
+
+    label: str
+    name: str
+    params: dict[str, Any] = field(default_factory=dict)
+
+    def make(self):
+        """A new tracker of this setting."""
+        import trackers
+
+        return trackers.make(self.name, **self.params)
+
+    def to_value(self):
+        """The configuration value: the bare name when it is a plain default setting."""
+        if self.label == self.name and not self.params:
+            return self.name
+        return {"label": self.label, "name": self.name, "params": dict(self.params)}
+
+
+_LABEL_CHARS = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.")
+
+
+def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
+    if isinstance(value, str):
+        spec = TrackerSpec(value, value, {})
+    elif isinstance(value, dict):
+        extra = sorted(set(value) - {"label", "name", "params"})
+        if extra:
+            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params)")
+        name = value.get("name")
+        if not isinstance(name, str):
+            raise ConfigError(f"`{path}.name` must be a tracker name, got {name!r}")
+        label = value.get("label", name)
+        params = value.get("params", {})
+        if not isinstance(params, dict):
+            raise ConfigError(f"`{path}.params` must be a table, got {params!r}")
+        spec = TrackerSpec(label, name, dict(params))
+    else:
+        raise ConfigError(f"`{path}` must be a tracker name or a table {{label, name, params}}, got {value!r}")
+    if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= _LABEL_CHARS:
+        raise ConfigError(f"`{path}.label` must be letters, digits, '_', '-' or '.', got {spec.label!r}")
+    if spec.name not in registered:
+        raise ConfigError(f"`{path}` names unknown tracker {spec.name!r}; available: {', '.join(registered)}")
+    try:
+        tracker = spec.make()
+    except TypeError:
+        import trackers
+
+        valid = ", ".join(trackers.make(spec.name).get_params())
+        bad = sorted(spec.params)
+        raise ConfigError(f"`{path}.params` has an unknown parameter of {spec.name!r} among {bad}; "
+                          f"valid: {valid}") from None
+    try:
+        tracker._validate_params()
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"`{path}.params`: {exc}") from None
+    return spec
+
+
+def parse_trackers(value, path: str = "trackers") -> tuple[TrackerSpec, ...]:
+    """Validate a list of tracker names or settings; empty = every registered tracker.
+
+    Raises
+    ------
+    ConfigError
+        Not a list, an unknown tracker or parameter, a bad value, a bad or repeated label.
+
+    Examples
+    --------
+    >>> [s.label for s in parse_trackers(["threshold", {"label": "dp4_iso", "name": "dp4",
+    ...                                                 "params": {"eps": 1.0}}])]
+    ['threshold', 'dp4_iso']
+    """
+    import trackers
+
+    registered = trackers.available()
+    if not isinstance(value, list):
+        raise ConfigError(f"`{path}` must be a list of tracker names or settings, got {value!r}")
+    if not value:
+        return tuple(TrackerSpec(n, n, {}) for n in registered)
+    specs = tuple(_tracker_spec(f"{path}[{i}]", v, registered) for i, v in enumerate(value))
+    labels = [s.label for s in specs]
+    dup = sorted({lab for lab in labels if labels.count(lab) > 1})
+    if dup:
+        raise ConfigError(f"`{path}` repeats the label {dup[0]!r}")
+    return specs
+
+
+def _split_top(text: str) -> list[str]:
+    parts, depth, cur = [], 0, []
+    for ch in text:
+        if ch in "{[":
+            depth += 1
+        elif ch in "}]":
+            depth -= 1
+        if ch == "," and depth == 0:
+            parts.append("".join(cur))
+            cur = []
+        else:
+            cur.append(ch)
+    parts.append("".join(cur))
+    return [p.strip() for p in parts if p.strip()]
+
+
+def parse_trackers_arg(text: str, path: str = "--trackers") -> tuple[TrackerSpec, ...]:
+    """The command-line form of :func:`parse_trackers`: comma-separated names or
+    TOML inline tables, e.g. ``threshold,{label="dp4_iso",name="dp4",params={h_weight=1.0}}``.
+
+    Examples
+    --------
+    >>> [s.label for s in parse_trackers_arg('threshold, {label="d", name="dp4"}')]
+    ['threshold', 'd']
+    """
+    items = []
+    for part in _split_top(text):
+        if part.startswith("{"):
+            try:
+                items.append(tomllib.loads(f"x = {part}")["x"])
+            except tomllib.TOMLDecodeError as exc:
+                raise ConfigError(f"{path}: {part!r} is not a TOML inline table: {exc}") from None
+        else:
+            items.append(part)
+    if not items:
+        raise ConfigError(f"{path} must name at least one tracker, got {text!r}")
+    return parse_trackers(items, path)
 
 
 @dataclass(frozen=True)
@@ -74,7 +210,7 @@ class Config:
 
     name: str
     seed: int
-    trackers: tuple[str, ...]
+    trackers: tuple[str, ...]  # the labels of ``tracker_specs``
     baselines: tuple[str, ...]
     dp: tuple[str, ...]
     n_samples: int
@@ -82,6 +218,11 @@ class Config:
     render: dict[str, int]
     experiments: tuple[Experiment, ...]
     source: str = "<dict>"
+    tracker_specs: tuple[TrackerSpec, ...] = ()
+
+    def make_trackers(self) -> dict:
+        """label -> a new tracker of each setting, in configuration order."""
+        return {s.label: s.make() for s in self.tracker_specs}
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged."""
@@ -93,7 +234,7 @@ class Config:
             if e.angles is not None:
                 d["angles"] = list(e.angles)
             exps.append(d)
-        return {"name": self.name, "seed": self.seed, "trackers": list(self.trackers),
+        return {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
                 "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
                 "n_boot": self.n_boot, "render": dict(self.render), "experiments": exps}
 
@@ -130,7 +271,6 @@ def _unknown(path: str, d: dict, allowed: set[str]) -> None:
 def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     """Validate a configuration dict (as read from TOML) into a :class:`Config`."""
     import scenes
-    import trackers
 
     if not isinstance(data, dict):
         raise ConfigError(f"a configuration must be a table, got {type(data).__name__}")
@@ -139,10 +279,10 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     if not isinstance(name, str) or not name:
         raise ConfigError(f"`name` must be a non-empty string, got {name!r}")
     seed = _int("seed", data.get("seed", 0), 0)
-    registered = trackers.available()
-    names = _names("trackers", data.get("trackers", []), registered) or tuple(registered)
-    baselines = _names("baselines", data.get("baselines", ["threshold", "centroid"]), registered)
-    dp = _names("dp", data.get("dp", ["dp4", "dp8"]), registered)
+    specs = parse_trackers(data.get("trackers", []))
+    names = tuple(s.label for s in specs)
+    baselines = _names("baselines", data.get("baselines", ["threshold", "centroid"]), None)
+    dp = _names("dp", data.get("dp", ["dp4", "dp8"]), None)
     for group, members in (("baselines", baselines), ("dp", dp)):
         for m in members:
             if m not in names:
@@ -191,7 +331,7 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     dup = sorted({k for k in keys if keys.count(k) > 1})
     if dup:
         raise ConfigError(f"`experiments` lists {dup[0]!r} twice")
-    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source)
+    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, specs)
 
 
 def load(path) -> Config:

@@ -87,13 +87,11 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     """Run ``config``; returns the run folder. Resumes a partial run in ``out_dir``."""
     import pandas as pd
 
-    import trackers
-
     t_start = time.perf_counter()
     out = Path(out_dir) if out_dir is not None else default_run_dir(config)
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "config.json", json.dumps(config.to_dict(), indent=2))
-    tracker_objs = {n: trackers.make(n) for n in config.trackers}
+    tracker_objs = config.make_trackers()
     records, samples, scan_info = [], [], []
     fig7 = None
     for k, exp in enumerate(config.experiments):

@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["error_stats", "coverage", "outlier_rate", "false_detection_rate", "frame_record", "OUTLIER_PX"]
+__all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "frame_record",
+           "OUTLIER_PX", "HIT_PX"]
 
 OUTLIER_PX = 3.0
+HIT_PX = 3.0  # a row is a hit when the reported column is within this many px of the truth
 
 
 def error_stats(errors) -> dict[str, float]:
@@ -39,6 +41,25 @@ def coverage(pred, truth) -> float:
     return float(np.count_nonzero(~np.isnan(pred[lit])) / n) if n else float("nan")
 
 
+def hit_rate(pred, truth, tol_px: float = HIT_PX) -> float:
+    """Among rows with a lit visible stripe, the fraction where the tracker reports a
+    column within ``tol_px`` of the truth (a row with no detection is a miss); NaN if none.
+
+    Examples
+    --------
+    >>> hit_rate([10.0, 20.0, np.nan, 5.0], [11.0, 30.0, 7.0, np.nan])
+    0.3333333333333333
+    """
+    pred = np.asarray(pred, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    lit = ~np.isnan(truth)
+    n = int(lit.sum())
+    if not n:
+        return float("nan")
+    err = np.abs(pred[lit] - truth[lit])
+    return float(np.count_nonzero(err <= tol_px) / n)  # NaN compares False: a miss
+
+
 def outlier_rate(pred, truth, threshold_px: float = OUTLIER_PX) -> float:
     """Among rows with both a detection and a stripe, the fraction off by more than ``threshold_px``."""
     pred = np.asarray(pred, dtype=np.float64)
@@ -61,7 +82,7 @@ def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None) -> dict[st
     """Every metric of one tracker on one grid of rows, as a flat dict.
 
     Keys: ``px_mae, px_rmse, px_p95, depth_mae_mm, depth_rmse_mm, depth_p95_mm,
-    coverage, outlier_rate, false_detections, n_rows, n_lit, n_detected``.
+    coverage, hit_rate, outlier_rate, false_detections, n_rows, n_lit, n_detected``.
     """
     pred = np.asarray(pred, dtype=np.float64)
     truth = np.asarray(truth, dtype=np.float64)
@@ -74,6 +95,7 @@ def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None) -> dict[st
     rec.update(depth_mae_mm=d["mae"], depth_rmse_mm=d["rmse"], depth_p95_mm=d["p95"])
     rec.update(
         coverage=coverage(pred, truth),
+        hit_rate=hit_rate(pred, truth),
         outlier_rate=outlier_rate(pred, truth),
         false_detections=false_detection_rate(pred, truth),
         n_rows=int(truth.size),

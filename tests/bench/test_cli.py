@@ -37,7 +37,7 @@ def test_trackers_and_scenes_lists(capsys):
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["reproduce", "--trackers", "nope"], "--trackers: unknown tracker 'nope'"),
+        (["reproduce", "--trackers", "nope"], "`--trackers[0]` names unknown tracker 'nope'"),
         (["reproduce", "--trackers", ","], "--trackers must name at least one tracker"),
         (["run"], "give a CONFIG.toml or --profile"),
         (["run", "missing.toml"], "cannot read configuration 'missing.toml'"),

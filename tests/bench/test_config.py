@@ -48,8 +48,16 @@ def test_empty_tracker_list_means_all_registered():
         ({"colour": 1}, r"unknown key `colour`"),
         ({"seed": -1}, r"`seed` must be an integer >= 0, got -1"),
         ({"seed": 1.5}, r"`seed` must be an integer >= 0, got 1.5"),
-        ({"trackers": ["nope"]}, r"`trackers` names unknown tracker 'nope'"),
-        ({"trackers": "dp4"}, r"`trackers` must be a list of names, got 'dp4'"),
+        ({"trackers": ["nope"]}, r"`trackers\[0\]` names unknown tracker 'nope'"),
+        ({"trackers": "dp4"}, r"`trackers` must be a list of tracker names or settings, got 'dp4'"),
+        ({"trackers": ["dp4", "dp4"]}, r"`trackers` repeats the label 'dp4'"),
+        ({"trackers": ["dp4", {"name": "dp4", "params": {"eps": 2.0}}]}, r"repeats the label 'dp4'"),
+        ({"trackers": [{"label": "x", "name": "dp4", "params": {"wobble": 1}}]},
+         r"`trackers\[0\].params` has an unknown parameter of 'dp4' among \['wobble'\]; valid: eps"),
+        ({"trackers": [{"label": "x", "name": "dp4", "params": {"eps": -1}}]}, r"`trackers\[0\].params`: .*eps.*-1"),
+        ({"trackers": [{"label": "a b", "name": "dp4"}]}, r"`trackers\[0\].label` must be letters"),
+        ({"trackers": [{"label": "x", "name": "dp4", "colour": 1}]}, r"unknown key `trackers\[0\].colour`"),
+        ({"trackers": [3]}, r"`trackers\[0\]` must be a tracker name or a table"),
         ({"dp": ["dp8"]}, r"`dp` names 'dp8', which is not among `trackers`"),
         ({"n_samples": 0}, r"`n_samples` must be an integer >= 1, got 0"),
         ({"render": {"width": 64, "height": 60, "spp": 0}}, r"`render.spp` must be an integer >= 1, got 0"),
@@ -69,6 +77,32 @@ def test_empty_tracker_list_means_all_registered():
 def test_bad_configs_name_the_key_and_value(change, message):
     with pytest.raises(ConfigError, match=message):
         parse({**GOOD, **change})
+
+
+def test_tracker_settings_compare_two_settings_of_one_tracker():
+    cfg = parse({**GOOD, "trackers": ["threshold", "dp4", {"label": "dp4_e2", "name": "dp4", "params": {"eps": 2.0}}],
+                 "dp": ["dp4", "dp4_e2"]})
+    assert cfg.trackers == ("threshold", "dp4", "dp4_e2") and cfg.dp == ("dp4", "dp4_e2")
+    made = cfg.make_trackers()
+    assert list(made) == ["threshold", "dp4", "dp4_e2"]
+    assert made["dp4"].get_params()["eps"] == 1.0 and made["dp4_e2"].get_params()["eps"] == 2.0
+    again = parse(cfg.to_dict())
+    assert again.tracker_specs == cfg.tracker_specs and again.to_dict() == cfg.to_dict()
+    assert cfg.to_dict()["trackers"][:2] == ["threshold", "dp4"]  # plain settings stay plain names
+
+
+def test_tracker_settings_on_the_command_line():
+    from bench.config import parse_trackers_arg
+
+    specs = parse_trackers_arg('threshold, {label = "dp4_e2", name = "dp4", params = {eps = 2.0}}, dp8')
+    assert [(s.label, s.name, s.params) for s in specs] == [
+        ("threshold", "threshold", {}), ("dp4_e2", "dp4", {"eps": 2.0}), ("dp8", "dp8", {})]
+    with pytest.raises(ConfigError, match=r"--trackers: .* is not a TOML inline table"):
+        parse_trackers_arg("{label = }")
+    with pytest.raises(ConfigError, match=r"--trackers must name at least one tracker"):
+        parse_trackers_arg(" , ")
+    with pytest.raises(ConfigError, match=r"`--trackers\[1\]` names unknown tracker 'nope'"):
+        parse_trackers_arg("dp4,nope")
 
 
 def test_load_errors(tmp_path):

@@ -28,3 +28,14 @@ def test_frame_record_keys_and_values():
     assert rec["false_detections"] == 1.0 and rec["n_lit"] == 3 and rec["n_detected"] == 3
     assert rec["depth_mae_mm"] == pytest.approx(0.5)
     assert np.isnan(frame_record(pred, truth)["depth_rmse_mm"])
+
+
+def test_hit_rate_counts_misses_and_far_detections_as_misses():
+    from bench.metrics import hit_rate
+
+    truth = np.array([10.0, 10.0, 10.0, 10.0, np.nan])
+    pred = np.array([12.9, 13.5, np.nan, 7.0, 3.0])  # hit, too far, missed, exactly 3 px (hit), unlit row
+    assert hit_rate(pred, truth) == pytest.approx(2 / 4)
+    assert hit_rate(pred, truth, tol_px=4.0) == pytest.approx(3 / 4)
+    assert np.isnan(hit_rate(pred, np.full(5, np.nan)))
+    assert frame_record(pred, truth)["hit_rate"] == pytest.approx(0.5)

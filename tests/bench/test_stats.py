@@ -46,3 +46,27 @@ def test_bootstrap_covers_the_true_improvement_usually():
         ci = bootstrap_improvement(dp, base, "rmse", n_boot=400, seed=seed)
         hits += ci["low"] <= 1 / 3 <= ci["high"]
     assert hits >= 32
+
+
+def test_wilson_interval_by_hand():
+    from bench.stats import wilson_interval
+
+    # k = 8, n = 10, z = 1.959964: centre (0.8 + z^2/20) / (1 + z^2/10) = 0.716741,
+    # half-width z sqrt(0.016 + z^2/400) / (1 + z^2/10) = 0.226580
+    lo, hi = wilson_interval(8, 10)
+    assert lo == pytest.approx(0.716741 - 0.226580, abs=2e-6) and hi == pytest.approx(0.716741 + 0.226580, abs=2e-6)
+    assert wilson_interval(0, 5)[0] == 0.0 and wilson_interval(5, 5)[1] == 1.0
+    assert all(np.isnan(wilson_interval(0, 0)))
+
+
+def test_robust_summary_by_hand():
+    from bench.stats import robust_summary
+
+    e = [1.0, -2.0, 7.0, -80.0, np.nan, 5.0, 51.0]
+    r = robust_summary(e)
+    assert r["n"] == 6 and r["within"] == pytest.approx(3 / 6)  # 1, 2, 5 (the band is closed)
+    assert r["median_abs_mm"] == pytest.approx(6.0) and r["n_gross"] == 2
+    assert r["p95_abs_mm"] == pytest.approx(np.percentile([1, 2, 5, 7, 51, 80], 95))
+    assert r["rmse_mm"] == pytest.approx(np.sqrt(np.mean(np.square([1, 2, 5, 7, 51, 80]))))
+    assert r["within_low"] < 0.5 < r["within_high"]
+    assert robust_summary([np.nan])["n"] == 0

@@ -10,6 +10,7 @@ A configuration is a TOML document::
     dp = ["dp4", "dp8"]       # labels of the DP trackers compared with them
     n_samples = 150           # sample points per experiment (the paper's 150)
     n_boot = 2000             # bootstrap resamples for the confidence intervals
+    restore = "rows"          # how missed rows are filled before sampling: "rows" or "none" (bench.restore)
 
     [render]                  # shared by every experiment
     width = 512
@@ -17,6 +18,8 @@ A configuration is a TOML document::
     spp = 16
 
     [[experiments]]           # one scan each
+    name = "cone-paper"       # optional identifier (default: scene-material plus overrides)
+    condition = "paper"       # optional group in reports (the first condition leads the report)
     scene = "cone"
     material = "patchy"
     n_angles = 40             # or: angles = [-3.0, -2.5, ...] (deg)
@@ -41,12 +44,12 @@ __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers
            "parse", "profile", "with_overrides", "PROFILES"]
 
 PROFILES = ("paper", "quick", "ci")
-_TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "render", "experiments"}
+_TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "restore", "render", "experiments"}
 _RENDER = {"width", "height", "spp", "ambient_spp"}
 _SCENE_OVERRIDES = {"ambient_lux", "laser_power_mw", "line_fwhm_mrad", "laser_fan_deg", "ambient_illuminant",
                     "laser_wavelength_nm", "filter_center_nm", "filter_fwhm_nm", "filter_peak", "exposure_ms",
                     "f_number", "read_noise_e", "gain_e_per_dn"}
-_EXPERIMENT = {"scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
+_EXPERIMENT = {"name", "condition", "scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
 
 
 class ConfigError(ValueError):
@@ -196,10 +199,14 @@ class Experiment:
     n_angles: int | None = None
     angles: tuple[float, ...] | None = None
     overrides: dict[str, Any] = field(default_factory=dict)
+    name: str | None = None
+    condition: str = ""
 
     @property
     def key(self) -> str:
-        """A file-name-safe identifier, ``scene-material`` plus any overrides."""
+        """A file-name-safe identifier: ``name``, or ``scene-material`` plus any overrides."""
+        if self.name:
+            return self.name
         extra = "".join(f"_{k}={v}" for k, v in sorted(self.overrides.items()))
         return f"{self.scene}-{self.material}{extra}".replace("/", "_").replace(" ", "")
 
@@ -218,6 +225,7 @@ class Config:
     render: dict[str, int]
     experiments: tuple[Experiment, ...]
     source: str = "<dict>"
+    restore: str = "rows"
     tracker_specs: tuple[TrackerSpec, ...] = ()
 
     def make_trackers(self) -> dict:
@@ -229,6 +237,10 @@ class Config:
         exps = []
         for e in self.experiments:
             d = {"scene": e.scene, "material": e.material, **e.overrides}
+            if e.name:
+                d["name"] = e.name
+            if e.condition:
+                d["condition"] = e.condition
             if e.n_angles is not None:
                 d["n_angles"] = e.n_angles
             if e.angles is not None:
@@ -236,7 +248,7 @@ class Config:
             exps.append(d)
         return {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
                 "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
-                "n_boot": self.n_boot, "render": dict(self.render), "experiments": exps}
+                "n_boot": self.n_boot, "restore": self.restore, "render": dict(self.render), "experiments": exps}
 
 
 def _where(path: str) -> str:
@@ -289,6 +301,11 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
                 raise ConfigError(f"`{group}` names {m!r}, which is not among `trackers` {list(names)}")
     n_samples = _int("n_samples", data.get("n_samples", 150), 1)
     n_boot = _int("n_boot", data.get("n_boot", 2000), 10)
+    from .restore import METHODS
+
+    restore = data.get("restore", "rows")
+    if restore not in METHODS:
+        raise ConfigError(f"`restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
     render_in = data.get("render", {})
     if not isinstance(render_in, dict):
         raise ConfigError(f"`render` must be a table, got {render_in!r}")
@@ -326,12 +343,19 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
         except (TypeError, KeyError, ValueError) as exc:
             msg = exc.args[0] if exc.args else str(exc)
             raise ConfigError(f"`{path}`: {msg}") from None
-        exps.append(Experiment(scene, material, n_angles, angles, overrides))
+        exp_name = e.get("name")
+        if exp_name is not None and (not isinstance(exp_name, str) or not exp_name
+                                     or not set(exp_name) <= _LABEL_CHARS):
+            raise ConfigError(f"`{path}.name` must be letters, digits, '_', '-' or '.', got {exp_name!r}")
+        condition = e.get("condition", "")
+        if not isinstance(condition, str):
+            raise ConfigError(f"`{path}.condition` must be a string, got {condition!r}")
+        exps.append(Experiment(scene, material, n_angles, angles, overrides, exp_name, condition))
     keys = [e.key for e in exps]
     dup = sorted({k for k in keys if keys.count(k) > 1})
     if dup:
         raise ConfigError(f"`experiments` lists {dup[0]!r} twice")
-    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, specs)
+    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, restore, specs)
 
 
 def load(path) -> Config:

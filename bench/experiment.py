@@ -6,6 +6,7 @@ hash covers the configuration, so rerunning the same command resumes)::
     config.json        the validated configuration
     scans/<exp>.npz    per-experiment checkpoint (frames x rows of every tracker)
     figdata.npz        the frame and fields Fig. 7 shows
+    gallery.npz        per experiment, the frames where the trackers miss the truth most
     metrics.parquet    one record per tracker x experiment x region
     metrics.csv        the same
     samples.csv        the sample points, one depth-error column per tracker
@@ -30,10 +31,32 @@ from . import analysis
 from .config import Config
 from .runio import atomic_write_text, config_hash, load_npz, runs_root, save_npz
 from .scan import STATUS, run_scan
+from .stats import GROSS_MM, WITHIN_MM
 
 __all__ = ["run", "default_run_dir", "versions", "git_revision", "PAPER_IMPROVEMENT"]
 
 PAPER_IMPROVEMENT = 0.30  # "a 30 % improvement in the precision" (sec. 4.3)
+GALLERY_FRAMES = 2  # frames per experiment in the report's failure gallery
+
+
+def _conditions(config: Config) -> list[dict]:
+    """The configuration's conditions in order: name and the experiment keys in each
+    (an experiment without a ``condition`` is a condition of its own)."""
+    out: dict[str, list[str]] = {}
+    for e in config.experiments:
+        out.setdefault(e.condition or e.key, []).append(e.key)
+    return [{"condition": c, "experiments": keys} for c, keys in out.items()]
+
+
+def _gallery_arrays(gallery: dict) -> dict:
+    arrays = {"keys": np.array(sorted(gallery), dtype=str)}
+    for key, (image, truth, cols) in gallery.items():
+        arrays[f"{key}/image"] = image
+        arrays[f"{key}/truth"] = truth
+        arrays[f"{key}/labels"] = np.array(list(cols), dtype=str)
+        for n, c in cols.items():
+            arrays[f"{key}/columns/{n}"] = c
+    return arrays
 
 
 def default_run_dir(config: Config) -> Path:
@@ -92,25 +115,29 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "config.json", json.dumps(config.to_dict(), indent=2))
     tracker_objs = config.make_trackers()
-    records, samples, scan_info = [], [], []
+    records, samples, scan_info, gallery = [], [], [], {}
     fig7 = None
     for k, exp in enumerate(config.experiments):
         scene = _scene_for(exp, config)
         angles = _angles(exp, scene)
-        keep = len(angles) // 2 if k == 0 else None
         _say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(angles)} frames at "
              f"{scene.rig.width}x{scene.rig.height}", quiet)
         t0 = time.perf_counter()
-        res, kept = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
-                             checkpoint=out / "scans" / f"{exp.key}.npz", progress=progress, keep_frame=keep)
+        res, _ = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
+                          checkpoint=out / "scans" / f"{exp.key}.npz", progress=progress)
         wall = time.perf_counter() - t0
-        if kept is not None:
-            fig7 = (exp.key, float(angles[keep]), kept, {n: res.columns[n][keep] for n in res.columns})
+        worst = analysis.worst_frames(res, GALLERY_FRAMES)
+        for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
+            frame = scene.render(float(angles[i]), spp=scene.params["spp"], seed=config.seed)
+            gallery[f"{exp.key}/{i}"] = (frame.image, frame.truth.columns, {n: res.columns[n][i] for n in res.columns})
+            if fig7 is None:
+                fig7 = (exp.key, float(angles[i]), (frame.image, frame.background, frame.truth.columns),
+                        {n: res.columns[n][i] for n in res.columns})
         rig = scene.rig
         for region in (False, True):
-            records += analysis.scan_records(res, rig, exp, object_only=region)
+            records += analysis.scan_records(res, rig, exp, object_only=region, restore=config.restore)
         seed = int(np.random.SeedSequence([config.seed, k]).generate_state(1)[0])
-        samples += analysis.sample_table(res, rig, exp, config.n_samples, seed)
+        samples += analysis.sample_table(res, rig, exp, config.n_samples, seed, restore=config.restore)
         failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
         scan_info.append({"experiment": exp.key, "frames": int(len(angles)), "wall_s": wall,
                           "render_s": res.render_seconds, "variant": res.variant, "failures": failures,
@@ -123,7 +150,19 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     if samples_df.empty:
         _say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
     stats = analysis.improvements(samples_df, config.dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
+    robust = analysis.robust_table(samples_df, config.trackers)
+    conditions = _conditions(config)
+    if len(samples_df):
+        cond_of = {e.key: (e.condition or e.key) for e in config.experiments}
+        by_cond = samples_df.assign(condition=samples_df["experiment"].map(cond_of))
+        if by_cond["condition"].nunique() < by_cond["experiment"].nunique():  # conditions group experiments
+            stats += [dict(s, group=f"condition:{s['group']}") for s in analysis.improvements(
+                by_cond, config.dp, config.baselines, n_boot=config.n_boot, seed=config.seed, group_by="condition")
+                if s["group"] != "all"]
+            robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
+                by_cond, config.trackers, group_by="condition") if r["group"] != "all"]
     _write_tables(out, metrics, samples_df)
+    save_npz(out / "gallery.npz", **_gallery_arrays(gallery))
     if fig7 is not None:
         key, angle, (image, background, truth_cols), cols = fig7
         save_npz(out / "figdata.npz", experiment=np.array(key), mirror_angle_deg=np.array(angle), image=image,
@@ -133,7 +172,9 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
         "config": config.to_dict(), "config_source": config.source, "seed": config.seed,
         "versions": versions(), "git_revision": git_revision(), "run_dir": str(out),
         "variants": sorted({s["variant"] for s in scan_info}), "scans": scan_info,
-        "improvement": stats, "paper_improvement": PAPER_IMPROVEMENT,
+        "improvement": stats, "paper_improvement": PAPER_IMPROVEMENT, "restore": config.restore,
+        "robust": robust, "within_mm": WITHIN_MM, "gross_mm": GROSS_MM, "conditions": conditions,
+        "verdicts": analysis.verdicts(robust, stats, config.dp, config.baselines),
         "coverage": _coverage_table(metrics), "status_codes": STATUS,
         "wall_s": time.perf_counter() - t_start,
     }
@@ -188,5 +229,6 @@ def load_run(run_dir) -> dict:
         "samples": pd.read_csv(run_dir / "samples.csv"),
         "summary": json.loads((run_dir / "summary.json").read_text()),
         "figdata": load_npz(run_dir / "figdata.npz"),
+        "gallery": load_npz(run_dir / "gallery.npz"),
         "scans": {p.stem: load_npz(p) for p in sorted((run_dir / "scans").glob("*.npz"))},
     }

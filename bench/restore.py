@@ -1,10 +1,27 @@
-"""Restored surfaces: fill the rows a tracker missed from their neighbours."""
+"""Restored surfaces: fill the rows a tracker missed from their neighbours.
+
+The restoration is an explicit setting of an experiment configuration
+(``restore``, recorded in ``summary.json``), one of :data:`METHODS`:
+
+``"rows"`` (default)
+    Linear interpolation along the rows of each frame between the nearest
+    reported rows (constant beyond the first and last); a frame with nothing
+    reported takes the nearest frame's values (:func:`fill_depth_map`). This is
+    itself a bridging tracker: a threshold tracker that misses a dim stretch
+    gets it back by interpolation.
+``"none"``
+    Nothing is filled: a row the tracker missed has no depth, and a sample
+    point there counts as a miss (outside every error band) in the robust
+    statistics and is dropped from the paper's ratio.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["fill_rows", "fill_depth_map"]
+__all__ = ["fill_rows", "fill_depth_map", "restore_depth_map", "METHODS"]
+
+METHODS = ("rows", "none")
 
 
 def fill_rows(values) -> np.ndarray:
@@ -44,3 +61,27 @@ def fill_depth_map(depth) -> tuple[np.ndarray, np.ndarray]:
         for f in np.flatnonzero(empty):
             out[f] = out[have[np.argmin(np.abs(have - f))]]
     return out, np.isnan(d) & ~np.isnan(out)
+
+
+def restore_depth_map(depth, method: str = "rows") -> tuple[np.ndarray, np.ndarray]:
+    """Restore a (frames, rows) depth map by ``method`` (one of :data:`METHODS`).
+
+    Returns
+    -------
+    restored : ndarray (F, H)
+    was_filled : ndarray (F, H) bool
+
+    Examples
+    --------
+    >>> d = np.array([[1.0, np.nan, 3.0]])
+    >>> restore_depth_map(d, "rows")[0].tolist(), restore_depth_map(d, "none")[0].tolist()
+    ([[1.0, 2.0, 3.0]], [[1.0, nan, 3.0]])
+    """
+    if method == "rows":
+        return fill_depth_map(depth)
+    if method == "none":
+        d = np.asarray(depth, dtype=np.float64)
+        if d.ndim != 2:
+            raise ValueError(f"`depth` must be 2-D (frames, rows), got shape {d.shape}")
+        return d.copy(), np.zeros(d.shape, bool)
+    raise ValueError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")

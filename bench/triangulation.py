@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["triangulate", "depth_cm", "cylindrical_to_cartesian"]
+__all__ = ["triangulate", "depth_cm", "points_from_depth", "cylindrical_to_cartesian"]
 
 _PX_TINY_MM = 1e-9
 
@@ -74,6 +74,22 @@ def triangulate(cols, rows, mirror_angle_deg, rig):
     phi = 2.0 * theta - np.degrees(zeta)
     phi = np.where(np.isnan(r), np.nan, phi)
     return r, phi, z
+
+
+def points_from_depth(r_cm, rows, mirror_angle_deg, rig) -> np.ndarray:
+    """World points (cm), shape (..., 3), of depths ``R`` seen on image ``rows`` at a mirror angle.
+
+    For restored surfaces, where a filled row has a depth but no column: ``phi``
+    from eq. (4) and ``Z`` from eq. (5) with ``d_r = R cos(zeta)`` (the form of
+    eq. (7) that needs no column). NaN depths give NaN points.
+    """
+    r, rows, theta = np.broadcast_arrays(np.asarray(r_cm, dtype=np.float64), np.asarray(rows, dtype=np.float64),
+                                         np.asarray(mirror_angle_deg, dtype=np.float64))
+    f, d_m, _, zeta = _rig_numbers(rig)
+    pz = np.asarray(rig.pz_mm(rows), dtype=np.float64) / 10.0
+    z = pz * (d_m + r * np.cos(zeta)) / f
+    phi = 2.0 * theta - np.degrees(zeta)
+    return cylindrical_to_cartesian(r, phi, z)
 
 
 def cylindrical_to_cartesian(r_cm, phi_deg, z_cm) -> np.ndarray:

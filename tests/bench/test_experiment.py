@@ -19,7 +19,7 @@ TINY = {
     "n_boot": 50,
     "render": {"width": 64, "height": 60, "spp": 2, "ambient_spp": 1},
     "experiments": [
-        {"scene": "cone", "material": "patchy", "n_angles": 3},
+        {"scene": "cone", "material": "patchy", "n_angles": 3, "condition": "patchy cone"},
         {"scene": "plane", "material": "absorbing", "n_angles": 2},
     ],
 }
@@ -35,13 +35,14 @@ def test_run_folder_holds_everything(tiny_run):
     out, cfg = tiny_run
     for name in ("config.json", "metrics.parquet", "metrics.csv", "samples.csv", "summary.json", "report.html",
                  "figdata.npz", "scans/cone-patchy.npz", "scans/plane-absorbing.npz",
-                 "figures/fig7_tracking.png", "figures/fig10_cone-patchy.png", "figures/bars_cone.png"):
+                 "gallery.npz", "figures/fig7_tracking.png", "figures/fig10_cone-patchy.png",
+                 "figures/bars_hit_rate.png", "figures/gallery_00.png"):
         assert (out / name).is_file(), name
     m = pd.read_parquet(out / "metrics.parquet")
     assert len(m) == 2 * 4 * 2  # experiments x trackers x regions
     assert set(m["tracker"]) == set(cfg.trackers)
     for col in ("px_mae", "px_rmse", "px_p95", "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "coverage",
-                "outlier_rate", "false_detections", "ms_per_frame", "filled_fraction"):
+                "hit_rate", "condition", "outlier_rate", "false_detections", "ms_per_frame", "filled_fraction"):
         assert col in m.columns
     assert pd.read_csv(out / "metrics.csv").shape == m.shape
 
@@ -70,7 +71,42 @@ def test_summary_has_statistics_versions_and_revision(tiny_run):
 def test_report_is_self_contained(tiny_run):
     out, _ = tiny_run
     page = (out / "report.html").read_text()
-    assert page.count("data:image/png;base64,") >= 4 and "src=\"http" not in page and "Precision improvement" in page
+    assert page.count("data:image/png;base64,") >= 4 and "src=\"http" not in page
+    for section in ("Which tracker is more precise", "The paper's condition: patchy cone", "At a glance",
+                    "Every sample (Fig. 10)", "Failure gallery", "The paper's statistic", "Hit rate and coverage"):
+        assert section in page, section
+
+
+def test_the_within_fraction_recomputed_from_samples_equals_the_reported_one(tiny_run):
+    out, cfg = tiny_run
+    s = json.loads((out / "summary.json").read_text())
+    samples = pd.read_csv(out / "samples.csv")
+    rob = {(r["group"], r["tracker"]): r for r in s["robust"]}
+    assert s["restore"] == "rows" and s["within_mm"] == 5.0
+    for key, g in samples.groupby("experiment"):
+        for name in cfg.trackers:
+            e = g[f"error_mm_{name}"].to_numpy(float)
+            assert rob[(key, name)]["within"] == pytest.approx(np.mean(np.abs(e) <= 5.0))
+            assert rob[(key, name)]["n_gross"] == int(np.sum(np.abs(e) > 50.0))
+    assert {v["group"] for v in s["verdicts"]} >= {"all", "cone-patchy"}
+    assert s["conditions"] == [{"condition": "patchy cone", "experiments": ["cone-patchy"]},
+                               {"condition": "plane-absorbing", "experiments": ["plane-absorbing"]}]
+
+
+def test_gallery_holds_the_worst_frames_as_rendered(tiny_run):
+    from bench.runio import load_npz
+
+    out, cfg = tiny_run
+    g = load_npz(out / "gallery.npz")
+    keys = [str(k) for k in g["keys"]]
+    assert {k.rsplit("/", 1)[0] for k in keys} == {"cone-patchy", "plane-absorbing"}
+    scans = {k: load_npz(out / "scans" / f"{k}.npz") for k in ("cone-patchy", "plane-absorbing")}
+    for k in keys:
+        exp, i = k.rsplit("/", 1)
+        assert g[f"{k}/image"].dtype == np.uint8 and g[f"{k}/image"].shape == (60, 64)
+        np.testing.assert_array_equal(g[f"{k}/truth"], scans[exp]["truth_columns"][int(i)])
+        for n in cfg.trackers:
+            np.testing.assert_array_equal(g[f"{k}/columns/{n}"], scans[exp][f"columns/{n}"][int(i)])
 
 
 def test_same_config_and_seed_give_identical_metrics(tiny_run, tmp_path):

@@ -298,8 +298,8 @@ def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0),
                 mesh["error (mm)"] = np.nan_to_num(np.asarray(err, float).reshape(-1))
                 plotter.add_mesh(mesh, scalars="error (mm)", cmap="RdBu_r", clim=(-ERROR_CLIM_MM, ERROR_CLIM_MM),
                                  show_scalar_bar=True,
-                                 scalar_bar_args={"title": f"{label} error (mm)", "vertical": True,
-                                                  "position_x": 0.84, "n_labels": 5, "fmt": "%.0f"})
+                                 scalar_bar_args={"title": f"{label} (mm)", "vertical": True,
+                                                  "position_x": 0.80, "n_labels": 5, "fmt": "%.0f"})
             else:
                 mesh["R (cm)"] = np.hypot(pts[:, 0], pts[:, 1])
                 plotter.add_mesh(mesh, scalars="R (cm)", cmap="jet", clim=clim, show_scalar_bar=True,

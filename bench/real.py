@@ -25,11 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
+__all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
            "load_dataset", "validate_dataset", "read_reference", "image_metrics", "bootstrap_mean",
            "synthetic_hit_rates", "sim_to_real", "sim_to_real_sentences", "sim_to_real_html"]
 
+#: The real set shipped with stripebench (13 photographs from 3 public rigs, see docs/real.md).
+SHIPPED = Path(__file__).resolve().parent / "data" / "real"
 CHANNELS = ("auto", "r", "g", "b", "gray", "excess")
 LASERS = ("red", "green", "blue")
 ROTATIONS = (0, 90, 180, 270)

@@ -83,7 +83,11 @@ def read_image(path) -> np.ndarray:
     if not p.is_file():
         raise ImageError(f"{str(p)!r}: no such file")
     try:
-        img = np.asarray(iio.imread(p))
+        data = p.read_bytes()
+    except OSError as exc:
+        raise ImageError(f"{str(p)!r}: cannot read file ({exc.strerror})") from None
+    try:  # from bytes: imageio's plugin search leaves no open file behind on a bad file
+        img = np.asarray(iio.imread(data, extension=p.suffix.lower()))
     except Exception as exc:  # imageio raises many types for a bad file
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ImageError(f"{str(p)!r}: cannot read image ({msg})") from None

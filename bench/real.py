@@ -58,7 +58,9 @@ class DatasetError(ValueError):
 
 
 def read_image(path) -> np.ndarray:
-    """Read a PNG, JPEG or TIFF file (8 or 16 bit, grey or colour).
+    """Read a PNG, JPEG or TIFF file (8 or 16 bit, grey or colour; 16-bit colour as TIFF).
+
+    PNG and JPEG are read with Pillow, TIFF with tifffile (through imageio).
 
     Parameters
     ----------
@@ -87,7 +89,8 @@ def read_image(path) -> np.ndarray:
     except OSError as exc:
         raise ImageError(f"{str(p)!r}: cannot read file ({exc.strerror})") from None
     try:  # from bytes: imageio's plugin search leaves no open file behind on a bad file
-        img = np.asarray(iio.imread(data, extension=p.suffix.lower()))
+        plugin = "tifffile" if p.suffix.lower() in (".tif", ".tiff") else "pillow"
+        img = np.asarray(iio.imread(data, plugin=plugin, extension=p.suffix.lower()))
     except Exception as exc:  # imageio raises many types for a bad file
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ImageError(f"{str(p)!r}: cannot read image ({msg})") from None
@@ -113,7 +116,8 @@ def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarr
         ``r``/``g``/``b``: that colour channel; ``gray``: Rec. 709 luma
         (0.2126 R + 0.7152 G + 0.0722 B); ``excess``: the laser's channel minus
         the mean of the other two, clipped at 0; ``auto``: ``excess`` on a colour
-        image. A grey image is returned unchanged for every channel.
+        image, the image itself on a grey one (also when stored as RGB with
+        three equal channels). A 2-D image is returned unchanged for every channel.
     laser : {'red', 'green', 'blue'}
         The laser's colour (for ``excess`` and ``auto``).
 
@@ -146,6 +150,8 @@ def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarr
     if img.ndim != 3 or img.shape[2] != 3:
         raise ValueError(f"`image` must have shape (H, W) or (H, W, 3), got {img.shape}")
     if channel == "auto":
+        if np.array_equal(img[..., 0], img[..., 1]) and np.array_equal(img[..., 0], img[..., 2]):
+            return np.ascontiguousarray(img[..., 0])  # a grey picture stored as RGB
         channel = AUTO_CHANNEL
     if channel in _CHANNEL_INDEX:
         return np.ascontiguousarray(img[..., _CHANNEL_INDEX[channel]])

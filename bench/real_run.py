@@ -133,7 +133,7 @@ def _track_all(trackers: dict, frame, background):
 
 
 def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, channel: str = "auto",
-                 laser: str = "red", rotate_deg: int = 0, err=sys.stderr, say=print) -> int:
+                 laser: str = "red", rotate_deg: int = 0, err=None, say=print) -> int:
     """Run trackers on image files; returns the number of files that failed.
 
     A file that cannot be read (or whose background cannot) gets one line on
@@ -141,6 +141,7 @@ def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, c
     image; otherwise, with ``pair``, ``NAME_off.EXT`` beside ``NAME.EXT``; files
     that are the laser-off partner of another given file are not tracked.
     """
+    err = sys.stderr if err is None else err
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     trackers = {s.label: s.make() for s in specs}

@@ -94,6 +94,8 @@ def test_channels_on_a_colour_pixel():
     assert real.select_channel(px, "excess", "green")[0, 0] == 0.0  # 100 - 125 clipped
     assert real.select_channel(px, "excess", "blue")[0, 0] == 0.0
     np.testing.assert_array_equal(real.select_channel(px, "auto", "green"), real.select_channel(px, "excess", "green"))
+    grey_rgb = np.repeat(np.array([[7, 9]], np.uint8)[..., None], 3, axis=2)
+    assert real.select_channel(grey_rgb, "auto").tolist() == [[7, 9]]  # not the all-zero excess
     u16 = px.astype(np.uint16) * 257
     assert real.select_channel(u16, "g").dtype == np.uint16
 

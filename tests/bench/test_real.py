@@ -271,3 +271,11 @@ def test_synthetic_hit_rates_read_the_object_region(tmp_path):
                   "region": ["object", "object", "object", "object", "all"],
                   "hit_rate": [0.2, 0.4, 1.0, 0.5, 0.9]}).to_parquet(tmp_path / "metrics.parquet")
     assert real.synthetic_hit_rates(tmp_path) == {"t": pytest.approx(0.3), "u": pytest.approx(0.75)}
+
+
+def test_docstring_examples_run():
+    import doctest
+
+    with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
+        result = doctest.testmod(real, extraglobs={"np": np}, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0

@@ -79,7 +79,14 @@ def _cmd_report(args) -> int:
     run_dir = Path(args.run)
     if not (run_dir / "summary.json").exists():
         raise UsageError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
-    path = build_report(run_dir, quiet=args.quiet)
+    import json
+
+    if json.loads((run_dir / "summary.json").read_text()).get("kind") == "real":
+        from .real_run import build_real_report
+
+        path = build_real_report(run_dir)
+    else:
+        path = build_report(run_dir, quiet=args.quiet)
     print(f"stripebench: report at {path}")
     return 0
 

@@ -34,7 +34,8 @@ import numpy as np
 from . import real
 from .runio import atomic_write_bytes, atomic_write_text
 
-__all__ = ["PALETTE", "REFERENCE_COLOUR", "track_images", "overlay", "run_real", "write_track_csv"]
+__all__ = ["PALETTE", "REFERENCE_COLOUR", "track_images", "overlay", "run_real", "write_track_csv",
+           "build_real_report"]
 
 #: Marker colours (RGB) of the trackers, in the order given.
 PALETTE = [(255, 0, 255), (0, 255, 255), (255, 255, 0), (0, 128, 255), (255, 128, 0), (0, 255, 0), (255, 0, 0),
@@ -252,6 +253,20 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2))
     _report(out, metrics, summary, labels, images)
     return out
+
+
+def build_real_report(run_dir) -> Path:
+    """Rebuild ``report.html`` of a finished real run from its saved files
+    (provenance columns only if the dataset is still where the run found it)."""
+    import pandas as pd
+
+    out = Path(run_dir)
+    summary = json.loads((out / "summary.json").read_text())
+    metrics = pd.read_parquet(out / "metrics.parquet")
+    labels = list(summary["trackers"])
+    images, _ = real.validate_dataset(summary["config"]["dataset"])
+    _report(out, metrics, summary, labels, images)
+    return out / "report.html"
 
 
 def _img_tag(path: Path, max_w: int = 360) -> str:

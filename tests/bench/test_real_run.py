@@ -127,6 +127,8 @@ def test_real_run_folder_metrics_and_gate(tmp_path, capsys):
     assert m.loc[("b", "threshold"), "hit_rate"] == 0.0  # the ambient bar, 25 px away
     assert m.loc[("b", "com_bg"), "hit_rate"] == 1.0  # the laser-off frame removes the bar
     assert m.loc[("mean", "threshold"), "hit_rate"] == 0.5
+    (out / "report.html").unlink()
+    assert main(["report", str(out)]) == 0 and "hit rate" in (out / "report.html").read_text()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["kind"] == "real" and summary["trackers"]["com_bg"]["hit_rate"]["mean"] == 1.0
     base = gate.baseline_from_run(out)

@@ -23,8 +23,10 @@ row of a segment, the tracker frame (the manifest's channel, ``excess`` of the
 laser colour by default, turned by ``rotate``) is searched within
 ``half_width`` px of the guide for its maximum; the row gets a reference only
 if that maximum stands ``min_contrast`` x (robust noise of the frame) above the
-median of the window, and the reference column is the centroid of the pixels
-above half the peak's contrast within 3 px of the maximum. Rows outside every
+median of the window; the reference column is the contrast-weighted centroid of
+the pixels above half that contrast within 3 px of the maximum, or, for wide
+saturated stripes (``level`` given), of the run of pixels above ``level`` x the
+contrast around the maximum (the middle of the saturated plateau). Rows outside every
 segment, and rows in ``exclude`` ranges, have no reference.
 """
 
@@ -47,6 +49,10 @@ SOURCES = {
     **{f"al_room{i}": ("stitch.jpg", 4, (0, 1920, i * 1098, (i + 1) * 1098)) for i in range(10)},
     "ag_tape": ("test-img.png", 1, None),
     "dg_weld": ("weld2.png", 2, None),
+    "rb_figure1": ("img_5014.jpg", 2, None),
+    "rb_figure1_off": ("img_5013.jpg", 2, None),
+    "rb_figure2": ("img_5397.jpg", 2, None),
+    "rb_figure2_off": ("img_5396.jpg", 2, None),
 }
 
 
@@ -81,6 +87,7 @@ def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
     noise = max(1.4826 * float(np.median(np.abs(sample - np.median(sample)))), 1.0)
     hw = int(guide.get("half_width", 6))
     k = float(guide.get("min_contrast", 6.0))
+    level = float(guide["level"]) if "level" in guide else None
     ref = np.full(H, np.nan)
     for seg in guide["segments"]:
         r0, r1 = seg["rows"]
@@ -106,9 +113,19 @@ def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
             peak = float(win[j]) - base
             if peak < k * noise:
                 continue
-            a, b = max(0, j - 3), min(win.size, j + 4)
-            w = win[a:b] - base
-            w = np.where(w >= 0.5 * peak, w, 0.0)
+            if level is None:  # pixels above half the contrast within 3 px of the maximum
+                a, b = max(0, j - 3), min(win.size, j + 4)
+                w = win[a:b] - base
+                w = np.where(w >= 0.5 * peak, w, 0.0)
+            else:  # the run of pixels above `level` x the contrast around the maximum (a wide stripe)
+                above = win - base >= level * peak
+                a = j
+                while a > 0 and above[a - 1]:
+                    a -= 1
+                b = j + 1
+                while b < win.size and above[b]:
+                    b += 1
+                w = win[a:b] - base
             ref[r] = lo + a + float(np.sum(w * np.arange(w.size)) / np.sum(w))
     for e0, e1 in guide.get("exclude", []):
         ref[max(0, e0):e1 + 1] = np.nan

@@ -79,7 +79,14 @@ def _cmd_report(args) -> int:
     run_dir = Path(args.run)
     if not (run_dir / "summary.json").exists():
         raise UsageError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
-    path = build_report(run_dir, quiet=args.quiet)
+    import json
+
+    if json.loads((run_dir / "summary.json").read_text()).get("kind") == "real":
+        from .real_run import build_real_report
+
+        path = build_real_report(run_dir)
+    else:
+        path = build_report(run_dir, quiet=args.quiet)
     print(f"stripebench: report at {path}")
     return 0
 
@@ -144,6 +151,73 @@ def _cmd_estimators(args) -> int:
     return estimators.main(args.rest)
 
 
+def _cmd_track(args) -> int:
+    """``stripebench track IMAGE... --out DIR``: trackers on photographs (exit 1 if a file failed)."""
+    from . import real
+    from .real_run import track_images
+
+    specs = _trackers_arg(args.trackers)
+    if specs is None:
+        from .config import parse_trackers
+
+        specs = parse_trackers([])
+    if args.background is not None:
+        try:
+            real.read_image(args.background)
+        except real.ImageError as exc:
+            raise UsageError(f"--background: {exc}") from None
+    failed = track_images(args.images, args.out, specs, background=args.background, pair=not args.no_pair,
+                          channel=args.channel, laser=args.laser, rotate_deg=args.rotate)
+    return 1 if failed else 0
+
+
+def _cmd_real(args) -> int:
+    """``stripebench real DATASET --out RUN``: trackers evaluated on a real set."""
+    from . import real
+    from .real_run import run_real
+
+    specs = _trackers_arg(args.trackers)
+    if specs is None:
+        from .config import parse_trackers
+
+        specs = parse_trackers([])
+    if not (args.tol > 0):
+        raise UsageError(f"--tol must be a number > 0 (px), got {args.tol!r}")
+    if args.n_boot < 10:
+        raise UsageError(f"--n-boot must be an integer >= 10, got {args.n_boot!r}")
+    dataset = Path(args.dataset)
+    if args.check:
+        _, problems = real.validate_dataset(dataset)
+        for line in problems:
+            print(f"stripebench real: {line}", file=sys.stderr)
+        if problems:
+            return 2
+        print(f"stripebench real: {dataset} is a valid real set")
+        return 0
+    if args.out is None:
+        from .runio import runs_root
+
+        args.out = runs_root() / f"real-{dataset.resolve().name}"
+    try:
+        out = run_real(dataset, args.out, specs, tol_px=args.tol, n_boot=args.n_boot, seed=args.seed or 0,
+                       quiet=args.quiet)
+    except real.DatasetError as exc:
+        for line in exc.problems:
+            print(f"stripebench real: {line}", file=sys.stderr)
+        return 2
+    if not args.quiet:
+        import json
+
+        summary = json.loads((out / "summary.json").read_text())
+        print(f"{'tracker':<16}{'hit rate':>10}{'95 % CI':>18}{'MAE px':>9}{'coverage':>10}")
+        for lab, s in summary["trackers"].items():
+            h = s["hit_rate"]
+            ci = f"[{h['lo']:.3f}, {h['hi']:.3f}]"
+            print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
+    print(f"stripebench: report at {out / 'report.html'}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="stripebench",
                                      description="A physically based rendering benchmark for laser-stripe trackers.")
@@ -178,6 +252,28 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--update", action="store_true", help="write the run's metrics as the new baseline instead")
     p.add_argument("--all", action="store_true", help="show every check, not only the changed ones")
     p.set_defaults(func=_cmd_check)
+    p = sub.add_parser("track", help="run trackers on photographs (PNG/JPEG/TIFF): a CSV and an overlay per image")
+    p.add_argument("images", nargs="+", metavar="IMAGE", help="image files (8/16-bit, grey or colour)")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--trackers", help="tracker names or settings as for `run` (default: every registered tracker)")
+    p.add_argument("--background", metavar="OFF_IMAGE", help="a laser-off frame used for every image")
+    p.add_argument("--no-pair", action="store_true", help="do not use NAME_off.EXT beside NAME.EXT as background")
+    p.add_argument("--channel", default="auto", choices=["auto", "r", "g", "b", "gray", "excess"],
+                   help="what the trackers see of a colour image (auto: excess of the laser's colour)")
+    p.add_argument("--laser", default="red", choices=["red", "green", "blue"], help="laser colour (default red)")
+    p.add_argument("--rotate", type=int, default=0, choices=[0, 90, 180, 270],
+                   help="turn the image counter-clockwise first (for horizontal stripes)")
+    p.set_defaults(func=_cmd_track)
+    p = sub.add_parser("real", help="evaluate trackers on a real set (manifest.csv, NAME.png, NAME_ref.csv)")
+    p.add_argument("dataset", help="real-set folder (e.g. bench/data/real)")
+    p.add_argument("--out", type=Path, help="run folder (default: results/runs/real-<dataset name>)")
+    p.add_argument("--trackers", help="tracker names or settings as for `run` (default: every registered tracker)")
+    p.add_argument("--tol", type=float, default=3.0, help="hit tolerance in px (default 3)")
+    p.add_argument("--n-boot", type=int, default=2000, help="bootstrap resamples over images (default 2000)")
+    p.add_argument("--seed", type=_seed_arg, help="bootstrap seed (default 0)")
+    p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=_cmd_real)
     sub.add_parser("trackers", help="list the registered trackers").set_defaults(func=_cmd_trackers)
     sub.add_parser("scenes", help="list the scenes and materials").set_defaults(func=_cmd_scenes)
     p = sub.add_parser("estimators", help="the sub-pixel estimator study (see `stripebench estimators -h`)",

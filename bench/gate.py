@@ -9,6 +9,11 @@ regression (or on anything missing from either side), 0 otherwise.
 A metric regresses when it moves in its bad direction by more than
 ``abs + rel * |baseline|``; a value that becomes NaN (or stops being NaN)
 regresses too. Runtimes are not gated (they depend on the machine).
+
+A real-photograph run (``stripebench real``) is gated the same way on its
+own metrics (:data:`REAL_TOLERANCES`: hit rate, MAE on the hits, coverage,
+false detections) per image x tracker and for the mean over images, e.g.
+``stripebench check results/runs/real --baseline results/baselines/real.json``.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline"]
+__all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline"]
 
 # metric -> (direction, absolute tolerance, relative tolerance)
 TOLERANCES: dict[str, tuple[str, float, float]] = {
@@ -33,7 +38,20 @@ TOLERANCES: dict[str, tuple[str, float, float]] = {
     "outlier_rate": ("lower", 0.01, 0.05),
     "false_detections": ("lower", 0.01, 0.05),
 }
+#: The gated metrics of a real-photograph run (``stripebench real``, summary ``kind = "real"``).
+REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
+    "hit_rate": ("higher", 0.01, 0.0),
+    "mae_px": ("lower", 0.05, 0.05),
+    "coverage": ("higher", 0.01, 0.0),
+    "false_detections": ("lower", 0.01, 0.05),
+}
 _FORMAT = 1
+
+
+def tolerances_for(summary: dict) -> dict[str, tuple[str, float, float]]:
+    """The gated metrics of a run: :data:`REAL_TOLERANCES` for a real-photograph
+    run, :data:`TOLERANCES` otherwise."""
+    return REAL_TOLERANCES if summary.get("kind") == "real" else TOLERANCES
 
 
 @dataclass(frozen=True)
@@ -71,18 +89,22 @@ def baseline_from_run(run_dir) -> dict:
     run_dir = Path(run_dir)
     metrics = pd.read_parquet(run_dir / "metrics.parquet")
     summary = json.loads((run_dir / "summary.json").read_text())
+    tols = tolerances_for(summary)
     entries = {}
     for r in metrics.to_dict("records"):
         key = f"{r['experiment']}/{r['tracker']}/{r['region']}"
-        entries[key] = {m: _clean(r[m]) for m in TOLERANCES}
-    return {
+        entries[key] = {m: _clean(r[m]) for m in tols}
+    doc = {
         "format": _FORMAT,
         "config": summary["config"],
         "git_revision": summary.get("git_revision", "unknown"),
         "variants": summary.get("variants", []),
-        "tolerances": {m: {"direction": d, "abs": a, "rel": rel} for m, (d, a, rel) in TOLERANCES.items()},
+        "tolerances": {m: {"direction": d, "abs": a, "rel": rel} for m, (d, a, rel) in tols.items()},
         "metrics": entries,
     }
+    if summary.get("kind") == "real":
+        doc["kind"] = "real"
+    return doc
 
 
 def write_baseline(run_dir, path) -> dict:

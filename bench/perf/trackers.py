@@ -11,7 +11,9 @@ bottom-row ends, then the traceback): ``dp4`` is compared with its
 
 The frames are synthetic (seeded): a Gaussian stripe wandering across the
 frame with a dim stretch and a cut, 400-lux-like background and noise; or
-your own frames with ``--frames`` (``.npy`` or 8-bit PNG files).
+your own frames with ``--frames`` (``.npy`` or 8-bit PNG files); or the
+photographs of a real set with ``--real [DIR]`` (default: the shipped set,
+frames as the trackers see them there, of mixed sizes).
 """
 
 from __future__ import annotations
@@ -129,6 +131,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="stripebench perf", description=__doc__.split("\n\n")[0])
     parser.add_argument("--trackers", help="comma-separated tracker names (default: all registered)")
     parser.add_argument("--frames", nargs="+", metavar="FILE", help="time on these frames (.npy or PNG)")
+    parser.add_argument("--real", nargs="?", const="", metavar="DIR",
+                        help="time on the frames of a real set (default: the shipped bench/data/real)")
     parser.add_argument("--n-frames", type=int, default=6, help="synthetic frames (default 6)")
     parser.add_argument("--repeats", type=int, default=5, help="passes over the frames (default 5)")
     parser.add_argument("--no-jit", action="store_true", help="skip the first-call (JIT) measurements")
@@ -143,9 +147,20 @@ def main(argv=None) -> int:
             parser.error(f"unknown tracker {n!r}; available: {', '.join(trackers.available())}")
     if args.n_frames < 1 or args.repeats < 1:
         parser.error("--n-frames and --repeats must be >= 1")
-    frames = _load_frames(args.frames) if args.frames else synthetic_frames(args.n_frames)
+    if args.frames and args.real is not None:
+        parser.error("give --frames or --real, not both")
+    if args.real is not None:
+        from .. import real
+
+        try:
+            frames = [im.load()[0] for im in real.load_dataset(args.real or real.SHIPPED)]
+        except real.DatasetError as exc:
+            parser.error(f"--real: {exc}")
+    else:
+        frames = _load_frames(args.frames) if args.frames else synthetic_frames(args.n_frames)
     shape = frames[0].shape
-    print(f"stripebench perf: {len(frames)} frame(s) of {shape[1]}x{shape[0]}, {args.repeats} pass(es), "
+    sizes = "mixed sizes, first " if len({f.shape for f in frames}) > 1 else ""
+    print(f"stripebench perf: {len(frames)} frame(s) of {sizes}{shape[1]}x{shape[0]}, {args.repeats} pass(es), "
           f"median ms per frame (numba threads: 1 process, {os.cpu_count()} cores)", flush=True)
 
     ms = time_trackers(names, frames, args.repeats)

@@ -1,0 +1,174 @@
+"""Build the shipped real set ``bench/data/real`` (images, references, check overlays).
+
+Two steps, both repeatable:
+
+``python scripts/make_real_set.py images SRC_DIR``
+    Downscale the original photographs (fetched from their public repositories,
+    see ``bench/data/real/manifest.csv`` for repository, commit and path) into
+    ``NAME.png`` files by block averaging. ``SRC_DIR`` holds the original files
+    under the names of ``SOURCES`` below. Nothing of the source repositories but
+    these pixels is used.
+
+``python scripts/make_real_set.py refs``
+    Write ``NAME_ref.csv`` for every image from ``bench/data/real/guides.toml``
+    and a check overlay ``docs/real/NAME_ref.png`` (reference in green on the
+    dimmed photograph) to be inspected by eye.
+
+How a reference is made (semi-automatic, independent of the trackers under
+test): the guide of an image is a set of hand-placed segments: rows ``r0..r1``
+and either a guide column linear from ``c0`` to ``c1`` (read off the
+photographs) or a column ``band``, in which case the guide is the median over
+15 rows of each row's maximum within the band. In each
+row of a segment, the tracker frame (the manifest's channel, ``excess`` of the
+laser colour by default, turned by ``rotate``) is searched within
+``half_width`` px of the guide for its maximum; the row gets a reference only
+if that maximum stands ``min_contrast`` x (robust noise of the frame) above the
+median of the window; the reference column is the contrast-weighted centroid of
+the pixels above half that contrast within 3 px of the maximum, or, for wide
+saturated stripes (``level`` given), of the run of pixels above ``level`` x the
+contrast around the maximum (the middle of the saturated plateau). Rows outside every
+segment, and rows in ``exclude`` ranges, have no reference.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "bench" / "data" / "real"
+CHECKS = ROOT / "docs" / "real"
+
+# NAME -> (source file in SRC_DIR, downscale factor, crop (r0, r1, c0, c1) of the source or None)
+SOURCES = {
+    "al_frame": ("frame.jpg", 8, None),
+    **{f"al_room{i}": ("stitch.jpg", 4, (0, 1920, i * 1098, (i + 1) * 1098)) for i in range(10)},
+    "ag_tape": ("test-img.png", 1, None),
+    "dg_weld": ("weld2.png", 2, None),
+    "rb_figure1": ("img_5014.jpg", 2, None),
+    "rb_figure1_off": ("img_5013.jpg", 2, None),
+    "rb_figure2": ("img_5397.jpg", 2, None),
+    "rb_figure2_off": ("img_5396.jpg", 2, None),
+}
+
+
+def _downscale(a: np.ndarray, f: int) -> np.ndarray:
+    from skimage.transform import downscale_local_mean
+
+    a = a[..., :3].astype(np.float64)
+    if f == 1:
+        return np.clip(np.rint(a), 0, 255).astype(np.uint8)
+    H, W = (a.shape[0] // f) * f, (a.shape[1] // f) * f
+    return np.clip(np.rint(downscale_local_mean(a[:H, :W], (f, f, 1))), 0, 255).astype(np.uint8)
+
+
+def make_images(src: Path) -> None:
+    import imageio.v3 as iio
+
+    for name, (fname, f, crop) in SOURCES.items():
+        a = np.asarray(iio.imread(src / fname))
+        if crop is not None:
+            r0, r1, c0, c1 = crop
+            a = a[r0:r1, c0:c1]
+        out = _downscale(a, f)
+        iio.imwrite(DATA / f"{name}.png", out)
+        print(f"{name}.png {out.shape[1]}x{out.shape[0]} from {fname} (1/{f})")
+
+
+def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
+    """Reference columns (H,) of one frame from its guide (see the module docstring)."""
+    H, W = frame.shape
+    f = frame.astype(np.float64)
+    sample = f[::3, ::3].ravel()
+    noise = max(1.4826 * float(np.median(np.abs(sample - np.median(sample)))), 1.0)
+    hw = int(guide.get("half_width", 6))
+    k = float(guide.get("min_contrast", 6.0))
+    level = float(guide["level"]) if "level" in guide else None
+    ref = np.full(H, np.nan)
+    for seg in guide["segments"]:
+        r0, r1 = seg["rows"]
+        r0, r1 = max(0, r0), min(H - 1, r1)
+        seg_hw = int(seg.get("half_width", hw))
+        if "cols" in seg:  # a hand-placed line
+            c0, c1 = seg["cols"]
+            guide_cols = c0 + (c1 - c0) * ((np.arange(r0, r1 + 1) - r0) / max(r1 - r0, 1))
+        else:  # the rows' maxima within `band`, median over 15 rows
+            from scipy.ndimage import median_filter
+
+            lo_b, hi_b = seg.get("band", [0, W - 1])
+            guide_cols = lo_b + np.argmax(f[r0:r1 + 1, lo_b:hi_b + 1], axis=1).astype(np.float64)
+            guide_cols = median_filter(guide_cols, size=15, mode="nearest")
+        for r in range(r0, r1 + 1):
+            g = guide_cols[r - r0]
+            lo, hi = max(0, int(round(g)) - seg_hw), min(W, int(round(g)) + seg_hw + 1)
+            if hi - lo < 3:
+                continue
+            win = f[r, lo:hi]
+            base = float(np.median(win))
+            j = int(np.argmax(win))
+            peak = float(win[j]) - base
+            if peak < k * noise:
+                continue
+            if level is None:  # pixels above half the contrast within 3 px of the maximum
+                a, b = max(0, j - 3), min(win.size, j + 4)
+                w = win[a:b] - base
+                w = np.where(w >= 0.5 * peak, w, 0.0)
+            else:  # the run of pixels above `level` x the contrast around the maximum (a wide stripe)
+                above = win - base >= level * peak
+                a = j
+                while a > 0 and above[a - 1]:
+                    a -= 1
+                b = j + 1
+                while b < win.size and above[b]:
+                    b += 1
+                w = win[a:b] - base
+            ref[r] = lo + a + float(np.sum(w * np.arange(w.size)) / np.sum(w))
+    for e0, e1 in guide.get("exclude", []):
+        ref[max(0, e0):e1 + 1] = np.nan
+    return ref
+
+
+def make_refs() -> None:
+    import imageio.v3 as iio
+
+    sys.path.insert(0, str(ROOT))
+    from bench import real
+    from bench.real_run import overlay
+
+    guides = tomllib.loads((DATA / "guides.toml").read_text())
+    import csv
+
+    rows = {r["name"]: r for r in csv.DictReader((DATA / "manifest.csv").read_text().splitlines())}
+    CHECKS.mkdir(parents=True, exist_ok=True)
+    for name, row in rows.items():
+        rot = int(row.get("rotate") or 0)
+        frame, original = real.load_frame(DATA / f"{name}.png", channel=row.get("channel") or "auto",
+                                          laser=row["laser_colour"], rotate_deg=rot)
+        ref = reference_for(frame, guides[name])
+        lines = ["row,col"] + [f"{i}," + ("" if np.isnan(c) else f"{c:.2f}") for i, c in enumerate(ref)]
+        (DATA / f"{name}_ref.csv").write_text("\n".join(lines) + "\n")
+        img = overlay(original, {}, rotate_deg=rot, reference=ref, dim=0.5)
+        iio.imwrite(CHECKS / f"{name}_ref.png", img)
+        print(f"{name}: {int(np.sum(~np.isnan(ref)))}/{ref.size} rows with a reference")
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    sub = p.add_subparsers(dest="cmd", required=True)
+    s = sub.add_parser("images")
+    s.add_argument("src", type=Path)
+    sub.add_parser("refs")
+    args = p.parse_args(argv)
+    if args.cmd == "images":
+        make_images(args.src)
+    else:
+        make_refs()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

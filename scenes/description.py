@@ -79,23 +79,41 @@ def mesh_shape(mesh, bsdf: dict) -> dict:
     return {"type": "numpy_mesh", "mesh": mesh, "bsdf": bsdf}
 
 
-def _geometry(obj: SceneObject, material: str) -> Dict[str, dict]:
-    return {"backdrop": mesh_shape(obj.backdrop, materials.backdrop_bsdf()),
-            "object": mesh_shape(obj.mesh, materials.bsdf(material))}
+def _geometry(obj: SceneObject, material: str, background_albedo: float, support_albedo: float) -> Dict[str, dict]:
+    """Shapes keyed by their ids: ``backdrop`` (if any), ``object``, ``support`` (if any)."""
+    out = {}
+    if obj.backdrop is not None:
+        out["backdrop"] = mesh_shape(obj.backdrop, materials.backdrop_bsdf(background_albedo))
+    out["object"] = mesh_shape(obj.mesh, materials.bsdf(material))
+    if obj.support is not None:
+        out["support"] = mesh_shape(obj.support, materials.support_bsdf(support_albedo))
+    return out
 
 
 def laser_scene(rig: _rig.Rig, obj: SceneObject, material: str, laser: LaserProfile, theta_deg: float,
-                spp: int) -> dict:
-    """Laser-only scene (unit in-band power) at mirror angle ``theta_deg``."""
+                spp: int, *, background_albedo: float = materials.BACKDROP_ALBEDO,
+                support_albedo: float = materials.SUPPORT_ALBEDO) -> dict:
+    """Laser-only scene (unit in-band power) at mirror angle ``theta_deg``.
+
+    ``background_albedo`` and ``support_albedo`` are the wall's and the table's Lambertian
+    albedos (used only when ``obj`` has them).
+    """
     kind = "ptracer" if materials.uses_delta_bsdf(material) else "path"
     return {"type": "scene", "integrator": integrator(kind), "sensor": sensor(rig, theta_deg, spp),
-            **_geometry(obj, material), "laser": projector(rig, theta_deg, laser)}
+            **_geometry(obj, material, background_albedo, support_albedo),
+            "laser": projector(rig, theta_deg, laser)}
 
 
-def ambient_scene(rig: _rig.Rig, obj: SceneObject, material: str, theta_deg: float, spp: int) -> dict:
-    """Ambient-only scene (unit in-band sky radiance) at mirror angle ``theta_deg``."""
+def ambient_scene(rig: _rig.Rig, obj: SceneObject, material: str, theta_deg: float, spp: int, *,
+                  background_albedo: float = materials.BACKDROP_ALBEDO,
+                  support_albedo: float = materials.SUPPORT_ALBEDO) -> dict:
+    """Ambient-only scene (unit in-band sky radiance) at mirror angle ``theta_deg``.
+
+    Without a wall the camera sees the sky itself where nothing is in front of it: radiance 1
+    (unit), what a white Lambertian surface under the same sky would send (about 2 DN at 400 lux).
+    """
     return {"type": "scene", "integrator": integrator("path"), "sensor": sensor(rig, theta_deg, spp),
-            **_geometry(obj, material), "sky": sky(1.0)}
+            **_geometry(obj, material, background_albedo, support_albedo), "sky": sky(1.0)}
 
 
 def pose_updates(rig: _rig.Rig, theta_deg: float) -> Dict[str, np.ndarray]:

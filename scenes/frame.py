@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import Optional
 
 import numpy as np
 
-__all__ = ["Truth", "Frame"]
+__all__ = ["PARTS", "Truth", "Frame"]
+
+PARTS = ("background", "object", "support")
+"""Names of :attr:`Truth.part`'s values 0, 1, 2 (the scene's shape ids are ``backdrop``, ``object``,
+``support``)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -23,12 +28,22 @@ class Truth:
         The world point: the float64 intersection of the pixel ray through
         ``(columns[v], v)`` with the laser plane; NaN likewise.
     on_object : ndarray (H,), bool
-        True where that point lies on the object (False: backdrop or none).
+        True where that point lies on the object (False: background, support or none).
+    part : ndarray (H,), int8
+        What the point lies on: an index into :data:`PARTS` (0 background, 1 object,
+        2 support), -1 where there is no truth.  When not given it is derived from
+        ``on_object`` (1 there, 0 on other valid rows).
     """
 
     columns: np.ndarray
     points_cm: np.ndarray
     on_object: np.ndarray
+    part: Optional[np.ndarray] = None
+
+    def __post_init__(self):
+        if self.part is None:
+            part = np.where(self.on_object, 1, np.where(np.isfinite(self.columns), 0, -1)).astype(np.int8)
+            object.__setattr__(self, "part", part)
 
     @property
     def valid(self) -> np.ndarray:

@@ -14,7 +14,9 @@
     The ``matte`` white with dark (albedo 0.03) horizontal bands and blotches from a bitmap in the
     object's planar (front-projected) texture coordinates: the paper's partly invisible stripe.
 
-The backdrop is always :data:`BACKDROP` (grey Lambertian, albedo 0.5).
+The backdrop and the table are grey Lambertian, albedo :data:`BACKDROP_ALBEDO` and
+:data:`SUPPORT_ALBEDO` (0.5) unless the scene parameters ``background_albedo`` and
+``support_albedo`` say otherwise.
 
 Bitmaps appear in the dicts as numpy arrays; :mod:`scenes.backend` turns them into ``mi.Bitmap``.
 """
@@ -25,10 +27,11 @@ import functools
 
 import numpy as np
 
-__all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "patchy_texture", "uses_delta_bsdf"]
+__all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "support_bsdf", "patchy_texture", "uses_delta_bsdf"]
 
 MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy")
 BACKDROP_ALBEDO = 0.5
+SUPPORT_ALBEDO = 0.5
 WHITE_ALBEDO = 0.85
 DARK_ALBEDO = 0.03
 
@@ -73,9 +76,14 @@ def bsdf(material: str) -> dict:
     raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
 
 
-def backdrop_bsdf() -> dict:
-    """The grey Lambertian backdrop."""
-    return {"type": "diffuse", "reflectance": BACKDROP_ALBEDO}
+def backdrop_bsdf(albedo: float = BACKDROP_ALBEDO) -> dict:
+    """The grey Lambertian backdrop (scene parameter ``background_albedo``)."""
+    return {"type": "diffuse", "reflectance": float(albedo)}
+
+
+def support_bsdf(albedo: float = SUPPORT_ALBEDO) -> dict:
+    """The grey Lambertian table top (scene parameter ``support_albedo``)."""
+    return {"type": "diffuse", "reflectance": float(albedo)}
 
 
 def uses_delta_bsdf(material: str) -> bool:

@@ -10,6 +10,17 @@ Every parameter has a default (:data:`DEFAULTS`).  Groups:
 * ``n_angles`` (default scan length), ``cache`` and ``cache_dir`` change nothing
   rendered.
 
+Background and support (:mod:`scenes.objects`; all in :data:`RENDER_KEYS`):
+
+* ``background``: ``"wall"`` (default) or ``"none"``;
+* ``background_distance_cm``: the wall's distance from the mirror axis, in
+  (0, 1000] cm, default 55 (inside the imaged range 18.8-65.8 cm; see
+  :func:`scenes.objects.out_of_range_distance_cm` for one outside it); the object
+  must stand in front of it (checked by :func:`scenes.make`);
+* ``background_albedo``: the wall's Lambertian albedo in [0, 1], default 0.5;
+* ``support``: ``"none"`` (default: the object floats) or ``"table"``;
+* ``support_albedo``: the table's Lambertian albedo in [0, 1], default 0.5.
+
 ``width`` x ``height`` must keep the default 16:15 square-pixel aspect (64x60,
 128x120, 256x240, 512x480, ...): Mitsuba's pinhole camera has square pixels.
 """
@@ -21,7 +32,8 @@ import numbers
 from typing import Any, Dict
 
 from . import _checks, radiometry
-from .materials import MATERIALS
+from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO
+from .objects import BACKDROP_DISTANCE_CM, BACKGROUNDS, SUPPORTS
 from .rig import Rig
 from .sensor import SensorModel
 
@@ -29,11 +41,13 @@ __all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "validate"]
 
 SENSOR_KEYS = ("f_number", "lens_transmission", "exposure_ms", "quantum_efficiency", "full_well_e",
                "gain_e_per_dn", "read_noise_e", "black_level_dn")
-RENDER_KEYS = ("material", "line_fwhm_mrad", "laser_fan_deg", "width", "height", "spp", "ambient_spp", "seed")
+RENDER_KEYS = ("material", "line_fwhm_mrad", "laser_fan_deg", "width", "height", "spp", "ambient_spp", "seed",
+               "background", "background_distance_cm", "background_albedo", "support", "support_albedo")
 SCALE_KEYS = ("ambient_lux", "ambient_illuminant", "laser_power_mw", "laser_wavelength_nm",
               "filter_center_nm", "filter_fwhm_nm", "filter_peak")
 
 _SENSOR_DEFAULTS = SensorModel()
+MAX_BACKGROUND_DISTANCE_CM = 1000.0  # 10 m; the camera's far clip is 100 m
 
 DEFAULTS: Dict[str, Any] = {
     "material": "matte",
@@ -52,10 +66,21 @@ DEFAULTS: Dict[str, Any] = {
     "ambient_spp": 8,
     "seed": 0,
     "n_angles": 48,
+    "background": "wall",
+    "background_distance_cm": BACKDROP_DISTANCE_CM,
+    "background_albedo": BACKDROP_ALBEDO,
+    "support": "none",
+    "support_albedo": SUPPORT_ALBEDO,
     **{k: getattr(_SENSOR_DEFAULTS, k) for k in SENSOR_KEYS},
     "cache": True,
     "cache_dir": None,
 }
+
+
+def _choice(name: str, value, valid) -> str:
+    if not isinstance(value, str) or value not in valid:
+        raise ValueError(f"`{name}` must be one of {', '.join(map(repr, valid))}, got {value!r}")
+    return value
 
 
 def _seed(value) -> int:
@@ -74,7 +99,8 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
     KeyError
         An unknown ``material`` or ``ambient_illuminant``.
     ValueError
-        A value out of range; the message names the parameter and echoes the value.
+        A value out of range or not among the choices; the message names the parameter and echoes
+        the value.
     """
     unknown = sorted(set(params) - set(DEFAULTS))
     if unknown:
@@ -98,6 +124,12 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
         raise ValueError(f"`width` x `height` must keep square pixels ({rig.width}:{rig.height}, e.g. 64x60, "
                          f"128x120, 256x240, 512x480), got {p['width']!r}x{p['height']!r}")
     p["seed"] = _seed(p["seed"])
+    p["background"] = _choice("background", p["background"], BACKGROUNDS)
+    p["background_distance_cm"] = _checks.in_range("background_distance_cm", p["background_distance_cm"],
+                                                   0.0, MAX_BACKGROUND_DISTANCE_CM, lo_open=True)
+    p["background_albedo"] = _checks.in_range("background_albedo", p["background_albedo"], 0.0, 1.0)
+    p["support"] = _choice("support", p["support"], SUPPORTS)
+    p["support_albedo"] = _checks.in_range("support_albedo", p["support_albedo"], 0.0, 1.0)
     if p["ambient_illuminant"] not in radiometry.illuminant_names():
         raise KeyError(f"unknown `ambient_illuminant` {p['ambient_illuminant']!r}; "
                        f"valid: {', '.join(radiometry.illuminant_names())}")

@@ -30,4 +30,6 @@ def make(name: str, **params) -> Scene:
     """
     if name not in objects.OBJECTS:
         raise KeyError(f"unknown scene {name!r}; valid: {', '.join(available())}")
-    return Scene(name, validate(params))
+    scene = Scene(name, validate(params))
+    _ = scene.object  # builds the geometry: a wall through the object is a ValueError here
+    return scene

@@ -381,6 +381,64 @@ class Rig:
             t = np.where(den != 0, ((point - o) @ normal) / den, np.nan)
         return o + t[..., None] * d, t
 
+    # -- the paper's eq. (3) -----------------------------------------------------
+    def depth_of_column_cm(self, cols) -> np.ndarray:
+        """Paper eq. (3): distance ``R`` (cm) from the mirror axis of a lit point seen at column(s) ``cols``.
+
+        ``R = (f δ_0 - P_x d_m) / (f sin ζ + P_x cos ζ)`` with ``P_x = px_mm(cols)``; independent of the
+        row and of the mirror angle.  Columns past the vanishing column of the sheet (``P_x = -f tan ζ``,
+        far outside any image here) give negative or infinite values.
+
+        Parameters
+        ----------
+        cols : array_like
+            Continuous column indices (pixel centre at integer values), any shape.
+
+        Returns
+        -------
+        ndarray, float64, same shape as ``cols``
+            ``R`` in cm.
+
+        Examples
+        --------
+        >>> round(float(Rig().depth_of_column_cm(255.5)), 2)  # the principal point: R = δ_0 / sin ζ
+        32.79
+        """
+        f = self.focal_mm / 10.0  # mm -> cm
+        px = self.px_mm(cols) / 10.0
+        z = math.radians(self.zeta_deg)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (f * self.delta0_cm - px * self.d_m_cm) / (f * math.sin(z) + px * math.cos(z))
+
+    def imaged_range_cm(self, *, edges: bool = False) -> Tuple[float, float]:
+        """``(R_min, R_max)`` (cm): the distances from the mirror axis the rig images (eq. 3).
+
+        ``R_min`` is seen at the last column (``width - 1``), ``R_max`` at column 0 (the laser sheet
+        sweeps from right to left as ``R`` grows).  A lit point nearer than ``R_min`` or farther than
+        ``R_max`` is outside the image whatever the mirror angle.
+
+        Parameters
+        ----------
+        edges : bool
+            False: the centres of the outermost columns; True: the image's outer edges (columns
+            ``-0.5`` and ``width - 0.5``), the strict limits.
+
+        Returns
+        -------
+        tuple of float
+            ``(R_min, R_max)`` in cm.
+
+        Examples
+        --------
+        >>> [round(r, 1) for r in Rig().imaged_range_cm()]
+        [18.8, 65.8]
+        >>> [round(r, 1) for r in Rig().imaged_range_cm(edges=True)]
+        [18.8, 65.9]
+        """
+        half = 0.5 if edges else 0.0
+        r = self.depth_of_column_cm(np.array([self.width - 1 + half, -half]))
+        return float(r[0]), float(r[1])
+
     # -- Mitsuba poses (metres) ----------------------------------------------
     def camera_to_world_m(self, theta_deg: float) -> np.ndarray:
         """4x4 camera-to-world matrix in metres for Mitsuba's ``perspective`` sensor."""

@@ -33,7 +33,7 @@ from .truth import ground_truth
 
 __all__ = ["Scene"]
 
-_PARTS = ("backdrop", "object")
+_PARTS = ("backdrop", "object", "support")  # Mitsuba shape ids, in the order of frame.PARTS
 
 
 def _mitsuba_versions():
@@ -51,7 +51,7 @@ def _angle_words(theta: float):
 
 
 class Scene:
-    """An object in front of its backdrop, with material, light and sensor parameters.
+    """An object in front of its background, on its support, with material, light and sensor parameters.
 
     Use :func:`scenes.make` to build one (it validates the parameters).
 
@@ -91,8 +91,10 @@ class Scene:
 
     @property
     def object(self) -> objects.SceneObject:
-        """Geometry of the object and backdrop (world cm)."""
-        return objects.build(self.name, self.rig.zeta_deg)
+        """Geometry of the object, its background and its support (world cm)."""
+        p = self.params
+        return objects.build(self.name, self.rig.zeta_deg, p["background"], p["background_distance_cm"],
+                             p["support"])
 
     def default_angles(self) -> np.ndarray:
         """``n_angles`` mirror angles (deg, ascending) sweeping the stripe over the whole object."""
@@ -119,9 +121,11 @@ class Scene:
         if self._loaded is None:
             rig, obj, mat = self.rig, self.object, self.params["material"]
             laser = _laser_profile(self.params["line_fwhm_mrad"], self.params["laser_fan_deg"])
+            albedos = {"background_albedo": self.params["background_albedo"],
+                       "support_albedo": self.params["support_albedo"]}
             self._loaded = (
-                LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp)),
-                LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"])),
+                LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp, **albedos)),
+                LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"], **albedos)),
             )
         return self._loaded
 
@@ -147,7 +151,7 @@ class Scene:
         k = _cache.key(self._cache_fields(theta, spp, seed, variant))
         if use_cache:
             hit = _cache.load(root, k)
-            if hit is not None and {"laser", "ambient", "columns", "points_cm", "on_object"} <= set(hit):
+            if hit is not None and {"laser", "ambient", "columns", "points_cm", "on_object", "part"} <= set(hit):
                 return hit
         laser_scene, ambient_scene = self._load(spp)
         pose = description.pose_updates(self.rig, theta)
@@ -160,7 +164,7 @@ class Scene:
         truth = ground_truth(self.rig, theta, cast, fan_deg=self.params["laser_fan_deg"],
                              object_part=_PARTS.index("object"))
         out = {"laser": laser, "ambient": ambient, "columns": truth.columns, "points_cm": truth.points_cm,
-               "on_object": truth.on_object}
+               "on_object": truth.on_object, "part": truth.part}
         if use_cache:
             _cache.store(root, k, out)
         return out
@@ -216,7 +220,7 @@ class Scene:
         image = sensor.capture(radiance, np.random.Generator(np.random.PCG64(seeds[2])))
         background = sensor.capture(ambient, np.random.Generator(np.random.PCG64(seeds[3])))
         truth = Truth(np.asarray(unit["columns"], float), np.asarray(unit["points_cm"], float),
-                      np.asarray(unit["on_object"], bool))
+                      np.asarray(unit["on_object"], bool), np.asarray(unit["part"], np.int8))
         return Frame(image=image, background=background, radiance=radiance, laser_radiance=laser, truth=truth,
                      mirror_angle_deg=theta, variant=_variant.active_variant())
 

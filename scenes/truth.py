@@ -69,7 +69,8 @@ def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, ob
     fan_deg : float
         Full vertical fan angle of the laser.
     object_part : int
-        Part index ``cast`` returns for the object (others count as backdrop).
+        Part index ``cast`` returns for the object (sets ``on_object``; every index is kept in
+        ``Truth.part``).
     tol_px, g_tol_cm, max_iter, plane_tol_cm, shadow_tol_cm : float
         Iteration stops when the bracket is below ``tol_px`` or the hit is within ``g_tol_cm`` of the
         plane (float32 ray casting resolves about 1e-6 cm); iteration cap; silhouette and shadow
@@ -89,8 +90,9 @@ def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, ob
     columns = np.full(h, np.nan)
     points = np.full((h, 3), np.nan)
     on_object = np.zeros(h, bool)
+    parts = np.full(h, -1, np.int8)
     if len(r_idx) == 0:
-        return Truth(columns, points, on_object)
+        return Truth(columns, points, on_object, parts)
 
     rows = r_idx.astype(float)
     xl, xr = c_idx.astype(float), c_idx + 1.0
@@ -163,4 +165,5 @@ def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, ob
     columns[rr] = x[k]
     points[rr] = p[k]
     on_object[rr] = part[k] == object_part
-    return Truth(columns, points, on_object)
+    parts[rr] = part[k]
+    return Truth(columns, points, on_object, parts)

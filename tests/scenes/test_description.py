@@ -45,3 +45,16 @@ def test_sensor_and_projector_follow_the_rig():
 def test_integrator_kind_is_checked():
     with pytest.raises(ValueError, match="`kind` must be 'path' or 'ptracer', got 'bdpt'"):
         D.integrator("bdpt")
+
+
+def test_background_and_support_shapes_follow_the_geometry():
+    bare = objects.build("sphere", RIG.zeta_deg, "none", 55.0, "none")
+    d = D.laser_scene(RIG, bare, "matte", LASER, 0.0, 8)
+    assert "backdrop" not in d and "support" not in d and "object" in d
+    full = objects.build("sphere", RIG.zeta_deg, "wall", 70.0, "table")
+    for d in (D.laser_scene(RIG, full, "matte", LASER, 0.0, 8, background_albedo=0.2, support_albedo=0.7),
+              D.ambient_scene(RIG, full, "matte", 0.0, 4, background_albedo=0.2, support_albedo=0.7)):
+        assert d["backdrop"]["mesh"] is full.backdrop and d["support"]["mesh"] is full.support
+        assert d["backdrop"]["bsdf"] == {"type": "diffuse", "reflectance": 0.2}
+        assert d["support"]["bsdf"] == {"type": "diffuse", "reflectance": 0.7}
+    assert D.laser_scene(RIG, OBJ, "matte", LASER, 0.0, 8)["backdrop"]["bsdf"]["reflectance"] == 0.5

@@ -29,6 +29,16 @@ def test_unknown_parameter_is_a_type_error_listing_valid_names():
     ("filter_peak", 1.2, r"`filter_peak` must be in \(0.0, 1.0\], got 1.2"),
     ("f_number", -2.0, r"`f_number` must be > 0, got -2.0"),
     ("ambient_lux", float("inf"), r"`ambient_lux` must be a finite number, got inf"),
+    ("background", "sky", r"`background` must be one of 'wall', 'none', got 'sky'"),
+    ("background", None, r"`background` must be one of 'wall', 'none', got None"),
+    ("background_distance_cm", 0.0, r"`background_distance_cm` must be in \(0.0, 1000.0\], got 0.0"),
+    ("background_distance_cm", 2000, r"`background_distance_cm` must be in \(0.0, 1000.0\], got 2000"),
+    ("background_distance_cm", "far", r"`background_distance_cm` must be a finite number, got 'far'"),
+    ("background_albedo", 1.5, r"`background_albedo` must be in \[0.0, 1.0\], got 1.5"),
+    ("background_albedo", float("nan"), r"`background_albedo` must be a finite number, got nan"),
+    ("support", "shelf", r"`support` must be one of 'none', 'table', got 'shelf'"),
+    ("support", True, r"`support` must be one of 'none', 'table', got True"),
+    ("support_albedo", -0.1, r"`support_albedo` must be in \[0.0, 1.0\], got -0.1"),
 ])
 def test_invalid_values_name_the_parameter(name, value, pattern):
     with pytest.raises(ValueError, match=pattern):
@@ -46,3 +56,14 @@ def test_unknown_material_and_illuminant_are_key_errors():
         P.validate({"material": "chrome"})
     with pytest.raises(KeyError, match="ambient_illuminant.*D65"):
         P.validate({"ambient_illuminant": "sunset"})
+
+
+def test_background_and_support_defaults_keep_todays_scene():
+    d = P.validate({})
+    assert (d["background"], d["background_distance_cm"], d["background_albedo"]) == ("wall", 55.0, 0.5)
+    assert (d["support"], d["support_albedo"]) == ("none", 0.5)
+    for k in ("background", "background_distance_cm", "background_albedo", "support", "support_albedo"):
+        assert k in P.RENDER_KEYS and k not in P.SCALE_KEYS
+    ok = P.validate({"background": "none", "background_distance_cm": 80, "background_albedo": 0,
+                     "support": "table", "support_albedo": 1})
+    assert ok["background_distance_cm"] == 80.0 and isinstance(ok["background_distance_cm"], float)

@@ -136,3 +136,32 @@ def test_mitsuba_image_agrees_with_rig_project(theta):
     c, r = rig.project(centre, theta)
     assert c > rig.width / 2 and r < rig.height / 2  # right of and above the centre
     assert c_img == pytest.approx(c, abs=0.1) and r_img == pytest.approx(r, abs=0.1)
+
+
+def test_depth_of_column_inverts_the_projection_at_any_row_and_angle():
+    """Eq. (3) from column alone returns R of points on the sheet projected by the rig (eq. 2)."""
+    rig = Rig()
+    r = np.array([19.0, 25.0, 32.8, 40.0, 55.0, 65.0])
+    for theta in THETAS:
+        for z in (-4.0, 0.0, 3.0):
+            cols, _ = rig.project(R.cylindrical_to_cartesian(r, rig.laser_phi_deg(theta), z), theta)
+            assert np.allclose(rig.depth_of_column_cm(cols), r, rtol=1e-12)
+
+
+@pytest.mark.parametrize("size", [(512, 480), (128, 120)])
+def test_imaged_range_is_where_the_sheet_leaves_the_image(size):
+    rig = Rig().with_size(*size)
+    for edges, (c_near, c_far) in ((False, (rig.width - 1, 0)), (True, (rig.width - 0.5, -0.5))):
+        r_min, r_max = rig.imaged_range_cm(edges=edges)
+        cols, _ = rig.project(R.cylindrical_to_cartesian([r_min, r_max], rig.laser_phi_deg(1.5), 2.0), 1.5)
+        assert cols == pytest.approx([c_near, c_far], abs=1e-9)
+    # the field of view is fixed: the strict limits do not depend on the pixel count
+    assert rig.imaged_range_cm(edges=True) == pytest.approx(Rig().imaged_range_cm(edges=True), rel=1e-12)
+    assert 18.0 < r_min < 19.5 and 65.0 < r_max < 67.0
+
+
+def test_rig_docstring_examples_run():
+    import doctest
+
+    result = doctest.testmod(R)
+    assert result.attempted > 0 and result.failed == 0

@@ -157,3 +157,70 @@ def test_bad_render_arguments(matte):
         matte.render(float("nan"))
     with pytest.raises(ValueError, match="`seed` must be an integer >= 0, got -2"):
         matte.render(0.0, seed=-2)
+
+
+TINY = dict(width=64, height=60, spp=2, ambient_spp=1, cache=False)
+
+
+@pytest.mark.parametrize("name,value", [("background", "none"), ("background_distance_cm", 80.0),
+                                        ("background_albedo", 0.2), ("support", "table"),
+                                        ("support_albedo", 0.3)])
+def test_background_and_support_parameters_change_the_render_cache_key(name, value):
+    def cache_key(**kw):
+        s = scenes.make("cone", **kw)
+        return C.key(s._cache_fields(0.0, 16, 0, "llvm_ad_mono"))
+
+    assert cache_key(**{name: value}) != cache_key()
+    assert cache_key(**{name: scenes.DEFAULTS[name]}) == cache_key()
+
+
+def test_make_refuses_a_wall_in_front_of_the_object():
+    with pytest.raises(ValueError, match=r"`background_distance_cm` must put the wall behind the hand"):
+        scenes.make("hand", background_distance_cm=30.0)
+
+
+def test_no_background_means_no_truth_on_the_background():
+    s = scenes.make("sphere", background="none", **TINY)
+    wall = scenes.make("sphere", **TINY)
+    for theta in (s.default_angles()[0], 0.0):
+        f, g = s.render(theta), wall.render(theta)
+        assert not np.any(f.truth.part == 0) and np.array_equal(f.truth.valid, f.truth.part == 1)
+        assert np.any(g.truth.part == 0)  # the same frame with today's wall has truth on it
+        assert np.all(np.isnan(f.truth.columns[~f.truth.on_object]))
+    assert not s.render(s.default_angles()[0]).truth.valid.any()  # the sheet misses the sphere: no truth
+
+
+@pytest.mark.parametrize("background", ["wall", "none"])
+def test_table_carries_the_truth_below_the_object(background):
+    s = scenes.make("cone", support="table", background=background, **TINY)
+    f = s.render(0.0)
+    t = f.truth
+    on, table = np.nonzero(t.part == 1)[0], np.nonzero(t.part == 2)[0]
+    assert len(on) > 40 and len(table) > 0
+    assert table.min() > on.max() and table.max() == 59  # below the object, down to the last row
+    assert not t.on_object[table].any() and np.all(np.isfinite(t.columns[table]))
+    top = s.object.mesh.vertices_cm[:, 2].min()
+    assert np.allclose(t.points_cm[table, 2], top, atol=1e-4)  # on the table's top
+    assert np.all(f.laser_radiance[table, np.round(t.columns[table]).astype(int)] > 0)  # lit by the sheet
+    # the object's own truth is the same as without the table
+    plain = scenes.make("cone", background=background, **TINY).render(0.0).truth
+    both = (plain.part == 1) & (t.part == 1)
+    assert both.sum() >= len(on) - 1 and np.allclose(t.columns[both], plain.columns[both], atol=1e-4)
+
+
+def test_wall_distance_moves_the_wall_truth_as_equation_3_predicts():
+    rig = scenes.make("sphere", **TINY).rig
+    cols = {}
+    for d in (50.0, 60.0, 80.0):
+        s = scenes.make("sphere", background_distance_cm=d, **TINY)
+        theta = float(s.default_angles()[0])  # the sheet misses the sphere: the wall only
+        t = s.render(theta).truth
+        wall = t.part == 0
+        if d < rig.imaged_range_cm(edges=True)[1]:
+            assert wall.sum() == 60
+            r_lit = d / np.cos(np.radians(2.0 * theta))  # the sheet meets the wall this far from the axis
+            assert np.allclose(rig.depth_of_column_cm(t.columns[wall]), r_lit, rtol=1e-5)
+            cols[d] = np.nanmean(t.columns)
+        else:  # beyond R_max: the wall's stripe is out of the image
+            assert not t.valid.any()
+    assert cols[60.0] < cols[50.0] - 5  # farther is further left

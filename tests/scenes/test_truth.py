@@ -136,3 +136,43 @@ def test_nothing_hit_gives_nan():
     truth = ground_truth(RIG, 0.0, miss, fan_deg=90.0)
     assert truth.columns.shape == (RIG.height,) and np.all(np.isnan(truth.columns))
     assert truth.points_cm.shape == (RIG.height, 3) and not truth.on_object.any()
+
+
+class SphereOnFloor:
+    """Float64 caster: a sphere (part 1) standing on an endless floor ``z = z0`` (part 2), nothing else."""
+
+    def __init__(self, centre, radius):
+        self.c, self.r = np.asarray(centre, float), float(radius)
+        self.z0 = self.c[2] - self.r
+
+    def __call__(self, o, d):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tf = (self.z0 - o[:, 2]) / d[:, 2]
+        t = np.where(tf > 1e-9, tf, np.inf)
+        part = np.where(np.isfinite(t), 2, -1)
+        oc = o - self.c
+        b = np.einsum("ij,ij->i", oc, d)
+        disc = b * b - (np.einsum("ij,ij->i", oc, oc) - self.r ** 2)
+        with np.errstate(invalid="ignore"):
+            ts = -b - np.sqrt(disc)
+        ts = np.where((disc > 0) & (ts > 1e-9), ts, np.inf)
+        closer = ts < t
+        return np.where(closer, ts, t), np.where(closer, 1, part)
+
+
+def test_part_labels_the_object_and_the_floor_and_nothing_else():
+    theta = 0.0
+    centre = cylindrical_to_cartesian(38.0, -ZETA, 0.0)
+    cast = SphereOnFloor(centre, 4.3)
+    truth = ground_truth(RIG, theta, cast, fan_deg=90.0)
+    assert truth.part.dtype == np.int8 and truth.part.shape == (RIG.height,)
+    assert set(np.unique(truth.part)) == {-1, 1, 2}  # no background anywhere
+    assert np.array_equal(truth.on_object, truth.part == 1)
+    assert np.array_equal(truth.valid, truth.part >= 0)
+    on, floor = np.nonzero(truth.part == 1)[0], np.nonzero(truth.part == 2)[0]
+    assert np.allclose(np.linalg.norm(truth.points_cm[on] - centre, axis=1), 4.3, atol=1e-6)
+    assert np.allclose(truth.points_cm[floor, 2], cast.z0, atol=1e-6)
+    # the floor's stripe continues the sphere's below it down to the last row; above the sphere
+    # the sheet hits nothing (rows without truth)
+    assert floor.min() > on.max() and floor.max() == RIG.height - 1
+    assert np.all(np.isnan(truth.columns[:on.min()]))

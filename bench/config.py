@@ -25,6 +25,8 @@ A configuration is a TOML document::
     n_angles = 40             # or: angles = [-3.0, -2.5, ...] (deg)
     ambient_lux = 400.0       # optional per-experiment scene overrides:
     laser_power_mw = 3.0      # ambient_lux, laser_power_mw, line_fwhm_mrad, ...
+    support = "table"         # background ("wall"/"none"), background_distance_cm, background_albedo,
+                              # support ("none"/"table"), support_albedo
 
 Every key is checked: an unknown key, a wrong type or an invalid value raises
 :class:`ConfigError` with one line naming the key and echoing the value.
@@ -48,7 +50,8 @@ _TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "r
 _RENDER = {"width", "height", "spp", "ambient_spp"}
 _SCENE_OVERRIDES = {"ambient_lux", "laser_power_mw", "line_fwhm_mrad", "laser_fan_deg", "ambient_illuminant",
                     "laser_wavelength_nm", "filter_center_nm", "filter_fwhm_nm", "filter_peak", "exposure_ms",
-                    "f_number", "read_noise_e", "gain_e_per_dn"}
+                    "f_number", "read_noise_e", "gain_e_per_dn", "background", "background_distance_cm",
+                    "background_albedo", "support", "support_albedo"}
 _EXPERIMENT = {"name", "condition", "scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
 
 

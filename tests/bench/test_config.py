@@ -124,3 +124,14 @@ def test_with_overrides_revalidates():
     assert with_overrides(cfg, seed=9).seed == 9
     with pytest.raises(ConfigError, match="`seed` must be"):
         with_overrides(cfg, seed=-2)
+
+
+def test_background_and_support_are_experiment_overrides():
+    e = {"scene": "cone", "material": "patchy", "n_angles": 3, "background": "none", "support": "table",
+         "support_albedo": 0.3}
+    cfg = parse({**GOOD, "experiments": [e]})
+    assert cfg.experiments[0].overrides == {"background": "none", "support": "table", "support_albedo": 0.3}
+    with pytest.raises(ConfigError, match=r"`experiments\[0\]`: `support` must be one of 'none', 'table', got 'box'"):
+        parse({**GOOD, "experiments": [{**e, "support": "box"}]})
+    with pytest.raises(ConfigError, match=r"`experiments\[0\]`: `background_distance_cm` must put the wall behind"):
+        parse({**GOOD, "experiments": [{**e, "background": "wall", "background_distance_cm": 30.0}]})

@@ -158,16 +158,29 @@ class Scene:
         laser = laser_scene.render(pose, spp, int(seeds[0].generate_state(1)[0]))
         ambient = ambient_scene.render(pose, self.params["ambient_spp"], int(seeds[1].generate_state(1)[0]))
 
-        def cast(o, d):
-            return laser_scene.cast(o, d, _PARTS)
-
-        truth = ground_truth(self.rig, theta, cast, fan_deg=self.params["laser_fan_deg"],
-                             object_part=_PARTS.index("object"))
+        truth = self._truth(laser_scene, theta)
         out = {"laser": laser, "ambient": ambient, "columns": truth.columns, "points_cm": truth.points_cm,
                "on_object": truth.on_object, "part": truth.part}
         if use_cache:
             _cache.store(root, k, out)
         return out
+
+    def _truth(self, laser_scene, theta: float) -> Truth:
+        def cast(o, d):
+            return laser_scene.cast(o, d, _PARTS)
+
+        return ground_truth(self.rig, theta, cast, fan_deg=self.params["laser_fan_deg"],
+                            object_part=_PARTS.index("object"))
+
+    def truth(self, mirror_angle_deg: float) -> Truth:
+        """The ground truth of the frame at ``mirror_angle_deg`` without rendering it (ray casting only).
+
+        The same arrays as ``render(mirror_angle_deg).truth`` (not cached; about 0.05 s at 512x480).
+        """
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        laser_scene, _ = self._load(self.params["spp"])
+        laser_scene.set_pose(description.pose_updates(self.rig, theta))
+        return self._truth(laser_scene, theta)
 
     def visible_points(self, mirror_angle_deg: float):
         """First surface hit through every pixel centre (not cached).

@@ -1,13 +1,14 @@
 """Rendering speed of ``scenes`` at 512x480 on this machine.
 
-Usage: ``python -m bench.perf.scenes [--object hand] [--frames 100] [--per-material 6]``
+Usage: ``python -m bench.perf.scenes [--object hand] [--frames 100] [--per-material 6]
+[--materials matte,glossy] [--background wall|none] [--support none|table]``
 
 Prints, for each material at the default spp, the frames per second of
 ``Scene.render`` with the disk cache off (Mitsuba scene already loaded, so no
 JIT compilation is counted) and the split into laser pass, ambient pass and
 ground truth; then the wall time of a ``--frames`` scan of one object, cold
 (empty cache, scene loading and JIT included) and cached (a new ``Scene`` reading
-the same cache).
+the same cache); ``--frames 0`` skips the scan.
 """
 
 from __future__ import annotations
@@ -27,8 +28,8 @@ from scenes.truth import ground_truth
 __all__ = ["main"]
 
 
-def _per_material(obj: str, material: str, n: int):
-    s = scenes.make(obj, material=material, cache=False)
+def _per_material(obj: str, material: str, n: int, geometry: dict):
+    s = scenes.make(obj, material=material, cache=False, **geometry)
     angles = s.default_angles()
     s.render(float(angles[0]))  # load + JIT
     picks = angles[np.linspace(1, len(angles) - 1, n).astype(int)]
@@ -45,7 +46,7 @@ def _per_material(obj: str, material: str, n: int):
         t.append(time.perf_counter())
         ambient.render(pose, s.params["ambient_spp"], 2)
         t.append(time.perf_counter())
-        ground_truth(s.rig, float(a), lambda o, d: laser.cast(o, d, ("backdrop", "object")),
+        ground_truth(s.rig, float(a), lambda o, d: laser.cast(o, d, ("backdrop", "object", "support")),
                      fan_deg=s.params["laser_fan_deg"])
         t.append(time.perf_counter())
         split += np.diff(t)
@@ -57,16 +58,29 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     ap.add_argument("--object", default="hand", choices=scenes.available())
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--per-material", type=int, default=6, help="frames timed per material")
+    ap.add_argument("--materials", default=",".join(scenes.MATERIALS), help="comma-separated materials")
+    ap.add_argument("--background", default="wall", choices=("wall", "none"))
+    ap.add_argument("--support", default="none", choices=("none", "table"))
     args = ap.parse_args(argv)
+    materials = [m for m in args.materials.split(",") if m]
+    bad = [m for m in materials if m not in scenes.MATERIALS]
+    if bad or not materials:
+        ap.error(f"--materials must name some of {', '.join(scenes.MATERIALS)}, got {args.materials!r}")
+    if args.frames < 0 or args.per_material < 1:
+        ap.error(f"--frames must be >= 0 and --per-material >= 1, got {args.frames!r}, {args.per_material!r}")
+    geometry = {"background": args.background, "support": args.support}
     d = scenes.DEFAULTS
-    print(f"512x480, laser spp {d['spp']}, ambient spp {d['ambient_spp']}, object {args.object}")
+    print(f"512x480, laser spp {d['spp']}, ambient spp {d['ambient_spp']}, object {args.object}, "
+          f"background {args.background}, support {args.support}")
     print(f"{'material':<10} {'frames/s':>8} {'laser s':>8} {'ambient s':>9} {'truth s':>8}")
-    for m in scenes.MATERIALS:
-        fps, (tl, ta, tt) = _per_material(args.object, m, args.per_material)
+    for m in materials:
+        fps, (tl, ta, tt) = _per_material(args.object, m, args.per_material, geometry)
         print(f"{m:<10} {fps:8.2f} {tl:8.3f} {ta:9.3f} {tt:8.3f}", flush=True)
+    if args.frames == 0:
+        return 0
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-") as tmp:
         for label in ("cold", "cached"):
-            s = scenes.make(args.object, material="matte", cache_dir=tmp)
+            s = scenes.make(args.object, material="matte", cache_dir=tmp, **geometry)
             angles = np.linspace(*s.default_angles()[[0, -1]], args.frames)
             t0 = time.perf_counter()
             for _ in s.scan(angles, progress=False):

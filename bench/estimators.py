@@ -207,7 +207,8 @@ def _summary(results, peak, noise, sigmas) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="stripebench estimators", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="stripebench estimators",
+                                     description=__doc__.split("\n\n")[0].replace("``", ""))
     parser.add_argument("--out", default="results/runs/estimators", help="output folder (default %(default)s)")
     parser.add_argument("--sigmas", type=_floats, default=[0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0],
                         help="stripe sigmas in px, comma-separated")

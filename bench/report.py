@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .experiment import load_run
+from .runfolder import load_run
 from .runio import atomic_write_text
 from .scan import ScanResult
 
@@ -58,7 +58,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
     from . import figures
 
     run_dir = Path(run_dir)
-    data = load_run(run_dir) if data is None else data
+    data = load_run(run_dir, say=None if quiet else _warn) if data is None else data
     summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
     cfg = summary["config"]
     figdir = run_dir / "figures"
@@ -86,12 +86,13 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
         out["bars"].append(figures.fig_bars(metrics, scene, figdir / f"bars_{scene}.png"))
     # 3-D restored shapes: the first experiment of each scene
     done = set()
-    for exp in cfg["experiments"]:
+    scan_keys = [sc.get("experiment") for sc in summary["scans"]]  # the experiments' keys, in config order
+    for i, exp in enumerate(cfg["experiments"]):
         if exp["scene"] in done:
             continue
         done.add(exp["scene"])
-        key = next((k for k in data["scans"] if k.startswith(f"{exp['scene']}-{exp['material']}")), None)
-        if key is None:
+        key = scan_keys[i] if i < len(scan_keys) else None
+        if key not in data["scans"]:
             continue
         arrays = data["scans"][key]
         rig = scenes.make(exp["scene"], width=int(cfg["render"].get("width", 512)),
@@ -106,6 +107,10 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
             if not quiet:
                 print(f"stripebench: 3-D figure of {key} skipped: {type(exc).__name__}: {exc}", file=sys.stderr)
     return out
+
+
+def _warn(msg: str) -> None:
+    print(msg, file=sys.stderr)
 
 
 def _img(path: Path) -> str:
@@ -162,7 +167,7 @@ def _coverage_table(metrics) -> str:
 def build_report(run_dir, *, quiet: bool = False) -> Path:
     """Write ``figures/*.png`` and ``report.html`` for a finished run."""
     run_dir = Path(run_dir)
-    data = load_run(run_dir)
+    data = load_run(run_dir, say=None if quiet else _warn)
     figs = make_figures(run_dir, quiet=quiet, data=data)
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]

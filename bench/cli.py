@@ -344,8 +344,9 @@ _PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators}
 
 def _os_message(exc: OSError) -> str:
     reason = "no space left on the device" if exc.errno == errno.ENOSPC else (exc.strerror or str(exc))
-    where = exc.filename if exc.filename is not None else "a file"
-    return f"cannot use {str(where)!r}: {reason}"
+    if exc.filename is None:
+        return f"{type(exc).__name__}: {reason}"
+    return f"cannot use {str(exc.filename)!r}: {reason}"
 
 
 def main(argv=None) -> int:
@@ -362,6 +363,9 @@ def main(argv=None) -> int:
     except (UsageError, ConfigError, RunFolderError) as exc:
         print(f"stripebench: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # `stripebench trackers | head`: the reader left
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except OSError as exc:
         print(f"stripebench: error: {_os_message(exc)}", file=sys.stderr)
         return 2

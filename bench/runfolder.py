@@ -301,7 +301,7 @@ def read_npz(path) -> tuple[dict[str, np.ndarray] | None, str | None]:
     if not path.exists():
         return None, None
     try:
-        with np.load(path, allow_pickle=False) as z:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
             return {k: z[k] for k in z.files}, None
     except Exception as exc:  # BadZipFile, CRC errors, EOF, pickles, ...: all mean "recompute"
         return None, f"{type(exc).__name__}: {exc}".splitlines()[0][:200]

@@ -53,7 +53,7 @@ def _per_material(obj: str, material: str, n: int):
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    ap = argparse.ArgumentParser(prog="stripebench perf --scenes", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="stripebench perf --scenes", description=__doc__.splitlines()[0].replace("``", ""))
     ap.add_argument("--object", default="hand", choices=scenes.available())
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--per-material", type=int, default=6, help="frames timed per material")

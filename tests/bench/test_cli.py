@@ -68,6 +68,7 @@ def test_bad_seed_is_a_usage_error():
     assert out.returncode == 2 and "--seed: must be an integer >= 0, got '-1'" in out.stderr
 
 
+@pytest.mark.slow
 def test_run_a_config_file_then_rebuild_its_report(tmp_path, capsys):
     cfg = tmp_path / "c.toml"
     cfg.write_text(TOML)

@@ -119,8 +119,11 @@ def _run_config(config, args) -> int:
         print(f"stripebench: results in {out}")
         return 0
     from .report import build_report
+    from .runfolder import RunFolder
 
-    path = build_report(out, quiet=args.quiet)
+    with RunFolder(out) as folder:
+        folder.lock()  # no other process may change the folder while its report is built
+        path = build_report(out, quiet=args.quiet)
     print(f"stripebench: report at {path}")
     return 0
 
@@ -146,8 +149,12 @@ def _cmd_report(args) -> int:
     from .report import build_report
     from .runfolder import load_summary
 
+    from .runfolder import RunFolder
+
     load_summary(args.run)  # one line if it is not a finished run
-    path = build_report(Path(args.run), quiet=args.quiet)
+    with RunFolder(args.run) as folder:
+        folder.lock()
+        path = build_report(Path(args.run), quiet=args.quiet)
     print(f"stripebench: report at {path}")
     return 0
 

@@ -79,7 +79,8 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
         The run folder (default :func:`bench.runfolder.default_run_dir`). A
         partial run of the same configuration there is resumed.
     progress, quiet : bool
-        Progress bars; no notes on stderr.
+        Progress bars; no progress notes on stderr (damaged or stale files are
+        always reported, one line each).
     force : bool
         Clear a folder that holds another configuration's run instead of refusing.
 
@@ -98,7 +99,7 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     tracker_objs = config.make_trackers()
     folder = RunFolder(out)
     folder.open(config.to_dict(), code_fingerprint(tracker_objs.values()), force=force,
-                say=lambda m: _say(m, quiet))
+                say=lambda m: _say(m, False))  # damaged or stale files: always said
     try:
         return _run_locked(config, folder, tracker_objs, t_start, progress, quiet)
     finally:
@@ -120,7 +121,7 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
         t0 = time.perf_counter()
         res, kept = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
                              checkpoint=folder.checkpoint(exp.key), progress=progress, keep_frame=keep,
-                             say=lambda m: _say(m, quiet))
+                             say=lambda m: _say(m, False))  # damaged or stale files: always said
         wall = time.perf_counter() - t0
         if kept is not None:
             fig7 = (exp.key, float(angles[keep]), kept, {n: res.columns[n][keep] for n in res.columns})

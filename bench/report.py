@@ -58,7 +58,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
     from . import figures
 
     run_dir = Path(run_dir)
-    data = load_run(run_dir, say=None if quiet else _warn) if data is None else data
+    data = load_run(run_dir, say=_warn) if data is None else data
     summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
     cfg = summary["config"]
     figdir = run_dir / "figures"
@@ -167,7 +167,7 @@ def _coverage_table(metrics) -> str:
 def build_report(run_dir, *, quiet: bool = False) -> Path:
     """Write ``figures/*.png`` and ``report.html`` for a finished run."""
     run_dir = Path(run_dir)
-    data = load_run(run_dir, say=None if quiet else _warn)
+    data = load_run(run_dir, say=_warn)
     figs = make_figures(run_dir, quiet=quiet, data=data)
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]

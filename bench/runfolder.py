@@ -20,7 +20,8 @@ default)::
 
 A folder belongs to one configuration: :meth:`RunFolder.open` refuses a folder
 written for another configuration (or a non-empty folder that is not a run)
-unless ``force=True``, which clears it first. When only the code changed
+unless ``force=True``, which clears it first (a folder of the same
+configuration is resumed, with or without ``force``). When only the code changed
 (trackers, scenes, plugin trackers' modules), the results are recomputed in
 place. Every reader validates what it reads and raises :class:`RunFolderError`
 (one line naming the file and the problem).
@@ -182,26 +183,36 @@ class RunFolder:
     def _claim(self, config_dict, code_fingerprint, force, say) -> None:
         want = config_hash(config_dict)
         record = self._read_record()
+        if record is None and self._old_layout_of(config_dict):
+            record = {"config_hash": want, "code": None}  # a run of this configuration from before run.json
         others = [p.name for p in self.path.iterdir() if p.name != LOCK_FILE]
-        if others and not force:
-            if record is None:
-                raise RunFolderError(f"{str(self.path)!r} is not empty and is not a stripebench run folder "
-                                     f"(holds {sorted(others)[0]!r}); choose another --out or pass --force to clear it")
-            if record.get("config_hash") != want:
+        mismatch = record is None or record.get("config_hash") != want
+        if others and mismatch:
+            if not force:
+                if record is None:
+                    raise RunFolderError(f"{str(self.path)!r} is not empty and is not a stripebench run folder "
+                                         f"(holds {sorted(others)[0]!r}); choose another --out or pass --force "
+                                         "to clear it")
                 raise RunFolderError(
                     f"run folder {str(self.path)!r} holds a run of another configuration "
                     f"({record.get('name', '?')!r}, hash {record.get('config_hash', '?')}, this one {want}); "
                     "choose another --out or pass --force to clear it")
-        if others and force:
             self.clear()
         elif record is not None and record.get("code") != code_fingerprint:
-            if say is not None:
+            if say is not None and record.get("code") is not None:
                 say(f"stripebench: the code changed since the run in {self.path} (trackers, scenes or plugins): "
                     "its results are recomputed")
             self.clear(keep_scans=True)  # the checkpoints check their own fingerprint
         doc = {"format": FORMAT, "name": config_dict.get("name"), "config_hash": want, "code": code_fingerprint}
         self._write(RUN_FILE, json.dumps(doc, indent=1, sort_keys=True) + "\n")
         self._write(LAYOUT["config"], json.dumps(config_dict, indent=2))
+
+    def _old_layout_of(self, config_dict) -> bool:
+        """Whether the folder is a run of ``config_dict`` written before ``run.json`` existed."""
+        try:
+            return json.loads((self.path / LAYOUT["config"]).read_text(encoding="utf-8")) == config_dict
+        except (OSError, ValueError):
+            return False
 
     def _read_record(self) -> dict | None:
         p = self.path / RUN_FILE

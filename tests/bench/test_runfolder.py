@@ -205,3 +205,25 @@ def test_an_edited_plugin_tracker_invalidates_its_checkpoint(gate_dict, tmp_path
     mod.CALLS.clear()
     run(cfg, out, progress=False, quiet=True)  # unchanged code: resumed, the plugin is not called on frames
     assert len(mod.CALLS) == 1  # the warm-up call on a blank frame only
+
+
+def test_force_resumes_a_folder_of_the_same_configuration(tmp_path):
+    with RunFolder(tmp_path / "r") as rf:
+        rf.open({"name": "a"}, "c")
+    (tmp_path / "r" / "scans").mkdir()
+    (tmp_path / "r" / "scans" / "x.npz").write_bytes(b"x")
+    with RunFolder(tmp_path / "r") as rf:
+        rf.open({"name": "a"}, "c", force=True)
+    assert (tmp_path / "r" / "scans" / "x.npz").exists()
+
+
+def test_a_run_folder_from_before_run_json_is_adopted_by_its_configuration(tmp_path):
+    folder = tmp_path / "old"
+    (folder / "scans").mkdir(parents=True)
+    (folder / "config.json").write_text(json.dumps({"name": "a", "seed": 0}))
+    (folder / "scans" / "x.npz").write_bytes(b"x")
+    with pytest.raises(RunFolderError, match="another configuration|not a stripebench run folder"):
+        RunFolder(folder).open({"name": "a", "seed": 1}, "c")
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a", "seed": 0}, "c")
+    assert (folder / "scans" / "x.npz").exists() and (folder / "run.json").exists()

@@ -47,7 +47,7 @@ from typing import Any
 
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
            "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
-           "SCENE_UPPER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
+           "SCENE_UPPER_BOUNDS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
 
 PROFILES = ("paper", "quick", "ci")
 RENDER_KEYS = ("width", "height", "spp", "ambient_spp")  # the `[render]` table, shared by every experiment
@@ -56,6 +56,8 @@ HARNESS_KEYS = ("material", *RENDER_KEYS, "seed", "n_angles", "cache", "cache_di
 # per-experiment overrides with an upper bound beyond the scene's own checks (the sensor's
 # Poisson noise overflows above these: "lam value too large")
 SCENE_UPPER_BOUNDS = {"laser_power_mw": 1e5, "ambient_lux": 1e6, "exposure_ms": 1e4}
+# and lower bounds (a faster lens also overflows it; a thinner sheet needs a laser-profile table beyond memory)
+SCENE_LOWER_BOUNDS = {"f_number": 0.5, "line_fwhm_mrad": 1e-3}
 MAX_ANGLE_DEG = 45.0  # |mirror angle|: beyond it the camera turns more than 90 deg
 
 
@@ -392,6 +394,10 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
             v = overrides.get(k)
             if isinstance(v, numbers.Real) and not isinstance(v, bool) and v > top:
                 raise ConfigError(f"`{path}.{k}` must be at most {top:g}, got {v!r}")
+        for k, low in SCENE_LOWER_BOUNDS.items():
+            v = overrides.get(k)
+            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v < low:
+                raise ConfigError(f"`{path}.{k}` must be at least {low:g}, got {v!r}")
         try:  # let the scene validate its own parameters
             scenes.make(scene, material=material, **render, **overrides)
         except (TypeError, KeyError, ValueError) as exc:

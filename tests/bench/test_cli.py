@@ -106,6 +106,8 @@ def _one_line(capsys, *needles):
         (("n_angles = 2", "n_angles = 1000000000"), "`experiments[0].n_angles` must be at most"),
         (("n_angles = 2", "n_angles = 2\nlaser_power_mw = 1e30"), "`experiments[0].laser_power_mw` must be at most"),
         (("n_angles = 2", "n_angles = 2\nambient_lux = nan"), "`ambient_lux` must be a finite number"),
+        (("n_angles = 2", "n_angles = 2\nf_number = 1e-6"), "`experiments[0].f_number` must be at least 0.5"),
+        (("n_angles = 2", "n_angles = 2\nline_fwhm_mrad = 1e-9"), "`experiments[0].line_fwhm_mrad` must be at least"),
         (("spp = 1", "spp = 1000000000"), "`render.spp` must be at most 65536"),
         (("width = 64", "width = 1000000"), "`render.width` must be at most 8192"),
         (("[[experiments]]", "[[experiments]]\nangles = [0.0, 1.0]", "n_angles = 2", "n_angles = 100000",

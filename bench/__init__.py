@@ -1,0 +1,26 @@
+"""The harness: scans, metrics, statistics, run folders, reports, the regression gate, the CLI.
+
+Layers, lowest first; a module imports only from its own layer or a lower one
+(module-level and function-level imports alike; ``tests/test_layout.py``
+enforces it, so a new module must be added to :data:`LAYERS`):
+
+0. evaluation (pure: arrays and tables in, numbers out): ``triangulation``,
+   ``restore``, ``metrics``, ``stats``, ``analysis``
+1. running (configurations, scans, the run folder and its readers, the gate on
+   saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
+   ``scan``, ``experiment``, ``gate``, ``real``, ``real_run``
+2. reporting (figures and the HTML report from a saved run): ``figures``, ``report``
+3. studies (benchmarks on synthetic frames): ``estimators``, ``perf``
+4. the command line: ``cli``
+
+``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
+of them imports ``bench``.
+"""
+
+LAYERS = {
+    "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis"),
+    "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "gate", "real", "real_run"),
+    "reporting": ("figures", "report"),
+    "studies": ("estimators", "perf"),
+    "cli": ("cli",),
+}

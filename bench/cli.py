@@ -1,31 +1,65 @@
 """The ``stripebench`` command line.
 
-Exit status: 0 success, 1 a failed check (``stripebench check``), 2 a usage or
-configuration error (one line on stderr naming the problem), 130 interrupted.
+Exit status: 0 success, 1 a failed check (``stripebench check``), 2 a usage,
+configuration, input or file-system error (one line on stderr naming the
+problem, see ``docs/errors.md``), 130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
+import json
+import os
+import re
 import sys
 from pathlib import Path
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "plain", "version"]
+
+CONFIG_DOC = "docs/config.md"
 
 
 class UsageError(Exception):
     """A bad command-line value: one line for the user, exit status 2."""
 
 
-def _trackers_arg(value: str | None):
-    """``--trackers``: tracker settings as in configurations (see :func:`bench.config.parse_trackers_arg`)."""
-    if value is None:
-        return None
-    from .config import parse_trackers_arg
+def plain(text: str) -> str:
+    """Docstring text for a terminal: reStructuredText roles and literals removed.
 
-    return parse_trackers_arg(value)
+    Examples
+    --------
+    >>> plain("see :func:`bench.run` and ``--out``")
+    'see bench.run and --out'
+    """
+    text = re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", text)
+    return text.replace("``", "")
 
 
+def version() -> str:
+    """The installed ``stripebench`` version (or the source tree's, from ``pyproject.toml``)."""
+    from importlib import metadata
+
+    try:
+        return metadata.version("stripebench")
+    except metadata.PackageNotFoundError:
+        import tomllib
+
+        pyproject = Path(__file__).resolve().parents[1] / "pyproject.toml"
+        try:
+            return tomllib.loads(pyproject.read_text(encoding="utf-8"))["project"]["version"]
+        except (OSError, KeyError, ValueError):
+            return "unknown"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (``stripebench: error: ...``, exit status 2)."""
+
+    def error(self, message):
+        self.exit(2, f"stripebench: error: {message} (see `{self.prog} -h`)\n")
+
+
+# -- shared option types ------------------------------------------------------------
 def _seed_arg(value: str) -> int:
     try:
         seed = int(value)
@@ -34,6 +68,32 @@ def _seed_arg(value: str) -> int:
     if seed < 0:
         raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {value!r}")
     return seed
+
+
+def _trackers_arg(value: str | None):
+    """``--trackers``: tracker settings as in configurations (:func:`bench.config.parse_trackers_arg`)."""
+    if value is None:
+        return None
+    from .config import parse_trackers_arg
+
+    return parse_trackers_arg(value)
+
+
+def _say(msg: str) -> None:
+    print(msg, file=sys.stderr, flush=True)
+
+
+def _check_env() -> None:
+    """The folders named by environment variables must be folders (or creatable)."""
+    for var in ("STRIPEBENCH_CACHE_DIR", "STRIPEBENCH_RUNS"):
+        value = os.environ.get(var)
+        if not value:
+            continue
+        p = Path(value)
+        if p.exists() and not p.is_dir():
+            raise UsageError(f"${var} must name a folder, got {value!r} (a file)")
+        if p.is_dir() and not os.access(p, os.W_OK | os.X_OK):
+            raise UsageError(f"${var} names a folder this user cannot write: {value!r}")
 
 
 def _run_config(config, args) -> int:
@@ -51,8 +111,20 @@ def _run_config(config, args) -> int:
         changes["seed"] = args.seed
     if changes:
         config = with_overrides(config, **changes)
-    out = run(config, args.out, progress=not args.quiet, quiet=args.quiet)
-    print(f"stripebench: report at {out / 'report.html'}")
+    _check_env()
+    if args.out is not None and args.out.exists() and not args.out.is_dir():
+        raise UsageError(f"--out must be a folder, got {str(args.out)!r} (a file)")
+    out = run(config, args.out, progress=not args.quiet, quiet=args.quiet, force=args.force)
+    if args.no_report:
+        print(f"stripebench: results in {out}")
+        return 0
+    from .report import build_report
+    from .runfolder import RunFolder
+
+    with RunFolder(out) as folder:
+        folder.lock()  # no other process may change the folder while its report is built
+        path = build_report(out, quiet=args.quiet)
+    print(f"stripebench: report at {path}")
     return 0
 
 
@@ -75,28 +147,47 @@ def _cmd_run(args) -> int:
 
 def _cmd_report(args) -> int:
     from .report import build_report
+    from .runfolder import RunFolder, load_summary
 
-    run_dir = Path(args.run)
-    if not (run_dir / "summary.json").exists():
-        raise UsageError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
-    import json
+    summary = load_summary(args.run)  # one line if it is not a finished run
+    with RunFolder(args.run) as folder:
+        folder.lock()
+        if summary.get("kind") == "real":
+            from .real_run import build_real_report
 
-    if json.loads((run_dir / "summary.json").read_text()).get("kind") == "real":
-        from .real_run import build_real_report
-
-        path = build_real_report(run_dir)
-    else:
-        path = build_report(run_dir, quiet=args.quiet)
+            path = build_real_report(Path(args.run))
+        else:
+            path = build_report(Path(args.run), quiet=args.quiet)
     print(f"stripebench: report at {path}")
     return 0
+
+
+def _gate_rows(baseline: dict, current: dict, what: str):
+    from . import gate
+
+    diff = gate.comparability(baseline.get("config"), current.get("config"))
+    if diff:
+        raise UsageError(f"{what} are not comparable: they differ in {'; '.join(diff)} "
+                         f"(compared: {', '.join(gate.COMPARED_KEYS)})")
+    return gate.compare(baseline, current)
+
+
+def _print_rows(rows, args) -> int:
+    from . import gate
+
+    failed = [r for r in rows if r.failed]
+    if args.json:
+        print(json.dumps(gate.rows_to_json(rows, all_rows=args.all), indent=1))
+    else:
+        print(gate.format_table(rows, all_rows=args.all))
+    return 1 if failed else 0
 
 
 def _cmd_check(args) -> int:
     from . import gate
 
     run_dir = Path(args.run)
-    if not (run_dir / "metrics.parquet").exists() or not (run_dir / "summary.json").exists():
-        raise UsageError(f"RUN must be a finished run folder (with metrics.parquet), got {str(run_dir)!r}")
+    current = gate.baseline_from_run(run_dir)
     if args.update:
         doc = gate.write_baseline(run_dir, args.baseline)
         print(f"stripebench: wrote baseline {args.baseline} ({len(doc['metrics'])} entries) from {run_dir}")
@@ -105,25 +196,62 @@ def _cmd_check(args) -> int:
         baseline = gate.load_baseline(args.baseline)
     except (FileNotFoundError, ValueError) as exc:
         raise UsageError(str(exc)) from None
-    rows = gate.compare(baseline, gate.baseline_from_run(run_dir))
-    print(gate.format_table(rows, all_rows=args.all))
-    failed = [r for r in rows if r.failed]
-    if failed:
-        names = sorted({f"{r.key.split('/')[1]}:{r.metric}" for r in failed})
+    rows = _gate_rows(baseline, current, f"run {str(run_dir)!r} and baseline {str(args.baseline)!r}")
+    status = _print_rows(rows, args)
+    if status:
+        failed = [r for r in rows if r.failed]
+        names = sorted({f"{r.key.split('/')[1] if '/' in r.key else r.key}:{r.metric}" for r in failed})
         print(f"stripebench check: FAILED ({len(failed)} regression(s): {', '.join(names[:12])}"
               f"{' ...' if len(names) > 12 else ''})", file=sys.stderr)
-        return 1
-    print("stripebench check: passed")
-    return 0
+    elif not args.json:
+        print("stripebench check: passed")
+    return status
+
+
+def _cmd_compare(args) -> int:
+    from . import gate
+
+    a, b = gate.baseline_from_run(args.run_a), gate.baseline_from_run(args.run_b)
+    rows = _gate_rows(a, b, f"runs {str(args.run_a)!r} and {str(args.run_b)!r}")
+    status = _print_rows(rows, args)
+    if not args.json:
+        print(f"stripebench compare: {args.run_b} against {args.run_a}: "
+              f"{sum(r.failed for r in rows)} worse or missing, {sum(r.verdict == 'better' for r in rows)} better")
+    return status
+
+
+def tracker_table() -> list[dict]:
+    """Every registered tracker: name, class, module, sub-pixel claim, summary,
+    parameters with their defaults."""
+    import inspect
+
+    import trackers
+
+    out = []
+    for name in trackers.available():
+        t = trackers.make(name)
+        cls = type(t)
+        sig = inspect.signature(cls.__init__) if cls.__init__ is not object.__init__ else None
+        params = {}
+        for k, v in t.get_params().items():
+            default = sig.parameters[k].default if sig is not None and k in sig.parameters else v
+            params[k] = None if default is inspect.Parameter.empty else default
+        doc = plain((cls.__doc__ or "").strip()).splitlines()
+        out.append({"name": name, "class": cls.__qualname__, "module": cls.__module__, "subpixel": bool(t.subpixel),
+                    "summary": doc[0] if doc else "", "params": params})
+    return out
 
 
 def _cmd_trackers(args) -> int:
-    import trackers
-
-    for name in trackers.available():
-        t = trackers.make(name)
-        doc = (type(t).__doc__ or "").strip().splitlines()
-        print(f"{name:<14} {'sub-pixel' if t.subpixel else 'whole-pixel':<12} {doc[0] if doc else ''}")
+    table = tracker_table()
+    if args.json:
+        print(json.dumps(table, indent=1, default=repr))
+        return 0
+    for t in table:
+        params = ", ".join(f"{k}={v!r}" for k, v in t["params"].items())
+        print(f"{t['name']:<14} {'sub-pixel' if t['subpixel'] else 'whole-pixel':<12} {t['summary']}")
+        if params:
+            print(f"{'':<27}params: {params}")
     return 0
 
 
@@ -219,27 +347,42 @@ def _cmd_real(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="stripebench",
-                                     description="A physically based rendering benchmark for laser-stripe trackers.")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    """The whole command tree (one parser, shared option types)."""
+    from .config import PROFILES
+
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = _Parser(prog="stripebench", formatter_class=fmt,
+                     description="A physically based rendering benchmark for laser-stripe trackers.",
+                     epilog="Exit status: 0 ok, 1 a failed check, 2 a bad input (one line on stderr), 130 interrupted.")
+    parser.add_argument("--version", action="version", version=f"stripebench {version()}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
     def run_options(p):
         p.add_argument("--trackers", help="comma-separated tracker names or TOML inline tables "
                        "{label=..., name=..., params={...}} (default: the configuration's)")
         p.add_argument("--out", type=Path, help="run folder (default: results/runs/<name>-<config hash>; "
-                                                 "an existing partial run there is resumed)")
+                                                 "a partial run of the same configuration there is resumed)")
+        p.add_argument("--force", action="store_true",
+                       help="clear --out first if it holds another configuration's run or other files")
         p.add_argument("--seed", type=_seed_arg, help="seed for renders, noise, samples and bootstrap")
-        p.add_argument("--quiet", action="store_true", help="no progress bars")
+        p.add_argument("--quiet", action="store_true", help="no progress bars or notes")
+        p.add_argument("--no-report", action="store_true", help="write the results only, not figures and report.html")
 
-    p = sub.add_parser("reproduce", help="the paper's experiment on the embedded default settings")
-    p.add_argument("--profile", default="paper", choices=["paper", "quick", "ci"],
-                   help="embedded configuration (default: paper)")
+    def json_options(p, what):
+        p.add_argument("--json", action="store_true", help=f"print {what} as JSON")
+        p.add_argument("--all", action="store_true", help="show every check, not only the changed ones")
+
+    p = sub.add_parser("reproduce", help="the paper's experiment on the embedded default settings",
+                       formatter_class=fmt)
+    p.add_argument("--profile", default="paper", choices=PROFILES, help="embedded configuration (default: paper)")
     run_options(p)
     p.set_defaults(func=_cmd_reproduce)
-    p = sub.add_parser("run", help="run an experiment configuration (TOML) or an embedded profile")
-    p.add_argument("config", nargs="?", type=Path, help="configuration file (see bench/config.py)")
-    p.add_argument("--profile", choices=["paper", "quick", "ci"], help="an embedded configuration instead")
+    p = sub.add_parser("run", help="run an experiment configuration (TOML) or an embedded profile",
+                       formatter_class=fmt,
+                       epilog=f"The configuration format, with a complete example: {CONFIG_DOC}.")
+    p.add_argument("config", nargs="?", type=Path, help=f"configuration file (format: {CONFIG_DOC})")
+    p.add_argument("--profile", choices=PROFILES, help="an embedded configuration instead")
     run_options(p)
     p.set_defaults(func=_cmd_run)
     p = sub.add_parser("report", help="rebuild the figures and report.html of a finished run")
@@ -250,7 +393,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("run", help="run folder")
     p.add_argument("--baseline", type=Path, required=True, help="baseline JSON (e.g. results/baselines/ci.json)")
     p.add_argument("--update", action="store_true", help="write the run's metrics as the new baseline instead")
-    p.add_argument("--all", action="store_true", help="show every check, not only the changed ones")
+    json_options(p, "the checks")
     p.set_defaults(func=_cmd_check)
     p = sub.add_parser("track", help="run trackers on photographs (PNG/JPEG/TIFF): a CSV and an overlay per image")
     p.add_argument("images", nargs="+", metavar="IMAGE", help="image files (8/16-bit, grey or colour)")
@@ -274,7 +417,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=_cmd_real)
-    sub.add_parser("trackers", help="list the registered trackers").set_defaults(func=_cmd_trackers)
+    p = sub.add_parser("compare", help="compare two runs' metrics (RUN_B against RUN_A); exit 1 if RUN_B is worse",
+                       description="The same table as `check`, RUN_A taking the baseline's place. Refused when "
+                                   "the runs differ in render size/spp, experiments or seed.")
+    p.add_argument("run_a", metavar="RUN_A", help="the reference run folder")
+    p.add_argument("run_b", metavar="RUN_B", help="the run folder compared with it")
+    json_options(p, "the comparison")
+    p.set_defaults(func=_cmd_compare)
+    p = sub.add_parser("trackers", help="list the registered trackers with their parameters")
+    p.add_argument("--json", action="store_true", help="print the list as JSON (parameters and defaults)")
+    p.set_defaults(func=_cmd_trackers)
     sub.add_parser("scenes", help="list the scenes and materials").set_defaults(func=_cmd_scenes)
     p = sub.add_parser("estimators", help="the sub-pixel estimator study (see `stripebench estimators -h`)",
                        add_help=False)
@@ -289,6 +441,13 @@ def build_parser() -> argparse.ArgumentParser:
 _PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators}
 
 
+def _os_message(exc: OSError) -> str:
+    reason = "no space left on the device" if exc.errno == errno.ENOSPC else (exc.strerror or str(exc))
+    if exc.filename is None:
+        return f"{type(exc).__name__}: {reason}"
+    return f"cannot use {str(exc.filename)!r}: {reason}"
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in _PASSTHROUGH:  # these parse their own options (-h included)
@@ -296,11 +455,21 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     from .config import ConfigError
+    from .runfolder import RunFolderError
 
     try:
         return int(args.func(args) or 0)
-    except (UsageError, ConfigError) as exc:
+    except (UsageError, ConfigError, RunFolderError) as exc:
         print(f"stripebench: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # `stripebench trackers | head`: the reader left
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    except OSError as exc:
+        print(f"stripebench: error: {_os_message(exc)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("stripebench: error: out of memory; use fewer or smaller frames (see docs/errors.md)", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("stripebench: interrupted; rerun the same command to resume", file=sys.stderr)

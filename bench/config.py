@@ -29,30 +29,48 @@ A configuration is a TOML document::
                               # support ("none"/"table"), support_albedo
 
 Every key is checked: an unknown key, a wrong type or an invalid value raises
-:class:`ConfigError` with one line naming the key and echoing the value.
+:class:`ConfigError` with one line naming the key and echoing the value. The
+full reference, with a complete example, is ``docs/config.md``.
+
+The schema has one home: the defaults are those of :class:`Config`'s fields,
+the top-level keys are its fields, the scene overrides are the scene
+parameters (:data:`scenes.params.DEFAULTS`) minus those the harness owns
+(:data:`HARNESS_KEYS`), and the profile names are :data:`PROFILES`.
 """
 
 from __future__ import annotations
 
 import copy
+import math
 import numbers
+import os
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
-           "parse", "profile", "with_overrides", "PROFILES"]
+           "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
+           "SCENE_UPPER_BOUNDS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
 
 PROFILES = ("paper", "quick", "ci")
-_TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "restore", "render", "experiments"}
-_RENDER = {"width", "height", "spp", "ambient_spp"}
-_SCENE_OVERRIDES = {"ambient_lux", "laser_power_mw", "line_fwhm_mrad", "laser_fan_deg", "ambient_illuminant",
-                    "laser_wavelength_nm", "filter_center_nm", "filter_fwhm_nm", "filter_peak", "exposure_ms",
-                    "f_number", "read_noise_e", "gain_e_per_dn", "background", "background_distance_cm",
-                    "background_albedo", "support", "support_albedo"}
-_EXPERIMENT = {"name", "condition", "scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
+RENDER_KEYS = ("width", "height", "spp", "ambient_spp")  # the `[render]` table, shared by every experiment
+# scene parameters the harness sets itself (not per-experiment overrides)
+HARNESS_KEYS = ("material", *RENDER_KEYS, "seed", "n_angles", "cache", "cache_dir")
+# per-experiment overrides with an upper bound beyond the scene's own checks (the sensor's
+# Poisson noise overflows above these: "lam value too large")
+SCENE_UPPER_BOUNDS = {"laser_power_mw": 1e5, "ambient_lux": 1e6, "exposure_ms": 1e4}
+# and lower bounds (a faster lens also overflows it; a thinner sheet needs a laser-profile table beyond memory)
+SCENE_LOWER_BOUNDS = {"f_number": 0.5, "line_fwhm_mrad": 1e-3}
+MAX_ANGLE_DEG = 45.0  # |mirror angle|: beyond it the camera turns more than 90 deg
+
+
+def scene_override_keys() -> tuple[str, ...]:
+    """The per-experiment scene overrides: :data:`scenes.params.DEFAULTS` minus :data:`HARNESS_KEYS`."""
+    from scenes.params import DEFAULTS
+
+    return tuple(sorted(set(DEFAULTS) - set(HARNESS_KEYS)))
 
 
 class ConfigError(ValueError):
@@ -198,7 +216,7 @@ class Experiment:
     """One scan: a scene, a material, angles and scene-parameter overrides."""
 
     scene: str
-    material: str
+    material: str = "matte"
     n_angles: int | None = None
     angles: tuple[float, ...] | None = None
     overrides: dict[str, Any] = field(default_factory=dict)
@@ -218,15 +236,15 @@ class Experiment:
 class Config:
     """A validated experiment configuration (see the module docstring)."""
 
-    name: str
-    seed: int
-    trackers: tuple[str, ...]  # the labels of ``tracker_specs``
-    baselines: tuple[str, ...]
-    dp: tuple[str, ...]
-    n_samples: int
-    n_boot: int
-    render: dict[str, int]
-    experiments: tuple[Experiment, ...]
+    name: str = "custom"
+    seed: int = 0
+    trackers: tuple[str, ...] = ()  # the labels of ``tracker_specs``; empty = every registered tracker
+    baselines: tuple[str, ...] = ("threshold", "centroid")
+    dp: tuple[str, ...] = ("dp4", "dp8")
+    n_samples: int = 150
+    n_boot: int = 2000
+    render: dict[str, int] = field(default_factory=dict)
+    experiments: tuple[Experiment, ...] = ()
     source: str = "<dict>"
     restore: str = "rows"
     tracker_specs: tuple[TrackerSpec, ...] = ()
@@ -252,6 +270,38 @@ class Config:
         return {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
                 "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
                 "n_boot": self.n_boot, "restore": self.restore, "render": dict(self.render), "experiments": exps}
+
+
+_NOT_KEYS = {"source", "tracker_specs"}
+_TOP = {f.name for f in fields(Config)} - _NOT_KEYS
+_EXP_KEYS = {f.name for f in fields(Experiment)} - {"overrides"}
+
+
+def _default(name: str):
+    f = next(f for f in fields(Config) if f.name == name)
+    value = f.default_factory() if f.default_factory is not field().default_factory else f.default
+    return list(value) if isinstance(value, tuple) else value
+
+
+def estimate_memory_bytes(n_frames: int, width: int, height: int, n_trackers: int) -> int:
+    """A rough upper estimate of the memory one scan needs (bytes): the
+    checkpoint's frame x row arrays (columns, scores, truth) with working copies,
+    plus one frame's render buffers.
+
+    Examples
+    --------
+    >>> estimate_memory_bytes(40, 512, 480, 10) < 2**30
+    True
+    """
+    per_row = 8 * (2 * n_trackers + 5)
+    return int(3 * n_frames * height * per_row + 40 * 8 * width * height)
+
+
+def _memory_limit_bytes() -> int:
+    try:
+        return int(0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
 
 
 def _where(path: str) -> str:
@@ -290,30 +340,39 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     if not isinstance(data, dict):
         raise ConfigError(f"a configuration must be a table, got {type(data).__name__}")
     _unknown("", data, _TOP)
-    name = data.get("name", "custom")
+    name = data.get("name", _default("name"))
     if not isinstance(name, str) or not name:
         raise ConfigError(f"`name` must be a non-empty string, got {name!r}")
-    seed = _int("seed", data.get("seed", 0), 0)
+    seed = _int("seed", data.get("seed", _default("seed")), 0)
     specs = parse_trackers(data.get("trackers", []))
     names = tuple(s.label for s in specs)
-    baselines = _names("baselines", data.get("baselines", ["threshold", "centroid"]), None)
-    dp = _names("dp", data.get("dp", ["dp4", "dp8"]), None)
+    baselines = _names("baselines", data.get("baselines", _default("baselines")), None)
+    dp = _names("dp", data.get("dp", _default("dp")), None)
     for group, members in (("baselines", baselines), ("dp", dp)):
         for m in members:
             if m not in names:
                 raise ConfigError(f"`{group}` names {m!r}, which is not among `trackers` {list(names)}")
-    n_samples = _int("n_samples", data.get("n_samples", 150), 1)
-    n_boot = _int("n_boot", data.get("n_boot", 2000), 10)
+    n_samples = _int("n_samples", data.get("n_samples", _default("n_samples")), 1)
+    n_boot = _int("n_boot", data.get("n_boot", _default("n_boot")), 10)
+    for key, value, top in (("n_samples", n_samples, 10**6), ("n_boot", n_boot, 10**6)):
+        if value > top:
+            raise ConfigError(f"`{key}` must be at most {top}, got {value!r}")
     from .restore import METHODS
 
-    restore = data.get("restore", "rows")
+    restore = data.get("restore", _default("restore"))
     if restore not in METHODS:
         raise ConfigError(f"`restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
-    render_in = data.get("render", {})
+    render_in = data.get("render", _default("render"))
     if not isinstance(render_in, dict):
         raise ConfigError(f"`render` must be a table, got {render_in!r}")
-    _unknown("render", render_in, _RENDER)
+    _unknown("render", render_in, set(RENDER_KEYS))
     render = {k: _int(f"render.{k}", v, 1) for k, v in render_in.items()}
+    from scenes.params import DEFAULTS as SCENE_DEFAULTS, MAX_SIZE
+
+    for k, v in render.items():
+        if v > MAX_SIZE[k]:
+            raise ConfigError(f"`render.{k}` must be at most {MAX_SIZE[k]}, got {v!r}")
+    overridable = set(scene_override_keys())
     exps_in = data.get("experiments")
     if not isinstance(exps_in, list) or not exps_in:
         raise ConfigError(f"`experiments` must be a non-empty list of tables, got {exps_in!r}")
@@ -323,7 +382,7 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
         path = f"experiments[{i}]"
         if not isinstance(e, dict):
             raise ConfigError(f"`{path}` must be a table, got {e!r}")
-        _unknown(path, e, _EXPERIMENT)
+        _unknown(path, e, _EXP_KEYS | overridable)
         scene = e.get("scene")
         if scene not in scene_names:
             raise ConfigError(f"`{path}.scene` must be one of {', '.join(scene_names)}, got {scene!r}")
@@ -331,6 +390,8 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
         if material not in scenes.MATERIALS:
             raise ConfigError(f"`{path}.material` must be one of {', '.join(scenes.MATERIALS)}, got {material!r}")
         n_angles = _int(f"{path}.n_angles", e["n_angles"], 2) if "n_angles" in e else None
+        if n_angles is not None and n_angles > MAX_SIZE["n_angles"]:
+            raise ConfigError(f"`{path}.n_angles` must be at most {MAX_SIZE['n_angles']}, got {n_angles!r}")
         angles = None
         if "angles" in e:
             a = e["angles"]
@@ -338,9 +399,24 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
                     or not all(isinstance(x, numbers.Real) and not isinstance(x, bool) for x in a)):
                 raise ConfigError(f"`{path}.angles` must be a list of at least 2 numbers (deg), got {a!r}")
             angles = tuple(float(x) for x in a)
+            bad = next((x for x in angles if not math.isfinite(x) or abs(x) > MAX_ANGLE_DEG), None)
+            if bad is not None:
+                raise ConfigError(f"`{path}.angles` must be finite mirror angles within +-{MAX_ANGLE_DEG:g} deg, "
+                                  f"got {bad!r}")
+            if len(angles) > MAX_SIZE["n_angles"]:
+                raise ConfigError(f"`{path}.angles` must list at most {MAX_SIZE['n_angles']} angles, "
+                                  f"got {len(angles)}")
             if n_angles is not None:
                 raise ConfigError(f"`{path}` gives both `n_angles` and `angles`; give one")
-        overrides = {k: e[k] for k in sorted(_SCENE_OVERRIDES & set(e))}
+        overrides = {k: e[k] for k in sorted(overridable & set(e))}
+        for k, top in SCENE_UPPER_BOUNDS.items():
+            v = overrides.get(k)
+            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v > top:
+                raise ConfigError(f"`{path}.{k}` must be at most {top:g}, got {v!r}")
+        for k, low in SCENE_LOWER_BOUNDS.items():
+            v = overrides.get(k)
+            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v < low:
+                raise ConfigError(f"`{path}.{k}` must be at least {low:g}, got {v!r}")
         try:  # let the scene validate its own parameters
             scenes.make(scene, material=material, **render, **overrides)
         except (TypeError, KeyError, ValueError) as exc:
@@ -358,6 +434,15 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     dup = sorted({k for k in keys if keys.count(k) > 1})
     if dup:
         raise ConfigError(f"`experiments` lists {dup[0]!r} twice")
+    width = render.get("width", SCENE_DEFAULTS["width"])
+    height = render.get("height", SCENE_DEFAULTS["height"])
+    for i, e in enumerate(exps):
+        frames = len(e.angles) if e.angles is not None else (e.n_angles or SCENE_DEFAULTS["n_angles"])
+        need = estimate_memory_bytes(frames, width, height, len(specs))
+        if need > _memory_limit_bytes():
+            raise ConfigError(f"`experiments[{i}]` needs about {need / 2**30:.1f} GiB of memory "
+                              f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
+                              f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")
     return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, restore, specs)
 
 
@@ -377,7 +462,7 @@ def load(path) -> Config:
 
 def profile(name: str) -> Config:
     """One of the embedded profiles: ``paper`` (the default experiment), ``quick``, ``ci``."""
-    if name not in PROFILES:
+    if not isinstance(name, str) or name not in PROFILES:
         raise ConfigError(f"unknown profile {name!r}; available: {', '.join(PROFILES)}")
     text = resources.files("bench.profiles").joinpath(f"{name}.toml").read_text(encoding="utf-8")
     return parse(tomllib.loads(text), source=f"profile:{name}")

@@ -207,7 +207,8 @@ def _summary(results, peak, noise, sigmas) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="stripebench estimators", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="stripebench estimators",
+                                     description=__doc__.split("\n\n")[0].replace("``", ""))
     parser.add_argument("--out", default="results/runs/estimators", help="output folder (default %(default)s)")
     parser.add_argument("--sigmas", type=_floats, default=[0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0],
                         help="stripe sigmas in px, comma-separated")
@@ -221,14 +222,17 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.frames < 1:
         parser.error("--frames must be >= 1")
-    import trackers
+    from .config import ConfigError, parse_trackers_arg
 
     names = None
     if args.trackers:
-        names = [n.strip() for n in args.trackers.split(",") if n.strip()]
-        for n in names:
-            if n not in trackers.available():
-                parser.error(f"unknown tracker {n!r}; available: {', '.join(trackers.available())}")
+        try:
+            specs = parse_trackers_arg(args.trackers)
+        except ConfigError as exc:
+            parser.error(str(exc))
+        if any(s.params or s.label != s.name for s in specs):
+            parser.error("--trackers: the study runs each tracker with its defaults; give plain names")
+        names = [s.name for s in specs]
     peaks = args.peaks
     plot_peak = args.plot_peak if args.plot_peak is not None else sorted(peaks)[len(peaks) // 2]
     if plot_peak not in peaks:

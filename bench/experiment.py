@@ -1,18 +1,8 @@
-"""Run a configuration end to end: scans, metrics, samples, statistics, report.
+"""Run a configuration end to end: scans, metrics, samples, statistics.
 
-Layout of a run folder (``results/runs/<name>-<hash>/`` by default, where the
-hash covers the configuration, so rerunning the same command resumes)::
-
-    config.json        the validated configuration
-    scans/<exp>.npz    per-experiment checkpoint (frames x rows of every tracker)
-    figdata.npz        the frame and fields Fig. 7 shows
-    gallery.npz        per experiment, the frames where the trackers miss the truth most
-    metrics.parquet    one record per tracker x experiment x region
-    metrics.csv        the same
-    samples.csv        the sample points, one depth-error column per tracker
-    summary.json       config, seed, versions, git revision, statistics, timings
-    figures/*.png
-    report.html        self-contained report
+The run folder's layout, its lock and its readers live in
+:mod:`bench.runfolder`; the report is built afterwards by
+:func:`bench.report.build_report` (the command line does both).
 """
 
 from __future__ import annotations
@@ -29,11 +19,12 @@ import numpy as np
 
 from . import analysis
 from .config import Config
-from .runio import atomic_write_text, config_hash, load_npz, runs_root, save_npz
-from .scan import STATUS, run_scan
+from .runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
+                        write_tables)
+from .scan import STATUS, code_fingerprint, run_scan
 from .stats import GROSS_MM, WITHIN_MM
 
-__all__ = ["run", "default_run_dir", "versions", "git_revision", "PAPER_IMPROVEMENT"]
+__all__ = ["run", "default_run_dir", "load_run", "versions", "git_revision", "PAPER_IMPROVEMENT"]
 
 PAPER_IMPROVEMENT = 0.30  # "a 30 % improvement in the precision" (sec. 4.3)
 GALLERY_FRAMES = 2  # frames per experiment in the report's failure gallery
@@ -57,11 +48,6 @@ def _gallery_arrays(gallery: dict) -> dict:
         for n, c in cols.items():
             arrays[f"{key}/columns/{n}"] = c
     return arrays
-
-
-def default_run_dir(config: Config) -> Path:
-    """``<runs root>/<name>-<hash of the configuration>``."""
-    return runs_root() / f"{config.name}-{config_hash(config.to_dict())}"
 
 
 def versions() -> dict[str, str]:
@@ -106,15 +92,47 @@ def _say(msg: str, quiet: bool) -> None:
         print(msg, file=sys.stderr, flush=True)
 
 
-def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = False, report: bool = True) -> Path:
-    """Run ``config``; returns the run folder. Resumes a partial run in ``out_dir``."""
+def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = False, force: bool = False) -> Path:
+    """Run ``config`` into a run folder; returns the folder.
+
+    Parameters
+    ----------
+    config : Config
+    out_dir : path-like, optional
+        The run folder (default :func:`bench.runfolder.default_run_dir`). A
+        partial run of the same configuration there is resumed.
+    progress, quiet : bool
+        Progress bars; no progress notes on stderr (damaged or stale files are
+        always reported, one line each).
+    force : bool
+        Clear a folder that holds another configuration's run instead of refusing.
+
+    Raises
+    ------
+    bench.runfolder.RunFolderError
+        The folder is locked by another process, holds another configuration's
+        run (without ``force``), or cannot be written (the path and the reason).
+
+    The report is not built here: call :func:`bench.report.build_report` on the result.
+    """
     import pandas as pd
 
     t_start = time.perf_counter()
     out = Path(out_dir) if out_dir is not None else default_run_dir(config)
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "config.json", json.dumps(config.to_dict(), indent=2))
     tracker_objs = config.make_trackers()
+    folder = RunFolder(out)
+    folder.open(config.to_dict(), code_fingerprint(tracker_objs.values()), force=force,
+                say=lambda m: _say(m, False))  # damaged or stale files: always said
+    try:
+        return _run_locked(config, folder, tracker_objs, t_start, progress, quiet)
+    finally:
+        folder.unlock()
+
+
+def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
+    import pandas as pd
+
+    out = folder.path
     records, samples, scan_info, gallery = [], [], [], {}
     fig7 = None
     for k, exp in enumerate(config.experiments):
@@ -124,7 +142,8 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
              f"{scene.rig.width}x{scene.rig.height}", quiet)
         t0 = time.perf_counter()
         res, _ = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
-                          checkpoint=out / "scans" / f"{exp.key}.npz", progress=progress)
+                          checkpoint=folder.checkpoint(exp.key), progress=progress,
+                          say=lambda m: _say(m, False))  # damaged or stale files: always said
         wall = time.perf_counter() - t0
         worst = analysis.worst_frames(res, GALLERY_FRAMES)
         for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
@@ -161,11 +180,11 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
                 if s["group"] != "all"]
             robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
                 by_cond, config.trackers, group_by="condition") if r["group"] != "all"]
-    _write_tables(out, metrics, samples_df)
-    save_npz(out / "gallery.npz", **_gallery_arrays(gallery))
+    write_tables(out, metrics, samples_df)
+    write_gallery(out, **_gallery_arrays(gallery))
     if fig7 is not None:
         key, angle, (image, background, truth_cols), cols = fig7
-        save_npz(out / "figdata.npz", experiment=np.array(key), mirror_angle_deg=np.array(angle), image=image,
+        write_figdata(out, experiment=np.array(key), mirror_angle_deg=np.array(angle), image=image,
                  background=background, truth_columns=truth_cols, trackers=np.array(sorted(cols)),
                  **{f"columns/{n}": c for n, c in cols.items()})
     summary = {
@@ -178,57 +197,11 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
         "coverage": _coverage_table(metrics), "status_codes": STATUS,
         "wall_s": time.perf_counter() - t_start,
     }
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=_json_default))
-    if report:
-        from .report import build_report
-
-        build_report(out, quiet=quiet)
-        summary["wall_s"] = time.perf_counter() - t_start
-        atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=_json_default))
+    write_summary(out, summary)
     return out
-
-
-def _json_default(o):
-    if isinstance(o, (np.integer,)):
-        return int(o)
-    if isinstance(o, (np.floating,)):
-        return float(o)
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
 def _coverage_table(metrics) -> list[dict]:
     m = metrics[metrics["region"] == "all"]
     return [{"experiment": r.experiment, "tracker": r.tracker, "coverage": r.coverage,
              "filled_fraction": r.filled_fraction} for r in m.itertuples()]
-
-
-def _write_tables(out: Path, metrics, samples) -> None:
-    import io
-
-    from .runio import atomic_write_bytes
-
-    buf = io.BytesIO()
-    metrics.to_parquet(buf, index=False)
-    atomic_write_bytes(out / "metrics.parquet", buf.getvalue())
-    atomic_write_text(out / "metrics.csv", metrics.to_csv(index=False))
-    atomic_write_text(out / "samples.csv", samples.to_csv(index=False))
-
-
-def load_run(run_dir) -> dict:
-    """The saved results of a run: ``metrics`` and ``samples`` DataFrames,
-    ``summary`` dict and ``figdata`` arrays (or None)."""
-    import pandas as pd
-
-    run_dir = Path(run_dir)
-    if not (run_dir / "summary.json").exists():
-        raise FileNotFoundError(f"{run_dir} is not a finished run (no summary.json)")
-    return {
-        "metrics": pd.read_parquet(run_dir / "metrics.parquet"),
-        "samples": pd.read_csv(run_dir / "samples.csv"),
-        "summary": json.loads((run_dir / "summary.json").read_text()),
-        "figdata": load_npz(run_dir / "figdata.npz"),
-        "gallery": load_npz(run_dir / "gallery.npz"),
-        "scans": {p.stem: load_npz(p) for p in sorted((run_dir / "scans").glob("*.npz"))},
-    }

@@ -23,7 +23,11 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline"]
+__all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline",
+           "validate_baseline", "comparability", "COMPARED_KEYS", "rows_to_json"]
+
+# what must agree between two runs (or a run and a baseline) for their metrics to be comparable
+COMPARED_KEYS = ("render", "experiments", "seed")
 
 # metric -> (direction, absolute tolerance, relative tolerance)
 TOLERANCES: dict[str, tuple[str, float, float]] = {
@@ -84,12 +88,15 @@ def _clean(v):
 
 def baseline_from_run(run_dir) -> dict:
     """The gated metrics of a finished run, as a baseline document."""
-    import pandas as pd
+    from .runfolder import RunFolderError, load_metrics, load_summary
 
     run_dir = Path(run_dir)
-    metrics = pd.read_parquet(run_dir / "metrics.parquet")
-    summary = json.loads((run_dir / "summary.json").read_text())
+    summary = load_summary(run_dir)
+    metrics = load_metrics(run_dir)
     tols = tolerances_for(summary)
+    missing = [m for m in tols if m not in metrics.columns]
+    if missing:
+        raise RunFolderError(f"{str(run_dir / 'metrics.parquet')!r} has no column {missing[0]!r}")
     entries = {}
     for r in metrics.to_dict("records"):
         key = f"{r['experiment']}/{r['tracker']}/{r['region']}"
@@ -116,16 +123,105 @@ def write_baseline(run_dir, path) -> dict:
     return doc
 
 
+def _number_or_none(v) -> bool:
+    return v is None or (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v))
+
+
+def validate_baseline(doc, where: str = "baseline") -> dict:
+    """Check a baseline document's structure and values; returns it.
+
+    Raises
+    ------
+    ValueError
+        One line naming the first bad entry (``where`` names the file).
+
+    Examples
+    --------
+    >>> validate_baseline({"format": 1, "metrics": {"e/t/all": {"px_mae": "x"}}})
+    Traceback (most recent call last):
+    ...
+    ValueError: baseline: `metrics.e/t/all.px_mae` must be a number or null, got 'x'
+    """
+    if not isinstance(doc, dict) or doc.get("format") != _FORMAT or "metrics" not in doc:
+        raise ValueError(f"{where} is not a stripebench baseline (format {_FORMAT})")
+    metrics = doc["metrics"]
+    if not isinstance(metrics, dict):
+        raise ValueError(f"{where}: `metrics` must be an object, got {metrics!r:.60}")
+    for key, entry in metrics.items():
+        if not isinstance(entry, dict):
+            raise ValueError(f"{where}: `metrics.{key}` must be an object of metric values, got {entry!r:.60}")
+        for m, v in entry.items():
+            if not _number_or_none(v):
+                raise ValueError(f"{where}: `metrics.{key}.{m}` must be a number or null, got {v!r:.60}")
+    tols = doc.get("tolerances")
+    if tols is not None:
+        if not isinstance(tols, dict):
+            raise ValueError(f"{where}: `tolerances` must be an object, got {tols!r:.60}")
+        for m, t in tols.items():
+            if not isinstance(t, dict) or set(t) != {"direction", "abs", "rel"}:
+                raise ValueError(f"{where}: `tolerances.{m}` must have exactly `direction`, `abs` and `rel`, "
+                                 f"got {t!r:.80}")
+            if t["direction"] not in ("lower", "higher"):
+                raise ValueError(f"{where}: `tolerances.{m}.direction` must be 'lower' or 'higher', "
+                                 f"got {t['direction']!r}")
+            for k in ("abs", "rel"):
+                if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
+                    raise ValueError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
+    cfg = doc.get("config")
+    if cfg is not None and not isinstance(cfg, dict):
+        raise ValueError(f"{where}: `config` must be an object, got {cfg!r:.60}")
+    return doc
+
+
 def load_baseline(path) -> dict:
+    """Read and check a baseline file (see :func:`validate_baseline`).
+
+    Raises
+    ------
+    FileNotFoundError
+        Unreadable file.
+    ValueError
+        Not JSON, or not a valid baseline.
+    """
     try:
-        doc = json.loads(Path(path).read_text())
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
     except OSError as exc:
         raise FileNotFoundError(f"cannot read baseline {str(path)!r}: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"baseline {str(path)!r} is not valid JSON: {exc}") from None
-    if not isinstance(doc, dict) or doc.get("format") != _FORMAT or "metrics" not in doc:
-        raise ValueError(f"baseline {str(path)!r} is not a stripebench baseline (format {_FORMAT})")
-    return doc
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"baseline {str(path)!r} is not valid JSON: {str(exc).splitlines()[0]}") from None
+    return validate_baseline(doc, f"baseline {str(path)!r}")
+
+
+def comparability(config_a: dict | None, config_b: dict | None) -> list[str]:
+    """What differs between two runs' configurations among :data:`COMPARED_KEYS`
+    (render size and spp, experiments, seed); empty when their metrics are comparable.
+
+    Examples
+    --------
+    >>> comparability({"seed": 0, "render": {"width": 64}, "experiments": []},
+    ...               {"seed": 1, "render": {"width": 128}, "experiments": []})
+    ["render ({'width': 64} vs {'width': 128})", 'seed (0 vs 1)']
+    """
+    if config_a is None or config_b is None:
+        return []
+    out = []
+    for k in COMPARED_KEYS:
+        a, b = config_a.get(k), config_b.get(k)
+        if a != b:
+            if k == "experiments" and isinstance(a, list) and isinstance(b, list):
+                out.append(f"experiments ({len(a)} vs {len(b)}, or different scenes, materials, angles or overrides)")
+            else:
+                out.append(f"{k} ({a!r:.60} vs {b!r:.60})")
+    return out
+
+
+def rows_to_json(rows: list[Row], *, all_rows: bool = True) -> dict:
+    """The counts over all rows and the rows (only the changed ones unless ``all_rows``) as a JSON-friendly dict."""
+    failed = sum(r.failed for r in rows)
+    better = sum(r.verdict == "better" for r in rows)
+    return {"checks": len(rows), "failed": failed, "better": better, "unchanged": len(rows) - failed - better,
+            "rows": [{"key": r.key, "metric": r.metric, "baseline": r.baseline, "now": r.now, "delta": r.delta,
+                      "verdict": r.verdict} for r in rows if all_rows or r.verdict != "ok"]}
 
 
 def _verdict(metric: str, base, now, tol: dict) -> str:

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .experiment import load_run
+from .runfolder import load_run
 from .runio import atomic_write_text
 from .scan import ScanResult
 
@@ -70,6 +70,10 @@ def _pct(v) -> str:
     return "–" if v is None or not np.isfinite(v) else f"{100 * v:.0f} %"
 
 
+def _warn(msg: str) -> None:
+    print(msg, file=sys.stderr)
+
+
 def _num(v, unit="") -> str:
     return "–" if v is None or not np.isfinite(v) else f"{v:.2g}{unit}"
 
@@ -83,8 +87,8 @@ def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
     >>> g = {"n": 10, "within": 0.2, "within_low": 0.06, "within_high": 0.5, "median_abs_mm": 9.0, "n_gross": 4}
     >>> r = {"value": 0.4, "low": 0.1, "high": 0.6}
     >>> verdict_sentence({"dp": "dp4", "baseline": "threshold", "within": "dp4", "rmse": "dp4",
-    ...                   "dp_figures": f, "baseline_figures": g, "ratio": r})[:60]
-    'dp4 is more precise than threshold by both the ±5 mm fraction'
+    ...                   "dp_figures": f, "baseline_figures": g, "ratio": r}).split(" (")[0]
+    'dp4 is more precise than threshold by both the ±5 mm fraction and the RMSE ratio'
     """
     d, b = v["dp"], v["baseline"]
     fd, fb, r = v["dp_figures"], v["baseline_figures"], v["ratio"]
@@ -256,7 +260,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
     from .config import parse
 
     run_dir = Path(run_dir)
-    data = load_run(run_dir) if data is None else data
+    data = load_run(run_dir, say=_warn) if data is None else data
     summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
     cfg = summary["config"]
     config = parse(cfg)
@@ -343,7 +347,7 @@ def _img(path: Path, width: str = "100%") -> str:
 def build_report(run_dir, *, quiet: bool = False) -> Path:
     """Write ``figures/*.png`` and ``report.html`` for a finished run."""
     run_dir = Path(run_dir)
-    data = load_run(run_dir)
+    data = load_run(run_dir, say=_warn)
     figs = make_figures(run_dir, quiet=quiet, data=data)
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]

@@ -50,11 +50,12 @@ def save_npz(path, **arrays) -> None:
 
 
 def load_npz(path) -> dict[str, np.ndarray] | None:
-    """The arrays of an ``.npz`` file, or None if it is missing or unreadable."""
+    """The arrays of an ``.npz`` file, or None if it is missing or unreadable
+    (truncated, bad CRC, not a zip); :func:`bench.runfolder.read_npz` also says why."""
     try:
-        with np.load(path, allow_pickle=False) as z:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
             return {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError, KeyError):
+    except Exception:  # noqa: BLE001 - any damage means "recompute"
         return None
 
 

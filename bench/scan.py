@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .runio import load_npz, save_npz
+from .runio import save_npz
 
-__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "scan_fingerprint", "source_fingerprint", "STATUS"]
+__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "scan_fingerprint", "source_fingerprint",
+           "tracker_source_files", "code_fingerprint", "STATUS"]
 
 STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image"}
 _CHECKPOINT_S = 10.0
@@ -106,7 +107,31 @@ class ScanResult:
 
     @classmethod
     def from_arrays(cls, key: str, a: dict[str, np.ndarray]) -> "ScanResult":
-        names = [str(n) for n in a["trackers"]]
+        """Rebuild from :meth:`to_arrays`'s output.
+
+        Raises
+        ------
+        ValueError
+            A missing array or arrays whose shapes do not agree (a damaged or foreign checkpoint).
+        """
+        need = ("angles", "truth_columns", "truth_points_cm", "on_object", "done", "variant", "width",
+                "render_seconds", "trackers")
+        missing = [k for k in need if k not in a]
+        if missing:
+            raise ValueError(f"no array {missing[0]!r}")
+        names = [str(n) for n in np.atleast_1d(a["trackers"])] if a["trackers"].size else []
+        for n in names:
+            for part in ("columns", "scores", "seconds", "status", "messages"):
+                if f"{part}/{n}" not in a:
+                    raise ValueError(f"no array '{part}/{n}'")
+        F = a["angles"].shape[0] if a["angles"].ndim == 1 else -1
+        H = a["truth_columns"].shape[1] if a["truth_columns"].ndim == 2 else -1
+        shapes = {"truth_columns": (F, H), "truth_points_cm": (F, H, 3), "on_object": (F, H), "done": (F,),
+                  **{f"{p}/{n}": (F, H) for n in names for p in ("columns", "scores")},
+                  **{f"{p}/{n}": (F,) for n in names for p in ("seconds", "status", "messages")}}
+        for k, shape in shapes.items():
+            if F < 0 or H < 0 or a[k].shape != shape:
+                raise ValueError(f"array {k!r} has shape {a[k].shape}, expected {shape}")
         return cls(
             key=key, angles=a["angles"], truth_columns=a["truth_columns"], truth_points_cm=a["truth_points_cm"],
             on_object=a["on_object"].astype(bool), done=a["done"].astype(bool), variant=str(a["variant"]),
@@ -146,18 +171,55 @@ def source_fingerprint() -> str:
     return h.hexdigest()[:16]
 
 
+def tracker_source_files(trackers_) -> list[Path]:
+    """The source files behind tracker objects, wherever their classes live.
+
+    For every class in each tracker's MRO (the library's own ``trackers``
+    package excepted, :func:`source_fingerprint` covers it): the ``.py`` files
+    of its top-level package, or its module file when it is a plain module.
+    Entry-point plugins are included, so editing a plugin invalidates its results.
+    """
+    seen: set[Path] = set()
+    for t in trackers_:
+        for cls in type(t).__mro__:
+            top = cls.__module__.split(".")[0]
+            if top in ("builtins", "abc", "trackers"):
+                continue
+            mod = sys.modules.get(top)
+            if mod is None:
+                continue
+            paths = getattr(mod, "__path__", None)
+            if paths is not None:
+                for root in paths:
+                    seen.update(Path(root).rglob("*.py"))
+            elif getattr(mod, "__file__", None):
+                seen.add(Path(mod.__file__))
+    return sorted(p.resolve() for p in seen if p.is_file())
+
+
+def code_fingerprint(trackers_=()) -> str:
+    """:func:`source_fingerprint` plus the source of the given trackers' own modules (plugins)."""
+    import hashlib
+
+    h = hashlib.sha256(source_fingerprint().encode())
+    for f in tracker_source_files(trackers_):
+        h.update(str(f).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
 def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
-    """Everything a scan's results depend on, hashed."""
+    """Everything a scan's results depend on, hashed (plugin trackers' sources included)."""
     from .runio import config_hash
 
     params = {k: v for k, v in scene.params.items() if k not in ("cache", "cache_dir")}
     return config_hash({"scene": scene.name, "params": params, "spp": spp, "seed": seed,
                         "trackers": {n: repr(t) for n, t in sorted(trackers_.items())},
-                        "source": source_fingerprint()})
+                        "source": code_fingerprint(trackers_.values())})
 
 
 def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path,
-             progress: bool = True, keep_frame: int | None = None):
+             progress: bool = True, keep_frame: int | None = None, say=None):
     """Render and track one scan, resuming from ``checkpoint`` if it matches.
 
     Parameters
@@ -176,6 +238,9 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
         tqdm bar on stderr.
     keep_frame : int, optional
         Index of a frame whose image to return as well (for figures).
+    say : callable, optional
+        Receives a one-line note when the checkpoint is unreadable, damaged or
+        made by other code or settings (it is then recomputed).
 
     Returns
     -------
@@ -186,16 +251,25 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
     names = list(trackers_)
     angles = np.asarray(angles, float)
     fingerprint = scan_fingerprint(scene, trackers_, spp, seed)
+    from .runfolder import read_npz
+
     res = None
-    saved = load_npz(checkpoint) if checkpoint.exists() else None
+    saved, why = read_npz(checkpoint)
     if saved is not None:
         try:
             prev = ScanResult.from_arrays(key, saved)
+        except (KeyError, ValueError, TypeError) as exc:
+            prev, why = None, f"damaged: {exc}"
+        if prev is not None:
             if (np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names)
+                    and prev.truth_columns.shape[1] == scene.rig.height
                     and str(saved.get("fingerprint", "")) == fingerprint):
                 res = prev
-        except KeyError:
-            res = None
+            elif prev.done.any():
+                why = "made by other code, trackers or settings"
+    if why and say is not None:
+        say(f"stripebench: checkpoint {checkpoint} is {why if why.startswith('made') else 'unreadable (' + why + ')'}: "
+            "recomputing that scan")
     if res is None:
         res = _empty(key, angles, scene.rig.height, names)
     res.fingerprint = fingerprint

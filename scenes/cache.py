@@ -12,7 +12,9 @@ mirror angle, seed, Mitsuba and drjit versions, the variant and
 
 Files are written to a temporary name in the same folder and moved into place
 with ``os.replace`` (atomic on POSIX), so concurrent workers never see half a
-file.  A file that fails to load is treated as missing (and overwritten).
+file.  Each file also stores its own key (``__key__``).  A file that fails to
+load, holds another key or arrays whose shapes disagree is reported in one line
+on stderr and treated as missing (re-rendered and overwritten).
 Location: ``cache_dir`` argument, else ``$STRIPEBENCH_CACHE_DIR``, else
 ``~/.cache/stripebench``.
 """
@@ -22,6 +24,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import sys
 import tempfile
 from pathlib import Path
 from typing import Dict, Optional
@@ -66,16 +69,50 @@ def _path(root: Path, k: str) -> Path:
     return root / k[:2] / f"{k}.npz"
 
 
+_KEY = "__key__"
+
+
+def _problem(arrays: Dict[str, np.ndarray], k: str) -> Optional[str]:
+    """Why the arrays read under ``k`` cannot be the entry for ``k`` (None if they can)."""
+    stored = arrays.get(_KEY)
+    if stored is not None and str(stored) != k:
+        return f"it holds the entry {str(stored)[:12]}..."
+    laser = arrays.get("laser")
+    if laser is None:
+        return None
+    if laser.ndim != 2:
+        return f"`laser` has shape {laser.shape}, not (H, W)"
+    H = laser.shape[0]
+    expect = {"ambient": laser.shape, "columns": (H,), "points_cm": (H, 3), "on_object": (H,)}
+    for name, shape in expect.items():
+        if name in arrays and arrays[name].shape != shape:
+            return f"`{name}` has shape {arrays[name].shape}, expected {shape}"
+    return None
+
+
 def load(root: Path, k: str) -> Optional[Dict[str, np.ndarray]]:
-    """The arrays stored under ``k``, or None when absent or unreadable."""
+    """The arrays stored under ``k``, or None when absent, unreadable or mismatched.
+
+    An unreadable file (truncated, corrupt, pickled), one that holds another
+    key's entry or arrays whose shapes disagree gives one line on stderr and
+    None, so the caller re-renders and overwrites it.
+    """
     p = _path(root, k)
     if not p.exists():
         return None
     try:
         with open(p, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            return {name: z[name] for name in z.files}
-    except Exception:  # corrupt, truncated, foreign: re-render
-        return None
+            arrays = {name: z[name] for name in z.files}
+    except Exception as exc:  # corrupt, truncated, foreign: re-render
+        why = f"unreadable ({type(exc).__name__})"
+    else:
+        why = _problem(arrays, k)
+        if why is None:
+            arrays.pop(_KEY, None)
+            return arrays
+    print(f"stripebench: render cache entry {p} is {why if why.startswith('unreadable') else 'wrong: ' + why}: "
+          "re-rendering", file=sys.stderr)
+    return None
 
 
 def store(root: Path, k: str, arrays: Dict[str, np.ndarray]) -> Path:
@@ -85,7 +122,7 @@ def store(root: Path, k: str, arrays: Dict[str, np.ndarray]) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=p.parent)
     try:
         with os.fdopen(fd, "wb") as f:
-            np.savez(f, **arrays)
+            np.savez(f, **arrays, **{_KEY: np.array(k)})
         os.replace(tmp, p)
     except BaseException:
         try:

@@ -37,7 +37,12 @@ from .objects import BACKDROP_DISTANCE_CM, BACKGROUNDS, SUPPORTS
 from .rig import Rig
 from .sensor import SensorModel
 
-__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "validate"]
+__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "MAX_SIZE", "MAX_SAMPLES", "validate"]
+
+# upper bounds that keep Mitsuba and memory sane: image sides, spp, and the
+# samples of one pass (Mitsuba's wavefront counts them in 32 bits)
+MAX_SIZE = {"width": 8192, "height": 7680, "spp": 65536, "ambient_spp": 65536, "n_angles": 100000}
+MAX_SAMPLES = 2**32 - 1
 
 SENSOR_KEYS = ("f_number", "lens_transmission", "exposure_ms", "quantum_efficiency", "full_well_e",
                "gain_e_per_dn", "read_noise_e", "black_level_dn")
@@ -119,6 +124,12 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
     p["filter_peak"] = _checks.in_range("filter_peak", p["filter_peak"], 0.0, 1.0, lo_open=True)
     for k in ("width", "height", "spp", "ambient_spp", "n_angles"):
         p[k] = _checks.positive_int(k, p[k])
+        if p[k] > MAX_SIZE[k]:
+            raise ValueError(f"`{k}` must be at most {MAX_SIZE[k]}, got {p[k]!r}")
+    for k in ("spp", "ambient_spp"):
+        if p["width"] * p["height"] * p[k] > MAX_SAMPLES:
+            raise ValueError(f"`width` x `height` x `{k}` must be at most 2**32 - 1 samples (Mitsuba's limit), "
+                             f"got {p['width']}x{p['height']}x{p[k]}")
     rig = Rig()
     if not math.isclose(rig.sensor_width_mm / p["width"], rig.sensor_height_mm / p["height"], rel_tol=1e-9):
         raise ValueError(f"`width` x `height` must keep square pixels ({rig.width}:{rig.height}, e.g. 64x60, "

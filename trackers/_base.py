@@ -74,7 +74,10 @@ class Tracker(abc.ABC):
     Subclasses declare their parameters as keyword arguments of ``__init__``
     and store them unchanged under the same attribute names (scikit-learn's
     rule: no validation and no work in the constructor; parameters are
-    validated when :meth:`track` is called).
+    validated when :meth:`track` is called), and override
+    :meth:`find_stripe` (the public hook; older trackers override ``_track``,
+    which :meth:`find_stripe` calls by default) and, if they have parameters,
+    :meth:`validate_params`. See ``docs/plugins.md``.
 
     Class attributes
     ----------------
@@ -88,6 +91,11 @@ class Tracker(abc.ABC):
 
     name: ClassVar[str] = ""
     subpixel: ClassVar[bool] = False
+
+    def __new__(cls, *args, **kwargs):
+        if cls.find_stripe is Tracker.find_stripe and cls._track is Tracker._track:
+            raise TypeError(f"Can't instantiate {cls.__name__}: it must override find_stripe(image, background)")
+        return super().__new__(cls)
 
     @classmethod
     def _param_names(cls) -> list[str]:
@@ -129,16 +137,42 @@ class Tracker(abc.ABC):
         img = check_image(image)
         bg = check_background(background, img.shape)
         self._validate_params()
-        track = self._track(img, bg)
+        track = self.find_stripe(img, bg)
         if track.columns.shape != (img.shape[0],):
             raise RuntimeError(
                 f"{type(self).__name__} returned {track.columns.shape[0]} rows for an image of {img.shape[0]}"
             )
         return track
 
-    def _validate_params(self) -> None:
-        """Raise ``ValueError`` naming a bad parameter (override)."""
+    def validate_params(self) -> None:
+        """Raise ``ValueError`` naming a bad parameter and echoing its value (override;
+        called by :meth:`track` before :meth:`find_stripe`). The default calls
+        ``_validate_params``, the older name of this hook."""
 
-    @abc.abstractmethod
+    def _validate_params(self) -> None:
+        self.validate_params()
+
+    def find_stripe(self, image: np.ndarray, background: np.ndarray | None) -> Track:
+        """Find the stripe in an already validated frame: the method a tracker overrides.
+
+        :meth:`track` checks the frame and the parameters, calls this, and
+        checks that the result has one entry per image row.
+
+        Parameters
+        ----------
+        image : ndarray, shape (H, W)
+            A 2-D ``uint8`` or ``float64`` frame (never modify it).
+        background : ndarray, shape (H, W), or None
+            The laser-off frame, same dtype rules, or None.
+
+        Returns
+        -------
+        Track
+            Columns and scores of length H (NaN where no stripe).
+
+        The default calls ``self._track(image, background)`` (the older name of this hook).
+        """
+        return self._track(image, background)
+
     def _track(self, image: np.ndarray, background: np.ndarray | None) -> Track:
-        """Track a validated ``uint8`` or ``float64`` image."""
+        raise NotImplementedError(f"{type(self).__name__} must override find_stripe(image, background)")

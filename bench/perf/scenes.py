@@ -1,6 +1,6 @@
 """Rendering speed of ``scenes`` at 512x480 on this machine.
 
-Usage: ``python -m bench.perf.scenes [--object hand] [--frames 100] [--per-material 6]
+Usage: ``stripebench perf --scenes [--object hand] [--frames 100] [--per-material 6]
 [--materials matte,glossy] [--background wall|none] [--support none|table]``
 
 Prints, for each material at the default spp, the frames per second of
@@ -54,7 +54,7 @@ def _per_material(obj: str, material: str, n: int, geometry: dict):
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench.perf.scenes", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="stripebench perf --scenes", description=__doc__.splitlines()[0].replace("``", ""))
     ap.add_argument("--object", default="hand", choices=scenes.available())
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--per-material", type=int, default=6, help="frames timed per material")

@@ -135,3 +135,28 @@ def test_background_and_support_are_experiment_overrides():
         parse({**GOOD, "experiments": [{**e, "support": "box"}]})
     with pytest.raises(ConfigError, match=r"`experiments\[0\]`: `background_distance_cm` must put the wall behind"):
         parse({**GOOD, "experiments": [{**e, "background": "wall", "background_distance_cm": 30.0}]})
+
+
+def test_the_documented_example_configuration_is_valid():
+    import pathlib
+    import re
+    import tomllib
+
+    from bench.config import parse
+
+    doc = (pathlib.Path(__file__).resolve().parents[2] / "docs" / "config.md").read_text()
+    block = re.search(r"```toml\n(.*?)```", doc, re.S).group(1)
+    cfg = parse(tomllib.loads(block))
+    assert cfg.trackers == ("threshold", "centroid", "dp4", "dp8_eps2") and len(cfg.experiments) == 2
+    assert cfg.experiments[1].overrides == {"ambient_lux": 200.0, "laser_power_mw": 5.0}
+
+
+def test_schema_has_one_home():
+    from dataclasses import fields
+
+    from bench import config
+    from scenes.params import DEFAULTS
+
+    assert config._TOP == {f.name for f in fields(config.Config)} - {"source", "tracker_specs"}
+    assert set(config.scene_override_keys()) == set(DEFAULTS) - set(config.HARNESS_KEYS)
+    assert config.parse({"experiments": [{"scene": "plane"}]}).n_samples == config.Config.n_samples

@@ -121,6 +121,7 @@ def test_checkpoint_of_other_angles_is_not_reused(tmp_path):
     assert scene.renders == 4
 
 
+@pytest.mark.slow
 def test_a_checkpoint_made_with_other_tracker_parameters_is_not_resumed(tmp_path):
     import scenes
 
@@ -137,3 +138,30 @@ def test_a_checkpoint_made_with_other_tracker_parameters_is_not_resumed(tmp_path
     run_scan("p", scene, [0.0, 0.5], {"threshold": trackers.make("threshold", k_sigma=9.0)}, spp=1, seed=0,
              checkpoint=ckpt, progress=False)
     assert len(calls) == 4  # other parameters: computed afresh
+
+
+@pytest.mark.parametrize("damage", ["columns of another height", "missing array", "bit flip"])
+def test_a_damaged_checkpoint_is_reported_in_one_line_and_recomputed(damage, tmp_path):
+    from bench.runio import load_npz, save_npz
+
+    scene = SyntheticScene()
+    ckpt = tmp_path / "scan.npz"
+    trs = {"threshold": trackers.make("threshold")}
+    first, _ = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    arrays = load_npz(ckpt)
+    if damage == "columns of another height":
+        arrays["columns/threshold"] = np.zeros((2, 7))
+        save_npz(ckpt, **arrays)
+    elif damage == "missing array":
+        del arrays["scores/threshold"]
+        save_npz(ckpt, **arrays)
+    else:
+        data = bytearray(ckpt.read_bytes())
+        data[len(data) // 2] ^= 0xFF
+        ckpt.write_bytes(bytes(data))
+    notes = []
+    fresh = SyntheticScene()
+    res, _ = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False,
+                      say=notes.append)
+    assert fresh.renders == 2 and len(notes) == 1 and "recomputing" in notes[0]
+    np.testing.assert_array_equal(res.columns["threshold"], first.columns["threshold"])

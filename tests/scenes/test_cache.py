@@ -40,3 +40,38 @@ def test_cache_root_resolution(tmp_path, monkeypatch):
     assert C.cache_root(tmp_path / "arg") == tmp_path / "arg"
     monkeypatch.delenv(C.ENV_CACHE_DIR)
     assert C.cache_root().parts[-2:] == (".cache", "stripebench")
+
+
+def _entry(H=4, W=5):
+    return {"laser": np.zeros((H, W), np.float32), "ambient": np.zeros((H, W), np.float32),
+            "columns": np.zeros(H), "points_cm": np.zeros((H, 3)), "on_object": np.zeros(H, bool)}
+
+
+def test_an_entry_stored_under_another_key_is_reported_and_ignored(tmp_path, capsys):
+    a, b = C.key({"a": 1}), C.key({"b": 2})
+    pa = C.store(tmp_path, a, _entry())
+    pb = C._path(tmp_path, b)
+    pb.parent.mkdir(parents=True, exist_ok=True)
+    pb.write_bytes(pa.read_bytes())  # a's file in b's place
+    assert C.load(tmp_path, b) is None
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "render cache entry" in err[0] and "re-rendering" in err[0]
+    back = C.load(tmp_path, a)
+    assert "__key__" not in back and set(back) == set(_entry())
+
+
+def test_an_entry_with_arrays_of_the_wrong_shape_is_reported_and_ignored(tmp_path, capsys):
+    k = C.key({"c": 3})
+    bad = {**_entry(), "columns": np.zeros(7)}
+    C.store(tmp_path, k, bad)
+    assert C.load(tmp_path, k) is None
+    assert "`columns` has shape (7,), expected (4,)" in capsys.readouterr().err
+
+
+def test_a_corrupt_entry_is_reported_in_one_line(tmp_path, capsys):
+    k = C.key({"d": 4})
+    p = C.store(tmp_path, k, _entry())
+    p.write_bytes(b"PK\x03\x04garbage")
+    assert C.load(tmp_path, k) is None
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "unreadable" in err[0]

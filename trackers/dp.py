@@ -43,7 +43,6 @@ __all__ = [
     "DP8Tracker",
 ]
 
-_SQRT2 = float(np.sqrt(2.0))
 _TIE_TOL = 1e-11  # relative tolerance deciding that two path costs tie
 
 
@@ -51,6 +50,13 @@ def _check_connectivity(connectivity) -> bool:
     if connectivity not in (4, 8) or isinstance(connectivity, bool):
         raise ValueError(f"`connectivity` must be 4 or 8, got {connectivity!r}")
     return connectivity == 8
+
+
+def _check_h_weight(h_weight) -> float:
+    check_real("h_weight", h_weight, low=0, low_open=True)
+    if not np.isfinite(h_weight):
+        raise ValueError(f"`h_weight` must be finite, got {h_weight!r}")
+    return float(h_weight)
 
 
 def _half_cost(image: np.ndarray, eps: float):
@@ -100,13 +106,13 @@ def _check_cost(cost) -> np.ndarray:
     return c
 
 
-def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool):
+def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool, h_weight: float = 1.0):
     H, W = hc.shape
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, True, D, rowmin, centre)
+    K.accumulate(hc, conn8, True, D, rowmin, centre, h_weight)
     rows = np.empty(H * W, dtype=np.int64)
     cols = np.empty(H * W, dtype=np.int64)
-    n = K.backtrack(D, hc, conn8, rows, cols)
+    n = K.backtrack(D, hc, conn8, rows, cols, h_weight)
     if n < 0:  # pragma: no cover - would mean a bug in the kernels
         raise RuntimeError("backtracking did not reach the top row")
     rows = rows[:n][::-1].copy()
@@ -121,7 +127,7 @@ def _stats(hc: np.ndarray):
     return rowmin, centre
 
 
-def shortest_path(cost, connectivity: int = 4):
+def shortest_path(cost, connectivity: int = 4, h_weight: float = 1.0):
     """Global minimum-cost path from the top row to the bottom row.
 
     Parameters
@@ -129,6 +135,11 @@ def shortest_path(cost, connectivity: int = 4):
     cost : array_like, shape (H, W)
         Positive, finite node costs.
     connectivity : {4, 8}, default 4
+    h_weight : float, default 1.0
+        Weight of a horizontal step relative to a vertical one, finite and
+        > 0: a horizontal edge costs ``h_weight * (c_p + c_q) / 2``, a
+        vertical one ``(c_p + c_q) / 2``, a diagonal one (8-connectivity)
+        ``sqrt(1 + h_weight**2) * (c_p + c_q) / 2``.
 
     Returns
     -------
@@ -136,8 +147,10 @@ def shortest_path(cost, connectivity: int = 4):
         The path's pixels from the top row (``rows[0] == 0``) to the bottom row
         (``rows[-1] == H - 1``); consecutive pixels are neighbours.
     total_cost : float
-        Sum over the path's edges of ``(c_p + c_q) / 2`` times the step length
-        (the same cost as :class:`skimage.graph.MCP_Geometric`).
+        Sum over the path's edges of ``(c_p + c_q) / 2`` times the edge's
+        weight (1 vertical, ``h_weight`` horizontal, ``sqrt(1 + h_weight**2)``
+        diagonal; with ``h_weight=1`` the same cost as
+        :class:`skimage.graph.MCP_Geometric`).
 
     Notes
     -----
@@ -154,12 +167,13 @@ def shortest_path(cost, connectivity: int = 4):
     """
     c = _check_cost(cost)
     conn8 = _check_connectivity(connectivity)
+    hw = _check_h_weight(h_weight)
     hc = 0.5 * c
-    rows, cols, D = _solve(hc, *_stats(hc), conn8)
+    rows, cols, D = _solve(hc, *_stats(hc), conn8, hw)
     return rows, cols, float(D[-1, cols[-1]])
 
 
-def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0) -> np.ndarray:
+def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0, h_weight: float = 1.0) -> np.ndarray:
     """The accumulated cost field of an image (the paper's Fig. 7b).
 
     Every node's exact minimum cost to the top row (the goal line); the
@@ -171,6 +185,8 @@ def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0) -> np.nd
     image : array_like, shape (H, W)
     connectivity : {4, 8}, default 4
     eps : float, default 1.0
+    h_weight : float, default 1.0
+        Horizontal edge weight (see :func:`shortest_path`).
 
     Returns
     -------
@@ -179,14 +195,15 @@ def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0) -> np.nd
     img = check_image(image)
     check_real("eps", eps, low=0, low_open=True)
     conn8 = _check_connectivity(connectivity)
+    hw = _check_h_weight(h_weight)
     hc, rowmin, centre = _half_cost(img, eps)
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, False, D, rowmin, centre)
+    K.accumulate(hc, conn8, False, D, rowmin, centre, hw)
     D[-1, :] = D[-1].min()
     return D
 
 
-def shortest_path_reference(cost, connectivity: int = 4, max_iter: int | None = None):
+def shortest_path_reference(cost, connectivity: int = 4, max_iter: int | None = None, h_weight: float = 1.0):
     """The paper's procedure, literally: slow, for tests and teaching.
 
     Forward procedure (sec. 3.2): ``D`` starts at 0 on the goal line (top
@@ -204,14 +221,17 @@ def shortest_path_reference(cost, connectivity: int = 4, max_iter: int | None = 
     """
     c = _check_cost(cost)
     conn8 = _check_connectivity(connectivity)
+    hw = _check_h_weight(h_weight)
     H, W = c.shape
     if max_iter is None:
         max_iter = H * W + 1
-    # neighbour order shared with the fast solver's backtracking
-    moves = [(-1, 0, 1.0), (-1, -1, _SQRT2), (-1, 1, _SQRT2), (0, -1, 1.0), (0, 1, 1.0),
-             (1, 0, 1.0), (1, -1, _SQRT2), (1, 1, _SQRT2)]
+    # neighbour order shared with the fast solver's backtracking; the third
+    # entry is the edge's weight
+    dg = float(np.sqrt(1.0 + hw * hw))
+    moves = [(-1, 0, 1.0), (-1, -1, dg), (-1, 1, dg), (0, -1, hw), (0, 1, hw),
+             (1, 0, 1.0), (1, -1, dg), (1, 1, dg)]
     if not conn8:
-        moves = [m for m in moves if m[2] == 1.0]
+        moves = [m for m in moves if m[0] == 0 or m[1] == 0]
     big = 1e300
     D = np.full((H, W), big)
     D[0, :] = 0.0
@@ -300,8 +320,16 @@ class DPTracker(Tracker):
 
     connectivity = 4
 
-    def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12):
+    #: The row rule (``K.RULE_*``) and the longest walk, in columns, a row may
+    #: hold and still be reported (None: any); class attributes so that the
+    #: measurement in ``bench/perf/dp_rows.py`` can compare the rules.
+    _row_rule = K.RULE_CROSSING
+    _max_walk = None
+
+    def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
+                 h_weight=1.0):
         self.eps = eps
+        self.h_weight = h_weight
         self.k_sigma = k_sigma
         self.min_support = min_support
         self.max_gap = max_gap
@@ -310,6 +338,7 @@ class DPTracker(Tracker):
 
     def _validate_params(self):
         check_real("eps", self.eps, low=0, low_open=True)
+        _check_h_weight(self.h_weight)
         check_real("k_sigma", self.k_sigma, low=0)
         check_real("min_support", self.min_support, low=0, high=1)
         if self.max_gap is not None:
@@ -324,7 +353,7 @@ class DPTracker(Tracker):
         :func:`shortest_path`)."""
         img = check_image(image)
         self._validate_params()
-        rows, cols, D = _solve(*_half_cost(img, self.eps), self.connectivity == 8)
+        rows, cols, D = _solve(*_half_cost(img, self.eps), self.connectivity == 8, float(self.h_weight))
         return rows, cols, float(D[-1, cols[-1]])
 
     def _path_rows(self, image):
@@ -338,16 +367,19 @@ class DPTracker(Tracker):
         H, W = image.shape
         hc, rowmin, centre = _half_cost(image, self.eps)
         conn8 = self.connectivity == 8
+        hw = float(self.h_weight)
         D = np.empty_like(hc)
-        K.accumulate(hc, conn8, True, D, rowmin, centre)
+        K.accumulate(hc, conn8, True, D, rowmin, centre, hw)
         mark = np.zeros((H, W), dtype=np.uint8)
         rows = np.empty(H * W, dtype=np.int64)
         cols = np.empty(H * W, dtype=np.int64)
-        n = K.optimal_nodes(D, hc, conn8, _TIE_TOL, mark, rows, cols)
-        mean_col = np.empty(H)
+        n = K.optimal_nodes(D, hc, conn8, _TIE_TOL, mark, rows, cols, hw)
+        col = np.empty(H)
         contrast = np.empty(H)
         side_sd = np.empty(H)
-        K.marked_rows(image, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), mean_col, contrast, side_sd)
+        span = np.empty(H, dtype=np.int64)
+        K.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), int(self._row_rule),
+                      col, contrast, side_sd, span)
         vmax = float(image.max())
         vmin = float(image.min())
         finite_sd = side_sd[np.isfinite(side_sd)]
@@ -372,7 +404,9 @@ class DPTracker(Tracker):
                     if r - gap_start > self.max_gap:
                         report[gap_start:r] = False
                     gap_start = None
-        return mean_col, z, support, report
+        if self._max_walk is not None:
+            report &= span <= self._max_walk
+        return col, z, support, report
 
     def _track(self, image, background):
         rows = self._path_rows(image)

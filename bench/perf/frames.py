@@ -32,10 +32,12 @@ def _frame(kind: str, height: int, width: int, seed: int) -> np.ndarray:
     yy, xx = np.mgrid[0:height, 0:width]
     if kind == "gaps":
         for _ in range(3):  # long dim stretches and cuts
-            a = int(rng.integers(0, height - height // 6))
-            img[a : a + height // 8] = bg + 0.05 * (img[a : a + height // 8] - bg)
-        b = int(rng.integers(0, height - 20))
-        img[b : b + 15] = bg
+            n = max(1, height // 8)
+            a = int(rng.integers(0, max(1, height - n)))
+            img[a : a + n] = bg + 0.05 * (img[a : a + n] - bg)
+        n = max(1, min(15, height // 8))
+        b = int(rng.integers(0, max(1, height - n)))
+        img[b : b + n] = bg
     elif kind == "blobs":
         for _ in range(12):  # bright blobs (glints) anywhere
             cy, cx = rng.uniform(0, height), rng.uniform(0, width)
@@ -52,8 +54,9 @@ def _frame(kind: str, height: int, width: int, seed: int) -> np.ndarray:
         img += np.roll(other.astype(np.float64), shift, axis=1)
     # the paper's unclear traces in every kind: a dimmed stretch
     if kind not in ("clean", "saturated"):
-        a = int(rng.integers(0, height - 60))
-        img[a : a + 40] = bg + 0.1 * (img[a : a + 40] - bg)
+        n = max(1, min(40, height // 8))
+        a = int(rng.integers(0, max(1, height - n)))
+        img[a : a + n] = bg + 0.1 * (img[a : a + n] - bg)
     return np.clip(np.rint(img), 0, 255).astype(np.uint8)
 
 
@@ -76,7 +79,7 @@ def varied_frames(per_kind: int = 2, seed: int = 0, sizes=SIZES) -> list[tuple[s
 
     Examples
     --------
-    >>> frames = varied_frames(1, sizes=((48, 64),))
+    >>> frames = varied_frames(1, sizes=((48, 64),))  # 7 kinds
     >>> [label for label, _ in frames][:2], frames[0][1].shape
     (['clean 64x48', 'noisy 64x48'], (48, 64))
     """

@@ -22,8 +22,9 @@ class DPSubpixelTracker(DPTracker):
     1. The DP tracker (:class:`~trackers.dp.DPTracker`, same parameters and
        rules) finds the global minimum-cost path, which rows it reports and
        which rows *support* it (contrast ``z > k_sigma`` noise units against
-       the pixels beside the path). Its column in a row, the mean column of
-       the optimal-path nodes there, is robust but whole-pixel.
+       the pixels beside the path). Its column in a row (the DP tracker's
+       row rule: the brightest node where an optimal path enters or leaves
+       the row) is robust but whole-pixel.
     2. In every supporting row the peak is looked for within ``search``
        columns of that column (rounded); if that peak is a local maximum
        (not on the window's edge next to a brighter pixel outside), the

@@ -338,19 +338,37 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
         for r in range(H - 2, -1, -1):
             lb[r] = lb[r + 1] + rowmin[r] + rowmin[r + 1]
         tol = _REL_TOL
-        # an upper bound from a corridor around each row's brightest pixel:
-        # row r spans the brightest pixels of rows r-4..r+4, widened by 8
-        # columns (wide where the brightest pixel jumps: cuts, glints)
+        # an upper bound from a corridor around each row's brightest pixels:
+        # row r spans the brightest pixels of rows r-4..r+4 (all of a row's
+        # tied brightest pixels: a flat row, a cut, spans its whole width),
+        # widened by 8 columns (wide where the brightest pixel jumps: cuts,
+        # glints)
+        rightc = np.empty(H, np.int64)
+        for r in range(H):
+            k = W - 1
+            while hc[r, k] != rowmin[r] and k > centre[r]:
+                k -= 1
+            rightc[r] = k
         left = np.empty(H, np.int64)
         right = np.empty(H, np.int64)
+        fc = centre.astype(np.float64)
+        med = 0
         for r in range(H):
+            # and the median brightest column of every other row within 24
+            # rows (refreshed every 8 rows), so that a glint shorter than
+            # about 24 rows does not pull the corridor off the stripe
+            if r % 8 == 0:
+                a = r - 24 if r >= 24 else 0
+                b = r + 32 if r + 32 < H else H
+                med = int(np.median(fc[a:b:2]))
             a = r - 4 if r >= 4 else 0
             b = r + 4 if r + 4 < H else H - 1
-            mn = centre[a]
-            mx = centre[a]
+            mn = med if med < centre[a] else centre[a]
+            mx = med if med > rightc[a] else rightc[a]
             for i in range(a + 1, b + 1):
                 x = centre[i]
                 mn = x if x < mn else mn
+                x = rightc[i]
                 mx = x if x > mx else mx
             left[r] = mn - 8 if mn >= 8 else 0
             right[r] = mx + 8 if mx + 8 < W else W - 1

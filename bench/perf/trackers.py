@@ -4,7 +4,8 @@ The frame set (:func:`bench.perf.frames.varied_frames`, seeded) holds every
 kind of frame the DP solver finds easy or hard: clean, noisy, long gaps and
 cuts, bright blobs, bright ambient gradients, saturated wide stripes, two
 stripes; at 512x480 and 960x600. For each tracker: the median and the worst
-ms per frame over the set, and the median at 512x480 only. A frame's time is
+ms per frame over the set, the median at 512x480 only, and for the DP
+trackers the median ratio of MCP's time (same connectivity) to theirs. A frame's time is
 the least of ``--repeats`` calls, by default in the calling thread's CPU
 time (``--clock cpu``: on a shared machine wall time mostly measures the
 other processes; ``--clock wall`` for an idle one).
@@ -196,16 +197,20 @@ def main(argv=None) -> int:
     def med_small(a):
         return float(np.median(a[small])) if small.any() else None
 
-    print(f"{'tracker':<14}{'median ms':>10}{'worst ms':>10}{'512x480 ms':>12}{'1st call cold s':>17}"
+    print(f"{'tracker':<14}{'median ms':>10}{'worst ms':>10}{'512x480 ms':>12}{'x MCP':>8}{'1st call cold s':>17}"
           f"{'1st call cached s':>19}")
     rows = []
     for n in names:
         a = ms[n]
+        conn = getattr(trackers.make(n), "connectivity", None)  # the DP trackers: against MCP on their graph
+        ratio = float(np.median(mcp[conn] / a[sub])) if conn in mcp else None
         r = {"tracker": n, "median_ms": float(np.median(a)), "worst_ms": float(a.max()), "median_ms_512x480": med_small(a),
+             "speedup_vs_mcp": ratio,
              "first_call_cold_s": jit.get(n, (None, None))[0], "first_call_cached_s": jit.get(n, (None, None))[1]}
         rows.append(r)
         print(f"{n:<14}{r['median_ms']:>10.3f}{r['worst_ms']:>10.2f}{_fmt(r['median_ms_512x480'], '.3f'):>12}"
-              f"{_fmt(r['first_call_cold_s'], '.2f'):>17}{_fmt(r['first_call_cached_s'], '.2f'):>19}")
+              f"{_fmt(ratio, '.0f'):>8}{_fmt(r['first_call_cold_s'], '.2f'):>17}"
+              f"{_fmt(r['first_call_cached_s'], '.2f'):>19}")
     print(f"{'exact solver':<24}{'median ms':>10}{'worst ms':>10}{'MCP ms (median)':>17}{'x MCP (median)':>16}")
     solver_rows = []
     for (conn, hw), a in solver.items():

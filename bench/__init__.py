@@ -10,7 +10,7 @@ enforces it, so a new module must be added to :data:`LAYERS`):
    saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
    ``scan``, ``experiment``, ``gate``, ``real``, ``real_run``
 2. reporting (figures and the HTML report from a saved run): ``figures``, ``report``
-3. studies (benchmarks on synthetic frames): ``estimators``, ``perf``
+3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``
 4. the command line: ``cli``
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
@@ -21,6 +21,6 @@ LAYERS = {
     "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis"),
     "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "gate", "real", "real_run"),
     "reporting": ("figures", "report"),
-    "studies": ("estimators", "perf"),
+    "studies": ("estimators", "perf", "tune"),
     "cli": ("cli",),
 }

@@ -22,8 +22,9 @@ class DPSubpixelTracker(DPTracker):
     1. The DP tracker (:class:`~trackers.dp.DPTracker`, same parameters and
        rules) finds the global minimum-cost path, which rows it reports and
        which rows *support* it (contrast ``z > k_sigma`` noise units against
-       the pixels beside the path). Its column in a row, the mean column of
-       the optimal-path nodes there, is robust but whole-pixel.
+       the pixels beside the path). Its column in a row (the DP tracker's
+       row rule: the brightest node where an optimal path enters or leaves
+       the row) is robust but whole-pixel.
     2. In every supporting row the peak is looked for within ``search``
        columns of that column (rounded); if that peak is a local maximum
        (not on the window's edge next to a brighter pixel outside), the
@@ -39,7 +40,7 @@ class DPSubpixelTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, side_inner, side_outer
+    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight
         As for :class:`~trackers.dp.DPTracker`.
     estimator : {'gauss3', 'parabolic', 'blais_rioux', 'centroid'}, default 'blais_rioux'
         The sub-pixel estimator (see ``docs/estimators.png``).
@@ -57,9 +58,9 @@ class DPSubpixelTracker(DPTracker):
     """
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 estimator="blais_rioux", search=2, frac=0.5, half_window=7):
+                 estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=1.0):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
-                         side_inner=side_inner, side_outer=side_outer)
+                         side_inner=side_inner, side_outer=side_outer, h_weight=h_weight)
         self.estimator = estimator
         self.search = search
         self.frac = frac

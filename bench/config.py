@@ -43,7 +43,7 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
-           "parse", "profile", "with_overrides", "PROFILES"]
+           "read_toml", "parse", "profile", "with_overrides", "PROFILES", "SCENE_OVERRIDES"]
 
 PROFILES = ("paper", "quick", "ci")
 _TOP = {"name", "seed", "trackers", "baselines", "dp", "n_samples", "n_boot", "restore", "render", "experiments"}
@@ -53,6 +53,7 @@ _SCENE_OVERRIDES = {"ambient_lux", "laser_power_mw", "line_fwhm_mrad", "laser_fa
                     "f_number", "read_noise_e", "gain_e_per_dn", "background", "background_distance_cm",
                     "background_albedo", "support", "support_albedo"}
 _EXPERIMENT = {"name", "condition", "scene", "material", "n_angles", "angles"} | _SCENE_OVERRIDES
+SCENE_OVERRIDES = frozenset(_SCENE_OVERRIDES)  # the scene parameters an experiment (or a sweep) may set
 
 
 class ConfigError(ValueError):
@@ -289,6 +290,8 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
 
     if not isinstance(data, dict):
         raise ConfigError(f"a configuration must be a table, got {type(data).__name__}")
+    if "sweep" in data:
+        raise ConfigError("this configuration has a `[sweep]` table: run it with `stripebench sweep CONFIG --out DIR`")
     _unknown("", data, _TOP)
     name = data.get("name", "custom")
     if not isinstance(name, str) or not name:
@@ -359,6 +362,19 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     if dup:
         raise ConfigError(f"`experiments` lists {dup[0]!r} twice")
     return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, restore, specs)
+
+
+def read_toml(path) -> dict[str, Any]:
+    """The TOML document at ``path`` as a dict (:class:`ConfigError` if unreadable or invalid)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"cannot read configuration {str(p)!r}: {exc.strerror}") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
 
 
 def load(path) -> Config:

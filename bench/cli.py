@@ -140,6 +140,10 @@ def _cmd_perf(args) -> int:
         from .perf import scenes as perf_scenes
 
         return perf_scenes.main(args.rest[1:])
+    if args.rest and args.rest[0] == "--sweep":
+        from .perf import sweep as perf_sweep
+
+        return perf_sweep.main(args.rest[1:])
     from .perf import trackers as perf_trackers
 
     return perf_trackers.main(args.rest)
@@ -321,7 +325,7 @@ def build_parser() -> argparse.ArgumentParser:
                        add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_estimators)
-    p = sub.add_parser("perf", help="speed benchmarks: trackers (default) or `perf --scenes`", add_help=False)
+    p = sub.add_parser("perf", help="speed benchmarks: trackers (default), `perf --scenes` or `perf --sweep`", add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     _add_sweep_parser(sub)

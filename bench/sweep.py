@@ -329,8 +329,12 @@ def _execute(units: list[dict], on_result: Callable[[int, dict], None], *, sched
         else:
             n = workers if workers is not None else (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
                                                      else os.cpu_count() or 1)
+            from scenes import variant as _variant
+
+            # the workers take this process's Mitsuba variant instead of each probing for one
+            env = {_variant.ENV_VARIANT: _variant.choose()}
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                   dashboard_address=None)
+                                   dashboard_address=None, env=env)
             client = Client(cluster, timeout=connect_timeout_s)
     except BaseException:
         if cluster is not None:

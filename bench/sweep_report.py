@@ -107,7 +107,8 @@ def curves(table, sweep, metrics=CURVE_METRICS) -> list[dict]:
 
 
 def per_unit_costs(units: list[dict]) -> list[dict]:
-    """Measured costs per image size: render s per frame, evaluation s per frame x point x repeat.
+    """Measured costs per image size: render s per frame, evaluation s per frame x point x repeat
+    (and the units' total ``setup_s``: trackers made and compiled, first-call imports).
 
     Examples
     --------
@@ -124,6 +125,7 @@ def per_unit_costs(units: list[dict]) -> list[dict]:
         ev = sum(u["evaluations"] for u in us)
         out.append({"width": w, "height": h, "units": len(us), "frames": frames, "evaluations": ev,
                     "render_s": sum(u["render_s"] for u in us), "eval_s": sum(u["eval_s"] for u in us),
+                    "setup_s": sum(u.get("setup_s", 0.0) for u in us),
                     "render_s_per_frame": sum(u["render_s"] for u in us) / frames if frames else float("nan"),
                     "eval_s_per_evaluation": sum(u["eval_s"] for u in us) / ev if ev else float("nan")})
     return out

@@ -223,7 +223,9 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
     Returns
     -------
     dict with ``rows`` (list of dict: one per grid point x repeat x tracker, see
-    the module docstring), ``render_s`` (the render batch, s), ``setup_s`` (making
+    the module docstring), ``render_s`` (the render batch, s), ``first_render_s``
+    (its first frame: with a cold cache that includes loading the Mitsuba scene
+    and JIT compilation, s), ``setup_s`` (making
     and compiling the trackers, first-call imports, s), ``eval_s`` (every grid
     point and repeat: scaling, sensor, trackers, metrics, s), ``frames`` (renders
     in the batch), ``evaluations`` (frames x points x repeats), ``source`` (the
@@ -242,8 +244,11 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
     seed, render, angles = spec["seed"], spec["render"], np.asarray(spec["angles"], float)
     batch = scenes.make(spec["scene"], material=material, seed=seed, **render, **base)
     spp = batch.params["spp"]
-    for a in angles:  # the render batch: fills this worker's render cache
+    first_render_s = float("nan")
+    for i, a in enumerate(angles):  # the render batch: fills this worker's render cache
         batch.render(float(a), spp=spp, seed=seed)
+        if i == 0:
+            first_render_s = time.perf_counter() - t0
     render_s = time.perf_counter() - t0
 
     t1 = time.perf_counter()
@@ -297,7 +302,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
                        "false_detections": a_["false_detections"], "failed_frames": o["failed_frames"]}
                 rows.append(row)
     n_eval = len(angles) * len(spec["points"]) * spec["repeats"]
-    return {"rows": rows, "render_s": render_s, "setup_s": setup_s, "eval_s": time.perf_counter() - t1,
+    return {"rows": rows, "render_s": render_s, "first_render_s": first_render_s, "setup_s": setup_s, "eval_s": time.perf_counter() - t1,
             "frames": int(len(angles)),
             "evaluations": int(n_eval), "source": source_fingerprint(), "host": socket.gethostname(),
             "pid": os.getpid(), "width": int(W), "height": int(H), "trackers": names}
@@ -466,6 +471,7 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
                   "points": len(u["points"]), "repeats": u["repeats"], "frames": results[i]["frames"],
                   "evaluations": results[i]["evaluations"], "render_s": results[i]["render_s"],
                   "setup_s": results[i].get("setup_s", float("nan")),
+                  "first_render_s": results[i].get("first_render_s", float("nan")),
                   "eval_s": results[i]["eval_s"], "host": results[i]["host"],
                   "width": results[i]["width"], "height": results[i]["height"]}
                  for i, u in enumerate(units)]

@@ -283,3 +283,10 @@ def test_bad_engine_arguments(tmp_path):
         run_sweep(cfg, s, tmp_path, workers=-1)
     with pytest.raises(ValueError, match="`scheduler` must be 'sync' or an address like tcp://HOST:PORT, got 'x'"):
         run_sweep(cfg, s, tmp_path, scheduler="x")
+
+
+def test_docstring_examples():
+    import doctest
+
+    result = doctest.testmod(sw, extraglobs={"np": np})
+    assert result.attempted > 0 and result.failed == 0

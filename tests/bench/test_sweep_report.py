@@ -66,3 +66,12 @@ def test_per_unit_costs_sum_over_units_of_one_size():
 def test_curve_figure_writes_a_png(tmp_path):
     path = curve_figure(curves(_table(), SWEEP), SWEEP.to_dict(), tmp_path / "c.png", title="t")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_docstring_examples():
+    import doctest
+
+    import bench.sweep_report
+
+    result = doctest.testmod(bench.sweep_report, extraglobs={"np": np})
+    assert result.attempted > 0 and result.failed == 0

@@ -173,7 +173,8 @@ def curve_figure(curve_records: list[dict], sweep_dict: dict, path, metrics=CURV
                 y = np.array([pts[v]["mean"] if v in pts else np.nan for v in values], float)
                 lo = np.array([pts[v]["low"] if v in pts else np.nan for v in values], float)
                 hi = np.array([pts[v]["high"] if v in pts else np.nan for v in values], float)
-                ax.plot(xs, y, "o-", color=colors(ti % 10), ms=3, lw=1.2, label=tr)
+                ax.plot(xs, y, color=colors(ti % 10), marker="osv^Dp*h"[ti % 8], ms=4 if ti else 5, mfc="none",
+                        ls=("-", "--", "-.", ":")[ti % 4], lw=1.2, label=tr)
                 if np.isfinite(lo).any():
                     ax.fill_between(xs, lo, hi, color=colors(ti % 10), alpha=0.18, lw=0)
             if numeric:

@@ -58,12 +58,12 @@ import numpy as np
 
 from .config import SCENE_OVERRIDES, Config, ConfigError, parse, read_toml
 from .runio import atomic_write_text, config_hash, runs_root
+from .sweep_report import PAPER_POINT  # noqa: F401  (re-exported: the paper's operating point)
 
 __all__ = ["Sweep", "SweepError", "parse_sweep", "load", "plan", "run_unit", "run_sweep", "default_sweep_dir",
            "load_sweep", "SWEEP_KEYS", "TABLE_METRICS", "PAPER_POINT"]
 
 SWEEP_KEYS = frozenset(SCENE_OVERRIDES | {"material"})
-PAPER_POINT = {"ambient_lux": 400.0, "laser_power_mw": 3.0}  # the paper's operating point
 TABLE_METRICS = ("hit_rate", "depth_mae_mm", "depth_rmse_mm", "within_5mm", "coverage", "outlier_rate")
 
 

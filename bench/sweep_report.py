@@ -22,9 +22,11 @@ import numpy as np
 
 from .runio import atomic_write_text
 
-__all__ = ["reference_point", "curves", "per_unit_costs", "curve_figure", "build_report", "CURVE_METRICS"]
+__all__ = ["reference_point", "curves", "per_unit_costs", "curve_figure", "build_report", "CURVE_METRICS",
+           "PAPER_POINT"]
 
 CURVE_METRICS = ("hit_rate", "depth_rmse_mm", "within_5mm")
+PAPER_POINT = {"ambient_lux": 400.0, "laser_power_mw": 3.0}  # the paper's operating point
 _LABELS = {"hit_rate": "hit rate (object rows, ±3 px)", "depth_rmse_mm": "depth RMSE on object (mm)",
            "depth_mae_mm": "depth MAE on object (mm)", "within_5mm": "fraction of samples within ±5 mm",
            "coverage": "coverage (object rows)", "outlier_rate": "outlier rate (> 3 px)"}
@@ -32,8 +34,6 @@ _LABELS = {"hit_rate": "hit rate (object rows, ±3 px)", "depth_rmse_mm": "depth
 
 def _paper_or_default(key: str):
     from scenes.params import DEFAULTS
-
-    from .sweep import PAPER_POINT
 
     return PAPER_POINT.get(key, DEFAULTS.get(key))
 
@@ -76,7 +76,7 @@ def curves(table, sweep, metrics=CURVE_METRICS) -> list[dict]:
     table : pandas.DataFrame
         A sweep table (``sweep.parquet``).
     sweep : bench.sweep.Sweep or dict
-        The sweep (or its ``to_dict()``).
+        The sweep (anything with ``to_dict()``) or its dict.
     metrics : sequence of str
 
     Returns

@@ -344,7 +344,7 @@ def _execute(units: list[dict], on_result: Callable[[int, dict], None], *, sched
             # the workers take this process's Mitsuba variant instead of each probing for one
             env = {_variant.ENV_VARIANT: _variant.choose()}
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                   dashboard_address=None, env=env)
+                                   dashboard_address=None, env=env, silence_logs=logging.ERROR)
             client = Client(cluster, timeout=connect_timeout_s)
     except BaseException:
         if cluster is not None:

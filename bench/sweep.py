@@ -446,7 +446,7 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
         f"repeat(s) x {len(config.experiments)} experiment(s)); {len(units) - len(todo)} already done")
     from tqdm import tqdm
 
-    bar = tqdm(total=len(todo), desc="sweep", unit="unit", file=sys.stderr, disable=not progress or quiet)
+    bar = tqdm(total=len(todo), desc="sweep", unit="unit", file=sys.stderr, disable=not progress or quiet or not todo)
 
     def on_result(j: int, res: dict) -> None:
         i = todo[j]

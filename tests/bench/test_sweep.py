@@ -290,3 +290,13 @@ def test_docstring_examples():
 
     result = doctest.testmod(sw, extraglobs={"np": np})
     assert result.attempted > 0 and result.failed == 0
+
+
+@pytest.mark.slow
+def test_a_worker_with_other_code_stops_the_sweep(tmp_path, monkeypatch):
+    real_unit = sw.run_unit
+    monkeypatch.setattr(sw, "run_unit", lambda spec: {**real_unit(spec), "source": "0123456789abcdef"})
+    cfg, s = _cfg_sweep()
+    with pytest.raises(sw.SweepError, match="runs other stripebench code \\(source 0123456789abcdef"):
+        run_sweep(cfg, s, tmp_path / "x", scheduler="sync", progress=False, quiet=True)
+    assert not list((tmp_path / "x" / "units").glob("*.json"))  # nothing from it is kept

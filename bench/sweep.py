@@ -198,6 +198,7 @@ def plan(config: Config, sweep: Sweep, *, chunk: int | None = None) -> list[dict
                     "overrides": dict(e.overrides), "render_overrides": json.loads(rk_json),
                     "render": dict(config.render), "seed": config.seed, "angles": angles,
                     "points": pts[c:c + size], "repeats": sweep.repeats, "n_samples": config.n_samples,
+                    "restore": config.restore,
                     "trackers": [s.to_value() for s in config.tracker_specs], "swept": list(sweep.keys),
                 }
                 units.append(spec)
@@ -281,11 +282,14 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
                     res.columns[n][i], res.scores[n][i] = tr.columns, tr.score
                     res.seconds[n][i], res.status[n][i], res.messages[n][i] = tr.seconds, tr.status, tr.message
             res.done[:] = True
-            obj = {d["tracker"]: d for d in analysis.scan_records(res, scene.rig, exp, object_only=True)}
-            allr = {d["tracker"]: d for d in analysis.scan_records(res, scene.rig, exp, object_only=False)}
+            restore = spec["restore"]
+            obj = {d["tracker"]: d for d in analysis.scan_records(res, scene.rig, exp, object_only=True,
+                                                                  restore=restore)}
+            allr = {d["tracker"]: d for d in analysis.scan_records(res, scene.rig, exp, object_only=False,
+                                                                   restore=restore)}
             words = [seed, k] if r == 0 else [seed, k, r]
             sample_seed = int(np.random.SeedSequence(words).generate_state(1)[0])
-            samples = analysis.sample_table(res, scene.rig, exp, spec["n_samples"], sample_seed)
+            samples = analysis.sample_table(res, scene.rig, exp, spec["n_samples"], sample_seed, restore=restore)
             for n in names:
                 rs = robust_summary([s[f"error_mm_{n}"] for s in samples])
                 o, a_ = obj[n], allr[n]

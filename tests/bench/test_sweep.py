@@ -175,6 +175,11 @@ def test_repeat_zero_at_the_paper_point_matches_an_ordinary_run(sequential, tmp_
     row = t[(t.ambient_lux == 400) & (t.laser_power_mw == 3.0) & (t.repeat == 0)].set_index("tracker")
     for col in ("hit_rate", "depth_mae_mm", "depth_rmse_mm", "coverage", "outlier_rate"):
         assert np.allclose(row.loc[m.index, col], m[col], equal_nan=True), col
+    # the ±5 mm fraction comes from the same sample points and restored surfaces as the run's samples.csv
+    s = pd.read_csv(ref / "samples.csv")
+    for tracker in m.index:
+        within = float(np.mean(np.abs(s[f"error_mm_{tracker}"].dropna()) <= 5.0))
+        assert row.loc[tracker, "within_5mm"] == pytest.approx(within)
 
 
 @pytest.mark.slow

@@ -5,11 +5,11 @@ Layers, lowest first; a module imports only from its own layer or a lower one
 enforces it, so a new module must be added to :data:`LAYERS`):
 
 0. evaluation (pure: arrays and tables in, numbers out): ``triangulation``,
-   ``restore``, ``metrics``, ``stats``, ``analysis``
+   ``restore``, ``metrics``, ``stats``, ``analysis``, ``sweep_stats``
 1. running (configurations, scans, the run folder and its readers, the gate on
    saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
-   ``scan``, ``experiment``, ``gate``, ``real``, ``real_run``
-2. reporting (figures and the HTML report from a saved run): ``figures``, ``report``
+   ``scan``, ``experiment``, ``gate``, ``real``, ``real_run``, ``sweep``
+2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
 3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``
 4. the command line: ``cli``
 
@@ -18,9 +18,9 @@ of them imports ``bench``.
 """
 
 LAYERS = {
-    "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis"),
-    "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "gate", "real", "real_run"),
-    "reporting": ("figures", "report"),
+    "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats"),
+    "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "gate", "real", "real_run", "sweep"),
+    "reporting": ("figures", "report", "sweep_report"),
     "studies": ("estimators", "perf", "tune"),
     "cli": ("cli",),
 }

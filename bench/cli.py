@@ -268,6 +268,10 @@ def _cmd_perf(args) -> int:
         from .perf import scenes as perf_scenes
 
         return perf_scenes.main(args.rest[1:])
+    if args.rest and args.rest[0] == "--sweep":
+        from .perf import sweep as perf_sweep
+
+        return perf_sweep.main(args.rest[1:])
     from .perf import trackers as perf_trackers
 
     return perf_trackers.main(args.rest)
@@ -344,6 +348,50 @@ def _cmd_real(args) -> int:
             print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
     print(f"stripebench: report at {out / 'report.html'}")
     return 0
+
+
+# -- stripebench sweep (robustness sweeps on Dask; bench/sweep.py) ---------------------------------------------------
+
+def _cmd_sweep(args) -> int:
+    from .config import with_overrides
+    from .sweep import SweepError, load, run_sweep
+
+    config, sweep = load(args.config)
+    if args.seed is not None:
+        config = with_overrides(config, seed=args.seed)
+    if args.workers is not None and args.workers < 0:
+        raise UsageError(f"--workers must be an integer >= 0, got {args.workers!r}")
+    if args.chunk is not None and args.chunk < 1:
+        raise UsageError(f"--chunk must be an integer >= 1, got {args.chunk!r}")
+    if args.scheduler is not None and args.scheduler != "sync" and not args.scheduler.startswith(("tcp://", "tls://")):
+        raise UsageError(f"--scheduler must be 'sync' or an address like tcp://HOST:PORT, got {args.scheduler!r}")
+    if args.scheduler not in (None, "sync") and args.workers is not None:
+        raise UsageError("--workers sizes the local cluster; it cannot be combined with --scheduler ADDRESS")
+    try:
+        out = run_sweep(config, sweep, args.out, scheduler=args.scheduler, workers=args.workers, chunk=args.chunk,
+                        progress=not args.quiet, quiet=args.quiet, timeout_s=args.timeout)
+    except SweepError as exc:
+        raise UsageError(str(exc)) from None
+    from .sweep_report import build_report
+
+    build_report(out)
+    print(f"stripebench: sweep table at {out / 'sweep.parquet'}, report at {out / 'report.html'}")
+    return 0
+
+
+def _add_sweep_parser(sub) -> None:
+    p = sub.add_parser("sweep", help="robustness sweep: a configuration with a [sweep] table, on Dask")
+    p.add_argument("config", type=Path, help="configuration file with a [sweep] table (see bench/sweep.py)")
+    p.add_argument("--out", type=Path, help="sweep folder (default: results/runs/<name>-sweep-<hash>); "
+                                             "finished units there are skipped")
+    p.add_argument("--scheduler", help="'sync' (sequential) or the address of a running Dask scheduler, "
+                                       "tcp://HOST:PORT (default: an in-process LocalCluster)")
+    p.add_argument("--workers", type=int, help="workers of the local cluster (default: one per CPU; 0 = sequential)")
+    p.add_argument("--chunk", type=int, help="grid points per task (default: every point of a render batch)")
+    p.add_argument("--timeout", type=float, help="give up after this many seconds (finished units are kept)")
+    p.add_argument("--seed", type=_seed_arg, help="seed for renders, noise, samples")
+    p.add_argument("--quiet", action="store_true", help="no progress")
+    p.set_defaults(func=_cmd_sweep)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -432,9 +480,10 @@ def build_parser() -> argparse.ArgumentParser:
                        add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_estimators)
-    p = sub.add_parser("perf", help="speed benchmarks: trackers (default) or `perf --scenes`", add_help=False)
+    p = sub.add_parser("perf", help="speed benchmarks: trackers (default), `perf --scenes` or `perf --sweep`", add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
+    _add_sweep_parser(sub)
     return parser
 
 

@@ -51,7 +51,7 @@ from pathlib import Path
 from typing import Any
 
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
-           "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
+           "read_toml", "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
            "SCENE_UPPER_BOUNDS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
 
 PROFILES = ("paper", "quick", "ci")
@@ -339,6 +339,8 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
 
     if not isinstance(data, dict):
         raise ConfigError(f"a configuration must be a table, got {type(data).__name__}")
+    if "sweep" in data:
+        raise ConfigError("this configuration has a `[sweep]` table: run it with `stripebench sweep CONFIG --out DIR`")
     _unknown("", data, _TOP)
     name = data.get("name", _default("name"))
     if not isinstance(name, str) or not name:
@@ -444,6 +446,19 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
                               f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
                               f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")
     return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, restore, specs)
+
+
+def read_toml(path) -> dict[str, Any]:
+    """The TOML document at ``path`` as a dict (:class:`ConfigError` if unreadable or invalid)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"cannot read configuration {str(p)!r}: {exc.strerror}") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
 
 
 def load(path) -> Config:

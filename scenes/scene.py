@@ -202,7 +202,8 @@ class Scene:
         t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
         return o + t[..., None] * d, part.reshape(rig.height, rig.width) == _PARTS.index("object")
 
-    def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None) -> Frame:
+    def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None,
+               noise_draw: int = 0) -> Frame:
         """Render one frame.
 
         Parameters
@@ -214,6 +215,12 @@ class Scene:
             always uses ``params['ambient_spp']``.
         seed : int, optional
             Seed (default ``params['seed']``); with the angle it fixes every random number.
+        noise_draw : int, optional
+            Which independent draw of the sensor noise (shot and read noise of the image and the
+            background) to take, >= 0. ``0`` (default) is the draw fixed by ``seed`` and the angle;
+            ``k > 0`` takes the draw seeded by ``SeedSequence([seed, angle bits..., k])``. The
+            Mitsuba renders (and their Monte Carlo noise) are the same for every draw, so every draw
+            reuses the cached unit renders.
 
         Returns
         -------
@@ -224,8 +231,12 @@ class Scene:
         seed = self.params["seed"] if seed is None else seed
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
             raise ValueError(f"`seed` must be an integer >= 0, got {seed!r}")
+        if isinstance(noise_draw, bool) or not isinstance(noise_draw, (int, np.integer)) or noise_draw < 0:
+            raise ValueError(f"`noise_draw` must be an integer >= 0, got {noise_draw!r}")
         seeds = np.random.SeedSequence([int(seed), *_angle_words(theta)]).spawn(4)
         unit = self._unit_passes(theta, spp, int(seed), seeds)
+        if noise_draw:
+            seeds = seeds[:2] + np.random.SeedSequence([int(seed), *_angle_words(theta), int(noise_draw)]).spawn(4)[2:]
         laser = (unit["laser"].astype(np.float64) * self.laser_power_inband_w()).astype(np.float32)
         ambient = (unit["ambient"].astype(np.float64) * self.sky_radiance_inband()).astype(np.float32)
         radiance = (ambient.astype(np.float64) + laser).astype(np.float32)

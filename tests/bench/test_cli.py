@@ -302,3 +302,23 @@ def test_run_help_points_to_the_config_reference(capsys):
     out = capsys.readouterr().out
     assert "docs/config.md" in out
     assert (Path(__file__).resolve().parents[2] / "docs" / "config.md").is_file()
+
+
+# -- stripebench sweep -------------------------------------------------------------------------------------------
+
+def test_sweep_command_bad_sweep_is_one_line_and_exit_2(tmp_path, capsys):
+    from bench.cli import main
+
+    cfg = tmp_path / "s.toml"
+    cfg.write_text('name = "s"\ntrackers = ["threshold"]\nbaselines = []\ndp = []\n[render]\nwidth = 64\n'
+                   'height = 60\n[[experiments]]\nscene = "cone"\n[sweep]\nambient_lux = []\n')
+    assert main(["sweep", str(cfg), "--out", str(tmp_path / "o"), "--scheduler", "sync"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == "stripebench: error: `sweep.ambient_lux` must be a non-empty list of values, got []"
+    assert main(["run", str(cfg), "--out", str(tmp_path / "r")]) == 2
+    assert "stripebench sweep CONFIG --out DIR" in capsys.readouterr().err
+    cfg.write_text(cfg.read_text().replace("ambient_lux = []", "ambient_lux = [0, 400]"))
+    assert main(["sweep", str(cfg), "--workers", "-1"]) == 2
+    assert capsys.readouterr().err.strip() == "stripebench: error: --workers must be an integer >= 0, got -1"
+    assert main(["sweep", str(cfg), "--scheduler", "localhost:1"]) == 2
+    assert "--scheduler must be 'sync' or an address like tcp://HOST:PORT" in capsys.readouterr().err

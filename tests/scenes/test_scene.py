@@ -224,3 +224,18 @@ def test_wall_distance_moves_the_wall_truth_as_equation_3_predicts():
         else:  # beyond R_max: the wall's stripe is out of the image
             assert not t.valid.any()
     assert cols[60.0] < cols[50.0] - 5  # farther is further left
+
+
+def test_noise_draws_share_the_render_and_differ_in_sensor_noise(matte):
+    a = matte.render(1.0, seed=3)
+    a0 = matte.render(1.0, seed=3, noise_draw=0)
+    b = matte.render(1.0, seed=3, noise_draw=1)
+    b_again = matte.render(1.0, seed=3, noise_draw=1)
+    c = matte.render(1.0, seed=3, noise_draw=2)
+    assert np.array_equal(a.image, a0.image) and np.array_equal(a.background, a0.background)
+    assert np.array_equal(a.radiance, b.radiance) and np.array_equal(b.radiance, c.radiance)
+    assert np.array_equal(b.image, b_again.image) and np.array_equal(b.background, b_again.background)
+    for x, y in ((a, b), (b, c), (a, c)):
+        assert not np.array_equal(x.image, y.image) and not np.array_equal(x.background, y.background)
+    with pytest.raises(ValueError, match="`noise_draw` must be an integer >= 0, got -1"):
+        matte.render(1.0, noise_draw=-1)

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "frame_record",
-           "OUTLIER_PX", "HIT_PX"]
+__all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "false_lock_rate",
+           "frame_record", "OUTLIER_PX", "HIT_PX"]
 
 OUTLIER_PX = 3.0
 HIT_PX = 3.0  # a row is a hit when the reported column is within this many px of the truth
@@ -76,6 +76,52 @@ def false_detection_rate(pred, truth) -> float:
     dark = np.isnan(truth)
     n = int(dark.sum())
     return float(np.count_nonzero(~np.isnan(pred[dark])) / n) if n else float("nan")
+
+
+def false_lock_rate(pred, false_cols, truth, tol_px: float = OUTLIER_PX) -> float:
+    """Among rows with a detection, the fraction locked onto a false stripe (NaN if none).
+
+    A row counts when its detection lies within ``tol_px`` of one of the row's false-stripe columns
+    and not within ``tol_px`` of the truth (rows without a truth column count as "not within").
+
+    Parameters
+    ----------
+    pred : array_like (...,)
+        Tracked columns (px), NaN where nothing is reported.
+    false_cols : array_like (..., K)
+        The false-stripe columns of each row (px), NaN-padded
+        (:attr:`scenes.Truth.false_columns`); ``K`` may be 0.
+    truth : array_like (...,)
+        True columns (px), NaN where there is no lit visible stripe.
+    tol_px : float
+        Match distance (px), > 0.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> false_lock_rate([10.0, 40.0, np.nan], [[40.0], [41.0], [5.0]], [10.0, 20.0, 30.0])
+    0.5
+    """
+    tol = float(tol_px)
+    if not tol > 0:
+        raise ValueError(f"`tol_px` must be > 0, got {tol_px!r}")
+    pred = np.asarray(pred, dtype=np.float64)
+    truth = np.asarray(truth, dtype=np.float64)
+    false_cols = np.asarray(false_cols, dtype=np.float64)
+    if false_cols.shape[:-1] != pred.shape or truth.shape != pred.shape:
+        raise ValueError(f"`false_cols` must have shape {pred.shape} + (K,) and `truth` {pred.shape}, got "
+                         f"{false_cols.shape} and {truth.shape}")
+    detected = ~np.isnan(pred)
+    n = int(detected.sum())
+    if not n:
+        return float("nan")
+    with np.errstate(invalid="ignore"):
+        near_false = np.any(np.abs(false_cols - pred[..., None]) <= tol, axis=-1)
+        near_truth = np.abs(pred - truth) <= tol
+    return float(np.count_nonzero(detected & near_false & ~near_truth) / n)
 
 
 def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None) -> dict[str, float]:

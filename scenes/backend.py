@@ -7,7 +7,8 @@ and laser pose) before rendering, so the result depends only on its arguments
 and never on the frames rendered before (loading is only a cache).
 
 Reproducibility: ``path`` renders are bit-identical run to run on LLVM; the
-``ptracer`` pass (specular scenes) is rendered on one LLVM thread because its
+``ptracer`` renders (``specular``; the light-traced half of ``polished`` and
+``glazed``) run on one LLVM thread because their
 atomic splatting order otherwise changes the last float bits.  On CUDA the
 ``ptracer`` pass is reproducible only to float32 rounding (the disk cache makes
 reruns identical).
@@ -84,10 +85,10 @@ class LoadedScene:
         self._scene = self._mi.load_dict(materialise(scene_dict, self._mi, mono=self._mono), optimize=False)
         self._params = self._mi.traverse(self._scene)
         self._shape_ids: Optional[Dict[str, object]] = None
+        self._integrators: Dict[Tuple[str, int], object] = {}
         # ptracer splats with atomic adds: their order (hence the float sum) varies between
         # threads; one LLVM thread makes it bit-reproducible (about 2x slower on 2 cores).
-        self._single_thread = (scene_dict.get("integrator", {}).get("type") == "ptracer"
-                               and self.variant.startswith("llvm"))
+        self._scene_kind = scene_dict.get("integrator", {}).get("type")
 
     def set_pose(self, updates: Dict[str, np.ndarray]) -> None:
         """Apply ``{traverse key: 4x4 matrix}`` updates (keys the scene lacks are skipped)."""
@@ -99,19 +100,35 @@ class LoadedScene:
         if changed:
             self._params.update()
 
-    def render(self, updates: Dict[str, np.ndarray], spp: int, seed: int) -> np.ndarray:
-        """Pose, then render; returns float32 (H, W) radiance (one channel)."""
+    def render(self, updates: Dict[str, np.ndarray], spp: int, seed: int,
+               integrator: Optional[Tuple[str, int]] = None) -> np.ndarray:
+        """Pose, then render; returns float32 (H, W) radiance (one channel).
+
+        ``integrator`` ``(kind, max_depth)`` (e.g. ``("ptracer", 2)``) renders with that integrator
+        instead of the scene's own; the same ``seed`` then draws the same random numbers for the
+        vertices the integrators share (so ``ptracer`` at depths 3 and 2 differ by exactly the
+        depth-3 paths).
+        """
         self.set_pose(updates)
-        if self._single_thread:
+        kwargs = {}
+        kind = self._scene_kind
+        if integrator is not None:
+            kind = integrator[0]
+            if integrator not in self._integrators:
+                self._integrators[integrator] = self._mi.load_dict(
+                    {"type": integrator[0], "max_depth": int(integrator[1])})
+            kwargs["integrator"] = self._integrators[integrator]
+        if kind == "ptracer" and self.variant.startswith("llvm"):
             dr = __import__("drjit")
             threads = dr.thread_count()
             dr.set_thread_count(1)
             try:
-                img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
+                img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed), **kwargs),
+                               dtype=np.float32)
             finally:
                 dr.set_thread_count(threads)
         else:
-            img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed)), dtype=np.float32)
+            img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed), **kwargs), dtype=np.float32)
         if img.ndim == 3:
             img = img[..., 0]
         return np.ascontiguousarray(img)
@@ -147,14 +164,28 @@ class LoadedScene:
         part : ndarray (N,), int64
             Index into ``names`` of the hit shape, -1 for a miss or an unlisted shape.
         """
+        t, part, _ = self._cast(origins_cm, dirs, names, normals=False)
+        return t, part
+
+    def cast_normals(self, origins_cm: np.ndarray, dirs: np.ndarray,
+                     names: Tuple[str, ...]) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Like :meth:`cast`, plus the unit shading normal (N, 3) at each hit (NaN on a miss).
+
+        The shading normal is the interpolated vertex normal the BSDFs use, i.e. the normal of
+        the smooth surface the mesh approximates (not the facet's).
+        """
+        return self._cast(origins_cm, dirs, names, normals=True)
+
+    def _cast(self, origins_cm, dirs, names, normals: bool):
         mi = self._mi
         o = np.asarray(origins_cm, float).reshape(-1, 3) * CM_TO_M
         d = np.asarray(dirs, float).reshape(-1, 3)
         n = len(o)
         t = np.full(n, np.inf)
         part = np.full(n, -1, np.int64)
+        nrm = np.full((n, 3), np.nan)
         if n == 0:
-            return t, part
+            return t, part, nrm
         ids = self._ids()
         if self.variant.startswith("scalar"):
             for i in range(n):
@@ -163,7 +194,9 @@ class LoadedScene:
                     t[i] = float(si.t) / CM_TO_M
                     sid = si.shape.id()
                     part[i] = names.index(sid) if sid in names else -1
-            return t, part
+                    if normals:
+                        nrm[i] = [float(si.sh_frame.n[k]) for k in range(3)]
+            return t, part, nrm
         dr = __import__("drjit")
         o32, d32 = o.astype(np.float32), d.astype(np.float32)
         ray = mi.Ray3f(mi.Point3f(o32[:, 0], o32[:, 1], o32[:, 2]), mi.Vector3f(d32[:, 0], d32[:, 1], d32[:, 2]))
@@ -175,5 +208,7 @@ class LoadedScene:
         for k, name in enumerate(names):
             if name in ids:
                 part[valid & (sid == ids[name])] = k
-        return t, part
-
+        if normals:
+            sn = np.stack([np.array(si.sh_frame.n[k], dtype=np.float64) for k in range(3)], axis=-1)
+            nrm[valid] = sn[valid] / np.linalg.norm(sn[valid], axis=1, keepdims=True)
+        return t, part, nrm

@@ -13,6 +13,13 @@ Two scenes share the geometry of one frame:
   misses camera -> mirror -> lit diffuse paths instead (the lit backdrop seen
   *in* the mirror); the physically more important false stripe is the one
   thrown onto the backdrop, which it renders.
+  For ``polished`` and ``glazed`` (rough, shiny) the laser pass is *split by
+  pixel* (:func:`laser_passes`): ``path`` on the pixels that see the object
+  (centre ray on it, grown by one pixel: :meth:`scenes.Scene.split_pixels`),
+  where it renders the highlight and the lit wall seen in the object,
+  ``ptracer`` on all others (the sheet reflected onto the wall).  Each is an unbiased estimate
+  of the same pixel, and the choice is fixed by geometry before rendering, so
+  the sum is unbiased and counts no path twice.
 * the **ambient pass**: a uniform ``constant`` sky of unit in-band radiance
   (1 W m⁻² sr⁻¹), integrator ``path`` (max depth 3).
 
@@ -22,7 +29,7 @@ pixel) and the ``multijitter`` sampler; units are metres.
 
 from __future__ import annotations
 
-from typing import Dict
+from typing import Dict, NamedTuple, Tuple
 
 import numpy as np
 
@@ -30,7 +37,8 @@ from . import materials, rig as _rig
 from .laser import LaserProfile
 from .objects import SceneObject
 
-__all__ = ["sensor", "projector", "sky", "integrator", "mesh_shape", "laser_scene", "ambient_scene"]
+__all__ = ["sensor", "projector", "sky", "integrator", "mesh_shape", "laser_scene", "ambient_scene",
+           "laser_passes", "LaserPass"]
 
 MAX_DEPTH = 3
 
@@ -74,6 +82,32 @@ def integrator(kind: str) -> dict:
     return {"type": kind, "max_depth": MAX_DEPTH}
 
 
+class LaserPass(NamedTuple):
+    """One render of the laser scene: integrator, depth and the pixels it contributes to.
+
+    ``pixels`` is ``"all"``, ``"object"`` (pixels that see the object, see
+    :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest).
+    """
+
+    kind: str
+    max_depth: int
+    pixels: str
+
+
+def laser_passes(material: str) -> Tuple[LaserPass, ...]:
+    """The laser pass(es) of ``material`` (from :func:`scenes.materials.integrator_for`).
+
+    Examples
+    --------
+    >>> [tuple(p) for p in laser_passes("polished")]
+    [('path', 3, 'object'), ('ptracer', 3, 'other')]
+    """
+    mode = materials.integrator_for(material)
+    if mode == "split":
+        return (LaserPass("path", MAX_DEPTH, "object"), LaserPass("ptracer", MAX_DEPTH, "other"))
+    return (LaserPass(mode, MAX_DEPTH, "all"),)
+
+
 def mesh_shape(mesh, bsdf: dict) -> dict:
     """A triangle mesh (cm) with a BSDF; ``backend`` builds the ``mi.Mesh``."""
     return {"type": "numpy_mesh", "mesh": mesh, "bsdf": bsdf}
@@ -98,7 +132,7 @@ def laser_scene(rig: _rig.Rig, obj: SceneObject, material: str, laser: LaserProf
     ``background_albedo`` and ``support_albedo`` are the wall's and the table's Lambertian
     albedos (used only when ``obj`` has them).
     """
-    kind = "ptracer" if materials.uses_delta_bsdf(material) else "path"
+    kind = laser_passes(material)[0].kind
     return {"type": "scene", "integrator": integrator(kind), "sensor": sensor(rig, theta_deg, spp),
             **_geometry(obj, material, background_albedo, support_albedo),
             "laser": projector(rig, theta_deg, laser)}

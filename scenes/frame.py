@@ -7,7 +7,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["PARTS", "Truth", "Frame"]
+__all__ = ["PARTS", "Truth", "Frame", "false_columns"]
 
 PARTS = ("background", "object", "support")
 """Names of :attr:`Truth.part`'s values 0, 1, 2 (the scene's shape ids are ``backdrop``, ``object``,
@@ -33,12 +33,17 @@ class Truth:
         What the point lies on: an index into :data:`PARTS` (0 background, 1 object,
         2 support), -1 where there is no truth.  When not given it is derived from
         ``on_object`` (1 there, 0 on other valid rows).
+    false_mask : ndarray (H, W), bool, optional
+        Pixels that see the laser sheet once mirrored by the object (false stripes, see
+        :func:`scenes.truth.false_stripe_mask`); computed for the shiny materials
+        (:data:`scenes.materials.SHINY`), all False for the others; None when not computed.
     """
 
     columns: np.ndarray
     points_cm: np.ndarray
     on_object: np.ndarray
     part: Optional[np.ndarray] = None
+    false_mask: Optional[np.ndarray] = None
 
     def __post_init__(self):
         if self.part is None:
@@ -49,6 +54,16 @@ class Truth:
     def valid(self) -> np.ndarray:
         """Rows with a truth point, bool (H,)."""
         return np.isfinite(self.columns)
+
+    @property
+    def false_columns(self) -> np.ndarray:
+        """Columns of :attr:`false_mask` per row, float64 (H, K), NaN-padded (K = 0 when none).
+
+        The input of :func:`bench.metrics.false_lock_rate`.
+        """
+        if self.false_mask is None:
+            return np.full((len(self.columns), 0), np.nan)
+        return false_columns(self.false_mask)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,3 +93,32 @@ class Frame:
     truth: Truth
     mirror_angle_deg: float
     variant: str
+
+
+def false_columns(mask: np.ndarray) -> np.ndarray:
+    """Per-row columns of a false-stripe mask, NaN-padded.
+
+    Parameters
+    ----------
+    mask : ndarray (H, W), bool
+
+    Returns
+    -------
+    ndarray (H, K), float64
+        The marked pixel columns of each row in ascending order, NaN-padded to the most marked
+        pixels in a row ``K`` (``K = 0`` for an empty mask).
+
+    Examples
+    --------
+    >>> false_columns(np.array([[False, True, True], [False, False, False]]))
+    array([[ 1.,  2.],
+           [nan, nan]])
+    """
+    m = np.asarray(mask, bool)
+    k = int(m.sum(axis=1).max()) if m.size else 0
+    out = np.full((m.shape[0], k), np.nan)
+    rows, cols = np.nonzero(m)
+    if len(rows):
+        starts = np.searchsorted(rows, np.arange(m.shape[0]))
+        out[rows, np.arange(len(rows)) - starts[rows]] = cols
+    return out

@@ -10,6 +10,15 @@
 ``specular``
     Smooth aluminium (conductor, ``eta = 1.47``, ``k = 7.79`` at 650 nm; R ≈ 0.91): the true stripe is
     invisible to a pinhole camera and the reflected laser lands on other surfaces (false stripes).
+``polished``
+    Polished / machined aluminium: a rough conductor (GGX, ``alpha = 0.1``) with the ``specular``
+    material's optical constants (Rakić 1998, 650 nm). The true stripe is a narrow, very bright
+    highlight (it saturates where the half vector meets the normal) and the reflected sheet throws
+    blurred false stripes onto the backdrop.
+``glazed``
+    Glazed white ceramic: a slightly rough dielectric coating (GGX ``alpha = 0.02``, IOR 1.5, soda-lime /
+    ceramic glaze) over a white diffuse body (albedo 0.8): the diffuse stripe plus a sharp highlight,
+    and a ~4 % (normal incidence, more at grazing) reflection of the sheet onto other surfaces.
 ``patchy``
     The ``matte`` white with dark (albedo 0.03) horizontal bands and blotches from a bitmap in the
     object's planar (front-projected) texture coordinates: the paper's partly invisible stripe.
@@ -27,13 +36,19 @@ import functools
 
 import numpy as np
 
-__all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "support_bsdf", "patchy_texture", "uses_delta_bsdf"]
+__all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "support_bsdf", "patchy_texture", "uses_delta_bsdf",
+           "integrator_for", "SHINY"]
 
-MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy")
+MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed")
 BACKDROP_ALBEDO = 0.5
 SUPPORT_ALBEDO = 0.5
 WHITE_ALBEDO = 0.85
 DARK_ALBEDO = 0.03
+ALUMINIUM_ETA_K = (1.47, 7.79)  # Rakić (1998) Al at 650 nm (refractiveindex.info)
+POLISHED_ALPHA = 0.1
+GLAZE_IOR = 1.5
+GLAZE_ALPHA = 0.02
+GLAZE_BODY_ALBEDO = 0.8
 
 
 @functools.lru_cache(maxsize=None)
@@ -73,6 +88,12 @@ def bsdf(material: str) -> dict:
     if material == "patchy":
         return {"type": "diffuse",
                 "reflectance": {"type": "bitmap", "bitmap": patchy_texture(), "raw": True}}
+    if material == "polished":
+        return {"type": "roughconductor", "distribution": "ggx", "alpha": POLISHED_ALPHA,
+                "eta": ALUMINIUM_ETA_K[0], "k": ALUMINIUM_ETA_K[1]}
+    if material == "glazed":
+        return {"type": "roughplastic", "distribution": "ggx", "alpha": GLAZE_ALPHA, "int_ior": GLAZE_IOR,
+                "diffuse_reflectance": GLAZE_BODY_ALBEDO}
     raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
 
 
@@ -89,3 +110,34 @@ def support_bsdf(albedo: float = SUPPORT_ALBEDO) -> dict:
 def uses_delta_bsdf(material: str) -> bool:
     """True when the material is a perfect mirror (needs light tracing for laser -> mirror -> diffuse)."""
     return material == "specular"
+
+
+SHINY = ("specular", "polished", "glazed")
+"""Materials whose specular lobe throws the laser sheet onto other surfaces (false stripes)."""
+
+
+def integrator_for(material: str) -> str:
+    """How the laser pass renders ``material``.
+
+    Returns
+    -------
+    str
+        ``"path"`` (path tracing, the default), ``"ptracer"`` (light tracing: ``specular``, whose
+        laser -> mirror -> diffuse paths a path tracer cannot find) or ``"split"`` (``polished``,
+        ``glazed``: path tracing on the pixels that see the object, where it renders the highlight and
+        the lit wall seen in the object, light tracing on all other pixels, where it renders the
+        sheet reflected onto them; see :func:`scenes.description.laser_passes`).
+
+    Examples
+    --------
+    >>> integrator_for("matte"), integrator_for("specular"), integrator_for("polished")
+    ('path', 'ptracer', 'split')
+    """
+    if material not in MATERIALS:
+        raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
+    if uses_delta_bsdf(material):
+        return "ptracer"
+    if material in ("polished", "glazed"):
+        return "split"
+    return "path"
+

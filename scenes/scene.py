@@ -17,19 +17,20 @@ noise is therefore common to both, like a fixed pattern).
 
 from __future__ import annotations
 
+import dataclasses
 import struct
 import sys
 from typing import Any, Dict, Iterable, Iterator, Optional
 
 import numpy as np
 
-from . import _checks, cache as _cache, description, objects, radiometry, variant as _variant
+from . import _checks, cache as _cache, description, materials, objects, radiometry, variant as _variant
 from .frame import Frame, Truth
 from .laser import profile as _laser_profile
 from .params import RENDER_KEYS, SENSOR_KEYS
 from .rig import Rig
 from .sensor import SensorModel
-from .truth import ground_truth
+from .truth import false_stripe_mask, ground_truth
 
 __all__ = ["Scene"]
 
@@ -130,9 +131,13 @@ class Scene:
         return self._loaded
 
     def _cache_fields(self, theta: float, spp: int, seed: int, variant: str) -> Dict[str, Any]:
-        import dataclasses
-
+        passes = description.laser_passes(self.params["material"])
+        extra = {}
+        if passes != (description.LaserPass("path", description.MAX_DEPTH, "all"),):
+            # keys of plain path-traced materials stay as they were (warm caches survive)
+            extra["laser_passes"] = [list(p) for p in passes]
         return {
+            **extra,
             "scene": self.name,
             **{k: self.params[k] for k in RENDER_KEYS if k not in ("spp", "seed")},
             "spp": spp,
@@ -149,18 +154,35 @@ class Scene:
         use_cache = self.params["cache"]
         root = _cache.cache_root(self.params["cache_dir"])
         k = _cache.key(self._cache_fields(theta, spp, seed, variant))
+        required = {"laser", "ambient", "columns", "points_cm", "on_object", "part"}
+        shiny = self.params["material"] in materials.SHINY
+        if shiny:
+            required.add("false_mask")
         if use_cache:
             hit = _cache.load(root, k)
-            if hit is not None and {"laser", "ambient", "columns", "points_cm", "on_object", "part"} <= set(hit):
+            if hit is not None and required <= set(hit):
                 return hit
         laser_scene, ambient_scene = self._load(spp)
         pose = description.pose_updates(self.rig, theta)
-        laser = laser_scene.render(pose, spp, int(seeds[0].generate_state(1)[0]))
+        laser_seed = int(seeds[0].generate_state(1)[0])
+        passes = description.laser_passes(self.params["material"])
+        if len(passes) == 1 and passes[0].pixels == "all":
+            laser = laser_scene.render(pose, spp, laser_seed)
+        else:
+            on_object = self.split_pixels(theta)
+            acc = np.zeros(on_object.shape, np.float64)
+            for p in passes:
+                img = laser_scene.render(pose, spp, laser_seed, integrator=(p.kind, p.max_depth))
+                where = {"all": True, "object": on_object, "other": ~on_object}[p.pixels]
+                acc += np.where(where, img, 0.0)
+            laser = acc.astype(np.float32)
         ambient = ambient_scene.render(pose, self.params["ambient_spp"], int(seeds[1].generate_state(1)[0]))
 
         truth = self._truth(laser_scene, theta)
         out = {"laser": laser, "ambient": ambient, "columns": truth.columns, "points_cm": truth.points_cm,
                "on_object": truth.on_object, "part": truth.part}
+        if shiny:
+            out["false_mask"] = self._false_mask(laser_scene, theta)
         if use_cache:
             _cache.store(root, k, out)
         return out
@@ -172,6 +194,10 @@ class Scene:
         return ground_truth(self.rig, theta, cast, fan_deg=self.params["laser_fan_deg"],
                             object_part=_PARTS.index("object"))
 
+    def _false_mask(self, laser_scene, theta: float) -> np.ndarray:
+        return false_stripe_mask(self.rig, theta, lambda o, d: laser_scene.cast_normals(o, d, _PARTS),
+                                 fan_deg=self.params["laser_fan_deg"], object_part=_PARTS.index("object"))
+
     def truth(self, mirror_angle_deg: float) -> Truth:
         """The ground truth of the frame at ``mirror_angle_deg`` without rendering it (ray casting only).
 
@@ -180,7 +206,11 @@ class Scene:
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
         laser_scene, _ = self._load(self.params["spp"])
         laser_scene.set_pose(description.pose_updates(self.rig, theta))
-        return self._truth(laser_scene, theta)
+        truth = self._truth(laser_scene, theta)
+        shape = (self.params["height"], self.params["width"])
+        false_mask = (self._false_mask(laser_scene, theta) if self.params["material"] in materials.SHINY
+                      else np.zeros(shape, bool))
+        return dataclasses.replace(truth, false_mask=false_mask)
 
     def visible_points(self, mirror_angle_deg: float):
         """First surface hit through every pixel centre (not cached).
@@ -201,6 +231,26 @@ class Scene:
         t, part = laser_scene.cast(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
         t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
         return o + t[..., None] * d, part.reshape(rig.height, rig.width) == _PARTS.index("object")
+
+    def split_pixels(self, mirror_angle_deg: float) -> np.ndarray:
+        """Pixels a ``"split"`` laser pass renders with ``path`` (the others with ``ptracer``).
+
+        The pixels whose centre ray hits the object, grown by one pixel (8-neighbourhood), so that
+        pixels the silhouette crosses, which see part of the object's highlight, are path traced too
+        (light tracing renders a glossy highlight with fireflies).
+
+        Returns
+        -------
+        ndarray (H, W), bool
+        """
+        _, on_object = self.visible_points(mirror_angle_deg)
+        grown = on_object.copy()
+        grown[1:] |= on_object[:-1]
+        grown[:-1] |= on_object[1:]
+        rows = grown.copy()
+        grown[:, 1:] |= rows[:, :-1]
+        grown[:, :-1] |= rows[:, 1:]
+        return grown
 
     def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None,
                noise_draw: int = 0) -> Frame:
@@ -243,8 +293,10 @@ class Scene:
         sensor = self.sensor
         image = sensor.capture(radiance, np.random.Generator(np.random.PCG64(seeds[2])))
         background = sensor.capture(ambient, np.random.Generator(np.random.PCG64(seeds[3])))
+        false_mask = (np.asarray(unit["false_mask"], bool) if "false_mask" in unit
+                      else np.zeros(unit["laser"].shape, bool))
         truth = Truth(np.asarray(unit["columns"], float), np.asarray(unit["points_cm"], float),
-                      np.asarray(unit["on_object"], bool), np.asarray(unit["part"], np.int8))
+                      np.asarray(unit["on_object"], bool), np.asarray(unit["part"], np.int8), false_mask)
         return Frame(image=image, background=background, radiance=radiance, laser_radiance=laser, truth=truth,
                      mirror_angle_deg=theta, variant=_variant.active_variant())
 

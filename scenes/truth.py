@@ -34,10 +34,10 @@ from typing import Callable, Tuple
 
 import numpy as np
 
-from .frame import Truth
+from .frame import Truth, false_columns
 from .rig import Rig
 
-__all__ = ["ground_truth", "CastFn"]
+__all__ = ["ground_truth", "CastFn", "CastNormalsFn", "false_stripe_mask", "false_columns"]
 
 CastFn = Callable[[np.ndarray, np.ndarray], Tuple[np.ndarray, np.ndarray]]
 """``cast(origins_cm (N, 3), unit_dirs (N, 3)) -> (t_cm (N,) inf on miss, part (N,) int, -1 on miss)``."""
@@ -167,3 +167,99 @@ def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, ob
     on_object[rr] = part[k] == object_part
     parts[rr] = part[k]
     return Truth(columns, points, on_object, parts)
+
+
+CastNormalsFn = Callable[[np.ndarray, np.ndarray], Tuple[np.ndarray, np.ndarray, np.ndarray]]
+"""``cast(origins_cm (N, 3), unit_dirs (N, 3)) -> (t_cm (N,), part (N,), unit_normals (N, 3))``, as
+:data:`CastFn` plus the surface normal at each hit (NaN on a miss)."""
+
+
+def _sheet_dirs(rig: Rig, theta_deg: float, elevations_rad: np.ndarray) -> np.ndarray:
+    e = rig.laser_direction(theta_deg)
+    el = np.asarray(elevations_rad, float)[:, None]
+    return np.cos(el) * e + np.sin(el) * np.array([0.0, 0.0, 1.0])
+
+
+def false_stripe_mask(rig: Rig, theta_deg: float, cast: CastNormalsFn, *, fan_deg: float, object_part: int = 1,
+                      rays_per_row: int = 8, offset_cm: float = 1e-3, visible_tol_cm: float = 0.05) -> np.ndarray:
+    """Pixels where the laser sheet, mirrored once by the object, lands on a surface the camera sees.
+
+    Algorithm (float64 except inside the ray caster):
+
+    1. Cast rays from the laser pinhole inside the sheet (elevations spanning the fan), first
+       coarsely, then ``rays_per_row`` rays per image row's worth of elevation over the elevation
+       range that hits the object.
+    2. Keep the rays whose first hit is the object; reflect each about the surface normal there
+       (``r = d - 2 (d·n) n``, the mirror direction: the centre of a rough material's lobe).
+    3. Cast the reflected rays (from ``offset_cm`` off the surface); a hit on any surface (the
+       backdrop, the object itself) is a false-stripe point.
+    4. Project the point into the camera; mark its pixel if it lies inside the image, in front of
+       the camera and is the first surface along the pixel's ray (within ``visible_tol_cm``).
+
+    Parameters
+    ----------
+    rig : Rig
+    theta_deg : float
+        Mirror angle.
+    cast : CastNormalsFn
+        Batched ray caster (cm) that also returns normals.
+    fan_deg : float
+        Full vertical fan angle of the laser.
+    object_part : int
+        Part index ``cast`` returns for the object.
+    rays_per_row : int
+        Sheet rays per image row's worth of elevation angle (the reflected stripe is dotted when a
+        convex surface spreads it more than this).
+    offset_cm, visible_tol_cm : float
+        Self-intersection offset of the reflected rays; visibility tolerance.
+
+    Returns
+    -------
+    mask : ndarray (H, W), bool
+        True on pixels that see a point of the once-reflected sheet.
+    """
+    h, w = rig.height, rig.width
+    mask = np.zeros((h, w), bool)
+    src = rig.laser_origin_cm(theta_deg)
+    half = 0.5 * np.radians(fan_deg)
+    coarse = np.linspace(-half, half, 4 * h + 1)
+    t, part, _ = cast(np.broadcast_to(src, (len(coarse), 3)).copy(), _sheet_dirs(rig, theta_deg, coarse))
+    hit = np.nonzero(part == object_part)[0]
+    if len(hit) == 0:
+        return mask
+    step = coarse[1] - coarse[0]
+    lo, hi = coarse[max(hit[0] - 1, 0)], coarse[min(hit[-1] + 1, len(coarse) - 1)]
+    row_angle = np.arctan(rig.pitch_y_mm / rig.focal_mm)  # one row's elevation near the axis
+    n_fine = int(np.ceil((hi - lo) / row_angle * rays_per_row)) + 1
+    fine = np.linspace(lo, hi, max(n_fine, int(round((hi - lo) / step)) + 1))
+    d = _sheet_dirs(rig, theta_deg, fine)
+    o = np.broadcast_to(src, d.shape).copy()
+    t, part, nrm = cast(o, d)
+    keep = (part == object_part) & np.isfinite(t) & np.all(np.isfinite(nrm), axis=1)
+    if not keep.any():
+        return mask
+    d, p, nrm = d[keep], o[keep] + t[keep, None] * d[keep], nrm[keep]
+    cos = np.sum(d * nrm, axis=1)
+    nrm = np.where(cos[:, None] > 0, -nrm, nrm)  # face the incoming ray
+    r = d - 2.0 * np.sum(d * nrm, axis=1)[:, None] * nrm
+    r /= np.linalg.norm(r, axis=1, keepdims=True)
+    t2, _, _ = cast(p + offset_cm * nrm, r)
+    ok = np.isfinite(t2)
+    if not ok.any():
+        return mask
+    q = p[ok] + offset_cm * nrm[ok] + t2[ok, None] * r[ok]
+    cols, rows = rig.project(q, theta_deg)
+    _, _, depth = rig.sensor_coords_mm(q, theta_deg)
+    c, v = np.round(cols).astype(np.int64), np.round(rows).astype(np.int64)
+    inside = (depth > 0) & (c >= 0) & (c < w) & (v >= 0) & (v < h)
+    if not inside.any():
+        return mask
+    q, c, v = q[inside], c[inside], v[inside]
+    cam = rig.camera_center_cm(theta_deg)
+    to_q = q - cam
+    dist = np.linalg.norm(to_q, axis=1)
+    t3, _, _ = cast(np.broadcast_to(cam, q.shape).copy(), to_q / dist[:, None])
+    seen = t3 >= dist - visible_tol_cm
+    mask[v[seen], c[seen]] = True
+    return mask
+

@@ -42,7 +42,8 @@ def _per_material(obj: str, material: str, n: int, geometry: dict):
     for a in picks:
         pose = description.pose_updates(s.rig, float(a))
         t = [time.perf_counter()]
-        laser.render(pose, s.params["spp"], 1)
+        for lp in description.laser_passes(material):  # split materials render two passes
+            laser.render(pose, s.params["spp"], 1, integrator=(lp.kind, lp.max_depth))
         t.append(time.perf_counter())
         ambient.render(pose, s.params["ambient_spp"], 2)
         t.append(time.perf_counter())

@@ -15,6 +15,11 @@ def test_laser_scene_integrator_per_material(material):
     d = D.laser_scene(RIG, OBJ, material, LASER, 0.0, 8)
     expected = "ptracer" if material == "specular" else "path"
     assert d["integrator"] == {"type": expected, "max_depth": D.MAX_DEPTH}
+    passes = D.laser_passes(material)
+    if material in ("polished", "glazed"):
+        assert passes == (("path", D.MAX_DEPTH, "object"), ("ptracer", D.MAX_DEPTH, "other"))
+    else:
+        assert passes == ((expected, D.MAX_DEPTH, "all"),)
     assert set(d) == {"type", "integrator", "sensor", "backdrop", "object", "laser"}
     assert d["object"]["mesh"] is OBJ.mesh and d["backdrop"]["mesh"] is OBJ.backdrop
 
@@ -58,3 +63,11 @@ def test_background_and_support_shapes_follow_the_geometry():
         assert d["backdrop"]["bsdf"] == {"type": "diffuse", "reflectance": 0.2}
         assert d["support"]["bsdf"] == {"type": "diffuse", "reflectance": 0.7}
     assert D.laser_scene(RIG, OBJ, "matte", LASER, 0.0, 8)["backdrop"]["bsdf"]["reflectance"] == 0.5
+def test_docstring_examples_run():
+    import doctest
+    import importlib
+
+    module = importlib.import_module("scenes.description")
+    with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
+        result = doctest.testmod(module, extraglobs={"np": np})
+    assert result.attempted > 0 and result.failed == 0

@@ -46,8 +46,9 @@ def test_frames_are_pure_functions_of_params_angle_and_seed(matte):
     assert not np.array_equal(a.background, matte.render(1.25, seed=3).background)
 
 
-def test_specular_frames_are_reproducible():
-    s = scenes.make("cone", material="specular", cache=False, spp=4, **SMALL)
+@pytest.mark.parametrize("material", ["specular", "polished"])
+def test_light_traced_frames_are_reproducible(material):
+    s = scenes.make("cone", material=material, cache=False, spp=4, **SMALL)
     a = s.render(2.3)
     s.render(0.0)
     b = s.render(2.3)
@@ -239,3 +240,81 @@ def test_noise_draws_share_the_render_and_differ_in_sensor_noise(matte):
         assert not np.array_equal(x.image, y.image) and not np.array_equal(x.background, y.background)
     with pytest.raises(ValueError, match="`noise_draw` must be an integer >= 0, got -1"):
         matte.render(1.0, noise_draw=-1)
+
+
+def _dilate(mask, k):
+    out = mask.copy()
+    for i in range(1, k + 1):
+        out[:, i:] |= mask[:, :-i]
+        out[:, :-i] |= mask[:, i:]
+        out[i:] |= mask[:-i]
+        out[:-i] |= mask[i:]
+    return out
+
+
+@pytest.fixture(scope="module")
+def shiny_cone_frames():
+    """Cone at 2.3 deg (the sheet grazes its side and is mirrored forward onto the wall)."""
+    theta = 2.3
+    out = {}
+    for material in ("matte", "polished", "glazed"):
+        s = scenes.make("cone", material=material, cache=False, **SMALL)
+        pts, on_object = s.visible_points(theta)
+        out[material] = (s, s.render(theta), pts, on_object)
+    return theta, out
+
+
+@pytest.mark.parametrize("material", ["polished", "glazed"])
+def test_shiny_object_shows_its_true_stripe(material):
+    """Sphere facing the rig: a highlight that saturates (polished) or a diffuse stripe (glazed)."""
+    theta = 0.0
+    s = scenes.make("sphere", material=material, cache=False, **SMALL)
+    f = s.render(theta)
+    _, on_object = s.visible_points(theta)
+    rows = np.nonzero(f.truth.on_object)[0]
+    assert len(rows) > 80
+    img = f.laser_radiance.astype(float)
+    errors = []
+    for r in rows:
+        on_row = np.where(on_object[r], img[r], 0.0)  # centroid around the brightest object pixel
+        c = int(np.argmax(on_row))
+        lo, hi = max(0, c - 3), min(img.shape[1], c + 4)
+        w = on_row[lo:hi]
+        errors.append((w * np.arange(lo, hi)).sum() / w.sum() - f.truth.columns[r])
+    assert np.mean(np.abs(np.array(errors)) < 1.0) > 0.8
+    excess_dn = f.image[rows].max(axis=1).astype(float) - f.background[rows].max(axis=1)
+    if material == "polished":  # a narrow highlight: saturated in a few rows, visible in a third of them
+        assert f.image[rows].max() == 255 and 0.3 < np.mean(excess_dn >= 5) < 0.9
+    else:
+        assert np.mean(excess_dn >= 20) > 0.8
+
+
+@pytest.mark.parametrize("material", ["polished", "glazed"])
+def test_shiny_object_throws_a_false_stripe_where_the_mask_says(shiny_cone_frames, material):
+    theta, frames = shiny_cone_frames
+    s, f, pts, on_object = frames[material]
+    _, n = s.rig.laser_plane(theta)
+    off_line = ~_dilate(on_object, 1) & np.isfinite(pts[..., 0]) & (np.abs(pts @ n) > 0.5)
+    energy = {m: float((frames[m][1].laser_radiance * off_line).sum()) for m in ("matte", material)}
+    assert energy[material] > 5 * energy["matte"]  # matte: diffuse interreflection only
+    mask = f.truth.false_mask
+    assert mask.shape == f.image.shape and mask.any(axis=1).sum() > 20
+    assert not frames["matte"][1].truth.false_mask.any()  # computed for shiny materials only
+    near = _dilate(mask, 2) & off_line
+    rad = f.laser_radiance.astype(float)
+    assert near.sum() < 0.05 * off_line.sum()
+    assert rad[near].sum() > 0.15 * rad[off_line].sum()  # a GGX lobe spreads the rest around it
+    assert rad[near].mean() > 5 * rad[off_line & ~near].mean()
+    assert f.truth.false_columns.shape[0] == f.image.shape[0]
+
+
+def test_cache_key_covers_the_laser_passes(monkeypatch):
+    s = scenes.make("cone", material="polished", cache=False, **SMALL)
+    fields = s._cache_fields(0.0, 4, 0, "llvm_ad_mono")
+    assert fields["laser_passes"] == [["path", 3, "object"], ["ptracer", 3, "other"]]
+    assert "laser_passes" not in scenes.make("cone", material="matte", **SMALL)._cache_fields(0.0, 4, 0, "v")
+    k = C.key(fields)
+    from scenes import description
+
+    monkeypatch.setattr(description, "laser_passes", lambda m: (description.LaserPass("ptracer", 3, "all"),))
+    assert C.key(s._cache_fields(0.0, 4, 0, "llvm_ad_mono")) != k

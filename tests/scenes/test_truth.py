@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from scenes.rig import Rig, cylindrical_to_cartesian
-from scenes.truth import ground_truth
+from scenes.truth import false_stripe_mask, ground_truth
 
 RIG = Rig().with_size(128, 120)
 ZETA = RIG.zeta_deg
@@ -176,3 +176,79 @@ def test_part_labels_the_object_and_the_floor_and_nothing_else():
     # the sheet hits nothing (rows without truth)
     assert floor.min() > on.max() and floor.max() == RIG.height - 1
     assert np.all(np.isnan(truth.columns[:on.min()]))
+
+
+class WallAndDiskMirror:
+    """Float64 caster with normals: the wall (part 0) and a flat disk mirror (part 1)."""
+
+    def __init__(self, wall, centre, normal, radius_cm):
+        self.wall = wall
+        self.c = np.asarray(centre, float)
+        self.n = np.asarray(normal, float) / np.linalg.norm(normal)
+        self.r = radius_cm
+
+    def __call__(self, o, d):
+        t, part = self.wall(o, d)
+        nrm = np.where(np.isfinite(t)[:, None], self.wall.wn, np.nan)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tm = ((self.c - o) @ self.n) / (d @ self.n)
+        hit = o + np.where(np.isfinite(tm), tm, 0.0)[:, None] * d
+        on_disk = (tm > 1e-9) & (np.linalg.norm(hit - self.c, axis=1) <= self.r)
+        closer = on_disk & (tm < t)
+        t = np.where(closer, tm, t)
+        part = np.where(closer, 1, part)
+        nrm = np.where(closer[:, None], self.n, nrm)
+        return t, part, nrm
+
+
+def _mirror_scene(theta, lateral=1.0, up=0.1):
+    """A disk mirror 30 cm out along the laser, turned to throw a tilted sheet onto the wall."""
+    e = RIG.laser_direction(theta)
+    _, n_sheet = RIG.laser_plane(theta)
+    normal = -0.1 * e + lateral * n_sheet + up * np.array([0.0, 0.0, 1.0])
+    return WallAndDiskMirror(_wall(theta), 30.0 * e, normal, 3.0)
+
+
+def test_false_stripe_of_a_flat_mirror_is_the_mirrored_sheet_on_the_wall():
+    theta = 0.0
+    scene = _mirror_scene(theta)
+    mask = false_stripe_mask(RIG, theta, scene, fan_deg=90.0)
+    assert mask.sum() > 40 and mask.any(axis=1).sum() > 40
+    # independent solution: the mirrored sheet is the plane through the mirror image of the laser
+    # pinhole with the mirrored normal; it meets the wall in a 3-D line, projected to an image line
+    m = scene.n
+    householder = np.eye(3) - 2.0 * np.outer(m, m)
+    src = RIG.laser_origin_cm(theta)
+    src_img = scene.c + householder @ (src - scene.c)
+    _, n_sheet = RIG.laser_plane(theta)
+    n_ref = householder @ n_sheet
+    w0, wn = scene.wall.w0, scene.wall.wn
+    direction = np.cross(n_ref, wn)
+    a = np.stack([n_ref, wn, direction])
+    p0 = np.linalg.solve(a, np.array([n_ref @ src_img, wn @ w0, direction @ w0]))
+    u0, v0 = RIG.project(p0 - 30.0 * direction, theta)
+    u1, v1 = RIG.project(p0 + 30.0 * direction, theta)
+    rows, cols = np.nonzero(mask)
+    dist = np.abs((u1 - u0) * (v0 - rows) - (u0 - cols) * (v1 - v0)) / np.hypot(u1 - u0, v1 - v0)
+    assert dist.max() <= 0.5 * math.sqrt(2.0) + 1e-6  # pixel centres nearest to points on the line
+    # and every marked pixel sees the wall inside the mirror's reflected footprint
+    o, d = RIG.pixel_rays(cols.astype(float), rows.astype(float), theta)
+    t, part = scene.wall(o, d)
+    assert np.all(part == 0)
+    q = o + t[:, None] * d
+    to_src = src_img - q  # the virtual ray from the pinhole's image to q crosses the disk
+    s = ((scene.c - q) @ m) / (to_src @ m)
+    assert np.all(np.linalg.norm(q + s[:, None] * to_src - scene.c, axis=1) <= 3.0 + 0.2)
+
+
+def test_no_false_stripe_without_a_mirror_hit_or_when_reflected_out_of_view():
+    theta = 0.0
+    empty = false_stripe_mask(RIG, theta, _mirror_scene(theta, lateral=0.0, up=0.0), fan_deg=90.0)
+    assert empty.shape == (RIG.height, RIG.width) and not empty.any()  # sent straight back to the laser
+    wall_only = _wall(theta)
+
+    def cast(o, d):
+        t, part = wall_only(o, d)
+        return t, part, np.where(np.isfinite(t)[:, None], wall_only.wn, np.nan)
+
+    assert not false_stripe_mask(RIG, theta, cast, fan_deg=90.0).any()

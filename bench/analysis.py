@@ -50,6 +50,7 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore: s
             truth,
             depth_pred_mm=10.0 * np.where(lit, r_pred, np.nan),
             depth_true_mm=10.0 * np.where(lit, r_true, np.nan),
+            false_cols=scan.false_columns,
         )
         _, filled = restore_depth_map(r_pred, restore)
         rec.update(

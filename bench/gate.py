@@ -39,6 +39,7 @@ TOLERANCES: dict[str, tuple[str, float, float]] = {
     "depth_p95_mm": ("lower", 0.20, 0.05),
     "coverage": ("higher", 0.01, 0.0),
     "hit_rate": ("higher", 0.01, 0.0),
+    "false_lock_rate": ("lower", 0.01, 0.05),
     "outlier_rate": ("lower", 0.01, 0.05),
     "false_detections": ("lower", 0.01, 0.05),
 }

@@ -124,11 +124,12 @@ def false_lock_rate(pred, false_cols, truth, tol_px: float = OUTLIER_PX) -> floa
     return float(np.count_nonzero(detected & near_false & ~near_truth) / n)
 
 
-def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None) -> dict[str, float]:
+def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None, false_cols=None) -> dict[str, float]:
     """Every metric of one tracker on one grid of rows, as a flat dict.
 
     Keys: ``px_mae, px_rmse, px_p95, depth_mae_mm, depth_rmse_mm, depth_p95_mm,
-    coverage, hit_rate, outlier_rate, false_detections, n_rows, n_lit, n_detected``.
+    coverage, hit_rate, false_lock_rate, outlier_rate, false_detections, n_rows, n_lit, n_detected``
+    (``false_lock_rate`` NaN when no ``false_cols`` are given: no false-stripe truth).
     """
     pred = np.asarray(pred, dtype=np.float64)
     truth = np.asarray(truth, dtype=np.float64)
@@ -142,6 +143,7 @@ def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None) -> dict[st
     rec.update(
         coverage=coverage(pred, truth),
         hit_rate=hit_rate(pred, truth),
+        false_lock_rate=false_lock_rate(pred, false_cols, truth) if false_cols is not None else float("nan"),
         outlier_rate=outlier_rate(pred, truth),
         false_detections=false_detection_rate(pred, truth),
         n_rows=int(truth.size),

@@ -228,9 +228,17 @@ def _hit_table(metrics) -> str:
     fmt = {"float_format": lambda v: f"{v:.2f}", "na_rep": "–", "border": 0}
     hit = m.pivot_table(index="experiment", columns="tracker", values="hit_rate", sort=False)
     cov = m.pivot_table(index="experiment", columns="tracker", values="coverage", sort=False)
-    return ("<h2>Hit rate and coverage on the object</h2><p>Hit rate: the object's lit rows where the tracker "
-            "reports a column within 3 px of the truth (a missed row is a miss). Coverage: rows with any "
-            "detection.</p><h3>hit rate</h3>" + hit.to_html(**fmt) + "<h3>coverage</h3>" + cov.to_html(**fmt))
+    out = ("<h2>Hit rate and coverage on the object</h2><p>Hit rate: the object's lit rows where the tracker "
+           "reports a column within 3 px of the truth (a missed row is a miss). Coverage: rows with any "
+           "detection.</p><h3>hit rate</h3>" + hit.to_html(**fmt) + "<h3>coverage</h3>" + cov.to_html(**fmt))
+    a = metrics[metrics["region"] == "all"]
+    if "false_lock_rate" in a and a["false_lock_rate"].notna().any():
+        lock = a[a["false_lock_rate"].notna()].pivot_table(index="experiment", columns="tracker",
+                                                             values="false_lock_rate", sort=False)
+        out += ("<h3>false-lock rate (shiny materials, every row)</h3><p>Among the rows where the tracker reports "
+                "a column, the fraction within 3 px of a false stripe (the sheet mirrored by the object) and not "
+                "within 3 px of the truth.</p>" + lock.to_html(**fmt))
+    return out
 
 
 def _sweeps(cfg) -> list[tuple[str, str, list[str]]]:

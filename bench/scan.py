@@ -85,6 +85,9 @@ class ScanResult:
     width: int
     render_seconds: float
     fingerprint: str = ""
+    # (F, H, FALSE_K) columns of the false stripes (mirrored sheet) per row, NaN-padded;
+    # None when the scene computes no false-stripe mask (non-shiny materials)
+    false_columns: np.ndarray | None = None
 
     @property
     def complete(self) -> bool:
@@ -97,6 +100,8 @@ class ScanResult:
             "width": np.array(self.width), "render_seconds": np.array(self.render_seconds),
             "trackers": np.array(sorted(self.columns)), "fingerprint": np.array(self.fingerprint),
         }
+        if self.false_columns is not None:
+            out["false_columns"] = self.false_columns
         for n in self.columns:
             out[f"columns/{n}"] = self.columns[n]
             out[f"scores/{n}"] = self.scores[n]
@@ -140,7 +145,27 @@ class ScanResult:
             seconds={n: a[f"seconds/{n}"] for n in names}, status={n: a[f"status/{n}"] for n in names},
             messages={n: [str(m) for m in a[f"messages/{n}"]] for n in names},
             fingerprint=str(a.get("fingerprint", "")),
+            false_columns=_checked_false_columns(a.get("false_columns"), F, H),
         )
+
+
+FALSE_K = 8  # false-stripe columns kept per row (the nearest to the truth first are not needed: all, up to 8)
+
+
+def _checked_false_columns(fc, F: int, H: int):
+    if fc is None:
+        return None
+    if fc.ndim != 3 or fc.shape[:2] != (F, H):
+        raise ValueError(f"array 'false_columns' has shape {fc.shape}, expected ({F}, {H}, K)")
+    return fc
+
+
+def _pad_false(cols: np.ndarray, k: int = FALSE_K) -> np.ndarray:
+    """(H, K') NaN-padded columns to exactly (H, k) (extra columns dropped)."""
+    out = np.full((cols.shape[0], k), np.nan)
+    n = min(k, cols.shape[1])
+    out[:, :n] = cols[:, :n]
+    return out
 
 
 def _empty(key, angles, height, names) -> ScanResult:
@@ -296,6 +321,10 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
             res.truth_columns[i] = frame.truth.columns
             res.truth_points_cm[i] = frame.truth.points_cm
             res.on_object[i] = frame.truth.on_object
+            if frame.truth.false_mask is not None:
+                if res.false_columns is None:
+                    res.false_columns = np.full((len(angles), scene.rig.height, FALSE_K), np.nan)
+                res.false_columns[i] = _pad_false(frame.truth.false_columns)
             for n in names:
                 r = track_frame(trackers_[n], frame.image, frame.background)
                 res.columns[n][i] = r.columns

@@ -71,3 +71,11 @@ def test_docstring_examples_run():
     with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
         result = doctest.testmod(module, extraglobs={"np": np})
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_frame_record_false_lock_rate_needs_false_stripe_truth():
+    truth = np.array([[10.0, 10.0, np.nan]])
+    pred = np.array([[10.0, 40.0, 41.0]])
+    false_cols = np.array([[[np.nan], [40.0], [42.0]]])
+    assert frame_record(pred, truth, false_cols=false_cols)["false_lock_rate"] == pytest.approx(2 / 3)
+    assert np.isnan(frame_record(pred, truth)["false_lock_rate"])

@@ -484,7 +484,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     _add_sweep_parser(sub)
+    p = sub.add_parser("tune", help="choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
+                       description="Run a committed tuning procedure. `dp`: the DP trackers' h_weight on "
+                                   "bench/profiles/tune_dp.toml (sphere and plane, seed 1; never the paper's "
+                                   "objects or seed); writes tune.csv and tune_dp.png and prints the chosen value.")
+    p.add_argument("what", choices=["dp"], help="what to tune")
+    p.add_argument("--profile", help="tuning profile (TOML; default: bench/profiles/tune_dp.toml)")
+    p.add_argument("--out", type=Path, help="output folder (default: results/runs/tune_dp)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=_cmd_tune)
     return parser
+
+
+def _cmd_tune(args) -> int:
+    from . import tune
+
+    argv = (["--profile", args.profile] if args.profile else []) + (["--out", str(args.out)] if args.out else [])
+    return tune.main(argv + (["--quiet"] if args.quiet else []))
 
 
 _PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators}

@@ -100,3 +100,14 @@ def test_a_small_run_writes_its_outputs_and_resumes(tmp_path, capsys):
     assert chosen in (1.0, 0.1) and set(scores) == {1.0, 0.1}
     # resumed from the checkpoints: nothing re-rendered, the checkpoints rewritten with the same content
     assert all(pathlib.Path(p).exists() for p in stamps)
+
+
+def test_stripebench_tune_dp_runs_the_procedure(tmp_path, capsys):
+    from bench.cli import main
+
+    path = tmp_path / "p.toml"
+    path.write_text(TINY)
+    assert main(["tune", "dp", "--profile", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    assert capsys.readouterr().out.startswith("chosen h_weight = ")
+    assert (tmp_path / "o" / "tune.csv").is_file()
+    assert main(["tune", "dp", "--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2

@@ -11,6 +11,7 @@ A configuration is a TOML document::
     n_samples = 150           # sample points per experiment (the paper's 150)
     n_boot = 2000             # bootstrap resamples for the confidence intervals
     restore = "rows"          # how missed rows are filled before sampling: "rows" or "none" (bench.restore)
+    real_set = ""             # also evaluate the trackers on photographs: "shipped" or a folder (sim-to-real)
 
     [render]                  # shared by every experiment
     width = 512
@@ -247,6 +248,7 @@ class Config:
     experiments: tuple[Experiment, ...] = ()
     source: str = "<dict>"
     restore: str = "rows"
+    real_set: str = ""  # "" none, "shipped" (bench/data/real) or a folder: the sim-to-real comparison
     tracker_specs: tuple[TrackerSpec, ...] = ()
 
     def make_trackers(self) -> dict:
@@ -269,7 +271,8 @@ class Config:
             exps.append(d)
         return {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
                 "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
-                "n_boot": self.n_boot, "restore": self.restore, "render": dict(self.render), "experiments": exps}
+                "n_boot": self.n_boot, "restore": self.restore, "real_set": self.real_set, "render": dict(self.render),
+                "experiments": exps}
 
 
 _NOT_KEYS = {"source", "tracker_specs"}
@@ -364,6 +367,11 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     restore = data.get("restore", _default("restore"))
     if restore not in METHODS:
         raise ConfigError(f"`restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
+    real_set = data.get("real_set", _default("real_set"))
+    if not isinstance(real_set, str):
+        raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r}")
+    if real_set and real_set != "shipped" and not Path(real_set).is_dir():
+        raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r} (no such folder)")
     render_in = data.get("render", _default("render"))
     if not isinstance(render_in, dict):
         raise ConfigError(f"`render` must be a table, got {render_in!r}")
@@ -445,7 +453,8 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
             raise ConfigError(f"`experiments[{i}]` needs about {need / 2**30:.1f} GiB of memory "
                               f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
                               f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")
-    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source, restore, specs)
+    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source,
+                  restore=restore, real_set=real_set, tracker_specs=specs)
 
 
 def read_toml(path) -> dict[str, Any]:

@@ -197,8 +197,39 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
         "coverage": _coverage_table(metrics), "status_codes": STATUS,
         "wall_s": time.perf_counter() - t_start,
     }
+    if config.real_set:
+        summary["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)
     write_summary(out, summary)
     return out
+
+
+def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
+    """Evaluate the same tracker settings on the configuration's real set (into
+    ``<run>/real``) and compare each tracker's mean object hit rate over the
+    experiments with its mean hit rate over the photographs."""
+    from . import real
+    from .real_run import run_real
+
+    dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
+    _say(f"real set {dataset}: {len(config.tracker_specs)} trackers", quiet)
+    rdir = run_real(dataset, out / "real", config.tracker_specs, seed=config.seed, n_boot=min(config.n_boot, 2000),
+                    quiet=True)
+    rm = real_run_means(rdir)
+    obj = metrics[metrics["region"] == "object"]
+    synthetic = {str(k): float(v) for k, v in obj.groupby("tracker")["hit_rate"].mean().items()}
+    result = real.sim_to_real(synthetic, rm)
+    result["dataset"] = str(config.real_set)
+    result["sentences"] = real.sim_to_real_sentences(result)
+    return result
+
+
+def real_run_means(real_dir) -> dict[str, float]:
+    """label -> mean hit rate over the images of a real run (its ``mean`` rows)."""
+    import pandas as pd
+
+    m = pd.read_parquet(Path(real_dir) / "metrics.parquet")
+    m = m[m["experiment"] == "mean"]
+    return {str(r.tracker): float(r.hit_rate) for r in m.itertuples()}
 
 
 def _coverage_table(metrics) -> list[dict]:

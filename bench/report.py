@@ -379,6 +379,15 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                      "(mean over trackers of the lit rows that are not within 3 px). Markers every 4th row, offset "
                      "per tracker; the truth dashed red.</p>"
                      + "".join(_img(p, "49%") for p in figs["gallery"]))
+    if s.get("sim_to_real"):
+        from .real import sim_to_real_html
+
+        parts.append(sim_to_real_html(s["sim_to_real"]).replace(
+            "<h2>Renders vs photographs</h2>",
+            "<h2>Renders vs photographs</h2><p>Each tracker's hit rate (within 3 px) on the object rows of this "
+            "run, averaged over its experiments, beside its mean hit rate over the photographs of the real set "
+            f"<code>{html.escape(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; references "
+            "only where the stripe is visible, see docs/real.md).</p>"))
     parts.append(_improvement_tables(s))
     parts.append(_hit_table(metrics))
     if figs["bars"]:

@@ -108,3 +108,23 @@ def test_default_run_dir_depends_on_the_configuration(tiny_dict):
     a = default_run_dir(parse(tiny_dict))
     b = default_run_dir(parse({**tiny_dict, "seed": 2}))
     assert a != b and a.name.startswith("tiny-") and default_run_dir(parse(tiny_dict)) == a
+
+
+@pytest.mark.slow
+def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
+    from bench.report import build_report
+
+    d = {**tiny_dict, "real_set": "shipped", "trackers": ["threshold", "dp4"], "baselines": ["threshold"],
+         "dp": ["dp4"], "experiments": tiny_dict["experiments"][:1]}
+    out = run(parse(d), tmp_path / "r", progress=False, quiet=True)
+    s = json.loads((out / "summary.json").read_text())["sim_to_real"]
+    real = pd.read_parquet(out / "real" / "metrics.parquet")
+    means = real[real.experiment == "mean"].set_index("tracker")["hit_rate"]
+    m = pd.read_parquet(out / "metrics.parquet")
+    synth = m[m.region == "object"].groupby("tracker")["hit_rate"].mean()
+    rows = {t["tracker"]: t for t in s["table"]}
+    assert set(rows) == {"threshold", "dp4"} and s["n"] == 2 and s["dataset"] == "shipped"
+    for name in rows:
+        assert rows[name]["real"] == pytest.approx(means[name]) and rows[name]["synthetic"] == pytest.approx(synth[name])
+    assert "Too few trackers" in s["sentences"][0]  # two trackers: no rank correlation is claimed
+    assert "Renders vs photographs" in build_report(out, quiet=True).read_text()

@@ -472,16 +472,7 @@ def read_toml(path) -> dict[str, Any]:
 
 def load(path) -> Config:
     """Read and validate a TOML configuration file."""
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"cannot read configuration {str(p)!r}: {exc.strerror}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
-    return parse(data, source=str(p))
+    return parse(read_toml(path), source=str(Path(path)))
 
 
 def profile(name: str) -> Config:

@@ -1,14 +1,8 @@
 """Curves of a sweep: metric against each swept key per tracker, and the sweep's report page.
 
-:func:`curves` and :func:`per_unit_costs` (pure, from :mod:`bench.sweep_stats`);
-:func:`curve_figure` and :func:`build_report` draw them (matplotlib, Agg).
-
-A curve against key ``K`` holds every other swept key at its reference value:
-the paper's operating point (400 lux, 3 mW) where the grid has it, else the
-scene default, else the first value of the list (for ``material``: the
-experiment's own material if swept, else the first). At each value the points
-are the repeats; the curve is their mean and the band a 95 % t interval over
-the repeats (none with a single repeat).
+:func:`curve_figure` and :func:`build_report` draw the curves and costs that
+:mod:`bench.sweep_stats` computes (its docstring says how a curve is made),
+with matplotlib (Agg).
 """
 
 from __future__ import annotations

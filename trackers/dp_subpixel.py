@@ -8,7 +8,7 @@ from ._base import Track
 from ._params import check_choice, check_int, check_real
 from ._stats import robust_level
 from ._subpixel import ESTIMATORS, refine
-from .dp import DPTracker
+from .dp import DEFAULT_H_WEIGHT, DPTracker
 
 __all__ = ["DPSubpixelTracker", "DP8SubpixelTracker"]
 
@@ -58,7 +58,7 @@ class DPSubpixelTracker(DPTracker):
     """
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=1.0):
+                 estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=DEFAULT_H_WEIGHT):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight)
         self.estimator = estimator

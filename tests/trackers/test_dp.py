@@ -6,6 +6,7 @@ import pytest
 from skimage.graph import MCP_Geometric
 
 from trackers.dp import (
+    DEFAULT_H_WEIGHT,
     DP4Tracker,
     DP8Tracker,
     accumulated_cost,
@@ -203,9 +204,12 @@ def test_noise_only_frame_reports_nothing():
 
 def test_dp_path_accessor():
     img, truth = make_stripe_image(seed=2)
-    rows, cols, total = DP8Tracker().path(img)
+    rows, cols, total = DP8Tracker(h_weight=1.0).path(img)  # the isotropic graph is MCP_Geometric's
     expected = mcp_optimum(node_cost(img), 8)
     assert total == pytest.approx(expected, rel=1e-9)
+    rows, cols, total = DP8Tracker().path(img)  # the default h_weight: the shortest_path of the same costs
+    assert total == pytest.approx(shortest_path(node_cost(img), 8, h_weight=DEFAULT_H_WEIGHT)[2], rel=1e-12)
+    assert DP8Tracker().get_params()["h_weight"] == DEFAULT_H_WEIGHT == 0.25
 
 
 @pytest.mark.parametrize(

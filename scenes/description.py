@@ -15,6 +15,10 @@ Two scenes share the geometry of one frame:
   thrown onto the backdrop, which it renders.
 * the **ambient pass**: a uniform ``constant`` sky of unit in-band radiance
   (1 W m⁻² sr⁻¹), integrator ``path`` (max depth 3).
+* translucent materials (``skin``, ``marble``, ``wax``) use ``volpath`` in both
+  passes (:func:`scenes.materials.integrator_for`); the object then carries its
+  medium as ``interior`` and an open mesh (the ``plane``) is closed into a
+  slab :data:`SLAB_THICKNESS_CM` deep behind its front face.
 
 Both use a box reconstruction filter (a pixel value is the mean radiance over the
 pixel) and the ``multijitter`` sampler; units are metres.
@@ -26,13 +30,15 @@ from typing import Dict
 
 import numpy as np
 
-from . import materials, rig as _rig
+from . import materials, rig as _rig, shapes
 from .laser import LaserProfile
 from .objects import SceneObject
 
 __all__ = ["sensor", "projector", "sky", "integrator", "mesh_shape", "laser_scene", "ambient_scene"]
 
 MAX_DEPTH = 3
+#: Depth of the slab that closes an open object (the ``plane``) around a medium, cm.
+SLAB_THICKNESS_CM = 2.0
 
 
 def sensor(rig: _rig.Rig, theta_deg: float, spp: int) -> dict:
@@ -74,27 +80,36 @@ def integrator(kind: str) -> dict:
     return {"type": kind, "max_depth": MAX_DEPTH}
 
 
-def mesh_shape(mesh, bsdf: dict) -> dict:
-    """A triangle mesh (cm) with a BSDF; ``backend`` builds the ``mi.Mesh``."""
-    return {"type": "numpy_mesh", "mesh": mesh, "bsdf": bsdf}
+def mesh_shape(mesh, bsdf: dict, interior: dict = None) -> dict:
+    """A triangle mesh (cm) with a BSDF and optionally an ``interior`` medium dict; ``backend`` builds the ``mi.Mesh``."""
+    d = {"type": "numpy_mesh", "mesh": mesh, "bsdf": bsdf}
+    if interior is not None:
+        d["interior"] = interior
+    return d
 
 
 def _geometry(obj: SceneObject, material: str) -> Dict[str, dict]:
+    medium = materials.medium(material)
+    mesh = obj.mesh if medium is None else shapes.solidify(obj.mesh, SLAB_THICKNESS_CM)
     return {"backdrop": mesh_shape(obj.backdrop, materials.backdrop_bsdf()),
-            "object": mesh_shape(obj.mesh, materials.bsdf(material))}
+            "object": mesh_shape(mesh, materials.bsdf(material), medium)}
+
+
+def _integrator(material: str, light: str) -> dict:
+    d = materials.integrator_for(material, light)
+    return integrator(d["type"]) if d["type"] in ("path", "ptracer") else d
 
 
 def laser_scene(rig: _rig.Rig, obj: SceneObject, material: str, laser: LaserProfile, theta_deg: float,
                 spp: int) -> dict:
     """Laser-only scene (unit in-band power) at mirror angle ``theta_deg``."""
-    kind = "ptracer" if materials.uses_delta_bsdf(material) else "path"
-    return {"type": "scene", "integrator": integrator(kind), "sensor": sensor(rig, theta_deg, spp),
+    return {"type": "scene", "integrator": _integrator(material, "laser"), "sensor": sensor(rig, theta_deg, spp),
             **_geometry(obj, material), "laser": projector(rig, theta_deg, laser)}
 
 
 def ambient_scene(rig: _rig.Rig, obj: SceneObject, material: str, theta_deg: float, spp: int) -> dict:
     """Ambient-only scene (unit in-band sky radiance) at mirror angle ``theta_deg``."""
-    return {"type": "scene", "integrator": integrator("path"), "sensor": sensor(rig, theta_deg, spp),
+    return {"type": "scene", "integrator": _integrator(material, "ambient"), "sensor": sensor(rig, theta_deg, spp),
             **_geometry(obj, material), "sky": sky(1.0)}
 
 

@@ -138,7 +138,22 @@ class Scene:
             "variant": variant,
             "mitsuba": _mitsuba_versions()[0],
             "drjit": _mitsuba_versions()[1],
+            **self._optics_fields(),
         }
+
+    def _optics_fields(self) -> Dict[str, Any]:
+        """Cache-key fields of a translucent material: its boundary, medium (coefficients) and
+        integrator, so a change of any coefficient re-renders. Empty for the opaque materials
+        (their keys stay what they were)."""
+        from . import materials
+
+        mat = self.params["material"]
+        if not materials.is_translucent(mat):
+            return {}
+        return {"optics": {"bsdf": materials.bsdf(mat), "medium": materials.medium(mat),
+                           "laser_integrator": materials.integrator_for(mat, "laser"),
+                           "ambient_integrator": materials.integrator_for(mat, "ambient"),
+                           "slab_thickness_cm": description.SLAB_THICKNESS_CM}}
 
     def _unit_passes(self, theta: float, spp: int, seed: int, seeds) -> Dict[str, np.ndarray]:
         variant = _variant.active_variant()

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from scenes import description as D, laser, objects
+from scenes import description as D, laser, materials, objects, shapes
 from scenes.materials import MATERIALS
 from scenes.rig import Rig
 
@@ -14,9 +14,12 @@ LASER = laser.profile(3.0, 90.0)
 def test_laser_scene_integrator_per_material(material):
     d = D.laser_scene(RIG, OBJ, material, LASER, 0.0, 8)
     expected = "ptracer" if material == "specular" else "path"
-    assert d["integrator"] == {"type": expected, "max_depth": D.MAX_DEPTH}
+    if material in ("skin", "marble", "wax"):
+        assert d["integrator"] == {"type": "volpath", "max_depth": materials.MEDIUM_MAX_DEPTH}
+    else:
+        assert d["integrator"] == {"type": expected, "max_depth": D.MAX_DEPTH}
     assert set(d) == {"type", "integrator", "sensor", "backdrop", "object", "laser"}
-    assert d["object"]["mesh"] is OBJ.mesh and d["backdrop"]["mesh"] is OBJ.backdrop
+    assert d["object"]["mesh"] is OBJ.mesh and d["backdrop"]["mesh"] is OBJ.backdrop  # the sphere is closed
 
 
 def test_ambient_scene_has_the_sky_and_no_laser():
@@ -45,3 +48,17 @@ def test_sensor_and_projector_follow_the_rig():
 def test_integrator_kind_is_checked():
     with pytest.raises(ValueError, match="`kind` must be 'path' or 'ptracer', got 'bdpt'"):
         D.integrator("bdpt")
+
+
+def test_translucent_object_carries_its_medium_and_a_closed_mesh():
+    plane = objects.build("plane", RIG.zeta_deg)
+    d = D.laser_scene(RIG, plane, "skin", LASER, 0.0, 8)
+    assert d["object"]["interior"] == materials.medium("skin") and d["object"]["bsdf"] == {"type": "null"}
+    mesh = d["object"]["mesh"]
+    assert not shapes.is_closed(plane.mesh) and shapes.is_closed(mesh)
+    # the front face is the plane's own triangles: rays (and the truth) hit the same surface
+    n = len(plane.mesh.vertices_cm)
+    assert np.array_equal(mesh.vertices_cm[:n], plane.mesh.vertices_cm)
+    assert np.array_equal(mesh.faces[:len(plane.mesh.faces)], plane.mesh.faces)
+    assert D.ambient_scene(RIG, plane, "skin", 0.0, 4)["integrator"]["type"] == "volpath"
+    assert "interior" not in D.laser_scene(RIG, plane, "matte", LASER, 0.0, 8)["object"]

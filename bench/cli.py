@@ -148,6 +148,12 @@ def _cmd_estimators(args) -> int:
     return estimators.main(args.rest)
 
 
+def _cmd_translucency(args) -> int:
+    from . import translucency
+
+    return translucency.main(args.rest)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="stripebench",
                                      description="A physically based rendering benchmark for laser-stripe trackers.")
@@ -187,13 +193,17 @@ def build_parser() -> argparse.ArgumentParser:
                        add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_estimators)
+    p = sub.add_parser("translucency", help="the subsurface-scattering bias study (see `stripebench translucency -h`)",
+                       add_help=False)
+    p.add_argument("rest", nargs=argparse.REMAINDER)
+    p.set_defaults(func=_cmd_translucency)
     p = sub.add_parser("perf", help="speed benchmarks: trackers (default) or `perf --scenes`", add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     return parser
 
 
-_PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators}
+_PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators, "translucency": _cmd_translucency}
 
 
 def main(argv=None) -> int:

@@ -40,7 +40,8 @@ __all__ = ["FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "str
 FIELDS = ("object", "material", "incidence_lo_deg", "incidence_hi_deg", "tracker", "rows", "reported",
           "fwhm_px", "width1090_px", "peak_rel", "bias_px", "spread_px", "bias_mm", "spread_mm", "median_mm")
 #: Columns of ``render_noise.csv``.
-NOISE_FIELDS = ("object", "material", "spp", "rows", "mc_noise_px", "sensor_noise_px", "s_per_frame")
+NOISE_FIELDS = ("object", "material", "spp", "rows", "mc_noise_px", "sensor_noise_px", "s_per_frame",
+                "cpu_s_per_frame")
 #: Edges of the angle-of-incidence bins, deg.
 INCIDENCE_BINS_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0)
 
@@ -254,7 +255,8 @@ def render_noise(obj_name: str, material: str, spps, *, width: int = 512, height
     noise-free expected image (radiance through the sensor's gain, no shot/read noise, no
     rounding). The *sensor noise* is the same statistic between ``sensor_draws`` pairs of sensor
     draws of the highest-spp render (their mean). ``s_per_frame`` is the wall time of the second
-    render at that spp (both passes and the truth; the scene is already loaded).
+    render at that spp (both passes and the truth; the scene is already loaded), ``cpu_s_per_frame``
+    its CPU time summed over threads (the fair measure on a shared machine).
 
     Returns
     -------
@@ -273,10 +275,12 @@ def render_noise(obj_name: str, material: str, spps, *, width: int = 512, height
     for spp in sorted(spps):
         cols = []
         dt = []
+        cpu = []
         for k in range(2):
-            t0 = time.time()
+            t0, c0 = time.time(), time.process_time()
             f = s.render(theta, spp=int(spp), seed=seed + k)
             dt.append(time.time() - t0)
+            cpu.append(time.process_time() - c0)
             rows = np.where(f.truth.valid & f.truth.on_object)[0]
             sensor = s.sensor
             img = sensor.expected_dn(f.radiance)
@@ -287,7 +291,8 @@ def render_noise(obj_name: str, material: str, spps, *, width: int = 512, height
         d = d[np.isfinite(d)]
         out.append({"object": obj_name, "material": material, "spp": int(spp), "rows": int(d.size),
                     "mc_noise_px": float(np.std(d) / np.sqrt(2.0)) if d.size else np.nan,
-                    "sensor_noise_px": np.nan, "s_per_frame": float(dt[1])})
+                    "sensor_noise_px": np.nan, "s_per_frame": float(dt[1]),
+                    "cpu_s_per_frame": float(cpu[1])})
     s, f, rows = best
     rng = np.random.default_rng(seed)
     sens = []
@@ -392,8 +397,11 @@ def main(argv=None) -> int:
     parser.add_argument("--plot-tracker", default="com_bg", help="tracker of the bias panel (default %(default)s)")
     parser.add_argument("--spp-study", type=_ints, metavar="SPPS",
                         help="also measure render noise vs these spp (e.g. 16,64,256) on the first object, every material")
+    parser.add_argument("--skip-study", action="store_true", help="with --spp-study: only the render-noise study")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
+    if args.skip_study and not args.spp_study:
+        parser.error("--skip-study needs --spp-study")
     import scenes
     import trackers
 
@@ -419,18 +427,19 @@ def main(argv=None) -> int:
     width = args.size
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    records = run_study(args.objects, args.materials, n_angles=args.angles, width=width, height=width * 15 // 16,
-                        spp=args.spp, seed=args.seed, tracker_names=names, progress=not args.quiet)
-    summary = summarise(records, width)
-    write_csv(summary, out / "translucency.csv")
-    print(f"wrote {out / 'translucency.csv'} ({len(summary)} lines)")
-    plot(summary, out / "translucency.png", plot_tracker)
-    print(f"wrote {out / 'translucency.png'}")
-    print(f"{'object':<7}{'material':<9}{'incid.':>8}{'FWHM px':>9}{'peak':>6}  {plot_tracker} bias mm (sd)")
-    for r in summary:
-        if r["tracker"] == plot_tracker:
-            print(f"{r['object']:<7}{r['material']:<9}{r['incidence_lo_deg']:>4.0f}-{r['incidence_hi_deg']:<3.0f}"
-                  f"{r['fwhm_px']:>9.2f}{r['peak_rel']:>6.2f}  {r['bias_mm']:+.3f} ({r['spread_mm']:.3f}) n={r['rows']}")
+    if not args.skip_study:
+        records = run_study(args.objects, args.materials, n_angles=args.angles, width=width, height=width * 15 // 16,
+                            spp=args.spp, seed=args.seed, tracker_names=names, progress=not args.quiet)
+        summary = summarise(records, width)
+        write_csv(summary, out / "translucency.csv")
+        print(f"wrote {out / 'translucency.csv'} ({len(summary)} lines)")
+        plot(summary, out / "translucency.png", plot_tracker)
+        print(f"wrote {out / 'translucency.png'}")
+        print(f"{'object':<7}{'material':<9}{'incid.':>8}{'FWHM px':>9}{'peak':>6}  {plot_tracker} bias mm (sd)")
+        for r in summary:
+            if r["tracker"] == plot_tracker:
+                print(f"{r['object']:<7}{r['material']:<9}{r['incidence_lo_deg']:>4.0f}-{r['incidence_hi_deg']:<3.0f}"
+                      f"{r['fwhm_px']:>9.2f}{r['peak_rel']:>6.2f}  {r['bias_mm']:+.3f} ({r['spread_mm']:.3f}) n={r['rows']}")
     if args.spp_study:
         noise = []
         for m in args.materials:
@@ -440,7 +449,8 @@ def main(argv=None) -> int:
         print(f"wrote {out / 'render_noise.csv'}")
         for r in noise:
             print(f"{r['object']} {r['material']:<7} spp {r['spp']:>4}: render noise {r['mc_noise_px']:.4f} px, "
-                  f"sensor noise {r['sensor_noise_px']:.4f} px, {r['s_per_frame']:.2f} s/frame")
+                  f"sensor noise {r['sensor_noise_px']:.4f} px, {r['s_per_frame']:.2f} s/frame "
+                  f"({r['cpu_s_per_frame']:.2f} CPU s)")
     return 0
 
 

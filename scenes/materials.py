@@ -154,7 +154,7 @@ PHASE_G = 0.0
 
 #: Maximum path length (surface and medium interactions) of ``volpath`` for the translucent
 #: materials; see docs/translucency.md for the energy it keeps.
-MEDIUM_MAX_DEPTH = 256
+MEDIUM_MAX_DEPTH = 64
 
 _MM_PER_M = 1000.0
 

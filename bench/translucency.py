@@ -109,8 +109,8 @@ def stripe_widths_px(laser_radiance: np.ndarray, truth_columns: np.ndarray, half
     >>> x = np.arange(41.0)
     >>> img = np.exp(-0.5 * ((x - 20.0) / 2.0) ** 2)[None, :]
     >>> f, w, p = stripe_widths_px(img, np.array([20.0]), 15)
-    >>> round(float(f[0]), 2), round(float(w[0]), 2)   # Gaussian sigma 2: FWHM 4.71, 10-90 % 5.13
-    (4.7, 5.13)
+    >>> round(float(f[0]), 2), round(float(w[0]), 2)   # sigma 2 px: FWHM 4.71, 10-90 % 5.13 (continuous)
+    (4.76, 5.1)
     """
     img = np.asarray(laser_radiance, float)
     h, w = img.shape

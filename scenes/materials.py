@@ -154,8 +154,8 @@ PHASE_G = 0.0
 
 #: Maximum path length (surface and medium interactions) of ``volpath`` for the translucent
 #: materials. Measured (plane, 128x120, middle angle): 64 keeps 90 % of marble's laser energy
-#: against 1024 (skin 99.5 %); 256 keeps 100 % but leaves fireflies of 100-900x the median in
-#: marble and wax (long paths), which trackers take for the stripe. See docs/translucency.md.
+#: against 1024 (skin: 99.5 % against 256); 256 keeps 100 % but leaves fireflies of 100-900x the
+#: median in marble and wax (long paths), which trackers take for the stripe. See docs/translucency.md.
 MEDIUM_MAX_DEPTH = 64
 
 _MM_PER_M = 1000.0

@@ -79,3 +79,9 @@ def test_bad_arguments_exit_2(tmp_path, capsys):
             T.main(["--out", str(tmp_path)] + argv)
         assert exc.value.code == 2
     assert "unknown material 'velvet'" in capsys.readouterr().err
+
+
+def test_docstring_examples():
+    import doctest
+
+    assert doctest.testmod(T, raise_on_error=False).failed == 0

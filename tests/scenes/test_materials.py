@@ -80,3 +80,9 @@ def test_diffusion_lengths_order_the_materials():
     d = {k: v.diffusion_length_mm for k, v in M.TRANSLUCENT.items()}
     assert d["skin"] == pytest.approx(1.0 / np.sqrt(3 * 0.032 * (0.74 + 0.032)))
     assert d["skin"] < d["marble"] and d["skin"] < d["wax"]
+
+
+def test_docstring_examples():
+    import doctest
+
+    assert doctest.testmod(M, raise_on_error=False).failed == 0

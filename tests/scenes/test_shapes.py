@@ -149,3 +149,9 @@ def test_hand_parts_are_closed_but_overlap():
     inside = ((finger.vertices_cm[:, 0] / 4.3) ** 2 + (finger.vertices_cm[:, 1] / 1.2) ** 2 < 1.0) & \
         (np.abs(finger.vertices_cm[:, 2]) < 3.6)
     assert inside.any()
+
+
+def test_docstring_examples():
+    import doctest
+
+    assert doctest.testmod(S, raise_on_error=False).failed == 0

@@ -57,11 +57,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     ap.add_argument("--object", default="hand", choices=scenes.available())
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--per-material", type=int, default=6, help="frames timed per material")
+    ap.add_argument("--materials", nargs="+", default=list(scenes.MATERIALS), choices=scenes.MATERIALS,
+                    help="materials timed (default: all; the translucent ones cost ~15x matte)")
     args = ap.parse_args(argv)
     d = scenes.DEFAULTS
     print(f"512x480, laser spp {d['spp']}, ambient spp {d['ambient_spp']}, object {args.object}")
     print(f"{'material':<10} {'frames/s':>8} {'laser s':>8} {'ambient s':>9} {'truth s':>8}")
-    for m in scenes.MATERIALS:
+    for m in args.materials:
         fps, (tl, ta, tt) = _per_material(args.object, m, args.per_material)
         print(f"{m:<10} {fps:8.2f} {tl:8.3f} {ta:9.3f} {tt:8.3f}", flush=True)
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-") as tmp:

@@ -38,7 +38,8 @@ __all__ = ["FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "str
 
 #: Columns of ``translucency.csv``.
 FIELDS = ("object", "material", "incidence_lo_deg", "incidence_hi_deg", "tracker", "rows", "reported",
-          "fwhm_px", "width1090_px", "peak_rel", "bias_px", "spread_px", "bias_mm", "spread_mm", "median_mm")
+          "fwhm_px", "width1090_px", "peak_rel", "bias_px", "spread_px", "bias_mm", "spread_mm", "median_mm",
+          "iqr_mm")
 #: Columns of ``render_noise.csv``.
 NOISE_FIELDS = ("object", "material", "spp", "rows", "mc_noise_px", "sensor_noise_px", "s_per_frame",
                 "cpu_s_per_frame")
@@ -202,7 +203,8 @@ def summarise(records: list[dict], width: int, bins=INCIDENCE_BINS_DEG) -> list[
     """Bin the per-row records by angle of incidence; one dict per (object, material, bin, tracker).
 
     ``bias_*`` is the mean error and ``spread_*`` its standard deviation over the reported rows of
-    the bin; ``median_mm`` the median depth error; ``peak_rel`` the median stripe peak radiance
+    the bin; ``median_mm`` the median depth error and ``iqr_mm`` its interquartile range (robust to
+    the few rows where a tracker jumps off the stripe); ``peak_rel`` the median stripe peak radiance
     relative to ``matte`` on the same object in the same bin (NaN without a ``matte`` reference).
     Depth errors use eq. 3 of the paper at the image size ``width`` (the rig's 16:15 aspect).
     """
@@ -239,6 +241,7 @@ def summarise(records: list[dict], width: int, bins=INCIDENCE_BINS_DEG) -> list[
                 "bias_px": float(e_px.mean()) if some else np.nan, "spread_px": float(e_px.std()) if some else np.nan,
                 "bias_mm": float(e_mm.mean()) if some else np.nan, "spread_mm": float(e_mm.std()) if some else np.nan,
                 "median_mm": float(np.median(e_mm)) if some else np.nan,
+                "iqr_mm": float(np.subtract(*np.percentile(e_mm, [75, 25]))) if some else np.nan,
             })
     order = {m: i for i, m in enumerate(dict.fromkeys(r["material"] for r in records))}
     out.sort(key=lambda d: (d["object"], order[d["material"]], d["incidence_lo_deg"], d["tracker"]))
@@ -319,8 +322,9 @@ def write_csv(rows: list[dict], path, fields=FIELDS) -> None:
 
 
 def plot(summary: list[dict], path, tracker: str = "com_bg") -> None:
-    """Stripe width (FWHM) and ``tracker``'s depth bias ± spread against the angle of incidence:
-    one row of panels per object, one line per material. matplotlib is imported here, Agg backend."""
+    """Stripe width (10-90 % energy width) and ``tracker``'s median depth error ± half the IQR against the
+    angle of incidence, and every tracker's median depth error: one row of panels per object, one line
+    (bar) per material. matplotlib is imported here, Agg backend."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -335,25 +339,27 @@ def plot(summary: list[dict], path, tracker: str = "com_bg") -> None:
         for k, mat in enumerate(mats):
             rows = [r for r in summary if r["object"] == obj and r["material"] == mat and r["tracker"] == tracker]
             x = [0.5 * (r["incidence_lo_deg"] + r["incidence_hi_deg"]) for r in rows]
-            axes[i][0].plot(x, [r["fwhm_px"] for r in rows], marker=markers[k % 5], label=mat)
-            axes[i][1].errorbar(x, [r["bias_mm"] for r in rows], yerr=[r["spread_mm"] for r in rows],
+            axes[i][0].plot(x, [r["width1090_px"] for r in rows], marker=markers[k % 5], label=mat)
+            axes[i][1].errorbar(x, [r["median_mm"] for r in rows], yerr=[0.5 * r["iqr_mm"] for r in rows],
                                 marker=markers[k % 5], capsize=3, label=mat)
-        # every tracker's bias at the material x bins, for the last panel: mean over bins
+        # every tracker's median depth error, averaged over the bins below 75 deg (weighted by reported
+        # rows); at grazing incidence the stripe ends at the silhouette and trackers jump to the backdrop
         for k, mat in enumerate(mats):
             vals = []
             for name in trs:
-                rr = [r for r in summary if r["object"] == obj and r["material"] == mat and r["tracker"] == name]
+                rr = [r for r in summary if r["object"] == obj and r["material"] == mat and r["tracker"] == name
+                      and r["incidence_hi_deg"] <= 75.0]
                 w = np.array([r["rows"] * r["reported"] for r in rr], float)
-                b = np.array([r["bias_mm"] for r in rr], float)
+                b = np.array([r["median_mm"] for r in rr], float)
                 ok = np.isfinite(b) & (w > 0)
                 vals.append(float(np.average(b[ok], weights=w[ok])) if ok.any() else np.nan)
             xs = np.arange(len(trs)) + (k - (len(mats) - 1) / 2) * 0.8 / len(mats)
             axes[i][2].bar(xs, vals, width=0.8 / len(mats), label=mat)
         axes[i][2].set_xticks(np.arange(len(trs)))
         axes[i][2].set_xticklabels(trs, rotation=30, fontsize=7)
-        axes[i][0].set_ylabel(f"{obj}\nstripe FWHM (px)", fontsize=9)
-        axes[i][1].set_ylabel(f"{tracker} depth bias ± sd (mm)", fontsize=9)
-        axes[i][2].set_ylabel("mean depth bias (mm)", fontsize=9)
+        axes[i][0].set_ylabel(f"{obj}\nstripe 10-90 % width (px)", fontsize=9)
+        axes[i][1].set_ylabel(f"{tracker} median depth error ± IQR/2 (mm)", fontsize=9)
+        axes[i][2].set_ylabel("median depth error, incidence < 75° (mm)", fontsize=9)
         for ax in axes[i][:2]:
             ax.set_xlabel("angle of incidence (deg)", fontsize=9)
         for ax in axes[i]:
@@ -362,7 +368,7 @@ def plot(summary: list[dict], path, tracker: str = "com_bg") -> None:
         axes[i][1].axhline(0.0, color="k", lw=0.6)
         axes[i][2].axhline(0.0, color="k", lw=0.6)
     axes[0][0].legend(fontsize=8)
-    axes[0][2].legend(fontsize=7)
+    axes[0][2].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
     fig.suptitle("Subsurface scattering: stripe width and depth bias (positive = reported farther than the surface)",
                  fontsize=10)
     fig.tight_layout()
@@ -435,11 +441,13 @@ def main(argv=None) -> int:
         print(f"wrote {out / 'translucency.csv'} ({len(summary)} lines)")
         plot(summary, out / "translucency.png", plot_tracker)
         print(f"wrote {out / 'translucency.png'}")
-        print(f"{'object':<7}{'material':<9}{'incid.':>8}{'FWHM px':>9}{'peak':>6}  {plot_tracker} bias mm (sd)")
+        print(f"{'object':<7}{'material':<9}{'incid.':>8}{'FWHM px':>9}{'10-90':>7}{'peak':>6}  {plot_tracker} "
+          f"depth error mm: mean (sd), median [IQR]")
         for r in summary:
             if r["tracker"] == plot_tracker:
                 print(f"{r['object']:<7}{r['material']:<9}{r['incidence_lo_deg']:>4.0f}-{r['incidence_hi_deg']:<3.0f}"
-                      f"{r['fwhm_px']:>9.2f}{r['peak_rel']:>6.2f}  {r['bias_mm']:+.3f} ({r['spread_mm']:.3f}) n={r['rows']}")
+                      f"{r['fwhm_px']:>9.2f}{r['width1090_px']:>7.2f}{r['peak_rel']:>6.2f}  {r['bias_mm']:+.3f} "
+                      f"({r['spread_mm']:.3f}), {r['median_mm']:+.3f} [{r['iqr_mm']:.3f}] n={r['rows']}")
     if args.spp_study:
         noise = []
         for m in args.materials:

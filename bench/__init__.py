@@ -10,7 +10,8 @@ enforces it, so a new module must be added to :data:`LAYERS`):
    saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
    ``scan``, ``experiment``, ``gate``, ``real``, ``real_run``, ``sweep``
 2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
-3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``
+3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
+   ``translucency``
 4. the command line: ``cli``
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
@@ -21,6 +22,6 @@ LAYERS = {
     "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats"),
     "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "gate", "real", "real_run", "sweep"),
     "reporting": ("figures", "report", "sweep_report"),
-    "studies": ("estimators", "perf", "tune"),
+    "studies": ("estimators", "perf", "tune", "translucency"),
     "cli": ("cli",),
 }

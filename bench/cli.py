@@ -394,6 +394,12 @@ def _add_sweep_parser(sub) -> None:
     p.set_defaults(func=_cmd_sweep)
 
 
+def _cmd_translucency(args) -> int:
+    from . import translucency
+
+    return translucency.main(args.rest)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The whole command tree (one parser, shared option types)."""
     from .config import PROFILES
@@ -480,6 +486,10 @@ def build_parser() -> argparse.ArgumentParser:
                        add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_estimators)
+    p = sub.add_parser("translucency", help="the subsurface-scattering bias study (see `stripebench translucency -h`)",
+                       add_help=False)
+    p.add_argument("rest", nargs=argparse.REMAINDER)
+    p.set_defaults(func=_cmd_translucency)
     p = sub.add_parser("perf", help="speed benchmarks: trackers (default), `perf --scenes` or `perf --sweep`", add_help=False)
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
@@ -503,7 +513,7 @@ def _cmd_tune(args) -> int:
     return tune.main(argv + (["--quiet"] if args.quiet else []))
 
 
-_PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators}
+_PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators, "translucency": _cmd_translucency}
 
 
 def _os_message(exc: OSError) -> str:

@@ -26,9 +26,11 @@ from .rig import CM_TO_M
 __all__ = ["materialise", "LoadedScene"]
 
 
-def _mesh(mi, name: str, mesh, bsdf):
+def _mesh(mi, name: str, mesh, bsdf, interior=None):
     props = mi.Properties()
     props["bsdf"] = bsdf
+    if interior is not None:
+        props["interior"] = interior
     m = mi.Mesh(name, len(mesh.vertices_cm), len(mesh.faces), props=props,
                 has_vertex_normals=True, has_vertex_texcoords=True)
     params = mi.traverse(m)
@@ -48,13 +50,14 @@ def materialise(d, mi, *, mono: bool, name: str = "shape"):
     """Turn a :mod:`scenes.description` dict into what ``mi.load_dict`` accepts.
 
     4x4 ``to_world`` arrays become ``ScalarTransform4f``, ``bitmap`` arrays ``mi.Bitmap``,
-    ``numpy_mesh`` entries ``mi.Mesh`` objects with their BSDF; RGB variants get an
+    ``numpy_mesh`` entries ``mi.Mesh`` objects with their BSDF (and ``interior`` medium); RGB variants get an
     ``rgb`` film.
     """
     if isinstance(d, dict):
         if d.get("type") == "numpy_mesh":
             bsdf = mi.load_dict(materialise(d["bsdf"], mi, mono=mono))
-            return _mesh(mi, name, d["mesh"], bsdf)
+            interior = mi.load_dict(materialise(d["interior"], mi, mono=mono)) if "interior" in d else None
+            return _mesh(mi, name, d["mesh"], bsdf, interior)
         out = {}
         for k, v in d.items():
             if k == "to_world" and isinstance(v, np.ndarray):

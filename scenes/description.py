@@ -22,6 +22,11 @@ Two scenes share the geometry of one frame:
   the sum is unbiased and counts no path twice.
 * the **ambient pass**: a uniform ``constant`` sky of unit in-band radiance
   (1 W m⁻² sr⁻¹), integrator ``path`` (max depth 3).
+* translucent materials (``skin``, ``marble``, ``wax``) use ``volpath`` (max depth
+  :data:`scenes.materials.MEDIUM_MAX_DEPTH`) in both passes, the laser pass over all
+  pixels (:func:`scenes.materials.integrator_for`); the object then carries its
+  medium as ``interior`` and an open mesh (the ``plane``) is closed into a
+  slab :data:`SLAB_THICKNESS_CM` deep behind its front face.
 
 Both use a box reconstruction filter (a pixel value is the mean radiance over the
 pixel) and the ``multijitter`` sampler; units are metres.
@@ -33,14 +38,16 @@ from typing import Dict, NamedTuple, Tuple
 
 import numpy as np
 
-from . import materials, rig as _rig
+from . import materials, rig as _rig, shapes
 from .laser import LaserProfile
 from .objects import SceneObject
 
 __all__ = ["sensor", "projector", "sky", "integrator", "mesh_shape", "laser_scene", "ambient_scene",
-           "laser_passes", "LaserPass"]
+           "laser_passes", "LaserPass", "ambient_integrator"]
 
 MAX_DEPTH = 3
+#: Depth of the slab that closes an open object (the ``plane``) around a medium, cm.
+SLAB_THICKNESS_CM = 2.0
 
 
 def sensor(rig: _rig.Rig, theta_deg: float, spp: int) -> dict:
@@ -75,11 +82,13 @@ def sky(radiance: float = 1.0) -> dict:
     return {"type": "constant", "radiance": float(radiance)}
 
 
-def integrator(kind: str) -> dict:
-    """``path`` or ``ptracer`` with :data:`MAX_DEPTH`."""
-    if kind not in ("path", "ptracer"):
-        raise ValueError(f"`kind` must be 'path' or 'ptracer', got {kind!r}")
-    return {"type": kind, "max_depth": MAX_DEPTH}
+def integrator(kind: str, max_depth: int = MAX_DEPTH) -> dict:
+    """``path``, ``ptracer`` or ``volpath`` with ``max_depth`` (default :data:`MAX_DEPTH`)."""
+    if kind not in ("path", "ptracer", "volpath"):
+        raise ValueError(f"`kind` must be 'path', 'ptracer' or 'volpath', got {kind!r}")
+    if isinstance(max_depth, bool) or not isinstance(max_depth, (int, np.integer)) or max_depth < 1:
+        raise ValueError(f"`max_depth` must be an integer >= 1, got {max_depth!r}")
+    return {"type": kind, "max_depth": int(max_depth)}
 
 
 class LaserPass(NamedTuple):
@@ -94,6 +103,11 @@ class LaserPass(NamedTuple):
     pixels: str
 
 
+def _max_depth(kind: str) -> int:
+    """:data:`scenes.materials.MEDIUM_MAX_DEPTH` for ``volpath`` (only the media use it), else :data:`MAX_DEPTH`."""
+    return materials.MEDIUM_MAX_DEPTH if kind == "volpath" else MAX_DEPTH
+
+
 def laser_passes(material: str) -> Tuple[LaserPass, ...]:
     """The laser pass(es) of ``material`` (from :func:`scenes.materials.integrator_for`).
 
@@ -101,24 +115,49 @@ def laser_passes(material: str) -> Tuple[LaserPass, ...]:
     --------
     >>> [tuple(p) for p in laser_passes("polished")]
     [('path', 3, 'object'), ('ptracer', 3, 'other')]
+    >>> [tuple(p) for p in laser_passes("skin")]
+    [('volpath', 64, 'all')]
     """
-    mode = materials.integrator_for(material)
+    mode = materials.integrator_for(material, "laser")
     if mode == "split":
         return (LaserPass("path", MAX_DEPTH, "object"), LaserPass("ptracer", MAX_DEPTH, "other"))
-    return (LaserPass(mode, MAX_DEPTH, "all"),)
+    return (LaserPass(mode, _max_depth(mode), "all"),)
 
 
-def mesh_shape(mesh, bsdf: dict) -> dict:
-    """A triangle mesh (cm) with a BSDF; ``backend`` builds the ``mi.Mesh``."""
-    return {"type": "numpy_mesh", "mesh": mesh, "bsdf": bsdf}
+def ambient_integrator(material: str) -> dict:
+    """Integrator dict of the ambient pass of ``material``: ``path`` (max depth 3), or ``volpath``
+    with :data:`scenes.materials.MEDIUM_MAX_DEPTH` for the translucent materials.
+
+    Examples
+    --------
+    >>> ambient_integrator("polished"), ambient_integrator("wax")
+    ({'type': 'path', 'max_depth': 3}, {'type': 'volpath', 'max_depth': 64})
+    """
+    kind = materials.integrator_for(material, "ambient")
+    return integrator(kind, _max_depth(kind))
+
+
+def mesh_shape(mesh, bsdf: dict, interior: dict = None) -> dict:
+    """A triangle mesh (cm) with a BSDF and optionally an ``interior`` medium dict; ``backend`` builds the ``mi.Mesh``."""
+    d = {"type": "numpy_mesh", "mesh": mesh, "bsdf": bsdf}
+    if interior is not None:
+        d["interior"] = interior
+    return d
 
 
 def _geometry(obj: SceneObject, material: str, background_albedo: float, support_albedo: float) -> Dict[str, dict]:
-    """Shapes keyed by their ids: ``backdrop`` (if any), ``object``, ``support`` (if any)."""
+    """Shapes keyed by their ids: ``backdrop`` (if any), ``object``, ``support`` (if any).
+
+    A translucent material's object carries its medium as ``interior``; an open mesh (the
+    ``plane``) is first closed into a slab :data:`SLAB_THICKNESS_CM` deep behind its front face
+    (:func:`scenes.shapes.solidify`; the front triangles, which the ground truth hits, are unchanged).
+    """
+    medium = materials.medium(material)
+    mesh = obj.mesh if medium is None else shapes.solidify(obj.mesh, SLAB_THICKNESS_CM)
     out = {}
     if obj.backdrop is not None:
         out["backdrop"] = mesh_shape(obj.backdrop, materials.backdrop_bsdf(background_albedo))
-    out["object"] = mesh_shape(obj.mesh, materials.bsdf(material))
+    out["object"] = mesh_shape(mesh, materials.bsdf(material), medium)
     if obj.support is not None:
         out["support"] = mesh_shape(obj.support, materials.support_bsdf(support_albedo))
     return out
@@ -130,10 +169,12 @@ def laser_scene(rig: _rig.Rig, obj: SceneObject, material: str, laser: LaserProf
     """Laser-only scene (unit in-band power) at mirror angle ``theta_deg``.
 
     ``background_albedo`` and ``support_albedo`` are the wall's and the table's Lambertian
-    albedos (used only when ``obj`` has them).
+    albedos (used only when ``obj`` has them). The scene's integrator is the first of
+    :func:`laser_passes` (a split pass renders each of its integrators by pixel).
     """
-    kind = laser_passes(material)[0].kind
-    return {"type": "scene", "integrator": integrator(kind), "sensor": sensor(rig, theta_deg, spp),
+    first = laser_passes(material)[0]
+    return {"type": "scene", "integrator": integrator(first.kind, first.max_depth),
+            "sensor": sensor(rig, theta_deg, spp),
             **_geometry(obj, material, background_albedo, support_albedo),
             "laser": projector(rig, theta_deg, laser)}
 
@@ -145,8 +186,9 @@ def ambient_scene(rig: _rig.Rig, obj: SceneObject, material: str, theta_deg: flo
 
     Without a wall the camera sees the sky itself where nothing is in front of it: radiance 1
     (unit), what a white Lambertian surface under the same sky would send (about 2 DN at 400 lux).
+    The integrator is :func:`ambient_integrator`.
     """
-    return {"type": "scene", "integrator": integrator("path"), "sensor": sensor(rig, theta_deg, spp),
+    return {"type": "scene", "integrator": ambient_integrator(material), "sensor": sensor(rig, theta_deg, spp),
             **_geometry(obj, material, background_albedo, support_albedo), "sky": sky(1.0)}
 
 

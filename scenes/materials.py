@@ -22,6 +22,11 @@
 ``patchy``
     The ``matte`` white with dark (albedo 0.03) horizontal bands and blotches from a bitmap in the
     object's planar (front-projected) texture coordinates: the paper's partly invisible stripe.
+``skin``, ``marble``, ``wax``
+    Translucent: a homogeneous scattering medium inside the object behind an index-matched
+    (``null``) boundary, rendered with ``volpath`` (see :data:`TRANSLUCENT` and
+    :func:`integrator_for`). The laser light enters, scatters under the surface and leaves
+    around where it entered: a wider, dimmer stripe whose centre is not the surface point.
 
 The backdrop and the table are grey Lambertian, albedo :data:`BACKDROP_ALBEDO` and
 :data:`SUPPORT_ALBEDO` (0.5) unless the scene parameters ``background_albedo`` and
@@ -32,14 +37,16 @@ Bitmaps appear in the dicts as numpy arrays; :mod:`scenes.backend` turns them in
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import math
 
 import numpy as np
 
 __all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "support_bsdf", "patchy_texture", "uses_delta_bsdf",
-           "integrator_for", "SHINY"]
+           "integrator_for", "SHINY", "Translucent", "TRANSLUCENT", "medium", "is_translucent", "MEDIUM_MAX_DEPTH"]
 
-MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed")
+MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed", "skin", "marble", "wax")
 BACKDROP_ALBEDO = 0.5
 SUPPORT_ALBEDO = 0.5
 WHITE_ALBEDO = 0.85
@@ -94,6 +101,8 @@ def bsdf(material: str) -> dict:
     if material == "glazed":
         return {"type": "roughplastic", "distribution": "ggx", "alpha": GLAZE_ALPHA, "int_ior": GLAZE_IOR,
                 "diffuse_reflectance": GLAZE_BODY_ALBEDO}
+    if material in TRANSLUCENT:
+        return {"type": "null"}
     raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
 
 
@@ -116,28 +125,138 @@ SHINY = ("specular", "polished", "glazed")
 """Materials whose specular lobe throws the laser sheet onto other surfaces (false stripes)."""
 
 
-def integrator_for(material: str) -> str:
-    """How the laser pass renders ``material``.
+# -- translucent materials ----------------------------------------------------------------------------
+
+@dataclasses.dataclass(frozen=True)
+class Translucent:
+    """Optical coefficients of a translucent material at the laser's wavelength.
+
+    Attributes
+    ----------
+    sigma_s_reduced_per_mm : float
+        Reduced scattering coefficient ``sigma_s' = (1 - g) sigma_s``, mm⁻¹.
+    sigma_a_per_mm : float
+        Absorption coefficient, mm⁻¹.
+    source : str
+        Where the numbers come from.
+    """
+
+    sigma_s_reduced_per_mm: float
+    sigma_a_per_mm: float
+    source: str
+
+    @property
+    def sigma_t_reduced_per_mm(self) -> float:
+        """Reduced extinction ``sigma_s' + sigma_a``, mm⁻¹."""
+        return self.sigma_s_reduced_per_mm + self.sigma_a_per_mm
+
+    @property
+    def albedo_reduced(self) -> float:
+        """Reduced single-scattering albedo ``sigma_s' / sigma_t'``."""
+        return self.sigma_s_reduced_per_mm / self.sigma_t_reduced_per_mm
+
+    @property
+    def diffusion_length_mm(self) -> float:
+        """``1 / sigma_tr`` with ``sigma_tr = sqrt(3 sigma_a sigma_t')`` (Jensen et al. 2001, eq. 5), mm:
+        the e-folding distance of the diffuse glow around the entry point."""
+        return 1.0 / math.sqrt(3.0 * self.sigma_a_per_mm * self.sigma_t_reduced_per_mm)
+
+
+_JENSEN = ("Jensen, Marschner, Levoy, Hanrahan (2001), A Practical Model for Subsurface Light Transport, "
+           "SIGGRAPH, Table 1 (sigma_s', sigma_a in mm^-1 for R, G, B); R channel used for 650 nm")
+
+#: The translucent materials. ``skin`` is Jensen et al.'s "Skin1" and ``marble`` their "Marble"
+#: (Table 1, R/G/B: Skin1 sigma_s' = 0.74, 0.88, 1.01, sigma_a = 0.032, 0.17, 0.48; Marble
+#: sigma_s' = 2.19, 2.62, 3.00, sigma_a = 0.0021, 0.0041, 0.0071 mm⁻¹); their R channel is taken
+#: for the 650 nm laser (the R coefficient is the nearest of the three; no interpolation).
+#: ``wax`` is an **assumption**, not a measurement: no published sigma_s'/sigma_a of paraffin
+#: or candle wax at 650 nm was found for this project; the numbers give a material that scatters
+#: half as strongly as marble with a similar diffuse reach (diffusion length ~ 9 mm).
+TRANSLUCENT = {
+    "skin": Translucent(0.74, 0.032, _JENSEN + ", Skin1"),
+    "marble": Translucent(2.19, 0.0021, _JENSEN + ", Marble"),
+    "wax": Translucent(1.0, 0.004, "assumed (no published measurement found)"),
+}
+
+#: Henyey-Greenstein anisotropy of the rendered media. Jensen et al. give only the *reduced*
+#: coefficient sigma_s' = (1 - g) sigma_s; by the similarity relation a medium with g = 0 and
+#: sigma_s = sigma_s' has the same diffuse transport, and its random walks are 1/(1 - g) times
+#: shorter (skin's real g ~ 0.8-0.9 would cost 5-10x more scattering events per path).
+PHASE_G = 0.0
+
+#: Maximum path length (surface and medium interactions) of ``volpath`` for the translucent
+#: materials. Measured (plane, 128x120, middle angle): 64 keeps 90 % of marble's laser energy
+#: against 1024 (skin: 99.5 % against 256); 256 keeps 100 % but leaves fireflies of 100-900x the
+#: median in marble and wax (long paths), which trackers take for the stripe. See docs/translucency.md.
+MEDIUM_MAX_DEPTH = 64
+
+_MM_PER_M = 1000.0
+
+
+def is_translucent(material: str) -> bool:
+    """True for the materials with a participating medium inside (:data:`TRANSLUCENT`)."""
+    return material in TRANSLUCENT
+
+
+def medium(material: str):
+    """Mitsuba ``homogeneous`` medium dict of a translucent material (scene units: metres), else None.
+
+    ``sigma_t`` (m⁻¹) = 1000 (sigma_s' + sigma_a) (mm⁻¹) with ``g`` = :data:`PHASE_G`, so the
+    medium's sigma_s equals the published sigma_s'; ``albedo = sigma_s' / sigma_t``.
+
+    Examples
+    --------
+    >>> m = medium("marble")
+    >>> round(m["sigma_t"], 1), round(m["albedo"], 5)
+    (2192.1, 0.99904)
+    >>> medium("matte") is None
+    True
+    """
+    t = TRANSLUCENT.get(material)
+    if t is None:
+        return None
+    return {"type": "homogeneous", "sigma_t": t.sigma_t_reduced_per_mm * _MM_PER_M, "albedo": t.albedo_reduced,
+            "phase": {"type": "hg", "g": PHASE_G}}
+
+
+def integrator_for(material: str, light: str = "laser") -> str:
+    """How one pass (``light``: ``"laser"`` or ``"ambient"``) renders ``material``.
 
     Returns
     -------
     str
-        ``"path"`` (path tracing, the default), ``"ptracer"`` (light tracing: ``specular``, whose
-        laser -> mirror -> diffuse paths a path tracer cannot find) or ``"split"`` (``polished``,
-        ``glazed``: path tracing on the pixels that see the object, where it renders the highlight and
-        the lit wall seen in the object, light tracing on all other pixels, where it renders the
-        sheet reflected onto them; see :func:`scenes.description.laser_passes`).
+        * ``"volpath"``: the translucent materials (:data:`TRANSLUCENT`), both passes, with
+          :data:`MEDIUM_MAX_DEPTH`. The boundary is ``null`` (index-matched) because ``volpath``'s
+          next-event estimation reaches a delta light (the pinhole projector) from a point inside a
+          medium only through null interfaces: a ``dielectric`` or ``roughdielectric`` boundary
+          blocks the shadow ray, leaving only the connection from the boundary's last vertex (rough)
+          or none at all (smooth).
+        * ``"path"`` (path tracing, max depth 3): every other material's ambient pass and the laser
+          pass of the diffuse and glossy materials.
+        * ``"ptracer"`` (light tracing, laser pass of ``specular``, whose laser -> mirror -> diffuse
+          paths a path tracer cannot find).
+        * ``"split"`` (laser pass of ``polished``, ``glazed``): path tracing on the pixels that see
+          the object, where it renders the highlight and the lit wall seen in the object, light
+          tracing on all other pixels, where it renders the sheet reflected onto them; see
+          :func:`scenes.description.laser_passes`.
 
     Examples
     --------
     >>> integrator_for("matte"), integrator_for("specular"), integrator_for("polished")
     ('path', 'ptracer', 'split')
+    >>> integrator_for("polished", "ambient"), integrator_for("skin"), integrator_for("skin", "ambient")
+    ('path', 'volpath', 'volpath')
     """
+    if light not in ("laser", "ambient"):
+        raise ValueError(f"`light` must be 'laser' or 'ambient', got {light!r}")
     if material not in MATERIALS:
         raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
+    if is_translucent(material):
+        return "volpath"
+    if light == "ambient":
+        return "path"
     if uses_delta_bsdf(material):
         return "ptracer"
     if material in ("polished", "glazed"):
         return "split"
     return "path"
-

@@ -147,7 +147,20 @@ class Scene:
             "variant": variant,
             "mitsuba": _mitsuba_versions()[0],
             "drjit": _mitsuba_versions()[1],
+            **self._optics_fields(),
         }
+
+    def _optics_fields(self) -> Dict[str, Any]:
+        """Cache-key fields of a translucent material: its boundary, medium (coefficients) and
+        integrators, so a change of any coefficient re-renders. Empty for the opaque and shiny
+        materials (their keys stay what they were)."""
+        mat = self.params["material"]
+        if not materials.is_translucent(mat):
+            return {}
+        return {"optics": {"bsdf": materials.bsdf(mat), "medium": materials.medium(mat),
+                           "laser_passes": [list(p) for p in description.laser_passes(mat)],
+                           "ambient_integrator": description.ambient_integrator(mat),
+                           "slab_thickness_cm": description.SLAB_THICKNESS_CM}}
 
     def _unit_passes(self, theta: float, spp: int, seed: int, seeds) -> Dict[str, np.ndarray]:
         variant = _variant.active_variant()

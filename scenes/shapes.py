@@ -7,6 +7,14 @@ world with the transforms of :mod:`scenes.rig`.
 All meshes are closed or one-sided surfaces facing ``-Y`` (towards the rig) with
 outward, analytic vertex normals (used for shading only; rays hit the flat
 triangles, and the ground truth casts rays against exactly the same triangles).
+
+A participating medium needs a closed, consistently oriented surface
+(:func:`is_closed`): ``uv_sphere`` and ``cone`` are (their seams and poles
+repeat vertex positions exactly); ``rectangle`` is one-sided and
+:func:`solidify` extrudes it into a slab; ``hand`` is a union of closed parts
+(palm, fingers, thumb) that *overlap*, so a medium inside it sees the buried
+parts' walls as exits into air: it is not a valid medium boundary (no mesh
+boolean here), and the translucent study uses ``plane`` and ``sphere``.
 """
 
 from __future__ import annotations
@@ -29,6 +37,9 @@ __all__ = [
     "hand",
     "planar_uv",
     "vertex_normals",
+    "boundary_edges",
+    "is_closed",
+    "solidify",
 ]
 
 
@@ -254,3 +265,88 @@ def planar_uv(m: Mesh) -> Mesh:
     u = (v[:, 0] - lo[0]) / span[0]
     w = (hi[2] - v[:, 2]) / span[2]
     return m.with_uv(np.stack([u, w], 1))
+
+
+def _welded_faces(m: Mesh, decimals: int = 9) -> np.ndarray:
+    """Faces re-indexed onto unique vertex positions (rounded to ``decimals`` cm)."""
+    _, inverse = np.unique(np.round(m.vertices_cm, decimals), axis=0, return_inverse=True)
+    return inverse.reshape(-1)[m.faces]
+
+
+def boundary_edges(m: Mesh) -> np.ndarray:
+    """Directed edges ``(a, b)`` (welded vertex ids) whose opposite ``(b, a)`` no face has, shape (K, 2).
+
+    Empty for a closed surface with consistently oriented faces.
+    """
+    f = _welded_faces(m)
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    have = set(map(tuple, e.tolist()))
+    return np.array([ab for ab in e.tolist() if (ab[1], ab[0]) not in have], np.int64).reshape(-1, 2)
+
+
+def is_closed(m: Mesh) -> bool:
+    """True when the surface is watertight and consistently oriented.
+
+    Every directed edge (on positions welded to 1e-9 cm) appears exactly once
+    and its opposite exactly once: each edge joins two faces that agree on the
+    winding.
+
+    Examples
+    --------
+    >>> is_closed(uv_sphere(1.0, 16, 8)), is_closed(rectangle(2.0, 1.0))
+    (True, False)
+    """
+    f = _welded_faces(m)
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    e = e[e[:, 0] != e[:, 1]]
+    uniq, counts = np.unique(e, axis=0, return_counts=True)
+    if np.any(counts != 1):
+        return False
+    have = set(map(tuple, uniq.tolist()))
+    return all((b, a) in have for a, b in have)
+
+
+def solidify(m: Mesh, thickness_cm: float) -> Mesh:
+    """Close a one-sided mesh into a slab by extruding it ``thickness_cm`` against its normals.
+
+    The front surface keeps its triangles (so rays and the ground truth hit it
+    exactly as before); a back copy and side walls along the boundary close it
+    with outward winding. A closed mesh is returned unchanged.
+
+    Parameters
+    ----------
+    m : Mesh
+        An open, consistently wound surface (e.g. :func:`rectangle`).
+    thickness_cm : float
+        Slab thickness, cm (> 0).
+
+    Returns
+    -------
+    Mesh
+        Vertices (2N, 3): front then back; normals recomputed from the faces.
+
+    Examples
+    --------
+    >>> slab = solidify(rectangle(2.0, 1.0), 0.5)
+    >>> is_closed(slab), len(slab.faces)
+    (True, 12)
+    """
+    if not thickness_cm > 0:
+        raise ValueError(f"`thickness_cm` must be > 0, got {thickness_cm!r}")
+    if is_closed(m):
+        return m
+    n = len(m.vertices_cm)
+    back = m.vertices_cm - thickness_cm * m.normals
+    # boundary edges on the mesh's own indices (the front has no repeated positions here)
+    f = m.faces
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    have = set(map(tuple, e.tolist()))
+    rim = np.array([ab for ab in e.tolist() if (ab[1], ab[0]) not in have], np.int64).reshape(-1, 2)
+    a, b = rim[:, 0], rim[:, 1]
+    sides = np.concatenate([np.stack([b, a, a + n], 1), np.stack([b, a + n, b + n], 1)])
+    faces = np.concatenate([f, f[:, [0, 2, 1]] + n, sides]).astype(np.int64)
+    v = np.concatenate([m.vertices_cm, back])
+    out = Mesh(v, faces, vertex_normals(v, faces), np.concatenate([m.uv, m.uv]))
+    if not is_closed(out):
+        raise ValueError("`m` must be an open surface whose boundary is not repeated in its vertices")
+    return out

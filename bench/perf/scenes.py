@@ -59,7 +59,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     ap.add_argument("--object", default="hand", choices=scenes.available())
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--per-material", type=int, default=6, help="frames timed per material")
-    ap.add_argument("--materials", default=",".join(scenes.MATERIALS), help="comma-separated materials")
+    ap.add_argument("--materials", default=",".join(scenes.MATERIALS),
+                    help="comma-separated materials (default: all; the translucent ones cost ~15x matte)")
     ap.add_argument("--background", default="wall", choices=("wall", "none"))
     ap.add_argument("--support", default="none", choices=("none", "table"))
     args = ap.parse_args(argv)

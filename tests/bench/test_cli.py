@@ -80,7 +80,8 @@ def test_run_a_config_file_then_rebuild_its_report(tmp_path, capsys):
     assert (out_dir / "report.html").is_file()
 
 
-@pytest.mark.parametrize("argv", [["perf", "-h"], ["perf", "--scenes", "-h"], ["estimators", "-h"]])
+@pytest.mark.parametrize("argv", [["perf", "-h"], ["perf", "--scenes", "-h"], ["estimators", "-h"],
+                                  ["translucency", "-h"]])
 def test_pass_through_commands_show_their_own_help(argv, capsys):
     with pytest.raises(SystemExit) as exc:
         main(argv)

@@ -5,11 +5,12 @@ from scenes import materials as M
 
 
 def test_every_material_has_a_bsdf():
-    assert M.MATERIALS == ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed")
+    assert M.MATERIALS == ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed",
+                           "skin", "marble", "wax")
     types = {m: M.bsdf(m)["type"] for m in M.MATERIALS}
     assert types == {"matte": "diffuse", "absorbing": "diffuse", "glossy": "roughplastic",
                      "specular": "conductor", "patchy": "diffuse", "polished": "roughconductor",
-                     "glazed": "roughplastic"}
+                     "glazed": "roughplastic", "skin": "null", "marble": "null", "wax": "null"}
     assert M.bsdf("absorbing")["reflectance"] == pytest.approx(0.05)
     assert M.bsdf("glossy")["distribution"] == "ggx"
     assert [m for m in M.MATERIALS if M.uses_delta_bsdf(m)] == ["specular"]
@@ -44,9 +45,59 @@ def test_shiny_materials_are_rough_versions_of_the_mirror():
 def test_integrator_per_material():
     kinds = {m: M.integrator_for(m) for m in M.MATERIALS}
     assert kinds == {"matte": "path", "absorbing": "path", "glossy": "path", "specular": "ptracer",
-                     "patchy": "path", "polished": "split", "glazed": "split"}
+                     "patchy": "path", "polished": "split", "glazed": "split",
+                     "skin": "volpath", "marble": "volpath", "wax": "volpath"}
+    assert kinds == {m: M.integrator_for(m, "laser") for m in M.MATERIALS}
+    ambient = {m: M.integrator_for(m, "ambient") for m in M.MATERIALS}
+    assert ambient == {m: "volpath" if m in ("skin", "marble", "wax") else "path" for m in M.MATERIALS}
+
+# -- translucent materials -----------------------------------------------------------------------------
+
+def test_translucent_coefficients_are_jensen_2001_table_1_red_channel():
+    # Jensen, Marschner, Levoy, Hanrahan (2001), Table 1, R channel, mm^-1:
+    # Skin1 sigma_s' = 0.74, sigma_a = 0.032; Marble sigma_s' = 2.19, sigma_a = 0.0021
+    assert M.TRANSLUCENT["skin"].sigma_s_reduced_per_mm == 0.74
+    assert M.TRANSLUCENT["skin"].sigma_a_per_mm == 0.032
+    assert M.TRANSLUCENT["marble"].sigma_s_reduced_per_mm == 2.19
+    assert M.TRANSLUCENT["marble"].sigma_a_per_mm == 0.0021
+    assert "Table 1" in M.TRANSLUCENT["skin"].source and "Skin1" in M.TRANSLUCENT["skin"].source
+    assert "assumed" in M.TRANSLUCENT["wax"].source  # no published source: said so
+
+
+@pytest.mark.parametrize("material", ["skin", "marble", "wax"])
+def test_medium_is_in_metres_and_keeps_the_reduced_coefficients(material):
+    t = M.TRANSLUCENT[material]
+    m = M.medium(material)
+    assert m["type"] == "homogeneous" and m["phase"] == {"type": "hg", "g": M.PHASE_G}
+    sigma_s_per_m = m["sigma_t"] * m["albedo"]
+    sigma_a_per_m = m["sigma_t"] * (1.0 - m["albedo"])
+    # scene units are metres: mm^-1 x 1000; with g the medium's sigma_s (1 - g) is the published sigma_s'
+    assert sigma_s_per_m * (1.0 - M.PHASE_G) == pytest.approx(1000.0 * t.sigma_s_reduced_per_mm)
+    assert sigma_a_per_m == pytest.approx(1000.0 * t.sigma_a_per_mm)
+    assert M.bsdf(material) == {"type": "null"}
+    assert M.is_translucent(material) and not M.uses_delta_bsdf(material)
+    assert M.integrator_for(material, "laser") == M.integrator_for(material, "ambient") == "volpath"
+    assert material not in M.SHINY
+
+
+def test_opaque_materials_have_no_medium_and_keep_their_integrators():
+    for m in ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed"):
+        assert M.medium(m) is None and not M.is_translucent(m)
+        assert M.integrator_for(m, "ambient") == "path"
+
+
+def test_integrator_for_checks_its_arguments():
+    with pytest.raises(ValueError, match="`light` must be 'laser' or 'ambient', got 'sun'"):
+        M.integrator_for("skin", "sun")
     with pytest.raises(KeyError, match="unknown `material` 'velvet'"):
         M.integrator_for("velvet")
+
+
+def test_diffusion_lengths_order_the_materials():
+    # skin absorbs most at 650 nm: the shortest reach; marble and wax glow over centimetres
+    d = {k: v.diffusion_length_mm for k, v in M.TRANSLUCENT.items()}
+    assert d["skin"] == pytest.approx(1.0 / np.sqrt(3 * 0.032 * (0.74 + 0.032)))
+    assert d["skin"] < d["marble"] and d["skin"] < d["wax"]
 
 
 def test_docstring_examples_run():

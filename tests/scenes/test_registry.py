@@ -5,7 +5,8 @@ import scenes
 
 def test_available_and_materials():
     assert scenes.available() == ["cone", "hand", "plane", "sphere"]
-    assert scenes.MATERIALS == ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed")
+    assert scenes.MATERIALS == ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed",
+                                "skin", "marble", "wax")
 
 
 def test_make_fills_defaults_and_keeps_overrides():

@@ -318,3 +318,54 @@ def test_cache_key_covers_the_laser_passes(monkeypatch):
 
     monkeypatch.setattr(description, "laser_passes", lambda m: (description.LaserPass("ptracer", 3, "all"),))
     assert C.key(s._cache_fields(0.0, 4, 0, "llvm_ad_mono")) != k
+
+
+def _row_fwhm(laser, truth, rows, half=12):
+    from bench.translucency import stripe_widths_px
+
+    cols = np.full(laser.shape[0], np.nan)
+    cols[rows] = truth[rows]
+    fwhm, w1090, peak = stripe_widths_px(laser, cols, half)
+    return np.nanmedian(fwhm[rows]), np.nanmedian(w1090[rows]), np.nanmedian(peak[rows])
+
+
+def test_translucent_plane_has_a_wider_dimmer_stripe_and_the_same_truth(tmp_path):
+    kw = dict(width=64, height=60, spp=8, ambient_spp=1, cache_dir=str(tmp_path))
+    matte = scenes.make("plane", material="matte", **kw)
+    theta = float(matte.default_angles()[24])
+    fm = matte.render(theta)
+    rows = np.nonzero(fm.truth.on_object)[0]
+    assert rows.size > 50
+    _, wm, pm = _row_fwhm(fm.laser_radiance, fm.truth.columns, rows, half=6)
+    for material in ("skin", "marble", "wax"):
+        f = scenes.make("plane", material=material, **kw).render(theta)
+        # the medium does not move the surface: the same geometric truth
+        assert np.array_equal(f.truth.columns, fm.truth.columns, equal_nan=True)
+        assert np.array_equal(f.truth.on_object, fm.truth.on_object)
+        _, w, p = _row_fwhm(f.laser_radiance, f.truth.columns, rows, half=6)
+        assert w > 1.1 * wm, material  # the glow spreads the stripe (64 px: skin 1.7x, marble 1.15x)
+        assert p < 0.8 * pm, material  # and lowers its peak
+
+
+def test_translucent_renders_are_cached_with_their_optics_in_the_key(tmp_path, monkeypatch):
+    from scenes import materials
+
+    kw = dict(width=64, height=60, spp=4, ambient_spp=2, cache_dir=str(tmp_path))
+    s = scenes.make("sphere", material="skin", **kw)
+    fields = s._cache_fields(0.0, 4, 0, "v")
+    assert fields["optics"]["medium"] == materials.medium("skin")
+    assert fields["optics"]["laser_passes"] == [["volpath", materials.MEDIUM_MAX_DEPTH, "all"]]
+    assert fields["optics"]["ambient_integrator"] == {"type": "volpath", "max_depth": materials.MEDIUM_MAX_DEPTH}
+    assert fields["laser_passes"] == [["volpath", materials.MEDIUM_MAX_DEPTH, "all"]]
+    assert "optics" not in scenes.make("sphere", material="matte", **kw)._cache_fields(0.0, 4, 0, "v")
+    a = s.render(0.0)
+    assert len(list(tmp_path.rglob("*.npz"))) == 1
+    b = scenes.make("sphere", material="skin", **kw).render(0.0)  # from the cache
+    assert np.array_equal(a.laser_radiance, b.laser_radiance) and len(list(tmp_path.rglob("*.npz"))) == 1
+    # a changed coefficient is a different key: it re-renders
+    t = materials.TRANSLUCENT["skin"]
+    monkeypatch.setitem(materials.TRANSLUCENT, "skin", materials.Translucent(2 * t.sigma_s_reduced_per_mm,
+                                                                              t.sigma_a_per_mm, t.source))
+    c = scenes.make("sphere", material="skin", **kw).render(0.0)
+    assert len(list(tmp_path.rglob("*.npz"))) == 2
+    assert not np.array_equal(a.laser_radiance, c.laser_radiance)

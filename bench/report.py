@@ -119,24 +119,35 @@ def _headline(summary) -> str:
         return ("<p>No DP tracker or no baseline was chosen (<code>dp</code>, <code>baselines</code>), so the "
                 "report compares no pair; see the table below.</p>")
     within = summary.get("within_mm", 5.0)
+    base0 = summary["config"]["baselines"][0] if summary["config"].get("baselines") else None
     by_group: dict[str, list[dict]] = {}
     for v in verdicts:
         by_group.setdefault(v["group"], []).append(v)
+
+    def items(vs):
+        main = [v for v in vs if v["baseline"] == base0]
+        rest = [v for v in vs if v["baseline"] != base0]
+        out = "<ul>" + "".join(f"<li>{verdict_sentence(v, within)}</li>" for v in main) + "</ul>"
+        if rest:
+            out += ("<details><summary>against the other baselines</summary><ul>"
+                    + "".join(f"<li>{verdict_sentence(v, within)}</li>" for v in rest) + "</ul></details>")
+        return out
+
     parts = []
     for k, (title, group, keys) in enumerate(_groups(summary)):
-        items = by_group.get(group, [])
-        if not items:
+        vs = by_group.get(group, [])
+        if not vs:
             continue
-        n = items[0]["dp_figures"]["n"]
-        lead = "The paper's condition" if k == 0 else "Condition"
-        parts.append(f"<h3>{lead}: {html.escape(title)} <small>({', '.join(map(html.escape, keys))}; {n} sample "
-                     f"points)</small></h3><ul>" + "".join(f"<li>{verdict_sentence(v, within)}</li>" for v in items)
-                     + "</ul>")
+        n = vs[0]["dp_figures"]["n"]
+        lead = "" if title.lower().startswith("the paper's condition") else (
+            "The paper's condition: " if k == 0 else "Condition: ")
+        shown = title if lead else title[:1].upper() + title[1:]
+        parts.append(f"<h3>{lead}{html.escape(shown)} <small>({', '.join(map(html.escape, keys))}; {n} sample "
+                     f"points)</small></h3>" + items(vs))
     pooled = by_group.get("all", [])
     if pooled and len(_groups(summary)) > 1:
         parts.append("<h3>Pooled over unlike conditions <small>(an average of different effects, not a "
-                     "condition)</small></h3><ul>" + "".join(f"<li>{verdict_sentence(v, within)}</li>" for v in pooled)
-                     + "</ul>")
+                     "condition)</small></h3>" + items(pooled))
     return "".join(parts)
 
 

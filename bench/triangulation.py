@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from scenes.rig import cylindrical_to_cartesian  # one home: the rig's geometry
+
 __all__ = ["triangulate", "depth_cm", "points_from_depth", "cylindrical_to_cartesian"]
 
 _PX_TINY_MM = 1e-9
@@ -90,9 +92,3 @@ def points_from_depth(r_cm, rows, mirror_angle_deg, rig) -> np.ndarray:
     z = pz * (d_m + r * np.cos(zeta)) / f
     phi = 2.0 * theta - np.degrees(zeta)
     return cylindrical_to_cartesian(r, phi, z)
-
-
-def cylindrical_to_cartesian(r_cm, phi_deg, z_cm) -> np.ndarray:
-    """``(R sin phi, R cos phi, Z)`` (phi clockwise from +Y seen from above), shape (..., 3)."""
-    r, p, z = np.broadcast_arrays(np.asarray(r_cm, float), np.radians(phi_deg), np.asarray(z_cm, float))
-    return np.stack([r * np.sin(p), r * np.cos(p), z], axis=-1)

@@ -27,7 +27,7 @@ import numpy as np
 sys.path.insert(0, ".")
 
 import trackers  # noqa: E402
-from trackers import _dp_kernels as K  # noqa: E402
+from trackers import _dp_rows as K  # noqa: E402
 from trackers.testing import make_stripe_image  # noqa: E402
 
 RULES = {"mean": (K.RULE_MEAN, None), "crossing": (K.RULE_CROSSING, None), "brightest": (K.RULE_BRIGHTEST, None),

@@ -35,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _dp_kernels as K
+from . import _dp_rows as R
 from ._base import Track, Tracker
 from ._params import check_int, check_optional_real, check_real
 from ._validation import check_image
@@ -356,10 +357,10 @@ class DPTracker(Tracker):
 
     connectivity = 4
 
-    #: The row rule (``K.RULE_*``) and the longest walk, in columns, a row may
+    #: The row rule (``R.RULE_*``) and the longest walk, in columns, a row may
     #: hold and still be reported (None: any); class attributes so that the
     #: measurement in ``bench/perf/dp_rows.py`` can compare the rules.
-    _row_rule = K.RULE_CROSSING
+    _row_rule = R.RULE_CROSSING
     _max_walk = None
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
@@ -414,7 +415,7 @@ class DPTracker(Tracker):
         contrast = np.empty(H)
         side_sd = np.empty(H)
         span = np.empty(H, dtype=np.int64)
-        K.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), int(self._row_rule),
+        R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), int(self._row_rule),
                       col, contrast, side_sd, span)
         vmax = float(image.max())
         vmin = float(image.min())

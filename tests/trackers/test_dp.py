@@ -418,7 +418,7 @@ def test_conformance_at_several_h_weights(name, h_weight):
 
 @pytest.mark.parametrize("tracker_cls", [DP4Tracker, DP8Tracker])
 def test_a_row_where_the_path_walks_reports_a_place_the_stripe_is(tracker_cls):
-    from trackers import _dp_kernels as K
+    from trackers import _dp_rows as R
 
     # the stripe jumps from column 10 to column 40 between rows 29 and 30;
     # with a small h_weight the path follows it, walking 30 columns along one
@@ -433,5 +433,5 @@ def test_a_row_where_the_path_walks_reports_a_place_the_stripe_is(tracker_cls):
         cols = t.track(img).columns
         assert np.isfinite(cols).all()
         assert np.abs(cols - truth).max() <= 0.5, (hw, np.flatnonzero(np.abs(cols - truth) > 0.5))
-        t._row_rule = K.RULE_MEAN  # the old rule: the walk's mean column, a place with no stripe
+        t._row_rule = R.RULE_MEAN  # the old rule: the walk's mean column, a place with no stripe
         assert np.abs(t.track(img).columns - truth).max() > 5

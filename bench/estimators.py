@@ -25,7 +25,6 @@ import csv
 import pathlib
 
 import numpy as np
-from scipy.special import erf
 
 __all__ = ["stripe_frame", "run_study", "write_csv", "plot", "main", "FIELDS"]
 
@@ -65,10 +64,10 @@ def stripe_frame(sigma: float, peak: float, noise: float, rng: np.random.Generat
     laser_off : ndarray of uint8, shape (height, width)
         The background with independent noise.
     """
+    from trackers.testing import stripe_profile
+
     truth = width / 2.0 + rng.uniform(-0.5, 0.5) + np.arange(height) / height
-    edges = np.arange(width + 1) - 0.5
-    z = (edges[None, :] - truth[:, None]) / (np.sqrt(2.0) * sigma)
-    profile = peak * np.sqrt(2.0 * np.pi) * sigma * 0.5 * np.diff(erf(z), axis=1)
+    profile = stripe_profile(truth, width, sigma, peak)
 
     def camera(signal):
         return np.clip(np.rint(background + signal + rng.normal(0.0, noise, signal.shape)), 0, 255).astype(np.uint8)

@@ -28,7 +28,38 @@ from scipy.special import erf
 
 from ._base import Track, Tracker
 
-__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image"]
+__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "stripe_profile"]
+
+
+def stripe_profile(centre, width: int, sigma_px: float, peak: float) -> np.ndarray:
+    """A Gaussian line profile integrated over each pixel's width, one row per centre.
+
+    Pixel ``j`` spans columns ``j - 0.5 .. j + 0.5``; the continuous profile
+    peaks at ``peak`` (image units) at ``centre[r]``.
+
+    Parameters
+    ----------
+    centre : array_like, shape (H,)
+        The stripe's centre in each row (pixel-centre convention, px).
+    width : int
+        Columns.
+    sigma_px, peak : float
+        Standard deviation (px) and peak height of the profile.
+
+    Returns
+    -------
+    ndarray of float64, shape (H, width)
+
+    Examples
+    --------
+    >>> p = stripe_profile([4.0], 9, 1.0, 10.0)  # the whole profile: sum = peak * sqrt(2 pi) * sigma
+    >>> int(np.argmax(p[0])), round(float(p[0].sum()), 3), round(float(10.0 * np.sqrt(2 * np.pi)), 3)
+    (4, 25.066, 25.066)
+    """
+    centre = np.asarray(centre, dtype=np.float64)
+    edges = np.arange(width + 1) - 0.5
+    z = (edges[None, :] - centre[:, None]) / (np.sqrt(2.0) * sigma_px)
+    return peak * np.sqrt(2.0 * np.pi) * sigma_px * 0.5 * np.diff(erf(z), axis=1)
 
 
 def make_stripe_image(
@@ -58,11 +89,7 @@ def make_stripe_image(
     rows = np.arange(height)
     centre = width / 2 + 0.15 * width * np.sin(2 * np.pi * rows / height + rng.uniform(0, 2 * np.pi))
     centre = centre + rng.uniform(-0.5, 0.5)
-    edges = np.arange(width + 1) - 0.5
-    z = (edges[None, :] - centre[:, None]) / (np.sqrt(2.0) * sigma_px)
-    frac = 0.5 * np.diff(erf(z), axis=1)
-    amplitude = peak * np.sqrt(2 * np.pi) * sigma_px
-    img = background + amplitude * frac + rng.normal(0.0, noise, (height, width))
+    img = background + stripe_profile(centre, width, sigma_px, peak) + rng.normal(0.0, noise, (height, width))
     return np.clip(np.rint(img), 0, 255).astype(np.uint8), centre
 
 

@@ -7,7 +7,6 @@ The run folder's layout, its lock and its readers live in
 
 from __future__ import annotations
 
-import json
 import platform
 import subprocess
 import sys
@@ -115,8 +114,6 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
 
     The report is not built here: call :func:`bench.report.build_report` on the result.
     """
-    import pandas as pd
-
     t_start = time.perf_counter()
     out = Path(out_dir) if out_dir is not None else default_run_dir(config)
     tracker_objs = config.make_trackers()

@@ -37,7 +37,7 @@ import numpy as np
 from . import _dp_kernels as K
 from . import _dp_rows as R
 from ._base import Track, Tracker
-from ._params import check_int, check_optional_real, check_real
+from ._params import check_int, check_real
 from ._validation import check_image
 
 __all__ = [

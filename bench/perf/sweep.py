@@ -84,7 +84,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     n = len(lux) * len(power)
     w1 = float(np.median([w for w, _ in singles]))
     wg = float(np.median([w for w, _ in grids]))
-    s1, sg = singles[-1][1], grids[-1][1]
     ratio = wg / w1
     print(f"sweep cost, {args.scene}/{args.material} {args.size}, {args.angles} angles, spp {args.spp}, "
           f"trackers {args.trackers}, {args.repeats} repeat(s), cold render cache, sequential, fresh processes:")

@@ -45,12 +45,14 @@ import time
 
 import numpy as np
 
+from trackers.dp import DEFAULT_H_WEIGHT
+
 __all__ = ["frame_ms", "time_trackers", "time_solver", "time_mcp", "first_call_seconds", "main",
            "CLOCKS", "TARGET_H_WEIGHT", "SOLVER_VS_MCP", "H_WEIGHT_SLOWDOWN", "MS_TARGETS", "RATIO_TARGETS"]
 
 #: The h_weight whose speed is checked against the isotropic solve: the DP
 #: trackers' default (chosen by ``stripebench tune dp``).
-from trackers.dp import DEFAULT_H_WEIGHT as TARGET_H_WEIGHT  # noqa: E402
+TARGET_H_WEIGHT = DEFAULT_H_WEIGHT
 #: Least speed-up of the exact solver over MCP_Geometric (median over frames).
 SOLVER_VS_MCP = 100.0
 #: Most slowdown of the solver at TARGET_H_WEIGHT over h_weight=1 (medians).

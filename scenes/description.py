@@ -25,8 +25,9 @@ Two scenes share the geometry of one frame:
 * translucent materials (``skin``, ``marble``, ``wax``) use ``volpath`` (max depth
   :data:`scenes.materials.MEDIUM_MAX_DEPTH`) in both passes, the laser pass over all
   pixels (:func:`scenes.materials.integrator_for`); the object then carries its
-  medium as ``interior`` and an open mesh (the ``plane``) is closed into a
-  slab :data:`SLAB_THICKNESS_CM` deep behind its front face.
+  medium as ``interior`` inside :func:`scenes.shapes.medium_boundary`: an open mesh
+  (the ``plane``) is closed into a slab :data:`SLAB_THICKNESS_CM` deep behind its
+  front face, the overlapping parts of the ``hand`` are joined into one surface.
 
 Both use a box reconstruction filter (a pixel value is the mean radiance over the
 pixel) and the ``multijitter`` sampler; units are metres.
@@ -148,12 +149,14 @@ def mesh_shape(mesh, bsdf: dict, interior: dict = None) -> dict:
 def _geometry(obj: SceneObject, material: str, background_albedo: float, support_albedo: float) -> Dict[str, dict]:
     """Shapes keyed by their ids: ``backdrop`` (if any), ``object``, ``support`` (if any).
 
-    A translucent material's object carries its medium as ``interior``; an open mesh (the
-    ``plane``) is first closed into a slab :data:`SLAB_THICKNESS_CM` deep behind its front face
-    (:func:`scenes.shapes.solidify`; the front triangles, which the ground truth hits, are unchanged).
+    A translucent material's object carries its medium as ``interior`` inside
+    :func:`scenes.shapes.medium_boundary`: an open mesh (the ``plane``) is first closed into a slab
+    :data:`SLAB_THICKNESS_CM` deep behind its front face (the front triangles, which the ground truth
+    hits, are unchanged), a mesh of overlapping closed parts (the ``hand``) is replaced by their
+    union (the same outer surface, hence the same truth).
     """
     medium = materials.medium(material)
-    mesh = obj.mesh if medium is None else shapes.solidify(obj.mesh, SLAB_THICKNESS_CM)
+    mesh = obj.mesh if medium is None else shapes.medium_boundary(obj.mesh, SLAB_THICKNESS_CM)
     out = {}
     if obj.backdrop is not None:
         out["backdrop"] = mesh_shape(obj.backdrop, materials.backdrop_bsdf(background_albedo))

@@ -160,7 +160,8 @@ class Scene:
         return {"optics": {"bsdf": materials.bsdf(mat), "medium": materials.medium(mat),
                            "laser_passes": [list(p) for p in description.laser_passes(mat)],
                            "ambient_integrator": description.ambient_integrator(mat),
-                           "slab_thickness_cm": description.SLAB_THICKNESS_CM}}
+                           "slab_thickness_cm": description.SLAB_THICKNESS_CM,
+                           "boundary": "shapes.medium_boundary: as is, union of pieces, or slab"}}
 
     def _unit_passes(self, theta: float, spp: int, seed: int, seeds) -> Dict[str, np.ndarray]:
         variant = _variant.active_variant()

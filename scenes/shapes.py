@@ -12,9 +12,11 @@ A participating medium needs a closed, consistently oriented surface
 (:func:`is_closed`): ``uv_sphere`` and ``cone`` are (their seams and poles
 repeat vertex positions exactly); ``rectangle`` is one-sided and
 :func:`solidify` extrudes it into a slab; ``hand`` is a union of closed parts
-(palm, fingers, thumb) that *overlap*, so a medium inside it sees the buried
-parts' walls as exits into air: it is not a valid medium boundary (no mesh
-boolean here), and the translucent study uses ``plane`` and ``sphere``.
+(palm, fingers, thumb) that *overlap*, so a medium inside it would see the
+buried parts' walls as exits into air; :func:`union` (a mesh boolean by
+``manifold3d``) turns it into one closed boundary whose surface is exactly the
+visible surface of the overlapping parts. :func:`medium_boundary` picks the
+closing step a medium needs (union, slab or nothing).
 """
 
 from __future__ import annotations
@@ -40,6 +42,9 @@ __all__ = [
     "boundary_edges",
     "is_closed",
     "solidify",
+    "components",
+    "union",
+    "medium_boundary",
 ]
 
 
@@ -350,3 +355,110 @@ def solidify(m: Mesh, thickness_cm: float) -> Mesh:
     if not is_closed(out):
         raise ValueError("`m` must be an open surface whose boundary is not repeated in its vertices")
     return out
+
+
+def _weld(m: Mesh, decimals: int = 9):
+    """Unique positions (rounded to ``decimals`` cm), the first vertex of each, and the faces on
+    them without the degenerate (pole) triangles."""
+    _, first, inverse = np.unique(np.round(m.vertices_cm, decimals), axis=0, return_index=True,
+                                  return_inverse=True)
+    f = inverse.reshape(-1)[m.faces]
+    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])
+    return first, f[keep]
+
+
+def components(m: Mesh) -> int:
+    """Number of edge-connected pieces of a mesh (on positions welded to 1e-9 cm).
+
+    Examples
+    --------
+    >>> components(uv_sphere(1.0, 16, 8)), components(hand())
+    (1, 6)
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    first, f = _weld(m)
+    a = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
+    b = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
+    n = len(first)
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(n, n))
+    used = np.zeros(n, bool)
+    used[f.ravel()] = True
+    _, labels = connected_components(graph, directed=False)
+    return len(np.unique(labels[used]))
+
+
+def union(m: Mesh) -> Mesh:
+    """One closed surface around the union of a mesh's closed, possibly overlapping pieces.
+
+    Each edge-connected piece must be closed and consistently oriented (:func:`is_closed`); the
+    pieces are joined by a mesh boolean (``manifold3d``, exact in its own float arithmetic): the
+    walls buried inside another piece are removed and the surfaces are cut along their
+    intersection curves. The kept triangles lie on the input's triangles, so a ray's first hit on
+    the result is its first hit on the input (the visible surface and the ground truth do not
+    change). Normals and texture coordinates are interpolated onto the new vertices (normals
+    renormalised); the result keeps separate vertices where two pieces meet at a crease.
+
+    Parameters
+    ----------
+    m : Mesh
+        Closed pieces, e.g. :func:`hand` (palm, fingers and thumb).
+
+    Returns
+    -------
+    Mesh
+        A closed, consistently oriented surface (:func:`is_closed`) of one piece per connected
+        group of overlapping input pieces.
+
+    Raises
+    ------
+    ValueError
+        ``m`` is not a set of closed pieces, or the boolean fails.
+
+    Examples
+    --------
+    >>> u = union(hand())
+    >>> is_closed(u), components(u)
+    (True, 1)
+    """
+    import manifold3d
+
+    if not is_closed(m):
+        raise ValueError("`m` must consist of closed, consistently oriented pieces (see `is_closed`)")
+    first, f = _weld(m)
+    props = np.concatenate([m.vertices_cm[first], m.normals[first], m.uv[first]], axis=1)
+    whole = manifold3d.Manifold(manifold3d.Mesh(vert_properties=props.astype(np.float32),
+                                                tri_verts=f.astype(np.uint32)))
+    if str(whole.status()) != "Error.NoError":
+        raise ValueError(f"`m` is not a valid set of closed pieces for the union: {whole.status()}")
+    joined = manifold3d.Manifold.batch_boolean(list(whole.decompose()), manifold3d.OpType.Add)
+    if str(joined.status()) != "Error.NoError" or joined.is_empty():
+        raise ValueError(f"the union failed: {joined.status()}")
+    out = joined.to_mesh()
+    p = np.asarray(out.vert_properties, np.float64)
+    faces = np.asarray(out.tri_verts, np.int64)
+    length = np.linalg.norm(p[:, 3:6], axis=1, keepdims=True)
+    bad = length[:, 0] < 1e-6  # e.g. a pole whose input normal was zero: take the faces' normal
+    n = np.where(bad[:, None], vertex_normals(p[:, :3], faces), p[:, 3:6] / np.where(bad, 1.0, length[:, 0])[:, None])
+    return Mesh(np.ascontiguousarray(p[:, :3]), faces, n, np.ascontiguousarray(p[:, 6:8]))
+
+
+def medium_boundary(m: Mesh, thickness_cm: float) -> Mesh:
+    """The closed surface a participating medium inside ``m`` needs.
+
+    * one closed piece (``uv_sphere``, ``cone``): ``m`` itself;
+    * several closed pieces (``hand``): their :func:`union`;
+    * an open surface (``rectangle``): :func:`solidify` with ``thickness_cm``.
+
+    Examples
+    --------
+    >>> s = uv_sphere(1.0, 16, 8)
+    >>> medium_boundary(s, 2.0) is s, is_closed(medium_boundary(rectangle(2.0, 1.0), 0.5))
+    (True, True)
+    """
+    if not is_closed(m):
+        return solidify(m, thickness_cm)
+    if components(m) > 1:
+        return union(m)
+    return m

@@ -369,3 +369,21 @@ def test_translucent_renders_are_cached_with_their_optics_in_the_key(tmp_path, m
     c = scenes.make("sphere", material="skin", **kw).render(0.0)
     assert len(list(tmp_path.rglob("*.npz"))) == 2
     assert not np.array_equal(a.laser_radiance, c.laser_radiance)
+
+
+def test_translucent_hand_is_one_medium_with_the_opaque_hands_truth(tmp_path):
+    # the hand's overlapping parts are joined into one boundary (shapes.union) for the medium; its
+    # outer surface is the parts' visible surface, so the truth is the opaque hand's to float rounding
+    kw = dict(width=64, height=60, spp=4, ambient_spp=1, cache_dir=str(tmp_path), background="none",
+              support="table")
+    patchy = scenes.make("hand", material="patchy", **kw)
+    skin = scenes.make("hand", material="skin", **kw)
+    theta = float(patchy.default_angles()[8])
+    tp, f = patchy.truth(theta), skin.render(theta)
+    assert np.array_equal(f.truth.on_object, tp.on_object) and f.truth.on_object.sum() > 20
+    ok = np.isfinite(tp.columns)
+    assert np.array_equal(np.isfinite(f.truth.columns), ok)
+    assert np.max(np.abs(f.truth.columns[ok] - tp.columns[ok])) < 1e-3  # px
+    rows = np.nonzero(f.truth.on_object)[0]
+    lit = f.laser_radiance[rows].sum(axis=1)
+    assert np.all(np.isfinite(f.laser_radiance)) and np.median(lit) > 0  # the sheet reaches the medium

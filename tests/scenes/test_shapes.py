@@ -136,10 +136,10 @@ def test_rectangle_is_open_and_solidify_closes_it_behind_its_face():
 
 
 def test_hand_parts_are_closed_but_overlap():
-    # every part is closed, so the edge test passes, but a palm and a finger overlap: the union is
-    # not one boundary (documented in scenes.shapes; not used with a medium)
+    # every part is closed, so the edge test passes, but a palm and a finger overlap: the merged
+    # parts are not one boundary (a medium needs the union, below)
     hand = S.hand()
-    assert S.is_closed(hand)
+    assert S.is_closed(hand) and S.components(hand) == 6
     palm = S.superellipsoid(4.3, 1.2, 3.6, exponent=0.45)
     assert _signed_volume(hand) > _signed_volume(palm) > 0
     # a finger's root lies inside the palm: some hand vertices are strictly inside another part
@@ -149,6 +149,46 @@ def test_hand_parts_are_closed_but_overlap():
     inside = ((finger.vertices_cm[:, 0] / 4.3) ** 2 + (finger.vertices_cm[:, 1] / 1.2) ** 2 < 1.0) & \
         (np.abs(finger.vertices_cm[:, 2]) < 3.6)
     assert inside.any()
+
+
+def test_union_of_two_overlapping_spheres_is_one_closed_lens_free_volume():
+    a = S.uv_sphere(1.0, 32, 16)
+    b = a.transformed(np.array([[1, 0, 0, 1.0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], float))
+    u = S.union(S.merge([a, b]))
+    assert S.is_closed(u) and S.components(u) == 1
+    # union volume = 2 V - lens (two unit spheres 1 apart: lens = 5 pi / 12), to the facets' accuracy
+    assert _signed_volume(u) == pytest.approx(2 * _signed_volume(a) - 5 * np.pi / 12, rel=1e-2)
+    assert np.allclose(np.linalg.norm(u.normals, axis=1), 1.0)
+    # no vertex of the result lies strictly inside either sphere (the buried walls are gone)
+    r_a = np.linalg.norm(u.vertices_cm, axis=1)
+    r_b = np.linalg.norm(u.vertices_cm - [1.0, 0, 0], axis=1)
+    assert np.all(np.maximum(r_a, r_b) > 0.99)
+    # disjoint pieces stay separate pieces
+    far = a.transformed(np.array([[1, 0, 0, 5.0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], float))
+    assert S.components(S.union(S.merge([a, far]))) == 2
+    with pytest.raises(ValueError, match="closed"):
+        S.union(S.rectangle(1.0, 1.0))
+
+
+def test_hand_union_is_one_closed_boundary_with_the_same_outer_surface():
+    hand = S.planar_uv(S.hand())
+    u = S.union(hand)
+    assert S.is_closed(u) and S.components(u) == 1
+    assert 0 < _signed_volume(u) < _signed_volume(hand)  # the overlaps are counted once
+    # every vertex of the union lies on the surface of the parts: on a part's triangle plane,
+    # within float32 rounding (manifold3d works in float32 here), and none is buried in the palm
+    lo, hi = u.vertices_cm.min(0), u.vertices_cm.max(0)
+    assert np.allclose(lo, hand.vertices_cm.min(0), atol=1e-4) and np.allclose(hi, hand.vertices_cm.max(0), atol=1e-4)
+    # texture coordinates follow the planar projection (linear in position, so interpolation is exact)
+    assert np.allclose(S.planar_uv(u).uv, u.uv, atol=1e-5)
+
+
+def test_medium_boundary_picks_the_closing_step():
+    sphere = S.uv_sphere(1.0, 16, 8)
+    assert S.medium_boundary(sphere, 2.0) is sphere
+    assert S.components(S.medium_boundary(S.hand(), 2.0)) == 1
+    slab = S.medium_boundary(S.rectangle(2.0, 1.0), 0.5)
+    assert S.is_closed(slab) and _signed_volume(slab) == pytest.approx(1.0)
 
 
 def test_docstring_examples():

@@ -89,7 +89,8 @@ def fig_gallery(image, truth_columns, tracks: dict, path, title: str = "") -> Pa
     detections as markers, large enough to read at report size."""
     plt = _plt()
     H, W = image.shape
-    fig, ax = plt.subplots(figsize=(9.0, 9.0 * H / W * 0.9), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(9.0, 9.0 * H / W * 0.9))
+    fig.subplots_adjust(left=0.08, right=0.80, bottom=0.09, top=0.94)  # fixed: the legend sits right of it
     ax.imshow(image, cmap="gray", vmin=0, vmax=max(int(np.max(image)), 1))
     _draw_tracks(ax, tracks, truth_columns)
     ax.set_xlim(-0.5, W - 0.5)

@@ -73,6 +73,17 @@ def test_tiny_study_writes_table_and_plot(tmp_path):
     assert (tmp_path / "translucency.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_render_noise_falls_with_spp_beside_a_positive_sensor_noise(tmp_path, monkeypatch):
+    monkeypatch.setenv("STRIPEBENCH_CACHE_DIR", str(tmp_path))
+    rows = T.render_noise("plane", "skin", [2, 32], width=64, height=60, sensor_draws=2)
+    assert [r["spp"] for r in rows] == [2, 32] and tuple(rows[0]) == T.NOISE_FIELDS
+    for r in rows:
+        assert r["rows"] > 8 and r["sensor_noise_px"] > 0 and r["sensor_noise_mad_px"] > 0
+        assert r["mc_noise_px"] >= 0 and r["cpu_s_per_frame"] > 0
+    assert rows[1]["mc_noise_mad_px"] < rows[0]["mc_noise_mad_px"]  # 16x the samples: less noise
+    assert T._mad_scale(np.zeros(5)) == 0.0 and np.isnan(T._mad_scale(np.array([np.nan])))
+
+
 def test_bad_arguments_exit_2(tmp_path, capsys):
     for argv in (["--materials", "velvet"], ["--size", "100"], ["--trackers", "threshold"], ["--angles", "0"]):
         with pytest.raises(SystemExit) as exc:

@@ -165,7 +165,7 @@ def robust_table(samples, labels, *, group_by: str | None = "experiment", within
     Returns
     -------
     list of dict: ``group, tracker, n, n_missing, within, within_low, within_high,
-    median_abs_mm, p95_abs_mm, n_gross, rmse_mm`` (see :func:`bench.stats.robust_summary`;
+    median_abs_mm, median_mm, p95_abs_mm, n_gross, rmse_mm`` (see :func:`bench.stats.robust_summary`;
     ``within`` and its Wilson interval are over all ``n`` samples, missing ones included;
     the other figures over the samples with a value). Group ``"all"`` pools every sample
     (over unlike conditions).
@@ -185,7 +185,8 @@ def robust_table(samples, labels, *, group_by: str | None = "experiment", within
             lo, hi = wilson_interval(k, n_all)
             out.append({"group": label, "tracker": name, "n": n_all, "n_missing": n_all - r["n"],
                         "within": k / n_all if n_all else float("nan"), "within_low": lo, "within_high": hi,
-                        "median_abs_mm": r["median_abs_mm"], "p95_abs_mm": r["p95_abs_mm"],
+                        "median_abs_mm": r["median_abs_mm"], "median_mm": r["median_mm"],
+                        "p95_abs_mm": r["p95_abs_mm"],
                         "n_gross": r["n_gross"], "rmse_mm": r["rmse_mm"]})
     return out
 

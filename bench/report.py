@@ -78,6 +78,11 @@ def _num(v, unit="") -> str:
     return "–" if v is None or not np.isfinite(v) else f"{v:.2g}{unit}"
 
 
+def _signed(v) -> str:
+    """``+0.81`` / ``-0.03``: a signed error to two decimals, ``–`` when missing."""
+    return "–" if v is None or not np.isfinite(v) else f"{v:+.2f}"
+
+
 def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
     """One plain sentence on a :func:`bench.analysis.verdicts` entry.
 
@@ -192,14 +197,16 @@ def glance_table(summary) -> str:
                 continue
             star = " ★" if best.get(g) == lab else ""
             txt = (f"<b>{_pct(r['within'])}{star}</b><br><small>[{_pct(r['within_low'])}, {_pct(r['within_high'])}]"
-                   f" · med {_num(r['median_abs_mm'])} mm · {r['n_gross']} gross</small>")
+                   f" · med {_num(r['median_abs_mm'])} mm · bias {_signed(r.get('median_mm'))} mm"
+                   f" · {r['n_gross']} gross</small>")
             cells.append(f"<td style='background:{_cell_colour(r['within'])}'>{txt}</td>")
         rows.append(f"<tr><td>{rank}</td><th>{html.escape(lab)}</th>{''.join(cells)}</tr>")
     within = summary.get("within_mm", 5.0)
     return (f"<h2>At a glance: samples within ±{within:g} mm, per tracker and condition</h2><p>Fraction of the "
             f"sample points whose depth error on the restored surface (restoration <code>"
             f"{html.escape(summary.get('restore', 'rows'))}</code>) is within ±{within:g} mm (the paper's Fig. 10 "
-            f"band), Wilson 95 % interval, median |error| and the count of gross errors (&gt; "
+            f"band), Wilson 95 % interval, median |error|, the signed median error (bias: positive is "
+            f"farther from the rig, e.g. under a translucent surface) and the count of gross errors (&gt; "
             f"{summary.get('gross_mm', 50.0):g} mm). ★ best of the condition; rows ranked by the mean fraction.</p>"
             f"<table><tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
 

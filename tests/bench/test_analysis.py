@@ -19,7 +19,8 @@ def test_robust_table_by_hand_with_missing_samples_counted_as_misses():
     a_dp, b_dp, all_th = rows[("a", "dp")], rows[("b", "dp")], rows[("all", "th")]
     assert a_dp["within"] == pytest.approx(3 / 4) and a_dp["n_gross"] == 0 and a_dp["n_missing"] == 0
     assert b_dp["n"] == 4 and b_dp["n_missing"] == 1 and b_dp["within"] == pytest.approx(3 / 4)
-    assert b_dp["median_abs_mm"] == pytest.approx(0.2)
+    assert b_dp["median_abs_mm"] == pytest.approx(0.2) and b_dp["median_mm"] == pytest.approx(0.2)
+    assert rows[("a", "th")]["median_mm"] == pytest.approx(0.6)  # signed: median of -60, 0.2, 1, 80
     assert all_th["n_gross"] == 2 and all_th["within"] == pytest.approx(5 / 8)
     assert all_th["within_low"] < 5 / 8 < all_th["within_high"]
 

@@ -66,6 +66,7 @@ def test_robust_summary_by_hand():
     r = robust_summary(e)
     assert r["n"] == 6 and r["within"] == pytest.approx(3 / 6)  # 1, 2, 5 (the band is closed)
     assert r["median_abs_mm"] == pytest.approx(6.0) and r["n_gross"] == 2
+    assert r["median_mm"] == pytest.approx(3.0)  # signed: median of -80, -2, 1, 5, 7, 51
     assert r["p95_abs_mm"] == pytest.approx(np.percentile([1, 2, 5, 7, 51, 80], 95))
     assert r["rmse_mm"] == pytest.approx(np.sqrt(np.mean(np.square([1, 2, 5, 7, 51, 80]))))
     assert r["within_low"] < 0.5 < r["within_high"]

@@ -244,7 +244,7 @@ def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
 
 
 def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path,
-             progress: bool = True, keep_frame: int | None = None, say=None):
+             progress: bool = True, keep_frame: int | None = None, say=None, on_frame=None):
     """Render and track one scan, resuming from ``checkpoint`` if it matches.
 
     Parameters
@@ -266,6 +266,9 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
     say : callable, optional
         Receives a one-line note when the checkpoint is unreadable, damaged or
         made by other code or settings (it is then recomputed).
+    on_frame : callable, optional
+        Called with a frame's index (into ``angles``) just before that frame is
+        rendered (the render-ahead helper follows the scan's position with it).
 
     Returns
     -------
@@ -309,6 +312,8 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
     bar = tqdm(todo, desc=key, unit="frame", file=sys.stderr, disable=not progress, leave=False)
     try:
         for i in bar:
+            if on_frame is not None:
+                on_frame(i)
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
             if i == keep_frame:

@@ -20,7 +20,7 @@ from . import analysis, renderahead
 from .config import Config
 from .runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
                         write_tables)
-from .scan import STATUS, code_fingerprint, run_scan
+from .scan import STATUS, code_fingerprint, pending_frames, run_scan
 from .stats import GROSS_MM, WITHIN_MM
 
 __all__ = ["run", "default_run_dir", "load_run", "versions", "git_revision", "PAPER_IMPROVEMENT"]
@@ -172,8 +172,10 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
             ((e, _scene_for(e, config)) for e in config.experiments)]
     helper, off = None, renderahead.reason_off(config.render_ahead, [scene for _, scene, _ in plan])
     if off is None:
+        pending = [pending_frames(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
+                                  checkpoint=folder.checkpoint(exp.key)) for exp, scene, angles in plan]
         helper = renderahead.RenderAhead([scene for _, scene, _ in plan], [angles for _, _, angles in plan],
-                                         config.seed, say=lambda m: _say(m, False))
+                                         config.seed, pending=pending, say=lambda m: _say(m, False))
         helper.start()
     try:
         fig7 = _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper,

@@ -16,6 +16,10 @@ it. A frame the helper rendered is a cache hit for the run.
   arguments, whatever drjit's thread count (light-traced passes run on one
   thread in either process), and a cache file is written to a temporary name
   and renamed (:func:`scenes.cache.store`), so the run never reads half a file.
+* **The helper only takes idle time.** Its threads run at the lowest
+  scheduling priority (:data:`NICE`), so the run's own threads (and anyone
+  else's) get the cores first; the helper renders while the run leaves a core
+  idle (one-threaded light tracing, the Python parts).
 * **The helper follows the run.** The run publishes the (flattened) index of
   the frame it is about to render in a Dask ``Variable``; before each frame the
   helper reads it and stops when its next frame is at most :data:`MARGIN`
@@ -45,10 +49,11 @@ import time
 import uuid
 from typing import Any, Callable, Sequence
 
-__all__ = ["RenderAhead", "reason_off", "usable_cores", "HELPER_THREADS", "MARGIN", "GRACE_S"]
+__all__ = ["RenderAhead", "reason_off", "usable_cores", "HELPER_THREADS", "MARGIN", "NICE", "GRACE_S"]
 
 HELPER_THREADS = 1  # the helper's drjit threads (1 measured faster than the default 2, see docs/renderahead.md)
-MARGIN = 1  # the helper does not start a frame at most this many frames ahead of the run's
+MARGIN = 0  # the helper does not start a frame at most this many frames ahead of the run's
+NICE = 19  # the helper's scheduling priority: it gets a core only when the run (or anyone) leaves one idle
 GRACE_S = 2.0  # the longest the run waits for an answer from the helper's cluster when stopping it
 
 
@@ -96,8 +101,21 @@ def reason_off(enabled: bool, scenes_: Sequence, *, cores: int | None = None) ->
     return None
 
 
+def _lower_priority(nice: int) -> None:
+    """Give every thread of this process the scheduling priority ``nice`` (Linux sets it per thread;
+    elsewhere :func:`os.nice` sets the process's). Best effort: a refusal is ignored."""
+    tasks = "/proc/self/task"
+    if os.path.isdir(tasks):
+        for tid in os.listdir(tasks):
+            with contextlib.suppress(OSError, ValueError):
+                os.setpriority(os.PRIO_PROCESS, int(tid), nice)
+    else:
+        with contextlib.suppress(OSError):
+            os.nice(max(0, nice - os.nice(0)))
+
+
 def _render_behind(scenes_: list, jobs: list[tuple[int, int, float]], spp: list[int], seed: int, position: str,
-                   progress: str, threads: int, margin: int) -> dict[str, Any]:
+                   progress: str, threads: int, margin: int, nice: int) -> dict[str, Any]:
     """The helper's task (runs on the Dask worker): render ``jobs`` into the cache, in the order given.
 
     ``jobs`` are ``(flat index, experiment index, mirror angle in deg)``, descending
@@ -114,6 +132,10 @@ def _render_behind(scenes_: list, jobs: list[tuple[int, int, float]], spp: list[
 
     pos, done = Variable(position), Variable(progress)
     rendered, skipped = [], 0
+    _lower_priority(nice)
+    devnull = os.open(os.devnull, os.O_WRONLY)  # this worker process's stderr (Mitsuba's, Dask's notes while it
+    os.dup2(devnull, 2)                         # is killed): a helper's failure is reported through its future
+    os.close(devnull)
     with contextlib.redirect_stderr(io.StringIO()):  # the variant note and cache notes: the run says its own
         from scenes import variant
 
@@ -121,6 +143,7 @@ def _render_behind(scenes_: list, jobs: list[tuple[int, int, float]], spp: list[
         import drjit
 
         drjit.set_thread_count(int(threads))
+        _lower_priority(nice)  # drjit's own threads too
         current = None
         for j, k, angle in jobs:
             try:
@@ -153,8 +176,13 @@ class RenderAhead:
         Each experiment's mirror angles (deg), in run order.
     seed : int
         The run's seed (every frame renders with it and its scene's ``spp``).
+    pending : sequence of array-like of bool, optional
+        Per experiment, (F,) which frames the run will render (default all; a
+        resumed run's checkpoints hold the others: :func:`bench.scan.pending_frames`).
     threads : int
         drjit threads of the helper.
+    nice : int
+        The helper's scheduling priority, 0 (the run's) .. 19 (the lowest).
     say : callable
         Receives one-line notes (a helper that could not start).
 
@@ -163,16 +191,22 @@ class RenderAhead:
     starts and stops.
     """
 
-    def __init__(self, scenes_: Sequence, angles: Sequence, seed: int, *, threads: int = HELPER_THREADS,
-                 say: Callable[[str], None] = lambda m: None):
+    def __init__(self, scenes_: Sequence, angles: Sequence, seed: int, *, pending: Sequence | None = None,
+                 threads: int = HELPER_THREADS, nice: int = NICE, say: Callable[[str], None] = lambda m: None):
         if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
             raise ValueError(f"`threads` must be an integer >= 1, got {threads!r}")
+        if isinstance(nice, bool) or not isinstance(nice, int) or not 0 <= nice <= 19:
+            raise ValueError(f"`nice` must be an integer 0 .. 19, got {nice!r}")
         self.scenes = list(scenes_)
         self.angles = [[float(a) for a in exp_angles] for exp_angles in angles]
         if len(self.angles) != len(self.scenes):
             raise ValueError(f"`angles` must list one scan per scene ({len(self.scenes)}), got {len(self.angles)}")
         self.seed = int(seed)
-        self.threads = threads
+        self.pending = ([[True] * len(a) for a in self.angles] if pending is None
+                        else [[bool(p) for p in exp_pending] for exp_pending in pending])
+        if [len(p) for p in self.pending] != [len(a) for a in self.angles]:
+            raise ValueError("`pending` must hold one flag per frame of `angles`")
+        self.threads, self.nice = threads, nice
         self._say = say
         self.offsets = [sum(len(a) for a in self.angles[:k]) for k in range(len(self.angles))]
         self.n_frames = sum(len(a) for a in self.angles)
@@ -189,7 +223,8 @@ class RenderAhead:
         says one line and returns False.
         """
         jobs = [(self.offsets[k] + i, k, a) for k in range(len(self.scenes)) for i, a in enumerate(self.angles[k])
-                if not self.scenes[k].is_cached(a, spp=self.scenes[k].params["spp"], seed=self.seed)]
+                if self.pending[k][i] and not self.scenes[k].is_cached(a, spp=self.scenes[k].params["spp"],
+                                                                      seed=self.seed)]
         if not jobs:
             self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False}
             return False
@@ -212,7 +247,7 @@ class RenderAhead:
             self._done.set([])
             self._future = self._client.submit(
                 _render_behind, self.scenes, jobs, [s.params["spp"] for s in self.scenes], self.seed, name,
-                f"{name}-done", self.threads, MARGIN, pure=False, key=f"{name}-task")
+                f"{name}-done", self.threads, MARGIN, self.nice, pure=False, key=f"{name}-task")
         except Exception as exc:  # noqa: BLE001 - an optimisation: the run goes on without it
             self._say(f"stripebench: render-ahead helper did not start ({type(exc).__name__}: {exc}); "
                       "rendering in this process only")
@@ -220,6 +255,19 @@ class RenderAhead:
             self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False}
             return False
         return True
+
+    def wait(self, n_frames: int, timeout_s: float) -> int:
+        """Block until the helper has rendered ``n_frames`` frames, finished, or ``timeout_s`` passed
+        (for tests and measurements); returns how many it has rendered."""
+        t_end = time.monotonic() + timeout_s
+        n = 0
+        while self._future is not None and time.monotonic() < t_end:
+            with contextlib.suppress(Exception):
+                n = len(self._done.get(timeout=1))
+            if n >= n_frames or self._future.done():
+                break
+            time.sleep(0.1)
+        return n
 
     def at(self, experiment: int, frame: int) -> None:
         """The run is about to render frame ``frame`` of experiment ``experiment`` (both 0-based)."""
@@ -236,7 +284,8 @@ class RenderAhead:
         dict
             ``frames`` (the run's), ``rendered`` (by the helper), ``used`` (of those, the
             frames the helper finished before the run reached them: the run's cache hits),
-            ``started``, ``threads``, ``stop_s`` (how long stopping took, s).
+            ``started``, ``threads``, ``nice``, ``stop_s`` (how long stopping took, s), ``error``
+            (the helper's failure, "" if none).
         """
         if self.result is not None:
             return self.result
@@ -259,7 +308,7 @@ class RenderAhead:
             self._close()
         used = sum(1 for j, end in rendered if end <= self._started_at.get(j, float("inf")))
         self.result = {"frames": self.n_frames, "rendered": len(rendered), "used": used, "started": True,
-                       "threads": self.threads, "stop_s": time.perf_counter() - t0, "error": error}
+                       "threads": self.threads, "nice": self.nice, "stop_s": time.perf_counter() - t0, "error": error}
         return self.result
 
     def summary_line(self) -> str:

@@ -51,7 +51,7 @@ from typing import Any, Callable, Sequence
 
 __all__ = ["RenderAhead", "reason_off", "usable_cores", "HELPER_THREADS", "MARGIN", "NICE", "GRACE_S"]
 
-HELPER_THREADS = 1  # the helper's drjit threads (1 measured faster than the default 2, see docs/renderahead.md)
+HELPER_THREADS = 1  # the helper's drjit threads (at nice 19 it gets one idle core at most; see docs/config.md)
 MARGIN = 0  # the helper does not start a frame at most this many frames ahead of the run's
 NICE = 19  # the helper's scheduling priority: it gets a core only when the run (or anyone) leaves one idle
 GRACE_S = 2.0  # the longest the run waits for an answer from the helper's cluster when stopping it

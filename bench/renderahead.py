@@ -45,6 +45,7 @@ import contextlib
 import io
 import logging
 import os
+import threading
 import time
 import uuid
 from typing import Any, Callable, Sequence
@@ -210,7 +211,9 @@ class RenderAhead:
         self._say = say
         self.offsets = [sum(len(a) for a in self.angles[:k]) for k in range(len(self.angles))]
         self.n_frames = sum(len(a) for a in self.angles)
-        self._cluster = self._client = self._future = self._pos = self._done = None
+        self._cluster = self._client = self._future = self._pos = self._done = self._starting = None
+        self._run_at = -1  # the frame the run is rendering (flat index)
+        self._error = ""
         self._started_at: dict[int, float] = {}  # flat index -> when the run started rendering it
         self._level = None
         self.result: dict[str, Any] | None = None
@@ -219,8 +222,9 @@ class RenderAhead:
     def start(self) -> bool:
         """Start the helper when some frame is not cached yet; True when it runs.
 
-        Never raises for a helper that cannot start (Dask missing, no worker): it
-        says one line and returns False.
+        The cluster starts in a thread, so this returns at once. A helper that
+        cannot start (Dask missing, no worker) never raises: :meth:`stop` says so
+        in one line and the run renders every frame itself.
         """
         jobs = [(self.offsets[k] + i, k, a) for k in range(len(self.scenes)) for i, a in enumerate(self.angles[k])
                 if self.pending[k][i] and not self.scenes[k].is_cached(a, spp=self.scenes[k].params["spp"],
@@ -229,37 +233,43 @@ class RenderAhead:
             self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False}
             return False
         jobs.reverse()
+        from scenes import cache as _cache, variant as _variant
+
+        env = {_variant.ENV_VARIANT: _variant.choose(), _cache.ENV_CACHE_DIR: str(_cache.cache_root())}
+        dist = logging.getLogger("distributed")
+        self._level = dist.level
+        dist.setLevel(logging.ERROR)  # the nanny's notes when it kills a busy worker
+        # the cluster starts in a thread (about a second): the run begins its first frame meanwhile
+        self._starting = threading.Thread(target=self._start_cluster, args=(jobs, env), daemon=True,
+                                          name="stripebench-renderahead-start")
+        self._starting.start()
+        return True
+
+    def _start_cluster(self, jobs, env) -> None:
         try:
             from dask.distributed import Client, LocalCluster, Variable
 
-            from scenes import cache as _cache, variant as _variant
-
-            dist = logging.getLogger("distributed")
-            self._level = dist.level
-            dist.setLevel(logging.ERROR)  # the nanny's notes when it kills a busy worker
-            env = {_variant.ENV_VARIANT: _variant.choose(), _cache.ENV_CACHE_DIR: str(_cache.cache_root())}
             self._cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
                                          dashboard_address=None, env=env, silence_logs=logging.ERROR)
             self._client = Client(self._cluster)
             name = f"stripebench-renderahead-{uuid.uuid4().hex}"
-            self._pos, self._done = Variable(name, self._client), Variable(f"{name}-done", self._client)
-            self._pos.set(-1)
+            pos, self._done = Variable(name, self._client), Variable(f"{name}-done", self._client)
+            pos.set(self._run_at)
             self._done.set([])
             self._future = self._client.submit(
                 _render_behind, self.scenes, jobs, [s.params["spp"] for s in self.scenes], self.seed, name,
                 f"{name}-done", self.threads, MARGIN, self.nice, pure=False, key=f"{name}-task")
+            self._pos = pos
+            pos.set(self._run_at)  # the run may have moved on while the task was submitted
         except Exception as exc:  # noqa: BLE001 - an optimisation: the run goes on without it
-            self._say(f"stripebench: render-ahead helper did not start ({type(exc).__name__}: {exc}); "
-                      "rendering in this process only")
-            self._close()
-            self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False}
-            return False
-        return True
+            self._error = f"did not start ({type(exc).__name__}: {exc})"
 
     def wait(self, n_frames: int, timeout_s: float) -> int:
         """Block until the helper has rendered ``n_frames`` frames, finished, or ``timeout_s`` passed
         (for tests and measurements); returns how many it has rendered."""
         t_end = time.monotonic() + timeout_s
+        if self._starting is not None:
+            self._starting.join(timeout_s)
         n = 0
         while self._future is not None and time.monotonic() < t_end:
             with contextlib.suppress(Exception):
@@ -273,8 +283,10 @@ class RenderAhead:
         """The run is about to render frame ``frame`` of experiment ``experiment`` (both 0-based)."""
         j = self.offsets[experiment] + frame
         self._started_at.setdefault(j, time.time())
-        if self._pos is not None:
-            self._pos.set(j)
+        self._run_at = j
+        pos = self._pos
+        if pos is not None:
+            pos.set(j)
 
     def stop(self) -> dict[str, Any]:
         """Stop the helper (without waiting for its current frame) and count its frames.
@@ -291,7 +303,12 @@ class RenderAhead:
             return self.result
         t0 = time.perf_counter()
         rendered: list = []
-        error = ""
+        self._run_at = self.n_frames
+        if self._starting is not None:
+            self._starting.join()  # a run shorter than the cluster's start (a second or two) waits for it
+        error = self._error
+        if error:
+            self._say(f"stripebench: render-ahead helper {error}; every frame was rendered in this process")
         try:
             if self._pos is not None:
                 self._pos.set(self.n_frames)  # past the end: the helper stops before its next frame
@@ -329,7 +346,7 @@ class RenderAhead:
             if cluster is not None:
                 for nanny in list(cluster.workers.values()):  # kill a busy worker now, not after its render
                     with contextlib.suppress(Exception):
-                        cluster.sync(nanny.kill, timeout=0.5)
+                        cluster.sync(nanny.kill, timeout=0.2)
             if client is not None:
                 with contextlib.suppress(Exception):
                     client.close(timeout=2)

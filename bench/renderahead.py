@@ -33,7 +33,8 @@ it. A frame the helper rendered is a cache hit for the run.
   about a second.
 * **When.** On by default when the machine has at least 2 cores, the
   configuration has at least 2 experiments, every experiment uses the render
-  cache, and some frame is not cached yet (:func:`reason_off`); off with the
+  cache (:func:`reason_off`), and the frames not cached yet hold at least
+  :data:`MIN_PIXEL_SAMPLES` pixel-samples (:meth:`RenderAhead.start`); off with the
   configuration key ``render_ahead = false`` or ``stripebench run/reproduce
   --no-render-ahead``. A helper that cannot start is reported in one line and
   the run goes on without it.
@@ -50,11 +51,16 @@ import time
 import uuid
 from typing import Any, Callable, Sequence
 
-__all__ = ["RenderAhead", "reason_off", "usable_cores", "HELPER_THREADS", "MARGIN", "NICE", "GRACE_S"]
+__all__ = ["RenderAhead", "reason_off", "usable_cores", "HELPER_THREADS", "MARGIN", "NICE", "MIN_PIXEL_SAMPLES",
+           "GRACE_S"]
 
 HELPER_THREADS = 1  # the helper's drjit threads (at nice 19 it gets one idle core at most; see docs/config.md)
 MARGIN = 0  # the helper does not start a frame at most this many frames ahead of the run's
 NICE = 19  # the helper's scheduling priority: it gets a core only when the run (or anyone) leaves one idle
+# the least uncached work (pixels x spp summed over the frames) worth a helper: its fixed cost in the run's
+# process is about 1.5-2.5 s (measured on the ci and quick profiles, 8e6 and 4e6, where it made runs slower);
+# one paper frame (512x480, 16 spp) is 3.9e6
+MIN_PIXEL_SAMPLES = 4e7
 GRACE_S = 2.0  # the longest the run waits for an answer from the helper's cluster when stopping it
 
 
@@ -220,7 +226,11 @@ class RenderAhead:
 
     # -- the run's side ------------------------------------------------------------------------------------------
     def start(self) -> bool:
-        """Start the helper when some frame is not cached yet; True when it runs.
+        """Start the helper when enough is left to render; True when it runs.
+
+        Not started (False) when every frame is cached or done, or the uncached
+        frames hold fewer than :data:`MIN_PIXEL_SAMPLES` pixel-samples (a short run
+        would lose more to the helper's fixed cost than it gains).
 
         The cluster starts in a thread, so this returns at once. A helper that
         cannot start (Dask missing, no worker) never raises: :meth:`stop` says so
@@ -229,8 +239,12 @@ class RenderAhead:
         jobs = [(self.offsets[k] + i, k, a) for k in range(len(self.scenes)) for i, a in enumerate(self.angles[k])
                 if self.pending[k][i] and not self.scenes[k].is_cached(a, spp=self.scenes[k].params["spp"],
                                                                       seed=self.seed)]
-        if not jobs:
-            self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False}
+        work = sum(self.scenes[k].params["width"] * self.scenes[k].params["height"] * self.scenes[k].params["spp"]
+                   for _, k, _ in jobs)
+        if not jobs or work < MIN_PIXEL_SAMPLES:
+            self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False,
+                           "why": "cached" if not jobs else f"little to render ({len(jobs)} frames, {work:.2g} "
+                                                            f"pixel-samples < {MIN_PIXEL_SAMPLES:.2g})"}
             return False
         jobs.reverse()
         from scenes import cache as _cache, variant as _variant
@@ -332,7 +346,9 @@ class RenderAhead:
         """One line for the end of a run, e.g. ``render-ahead: 57 of 200 frames rendered by the helper``."""
         r = self.stop()
         if not r["started"]:
-            return f"render-ahead: every one of the {r['frames']} frames was cached already"
+            if r["why"] == "cached":
+                return f"render-ahead: not needed, every one of the {r['frames']} frames was cached or done"
+            return f"render-ahead: not started, {r['why']}"
         if r["error"]:
             return f"render-ahead: the helper failed ({r['error']}); {r['used']} of {r['frames']} frames rendered by it"
         extra = r["rendered"] - r["used"]

@@ -74,6 +74,7 @@ def test_same_results_with_and_without_and_the_helper_renders(tmp_path, monkeypa
         return started
 
     monkeypatch.setattr(renderahead.RenderAhead, "start", start_and_let_it_work)
+    monkeypatch.setattr(renderahead, "MIN_PIXEL_SAMPLES", 0)  # tiny frames: start it all the same
     before = _children()
     outs = {}
     for on in (True, False):
@@ -93,6 +94,7 @@ def test_same_results_with_and_without_and_the_helper_renders(tmp_path, monkeypa
 def test_stop_kills_a_busy_helper_at_once(tmp_path, monkeypatch):
     """The run never waits for the helper's current frame: stopping it mid-frame takes seconds, not the frame."""
     monkeypatch.setenv("STRIPEBENCH_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setattr(renderahead, "MIN_PIXEL_SAMPLES", 0)
     slow = scenes.make("cone", material="polished", width=256, height=240, spp=64, ambient_spp=1)
     other = scenes.make("plane", width=64, height=60, spp=1, ambient_spp=1)
     before = _children()
@@ -116,5 +118,15 @@ def test_a_cached_run_starts_no_helper(tiny_run):
     plan = [(_scene_for(e, cfg), e) for e in cfg.experiments]
     helper = renderahead.RenderAhead([s for s, _ in plan], [_angles(e, s) for s, e in plan], cfg.seed)
     assert helper.start() is False
-    assert helper.stop() == {"frames": 5, "rendered": 0, "used": 0, "started": False}
-    assert helper.summary_line() == "render-ahead: every one of the 5 frames was cached already"
+    assert helper.stop() == {"frames": 5, "rendered": 0, "used": 0, "started": False, "why": "cached"}
+    assert helper.summary_line() == "render-ahead: not needed, every one of the 5 frames was cached or done"
+
+
+def test_little_to_render_starts_no_helper(tmp_path, monkeypatch):
+    """Below MIN_PIXEL_SAMPLES of uncached work the helper's fixed cost would outweigh it: not started."""
+    monkeypatch.setenv("STRIPEBENCH_CACHE_DIR", str(tmp_path / "cache"))
+    plane = scenes.make("plane", width=64, height=60, spp=2)
+    helper = renderahead.RenderAhead([plane, plane], [[0.0, 1.0], [2.0]], 0)
+    assert helper.start() is False
+    assert helper.stop()["why"] == "little to render (3 frames, 2.3e+04 pixel-samples < 4e+07)"
+    assert helper.summary_line().startswith("render-ahead: not started, little to render")

@@ -22,8 +22,8 @@ it. A frame the helper rendered is a cache hit for the run.
   idle (one-threaded light tracing, the Python parts).
 * **The helper follows the run.** The run publishes the (flattened) index of
   the frame it is about to render in a Dask ``Variable``; before each frame the
-  helper reads it and stops when its next frame is at most :data:`MARGIN`
-  frames ahead of the run's (the run would reach it before the helper finished).
+  helper reads it and stops when its next frame is not more than :data:`MARGIN`
+  frames after the run's (the two have met: the run renders the rest).
 * **Nothing is left running.** When the run's loop ends, or on an error or
   KeyboardInterrupt, :meth:`RenderAhead.stop` moves the published position past
   the end and, unless the helper has already stopped by itself, kills the
@@ -54,8 +54,10 @@ from typing import Any, Callable, Sequence
 __all__ = ["RenderAhead", "reason_off", "usable_cores", "HELPER_THREADS", "MARGIN", "NICE", "MIN_PIXEL_SAMPLES",
            "GRACE_S"]
 
-HELPER_THREADS = 1  # the helper's drjit threads (at nice 19 it gets one idle core at most; see docs/config.md)
-MARGIN = 0  # the helper does not start a frame at most this many frames ahead of the run's
+# the helper's drjit threads: 1 and 2 measured alike on the paper profile (272 and 274 s against 275 s of
+# wall time); at nice 19 it rarely gets more than the one core the run leaves idle
+HELPER_THREADS = 1
+MARGIN = 0  # the helper renders a frame only when it lies more than MARGIN frames after the run's current one
 NICE = 19  # the helper's scheduling priority: it gets a core only when the run (or anyone) leaves one idle
 # the least uncached work (pixels x spp summed over the frames) worth a helper: its fixed cost in the run's
 # process is about 1.5-2.5 s (measured on the ci and quick profiles, 8e6 and 4e6, where it made runs slower);

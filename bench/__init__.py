@@ -20,8 +20,8 @@ of them imports ``bench``.
 
 LAYERS = {
     "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats"),
-    "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real", "real_run",
-                "sweep"),
+    "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real",
+                "real_run", "sweep"),
     "reporting": ("figures", "report", "sweep_report"),
     "studies": ("estimators", "perf", "tune", "translucency"),
     "cli": ("cli",),

@@ -23,8 +23,8 @@ import numpy as np
 
 from .runio import save_npz
 
-__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "pending_frames", "scan_fingerprint", "source_fingerprint",
-           "tracker_source_files", "code_fingerprint", "STATUS"]
+__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "pending_frames", "scan_fingerprint",
+           "source_fingerprint", "tracker_source_files", "code_fingerprint", "STATUS"]
 
 STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image"}
 _CHECKPOINT_S = 10.0

@@ -109,6 +109,8 @@ def _run_config(config, args) -> int:
         changes["dp"] = [d for d in config.dp if d in labels]
     if args.seed is not None:
         changes["seed"] = args.seed
+    if args.no_render_ahead:
+        changes["render_ahead"] = False
     if changes:
         config = with_overrides(config, **changes)
     _check_env()
@@ -422,6 +424,9 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--seed", type=_seed_arg, help="seed for renders, noise, samples and bootstrap")
         p.add_argument("--quiet", action="store_true", help="no progress bars or notes")
         p.add_argument("--no-report", action="store_true", help="write the results only, not figures and report.html")
+        p.add_argument("--no-render-ahead", action="store_true",
+                       help="render every frame in this process only, no helper process (the same results; "
+                            "the configuration key render_ahead = false)")
 
     def json_options(p, what):
         p.add_argument("--json", action="store_true", help=f"print {what} as JSON")

@@ -12,6 +12,8 @@ A configuration is a TOML document::
     n_boot = 2000             # bootstrap resamples for the confidence intervals
     restore = "rows"          # how missed rows are filled before sampling: "rows" or "none" (bench.restore)
     real_set = ""             # also evaluate the trackers on photographs: "shipped" or a folder (sim-to-real)
+    render_ahead = true       # a helper process renders later frames into the render cache meanwhile
+                              # (bench.renderahead; results are the same either way)
 
     [render]                  # shared by every experiment
     width = 512
@@ -53,7 +55,7 @@ from typing import Any
 
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
            "read_toml", "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
-           "SCENE_UPPER_BOUNDS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
+           "SCENE_UPPER_BOUNDS", "EXECUTION_KEYS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
 
 PROFILES = ("paper", "quick", "ci", "marble")
 RENDER_KEYS = ("width", "height", "spp", "ambient_spp")  # the `[render]` table, shared by every experiment
@@ -250,13 +252,21 @@ class Config:
     restore: str = "rows"
     real_set: str = ""  # "" none, "shipped" (bench/data/real) or a folder: the sim-to-real comparison
     tracker_specs: tuple[TrackerSpec, ...] = ()
+    # a helper process renders frames ahead into the render cache while the run tracks (bench.renderahead);
+    # how a run executes, not what it computes: not part of the run's identity (:meth:`identity`)
+    render_ahead: bool = True
 
     def make_trackers(self) -> dict:
         """label -> a new tracker of each setting, in configuration order."""
         return {s.label: s.make() for s in self.tracker_specs}
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged."""
+        """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged.
+
+        Keys of :data:`EXECUTION_KEYS` appear only when they differ from their
+        defaults, so that a default configuration's dict (and the hash naming
+        its run folder) stays what it was before they existed.
+        """
         exps = []
         for e in self.experiments:
             d = {"scene": e.scene, "material": e.material, **e.overrides}
@@ -269,13 +279,23 @@ class Config:
             if e.angles is not None:
                 d["angles"] = list(e.angles)
             exps.append(d)
-        return {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
-                "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
-                "n_boot": self.n_boot, "restore": self.restore, "real_set": self.real_set, "render": dict(self.render),
-                "experiments": exps}
+        out = {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
+               "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
+               "n_boot": self.n_boot, "restore": self.restore, "real_set": self.real_set, "render": dict(self.render),
+               "experiments": exps}
+        for k in EXECUTION_KEYS:
+            if getattr(self, k) != _default(k):
+                out[k] = getattr(self, k)
+        return out
+
+    def identity(self) -> dict[str, Any]:
+        """:meth:`to_dict` without :data:`EXECUTION_KEYS`: what a run computes, which names and
+        guards its run folder (a run with ``render_ahead = false`` resumes one made with it on)."""
+        return {k: v for k, v in self.to_dict().items() if k not in EXECUTION_KEYS}
 
 
 _NOT_KEYS = {"source", "tracker_specs"}
+EXECUTION_KEYS = ("render_ahead",)  # how a run executes, never what it computes (see Config.identity)
 _TOP = {f.name for f in fields(Config)} - _NOT_KEYS
 _EXP_KEYS = {f.name for f in fields(Experiment)} - {"overrides"}
 
@@ -372,6 +392,9 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
         raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r}")
     if real_set and real_set != "shipped" and not Path(real_set).is_dir():
         raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r} (no such folder)")
+    render_ahead = data.get("render_ahead", _default("render_ahead"))
+    if not isinstance(render_ahead, bool):
+        raise ConfigError(f"`render_ahead` must be true or false, got {render_ahead!r}")
     render_in = data.get("render", _default("render"))
     if not isinstance(render_in, dict):
         raise ConfigError(f"`render` must be a table, got {render_in!r}")
@@ -454,7 +477,7 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
                               f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
                               f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")
     return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source,
-                  restore=restore, real_set=real_set, tracker_specs=specs)
+                  restore=restore, real_set=real_set, tracker_specs=specs, render_ahead=render_ahead)
 
 
 def read_toml(path) -> dict[str, Any]:

@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from . import analysis
+from . import analysis, renderahead
 from .config import Config
 from .runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
                         write_tables)
-from .scan import STATUS, code_fingerprint, run_scan
+from .scan import STATUS, code_fingerprint, pending_frames, run_scan
 from .stats import GROSS_MM, WITHIN_MM
 
 __all__ = ["run", "default_run_dir", "load_run", "versions", "git_revision", "PAPER_IMPROVEMENT"]
@@ -118,7 +118,7 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     out = Path(out_dir) if out_dir is not None else default_run_dir(config)
     tracker_objs = config.make_trackers()
     folder = RunFolder(out)
-    folder.open(config.to_dict(), code_fingerprint(tracker_objs.values()), force=force,
+    folder.open(config.identity(), code_fingerprint(tracker_objs.values()), force=force,
                 say=lambda m: _say(m, False))  # damaged or stale files: always said
     try:
         return _run_locked(config, folder, tracker_objs, t_start, progress, quiet)
@@ -126,21 +126,20 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
         folder.unlock()
 
 
-def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
-    import pandas as pd
-
-    out = folder.path
-    records, samples, scan_info, gallery = [], [], [], {}
+def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, records, samples, scan_info,
+              gallery):
+    """Every experiment's scan in order, appending to ``records``, ``samples``, ``scan_info`` and
+    ``gallery``; returns Fig. 7's data (or None). ``helper`` (a started :class:`RenderAhead` or
+    None) is told which frame is rendered next."""
     fig7 = None
-    for k, exp in enumerate(config.experiments):
-        scene = _scene_for(exp, config)
-        angles = _angles(exp, scene)
-        _say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(angles)} frames at "
+    for k, (exp, scene, angles) in enumerate(plan):
+        _say(f"[{k + 1}/{len(plan)}] {exp.key}: {len(angles)} frames at "
              f"{scene.rig.width}x{scene.rig.height}", quiet)
         t0 = time.perf_counter()
         res, _ = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
                           checkpoint=folder.checkpoint(exp.key), progress=progress,
-                          say=lambda m: _say(m, False))  # damaged or stale files: always said
+                          say=lambda m: _say(m, False),  # damaged or stale files: always said
+                          on_frame=None if helper is None else (lambda i, k=k: helper.at(k, i)))
         wall = time.perf_counter() - t0
         worst = analysis.worst_frames(res, GALLERY_FRAMES)
         for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
@@ -161,6 +160,31 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
         for n, c in failures.items():
             if c:
                 _say(f"  {n}: failed on {c} frame(s): {scan_info[-1]['failure_messages'][n][0]}", quiet)
+    return fig7
+
+
+def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
+    import pandas as pd
+
+    out = folder.path
+    records, samples, scan_info, gallery = [], [], [], {}
+    plan = [(exp, scene, _angles(exp, scene)) for exp, scene in
+            ((e, _scene_for(e, config)) for e in config.experiments)]
+    helper, off = None, renderahead.reason_off(config.render_ahead, [scene for _, scene, _ in plan])
+    if off is None:
+        pending = [pending_frames(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
+                                  checkpoint=folder.checkpoint(exp.key)) for exp, scene, angles in plan]
+        helper = renderahead.RenderAhead([scene for _, scene, _ in plan], [angles for _, _, angles in plan],
+                                         config.seed, pending=pending, say=lambda m: _say(m, False))
+        helper.start()
+    try:
+        fig7 = _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper,
+                         records, samples, scan_info, gallery)
+    finally:
+        if helper is not None:
+            helper.stop()  # the loop ended, failed or was interrupted: the helper stops now
+    if helper is not None:
+        _say(helper.summary_line(), quiet)
     metrics = pd.DataFrame.from_records(records)
     samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(config.trackers))
     if samples_df.empty:
@@ -193,6 +217,7 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
         "verdicts": analysis.verdicts(robust, stats, config.dp, config.baselines),
         "coverage": _coverage_table(metrics), "status_codes": STATUS,
         "wall_s": time.perf_counter() - t_start,
+        "render_ahead": helper.stop() if helper is not None else {"off": off},
     }
     if config.real_set:
         summary["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)

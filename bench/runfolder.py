@@ -83,7 +83,7 @@ def safe_dir_name(name: str) -> str:
 def default_run_dir(config) -> Path:
     """``<runs root>/<safe name>-<hash of the configuration>``, always inside the runs root."""
     root = runs_root()
-    out = root / f"{safe_dir_name(config.name)}-{config_hash(config.to_dict())}"
+    out = root / f"{safe_dir_name(config.name)}-{config_hash(config.identity())}"
     if not out.resolve().is_relative_to(root.resolve()):  # cannot happen with safe_dir_name; kept as a guard
         raise RunFolderError(f"run name {config.name!r} would place the run outside {str(root)!r}")
     return out

@@ -23,8 +23,8 @@ import numpy as np
 
 from .runio import save_npz
 
-__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "scan_fingerprint", "source_fingerprint",
-           "tracker_source_files", "code_fingerprint", "STATUS"]
+__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "pending_frames", "scan_fingerprint",
+           "source_fingerprint", "tracker_source_files", "code_fingerprint", "STATUS"]
 
 STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image"}
 _CHECKPOINT_S = 10.0
@@ -243,8 +243,36 @@ def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
                         "source": code_fingerprint(trackers_.values())})
 
 
+def _resume(key, scene, angles, names, fingerprint, checkpoint) -> tuple[ScanResult | None, str]:
+    """The checkpoint's results when they belong to this scan (else None), and why not ("" if none)."""
+    from .runfolder import read_npz
+
+    saved, why = read_npz(checkpoint)
+    if saved is not None:
+        try:
+            prev = ScanResult.from_arrays(key, saved)
+        except (KeyError, ValueError, TypeError) as exc:
+            prev, why = None, f"damaged: {exc}"
+        if prev is not None:
+            if (np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names)
+                    and prev.truth_columns.shape[1] == scene.rig.height
+                    and str(saved.get("fingerprint", "")) == fingerprint):
+                return prev, ""
+            if prev.done.any():
+                why = "made by other code, trackers or settings"
+    return None, why or ""
+
+
+def pending_frames(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path) -> np.ndarray:
+    """Which frames :func:`run_scan` with these arguments would render: (F,) bool, True for a frame
+    its checkpoint does not hold (every frame when the checkpoint is missing, damaged or stale)."""
+    angles = np.asarray(angles, float)
+    res, _ = _resume(key, scene, angles, list(trackers_), scan_fingerprint(scene, trackers_, spp, seed), checkpoint)
+    return np.ones(len(angles), bool) if res is None else ~res.done
+
+
 def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path,
-             progress: bool = True, keep_frame: int | None = None, say=None):
+             progress: bool = True, keep_frame: int | None = None, say=None, on_frame=None):
     """Render and track one scan, resuming from ``checkpoint`` if it matches.
 
     Parameters
@@ -266,6 +294,9 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
     say : callable, optional
         Receives a one-line note when the checkpoint is unreadable, damaged or
         made by other code or settings (it is then recomputed).
+    on_frame : callable, optional
+        Called with a frame's index (into ``angles``) just before that frame is
+        rendered (the render-ahead helper follows the scan's position with it).
 
     Returns
     -------
@@ -276,22 +307,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
     names = list(trackers_)
     angles = np.asarray(angles, float)
     fingerprint = scan_fingerprint(scene, trackers_, spp, seed)
-    from .runfolder import read_npz
-
-    res = None
-    saved, why = read_npz(checkpoint)
-    if saved is not None:
-        try:
-            prev = ScanResult.from_arrays(key, saved)
-        except (KeyError, ValueError, TypeError) as exc:
-            prev, why = None, f"damaged: {exc}"
-        if prev is not None:
-            if (np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names)
-                    and prev.truth_columns.shape[1] == scene.rig.height
-                    and str(saved.get("fingerprint", "")) == fingerprint):
-                res = prev
-            elif prev.done.any():
-                why = "made by other code, trackers or settings"
+    res, why = _resume(key, scene, angles, names, fingerprint, checkpoint)
     if why and say is not None:
         say(f"stripebench: checkpoint {checkpoint} is {why if why.startswith('made') else 'unreadable (' + why + ')'}: "
             "recomputing that scan")
@@ -309,6 +325,8 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
     bar = tqdm(todo, desc=key, unit="frame", file=sys.stderr, disable=not progress, leave=False)
     try:
         for i in bar:
+            if on_frame is not None:
+                on_frame(i)
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
             if i == keep_frame:

@@ -31,7 +31,7 @@ from typing import Dict, Optional
 
 import numpy as np
 
-__all__ = ["CODE_VERSION", "ENV_CACHE_DIR", "cache_root", "key", "load", "store"]
+__all__ = ["CODE_VERSION", "ENV_CACHE_DIR", "cache_root", "key", "path", "load", "store"]
 
 CODE_VERSION = 1
 ENV_CACHE_DIR = "STRIPEBENCH_CACHE_DIR"
@@ -67,6 +67,11 @@ def key(fields: Dict) -> str:
 
 def _path(root: Path, k: str) -> Path:
     return root / k[:2] / f"{k}.npz"
+
+
+def path(root: Path, k: str) -> Path:
+    """The file that holds (or would hold) the entry ``k`` under ``root``."""
+    return _path(root, k)
 
 
 _KEY = "__key__"

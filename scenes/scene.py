@@ -314,6 +314,20 @@ class Scene:
         return Frame(image=image, background=background, radiance=radiance, laser_radiance=laser, truth=truth,
                      mirror_angle_deg=theta, variant=_variant.active_variant())
 
+    def is_cached(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None) -> bool:
+        """Whether the render cache holds a file for :meth:`render`'s frame at these arguments.
+
+        False when the cache is off. Checks only that the file exists (no loading: a damaged file
+        still counts; :meth:`render` re-renders it). Imports Mitsuba (the key names its version).
+        """
+        if not self.params["cache"]:
+            return False
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        spp = _checks.positive_int("spp", self.params["spp"] if spp is None else spp)
+        seed = int(self.params["seed"] if seed is None else seed)
+        k = _cache.key(self._cache_fields(theta, spp, seed, _variant.active_variant()))
+        return _cache.path(_cache.cache_root(self.params["cache_dir"]), k).exists()
+
     def scan(self, angles: Iterable[float], *, spp: Optional[int] = None, seed: Optional[int] = None,
              progress: bool = True) -> Iterator[Frame]:
         """Yield :meth:`render` frames for each mirror angle, with a tqdm bar on stderr."""

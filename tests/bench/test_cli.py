@@ -323,3 +323,18 @@ def test_sweep_command_bad_sweep_is_one_line_and_exit_2(tmp_path, capsys):
     assert capsys.readouterr().err.strip() == "stripebench: error: --workers must be an integer >= 0, got -1"
     assert main(["sweep", str(cfg), "--scheduler", "localhost:1"]) == 2
     assert "--scheduler must be 'sync' or an address like tcp://HOST:PORT" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_no_render_ahead_turns_the_helper_off_and_resumes_the_same_run_folder(cli_run, capsys):
+    """``--no-render-ahead`` on two experiments: no helper; the flag is not part of the run's identity,
+    so it resumes (does not refuse) the folder of the same configuration run with the helper on."""
+    run_dir, _ = cli_run
+    cfg = run_dir.parent / "two.toml"
+    cfg.write_text(TOML + '[[experiments]]\nscene = "cone"\nmaterial = "patchy"\nn_angles = 2\n')
+    out = run_dir.parent / "two"
+    assert main(["run", str(cfg), "--out", str(out), "--quiet", "--no-report", "--no-render-ahead"]) == 0
+    assert json.loads((out / "summary.json").read_text())["render_ahead"] == {"off": "turned off"}
+    assert main(["run", str(cfg), "--out", str(out), "--quiet", "--no-report"]) == 0
+    ra = json.loads((out / "summary.json").read_text())["render_ahead"]
+    assert ra["started"] is False and ra["frames"] == 4  # resumed: every frame was done, no helper needed

@@ -72,6 +72,8 @@ def test_empty_tracker_list_means_all_registered():
         ({"experiments": [{"scene": "cone", "wobble": 1}]}, r"unknown key `experiments\[0\].wobble`"),
         ({"experiments": [{"scene": "cone"}, {"scene": "cone"}]}, r"lists 'cone-matte' twice"),
         ({"render": {"width": 100, "height": 60}}, r"`experiments\[0\]`: .*square pixels"),
+        ({"render_ahead": "no"}, r"`render_ahead` must be true or false, got 'no'"),
+        ({"render_ahead": 0}, r"`render_ahead` must be true or false, got 0"),
     ],
 )
 def test_bad_configs_name_the_key_and_value(change, message):
@@ -160,3 +162,14 @@ def test_schema_has_one_home():
     assert config._TOP == {f.name for f in fields(config.Config)} - {"source", "tracker_specs"}
     assert set(config.scene_override_keys()) == set(DEFAULTS) - set(config.HARNESS_KEYS)
     assert config.parse({"experiments": [{"scene": "plane"}]}).n_samples == config.Config.n_samples
+
+
+def test_render_ahead_round_trips_but_is_not_part_of_the_runs_identity():
+    from bench.runfolder import default_run_dir
+
+    on, off = parse(GOOD), parse({**GOOD, "render_ahead": False})
+    assert on.render_ahead is True and off.render_ahead is False
+    assert "render_ahead" not in on.to_dict()  # a default configuration's dict (and run folder) as before
+    assert parse(off.to_dict()).render_ahead is False and off.to_dict()["render_ahead"] is False
+    assert on.identity() == off.identity() and default_run_dir(on) == default_run_dir(off)
+    assert with_overrides(on, render_ahead=False).render_ahead is False

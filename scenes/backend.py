@@ -23,7 +23,31 @@ import numpy as np
 from . import variant as _variant
 from .rig import CM_TO_M
 
-__all__ = ["materialise", "LoadedScene"]
+__all__ = ["materialise", "LoadedScene", "interrupted"]
+
+
+def interrupted(exc: BaseException) -> bool:
+    """True when ``exc`` is, or was caused by, a :class:`KeyboardInterrupt` (its ``__cause__`` /
+    ``__context__`` chain).
+
+    Examples
+    --------
+    >>> try:
+    ...     try:
+    ...         raise KeyboardInterrupt
+    ...     except KeyboardInterrupt as k:
+    ...         raise RuntimeError("wrapped") from k
+    ... except RuntimeError as e:
+    ...     interrupted(e), interrupted(RuntimeError("plain"))
+    (True, False)
+    """
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
 
 
 def _mesh(mi, name: str, mesh, bsdf, interior=None):
@@ -126,15 +150,25 @@ class LoadedScene:
             threads = dr.thread_count()
             dr.set_thread_count(1)
             try:
-                img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed), **kwargs),
-                               dtype=np.float32)
+                img = np.array(self._render(spp, seed, kwargs), dtype=np.float32)
             finally:
                 dr.set_thread_count(threads)
         else:
-            img = np.array(self._mi.render(self._scene, spp=int(spp), seed=int(seed), **kwargs), dtype=np.float32)
+            img = np.array(self._render(spp, seed, kwargs), dtype=np.float32)
         if img.ndim == 3:
             img = img[..., 0]
         return np.ascontiguousarray(img)
+
+    def _render(self, spp: int, seed: int, kwargs: dict):
+        """``mi.render``, with Ctrl-C always a :class:`KeyboardInterrupt`: Dr.Jit wraps one that arrives
+        inside some renders (e.g. the light-traced pass) in a ``RuntimeError``, which the CLI would
+        otherwise report as a crash instead of an interruption."""
+        try:
+            return self._mi.render(self._scene, spp=int(spp), seed=int(seed), **kwargs)
+        except RuntimeError as exc:
+            if interrupted(exc):
+                raise KeyboardInterrupt from exc
+            raise
 
     # -- ray casting --------------------------------------------------------------
     def _ids(self):

@@ -78,3 +78,26 @@ def test_renders_are_reproducible_and_pose_independent(wall_only):
     scene.render(D.pose_updates(RIG, -2.0), 4, 12)
     b = scene.render(D.pose_updates(RIG, 1.0), 4, 11)
     assert np.array_equal(a, b)
+
+
+def test_ctrl_c_inside_a_render_is_a_keyboard_interrupt(wall_only, monkeypatch):
+    # Dr.Jit wraps a Ctrl-C that arrives inside some renders (the light-traced pass) in a RuntimeError;
+    # the backend turns it back into KeyboardInterrupt, and leaves other errors alone
+    scene = LoadedScene(D.ambient_scene(RIG, wall_only, "matte", 0.0, 1))
+
+    def wrapped(*args, **kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as k:
+            raise RuntimeError("drjit.custom(...): error while performing a custom operation") from k
+
+    monkeypatch.setattr(scene._mi, "render", wrapped)
+    with pytest.raises(KeyboardInterrupt):
+        scene.render(D.pose_updates(RIG, 0.0), 1, 0)
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("something else")
+
+    monkeypatch.setattr(scene._mi, "render", broken)
+    with pytest.raises(RuntimeError, match="something else"):
+        scene.render(D.pose_updates(RIG, 0.0), 1, 0)

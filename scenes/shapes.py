@@ -272,10 +272,21 @@ def planar_uv(m: Mesh) -> Mesh:
     return m.with_uv(np.stack([u, w], 1))
 
 
+def _weld(m: Mesh, decimals: int = 9, drop_degenerate: bool = True):
+    """Unique positions (rounded to ``decimals`` cm): the first vertex of each, shape (U,), and the
+    faces re-indexed onto them, without the degenerate (pole) triangles unless ``drop_degenerate``
+    is False."""
+    _, first, inverse = np.unique(np.round(m.vertices_cm, decimals), axis=0, return_index=True,
+                                  return_inverse=True)
+    f = inverse.reshape(-1)[m.faces]
+    if drop_degenerate:
+        f = f[(f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])]
+    return first, f
+
+
 def _welded_faces(m: Mesh, decimals: int = 9) -> np.ndarray:
     """Faces re-indexed onto unique vertex positions (rounded to ``decimals`` cm)."""
-    _, inverse = np.unique(np.round(m.vertices_cm, decimals), axis=0, return_inverse=True)
-    return inverse.reshape(-1)[m.faces]
+    return _weld(m, decimals, drop_degenerate=False)[1]
 
 
 def boundary_edges(m: Mesh) -> np.ndarray:
@@ -357,16 +368,6 @@ def solidify(m: Mesh, thickness_cm: float) -> Mesh:
     return out
 
 
-def _weld(m: Mesh, decimals: int = 9):
-    """Unique positions (rounded to ``decimals`` cm), the first vertex of each, and the faces on
-    them without the degenerate (pole) triangles."""
-    _, first, inverse = np.unique(np.round(m.vertices_cm, decimals), axis=0, return_index=True,
-                                  return_inverse=True)
-    f = inverse.reshape(-1)[m.faces]
-    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])
-    return first, f[keep]
-
-
 def components(m: Mesh) -> int:
     """Number of edge-connected pieces of a mesh (on positions welded to 1e-9 cm).
 
@@ -393,11 +394,11 @@ def union(m: Mesh) -> Mesh:
     """One closed surface around the union of a mesh's closed, possibly overlapping pieces.
 
     Each edge-connected piece must be closed and consistently oriented (:func:`is_closed`); the
-    pieces are joined by a mesh boolean (``manifold3d``, exact in its own float arithmetic): the
+    pieces are joined by a mesh boolean (``manifold3d``, in float32, as Mitsuba renders): the
     walls buried inside another piece are removed and the surfaces are cut along their
-    intersection curves. The kept triangles lie on the input's triangles, so a ray's first hit on
-    the result is its first hit on the input (the visible surface and the ground truth do not
-    change). Normals and texture coordinates are interpolated onto the new vertices (normals
+    intersection curves. The kept triangles lie on the input's triangles (to float32 rounding), so
+    a ray's first hit on the result is its first hit on the input (the visible surface and the
+    ground truth do not change; measured on the hand: 0.0002 px at 512x480). Normals and texture coordinates are interpolated onto the new vertices (normals
     renormalised); the result keeps separate vertices where two pieces meet at a crease.
 
     Parameters

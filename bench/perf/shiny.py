@@ -43,6 +43,7 @@ import time
 from typing import Optional, Sequence
 
 import numpy as np
+from scipy import ndimage
 
 import scenes
 from scenes import description
@@ -82,13 +83,10 @@ def _noise_dn(sensor, ref_dn):
 
 
 def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
-    out = mask.copy()
-    for i in range(1, k + 1):
-        out[:, i:] |= mask[:, :-i]
-        out[:, :-i] |= mask[:, i:]
-        out[i:] |= mask[:-i]
-        out[:-i] |= mask[i:]
-    return out
+    """``mask`` grown by up to ``k`` px along rows and columns (a plus-shaped structuring element)."""
+    plus = np.zeros((2 * k + 1, 2 * k + 1), bool)
+    plus[k, :] = plus[:, k] = True
+    return ndimage.binary_dilation(mask, structure=plus)
 
 
 def _mask(width: int, height: int, support: str = "none"):

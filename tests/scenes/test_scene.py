@@ -3,6 +3,7 @@
 import pickle
 
 import numpy as np
+from scipy import ndimage
 import pytest
 
 import scenes
@@ -243,13 +244,9 @@ def test_noise_draws_share_the_render_and_differ_in_sensor_noise(matte):
 
 
 def _dilate(mask, k):
-    out = mask.copy()
-    for i in range(1, k + 1):
-        out[:, i:] |= mask[:, :-i]
-        out[:, :-i] |= mask[:, i:]
-        out[i:] |= mask[:-i]
-        out[:-i] |= mask[i:]
-    return out
+    plus = np.zeros((2 * k + 1, 2 * k + 1), bool)  # grown by up to k px along rows and columns
+    plus[k, :] = plus[:, k] = True
+    return ndimage.binary_dilation(mask, structure=plus)
 
 
 @pytest.fixture(scope="module")

@@ -1,28 +1,22 @@
-"""The harness: scans, metrics, statistics, run folders, reports, the regression gate, the CLI.
+"""The harness: evaluation, files of a run, configuration, running, reports, studies, the CLI.
 
-Layers, lowest first; a module imports only from its own layer or a lower one
-(module-level and function-level imports alike; ``tests/test_layout.py``
-enforces it, so a new module must be added to :data:`LAYERS`):
+One sub-package per layer, lowest first. A module imports only from its own
+layer or a lower one (module-level and function-level imports alike), and the
+modules of one layer import each other without cycles; ``tests/test_layout.py``
+enforces both, so a new sub-package must be added to :data:`LAYERS`:
 
-0. evaluation (pure: arrays and tables in, numbers out): ``triangulation``,
-   ``restore``, ``metrics``, ``stats``, ``analysis``, ``sweep_stats``
-1. running (configurations, scans, the run folder and its readers, the gate on
-   saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
-   ``scan``, ``experiment``, ``renderahead``, ``gate``, ``real``, ``real_run``, ``sweep``
-2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
-3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
-   ``translucency``
-4. the command line: ``cli``
+0. ``evaluate`` (pure: arrays and tables in, numbers out): triangulation, restoration, metrics (the one
+   hit rule), statistics, per-run tables, sweep curves, sim-to-real numbers
+1. ``store``: every file a run writes or reads (atomic writes, run folders, checkpoints, figure data,
+   summaries, baselines, the real-set layout and image readers), each format versioned
+2. ``config``: the configuration schema, its defaults and comments, the embedded profiles
+3. ``run``: scans, experiments, render-ahead, real-photograph runs, sweeps, the regression gate
+4. ``report``: figures and HTML pages built from saved runs only
+5. ``studies``: sub-pixel estimators, translucency, tuning procedures, speed benchmarks (``perf``)
+6. ``cli``: the ``stripebench`` command tree
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
 of them imports ``bench``.
 """
 
-LAYERS = {
-    "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats"),
-    "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real",
-                "real_run", "sweep"),
-    "reporting": ("figures", "report", "sweep_report"),
-    "studies": ("estimators", "perf", "tune", "translucency"),
-    "cli": ("cli",),
-}
+LAYERS = ("evaluate", "store", "config", "run", "report", "studies", "cli")

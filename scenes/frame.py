@@ -59,7 +59,7 @@ class Truth:
     def false_columns(self) -> np.ndarray:
         """Columns of :attr:`false_mask` per row, float64 (H, K), NaN-padded (K = 0 when none).
 
-        The input of :func:`bench.metrics.false_lock_rate`.
+        The input of :func:`bench.evaluate.metrics.false_lock_rate`.
         """
         if self.false_mask is None:
             return np.full((len(self.columns), 0), np.nan)

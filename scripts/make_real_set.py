@@ -136,8 +136,8 @@ def make_refs() -> None:
     import imageio.v3 as iio
 
     sys.path.insert(0, str(ROOT))
-    from bench import real
-    from bench.real_run import overlay
+    from bench.store import realset as real
+    from bench.run.real import overlay
 
     guides = tomllib.loads((DATA / "guides.toml").read_text())
     import csv

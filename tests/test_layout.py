@@ -80,24 +80,99 @@ def test_lower_packages_never_import_upwards(pkg, banned):
     assert not bad, bad
 
 
+def _bench_graph(root: pathlib.Path = REPO) -> dict[str, set[str]]:
+    """Module -> the bench modules it imports (dotted names under ``bench``, packages as their ``__init__``)."""
+    mods = {}
+    for f in sorted(p for p in (root / "bench").rglob("*.py") if "__pycache__" not in p.parts):
+        parts = f.relative_to(root).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        mods[name] = f
+    graph = {}
+    for name, f in mods.items():
+        deps = set()
+        for imp in _imports(f, "bench", root=root):
+            # the longest known module that the imported name starts with
+            bits = imp.split(".")
+            for k in range(len(bits), 0, -1):
+                cand = ".".join(bits[:k])
+                if cand in mods:
+                    if cand != name:
+                        deps.add(cand)
+                    break
+        graph[name] = deps
+    return graph
+
+
+def _layer(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else None
+
+
+def test_every_bench_module_is_in_a_layer():
+    from bench import LAYERS
+
+    bad = [m for m in _bench_graph() if m != "bench" and _layer(m) not in LAYERS]
+    assert not bad, f"bench modules in no layer (add their package to bench.LAYERS): {bad}"
+
+
 def test_bench_modules_import_only_their_own_layer_or_lower():
     from bench import LAYERS
 
-    rank = {m: i for i, (_, mods) in enumerate(LAYERS.items()) for m in mods}
+    rank = {layer: i for i, layer in enumerate(LAYERS)}
     bad = []
-    for f in _files("bench"):
-        rel = f.relative_to(REPO / "bench").with_suffix("").parts
-        if rel == ("__init__",):
+    for mod, deps in _bench_graph().items():
+        if mod == "bench":
             continue
-        own = rel[0]
-        assert own in rank, f"bench/{'/'.join(rel)}.py is in no layer: add it to bench.LAYERS"
-        for name in _imports(f, "bench"):
-            parts = name.split(".")
-            if parts[0] != "bench" or len(parts) < 2 or parts[1] not in rank:
-                continue
-            if rank[parts[1]] > rank[own]:
-                bad.append(f"bench/{'/'.join(rel)}.py ({own}) imports {name}")
+        for dep in deps:
+            if dep != "bench" and rank[_layer(dep)] > rank[_layer(mod)]:
+                bad.append(f"{mod} ({_layer(mod)}) imports {dep} ({_layer(dep)})")
     assert not bad, bad
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every strongly connected component of more than one module (Tarjan)."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_bench_has_no_import_cycles():
+    # a package's __init__ importing its own modules is not a cycle worth reporting; everything else is
+    graph = {m: {d for d in deps if not m.startswith(d + ".")} for m, deps in _bench_graph().items()}
+    assert _cycles(graph) == []
+
+
+def test_the_cycle_check_finds_a_cycle_inside_a_layer(tmp_path):
+    (tmp_path / "bench" / "run").mkdir(parents=True)
+    (tmp_path / "bench" / "__init__.py").write_text("")
+    (tmp_path / "bench" / "run" / "__init__.py").write_text("")
+    (tmp_path / "bench" / "run" / "a.py").write_text("def f():\n    from bench.run import b\n")
+    (tmp_path / "bench" / "run" / "b.py").write_text("from .a import f\n")
+    assert _cycles(_bench_graph(tmp_path)) == [["bench.run.a", "bench.run.b"]]
 
 
 def test_the_layout_check_sees_function_level_imports(tmp_path):

@@ -53,7 +53,7 @@ __all__ = [
 
 _TIE_TOL = 1e-11  # relative tolerance deciding that two path costs tie
 #: The DP trackers' default ``h_weight``, chosen by ``stripebench tune dp`` (profile
-#: ``bench/profiles/tune_dp.toml``: sphere and plane x matte/patchy/absorbing/glossy, with a
+#: ``bench/config/profiles/tune_dp.toml``: sphere and plane x matte/patchy/absorbing/glossy, with a
 #: table and no background and before the in-range wall, seed 1, 12 angles at 512x480; the
 #: criterion fixed beforehand: mean fraction of lit object rows within 3 px, ties within 0.005
 #: to the larger h_weight). Measured: 1: 0.944, 0.5: 0.957, 0.25: 0.969, 0.1: 0.974,
@@ -359,7 +359,7 @@ class DPTracker(Tracker):
 
     #: The row rule (``R.RULE_*``) and the longest walk, in columns, a row may
     #: hold and still be reported (None: any); class attributes so that the
-    #: measurement in ``bench/perf/dp_rows.py`` can compare the rules.
+    #: measurement in ``bench/studies/perf/dp_rows.py`` can compare the rules.
     _row_rule = R.RULE_CROSSING
     _max_walk = None
 

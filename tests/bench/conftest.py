@@ -49,8 +49,8 @@ def gate_dict():
 def tiny_run(tmp_path_factory):
     """``(run folder, Config)`` of :data:`TINY`, run once per session, with its report."""
     from bench.config import parse
-    from bench.experiment import run
-    from bench.report import build_report
+    from bench.run.experiment import run
+    from bench.report.run import build_report
 
     cfg = parse(copy.deepcopy(TINY))
     out = run(cfg, tmp_path_factory.mktemp("tiny") / "run", progress=False, quiet=True)
@@ -61,9 +61,9 @@ def tiny_run(tmp_path_factory):
 @pytest.fixture(scope="session")
 def gate_run(tmp_path_factory):
     """``(run folder, baseline path)`` of :data:`GATE`, run once per session (no report)."""
-    from bench import gate
+    from bench.run import gate
     from bench.config import parse
-    from bench.experiment import run
+    from bench.run.experiment import run
 
     out = run(parse(copy.deepcopy(GATE)), tmp_path_factory.mktemp("gate") / "run", progress=False, quiet=True)
     base = tmp_path_factory.mktemp("gate-baseline") / "baseline.json"

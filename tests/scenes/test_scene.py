@@ -318,7 +318,7 @@ def test_cache_key_covers_the_laser_passes(monkeypatch):
 
 
 def _row_fwhm(laser, truth, rows, half=12):
-    from bench.translucency import stripe_widths_px
+    from bench.studies.translucency import stripe_widths_px
 
     cols = np.full(laser.shape[0], np.nan)
     cols[rows] = truth[rows]

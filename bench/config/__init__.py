@@ -1,0 +1,513 @@
+"""Experiment configurations: TOML files and the embedded profiles, validated.
+
+A configuration is a TOML document::
+
+    name = "paper"            # free text, names the run
+    seed = 0                  # one seed for renders, noise, samples and bootstrap
+    trackers = []             # tracker names or settings; empty = every registered tracker
+                              # (a setting: {label = "dp4_iso", name = "dp4", params = {h_weight = 1.0}})
+    baselines = ["threshold", "centroid"]   # labels of the trackers "without DP"
+    dp = ["dp4", "dp8"]       # labels of the DP trackers compared with them
+    n_samples = 150           # sample points per experiment (the paper's 150)
+    n_boot = 2000             # bootstrap resamples for the confidence intervals
+    restore = "rows"          # how missed rows are filled before sampling: "rows" or "none" (bench.evaluate.restore)
+    real_set = ""             # also evaluate the trackers on photographs: "shipped" or a folder (sim-to-real)
+    render_ahead = true       # a helper process renders later frames into the render cache meanwhile
+                              # (bench.run.renderahead; results are the same either way)
+
+    [render]                  # shared by every experiment
+    width = 512
+    height = 480
+    spp = 16
+
+    [[experiments]]           # one scan each
+    name = "cone-paper"       # optional identifier (default: scene-material plus overrides)
+    condition = "paper"       # optional group in reports (the first condition leads the report)
+    scene = "cone"
+    material = "patchy"
+    n_angles = 40             # or: angles = [-3.0, -2.5, ...] (deg)
+    ambient_lux = 400.0       # optional per-experiment scene overrides:
+    laser_power_mw = 3.0      # ambient_lux, laser_power_mw, line_fwhm_mrad, ...
+    support = "table"         # background ("wall"/"none"), background_distance_cm, background_albedo,
+                              # support ("none"/"table"), support_albedo
+
+Every key is checked: an unknown key, a wrong type or an invalid value raises
+:class:`ConfigError` with one line naming the key and echoing the value. The
+full reference, with a complete example, is ``docs/config.md``.
+
+The schema has one home: the defaults are those of :class:`Config`'s fields,
+the top-level keys are its fields, the scene overrides are the scene
+parameters (:data:`scenes.params.DEFAULTS`) minus those the harness owns
+(:data:`HARNESS_KEYS`), and the profile names are :data:`PROFILES`.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import numbers
+import os
+import tomllib
+from dataclasses import dataclass, field, fields
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+__all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
+           "read_toml", "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
+           "SCENE_UPPER_BOUNDS", "EXECUTION_KEYS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
+
+PROFILES = ("paper", "quick", "ci", "marble")
+RENDER_KEYS = ("width", "height", "spp", "ambient_spp")  # the `[render]` table, shared by every experiment
+# scene parameters the harness sets itself (not per-experiment overrides)
+HARNESS_KEYS = ("material", *RENDER_KEYS, "seed", "n_angles", "cache", "cache_dir")
+# per-experiment overrides with an upper bound beyond the scene's own checks (the sensor's
+# Poisson noise overflows above these: "lam value too large")
+SCENE_UPPER_BOUNDS = {"laser_power_mw": 1e5, "ambient_lux": 1e6, "exposure_ms": 1e4}
+# and lower bounds (a faster lens also overflows it; a thinner sheet needs a laser-profile table beyond memory)
+SCENE_LOWER_BOUNDS = {"f_number": 0.5, "line_fwhm_mrad": 1e-3}
+MAX_ANGLE_DEG = 45.0  # |mirror angle|: beyond it the camera turns more than 90 deg
+
+
+def scene_override_keys() -> tuple[str, ...]:
+    """The per-experiment scene overrides: :data:`scenes.params.DEFAULTS` minus :data:`HARNESS_KEYS`."""
+    from scenes.params import DEFAULTS
+
+    return tuple(sorted(set(DEFAULTS) - set(HARNESS_KEYS)))
+
+
+class ConfigError(ValueError):
+    """A configuration problem; ``str(err)`` is one line for the user."""
+
+
+@dataclass(frozen=True)
+class TrackerSpec:
+    """One tracker setting: a registered ``name`` built with ``params``, reported as ``label``.
+
+    Labels are what tables, figures, checkpoints, ``baselines`` and ``dp`` refer
+    to; a plain name in a configuration is the setting ``label = name`` with the
+    tracker's defaults.
+    """
+
+    label: str
+    name: str
+    params: dict[str, Any] = field(default_factory=dict)
+
+    def make(self):
+        """A new tracker of this setting."""
+        import trackers
+
+        return trackers.make(self.name, **self.params)
+
+    def to_value(self):
+        """The configuration value: the bare name when it is a plain default setting."""
+        if self.label == self.name and not self.params:
+            return self.name
+        return {"label": self.label, "name": self.name, "params": dict(self.params)}
+
+
+_LABEL_CHARS = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.")
+
+
+def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
+    if isinstance(value, str):
+        spec = TrackerSpec(value, value, {})
+    elif isinstance(value, dict):
+        extra = sorted(set(value) - {"label", "name", "params"})
+        if extra:
+            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params)")
+        name = value.get("name")
+        if not isinstance(name, str):
+            raise ConfigError(f"`{path}.name` must be a tracker name, got {name!r}")
+        label = value.get("label", name)
+        params = value.get("params", {})
+        if not isinstance(params, dict):
+            raise ConfigError(f"`{path}.params` must be a table, got {params!r}")
+        spec = TrackerSpec(label, name, dict(params))
+    else:
+        raise ConfigError(f"`{path}` must be a tracker name or a table {{label, name, params}}, got {value!r}")
+    if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= _LABEL_CHARS:
+        raise ConfigError(f"`{path}.label` must be letters, digits, '_', '-' or '.', got {spec.label!r}")
+    if spec.name not in registered:
+        raise ConfigError(f"`{path}` names unknown tracker {spec.name!r}; available: {', '.join(registered)}")
+    try:
+        tracker = spec.make()
+    except TypeError:
+        import trackers
+
+        valid = ", ".join(trackers.make(spec.name).get_params())
+        bad = sorted(spec.params)
+        raise ConfigError(f"`{path}.params` has an unknown parameter of {spec.name!r} among {bad}; "
+                          f"valid: {valid}") from None
+    try:
+        tracker._validate_params()
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"`{path}.params`: {exc}") from None
+    return spec
+
+
+def parse_trackers(value, path: str = "trackers") -> tuple[TrackerSpec, ...]:
+    """Validate a list of tracker names or settings; empty = every registered tracker.
+
+    Raises
+    ------
+    ConfigError
+        Not a list, an unknown tracker or parameter, a bad value, a bad or repeated label.
+
+    Examples
+    --------
+    >>> [s.label for s in parse_trackers(["threshold", {"label": "dp4_iso", "name": "dp4",
+    ...                                                 "params": {"eps": 1.0}}])]
+    ['threshold', 'dp4_iso']
+    """
+    import trackers
+
+    registered = trackers.available()
+    if not isinstance(value, list):
+        raise ConfigError(f"`{path}` must be a list of tracker names or settings, got {value!r}")
+    if not value:
+        return tuple(TrackerSpec(n, n, {}) for n in registered)
+    specs = tuple(_tracker_spec(f"{path}[{i}]", v, registered) for i, v in enumerate(value))
+    labels = [s.label for s in specs]
+    dup = sorted({lab for lab in labels if labels.count(lab) > 1})
+    if dup:
+        raise ConfigError(f"`{path}` repeats the label {dup[0]!r}")
+    return specs
+
+
+def _split_top(text: str) -> list[str]:
+    parts, depth, cur = [], 0, []
+    for ch in text:
+        if ch in "{[":
+            depth += 1
+        elif ch in "}]":
+            depth -= 1
+        if ch == "," and depth == 0:
+            parts.append("".join(cur))
+            cur = []
+        else:
+            cur.append(ch)
+    parts.append("".join(cur))
+    return [p.strip() for p in parts if p.strip()]
+
+
+def parse_trackers_arg(text: str, path: str = "--trackers") -> tuple[TrackerSpec, ...]:
+    """The command-line form of :func:`parse_trackers`: comma-separated names or
+    TOML inline tables, e.g. ``threshold,{label="dp4_iso",name="dp4",params={h_weight=1.0}}``.
+
+    Examples
+    --------
+    >>> [s.label for s in parse_trackers_arg('threshold, {label="d", name="dp4"}')]
+    ['threshold', 'd']
+    """
+    items = []
+    for part in _split_top(text):
+        if part.startswith("{"):
+            try:
+                items.append(tomllib.loads(f"x = {part}")["x"])
+            except tomllib.TOMLDecodeError as exc:
+                raise ConfigError(f"{path}: {part!r} is not a TOML inline table: {exc}") from None
+        else:
+            items.append(part)
+    if not items:
+        raise ConfigError(f"{path} must name at least one tracker, got {text!r}")
+    return parse_trackers(items, path)
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One scan: a scene, a material, angles and scene-parameter overrides."""
+
+    scene: str
+    material: str = "matte"
+    n_angles: int | None = None
+    angles: tuple[float, ...] | None = None
+    overrides: dict[str, Any] = field(default_factory=dict)
+    name: str | None = None
+    condition: str = ""
+
+    @property
+    def key(self) -> str:
+        """A file-name-safe identifier: ``name``, or ``scene-material`` plus any overrides."""
+        if self.name:
+            return self.name
+        extra = "".join(f"_{k}={v}" for k, v in sorted(self.overrides.items()))
+        return f"{self.scene}-{self.material}{extra}".replace("/", "_").replace(" ", "")
+
+
+@dataclass(frozen=True)
+class Config:
+    """A validated experiment configuration (see the module docstring)."""
+
+    name: str = "custom"
+    seed: int = 0
+    trackers: tuple[str, ...] = ()  # the labels of ``tracker_specs``; empty = every registered tracker
+    baselines: tuple[str, ...] = ("threshold", "centroid")
+    dp: tuple[str, ...] = ("dp4", "dp8")
+    n_samples: int = 150
+    n_boot: int = 2000
+    render: dict[str, int] = field(default_factory=dict)
+    experiments: tuple[Experiment, ...] = ()
+    source: str = "<dict>"
+    restore: str = "rows"
+    real_set: str = ""  # "" none, "shipped" (bench/data/real) or a folder: the sim-to-real comparison
+    tracker_specs: tuple[TrackerSpec, ...] = ()
+    # a helper process renders frames ahead into the render cache while the run tracks (bench.run.renderahead);
+    # how a run executes, not what it computes: not part of the run's identity (:meth:`identity`)
+    render_ahead: bool = True
+
+    def make_trackers(self) -> dict:
+        """label -> a new tracker of each setting, in configuration order."""
+        return {s.label: s.make() for s in self.tracker_specs}
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged.
+
+        Keys of :data:`EXECUTION_KEYS` appear only when they differ from their
+        defaults, so that a default configuration's dict (and the hash naming
+        its run folder) stays what it was before they existed.
+        """
+        exps = []
+        for e in self.experiments:
+            d = {"scene": e.scene, "material": e.material, **e.overrides}
+            if e.name:
+                d["name"] = e.name
+            if e.condition:
+                d["condition"] = e.condition
+            if e.n_angles is not None:
+                d["n_angles"] = e.n_angles
+            if e.angles is not None:
+                d["angles"] = list(e.angles)
+            exps.append(d)
+        out = {"name": self.name, "seed": self.seed, "trackers": [s.to_value() for s in self.tracker_specs],
+               "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
+               "n_boot": self.n_boot, "restore": self.restore, "real_set": self.real_set, "render": dict(self.render),
+               "experiments": exps}
+        for k in EXECUTION_KEYS:
+            if getattr(self, k) != _default(k):
+                out[k] = getattr(self, k)
+        return out
+
+    def identity(self) -> dict[str, Any]:
+        """:meth:`to_dict` without :data:`EXECUTION_KEYS`: what a run computes, which names and
+        guards its run folder (a run with ``render_ahead = false`` resumes one made with it on)."""
+        return {k: v for k, v in self.to_dict().items() if k not in EXECUTION_KEYS}
+
+
+_NOT_KEYS = {"source", "tracker_specs"}
+EXECUTION_KEYS = ("render_ahead",)  # how a run executes, never what it computes (see Config.identity)
+_TOP = {f.name for f in fields(Config)} - _NOT_KEYS
+_EXP_KEYS = {f.name for f in fields(Experiment)} - {"overrides"}
+
+
+def _default(name: str):
+    f = next(f for f in fields(Config) if f.name == name)
+    value = f.default_factory() if f.default_factory is not field().default_factory else f.default
+    return list(value) if isinstance(value, tuple) else value
+
+
+def estimate_memory_bytes(n_frames: int, width: int, height: int, n_trackers: int) -> int:
+    """A rough upper estimate of the memory one scan needs (bytes): the
+    checkpoint's frame x row arrays (columns, scores, truth) with working copies,
+    plus one frame's render buffers.
+
+    Examples
+    --------
+    >>> estimate_memory_bytes(40, 512, 480, 10) < 2**30
+    True
+    """
+    per_row = 8 * (2 * n_trackers + 5)
+    return int(3 * n_frames * height * per_row + 40 * 8 * width * height)
+
+
+def _memory_limit_bytes() -> int:
+    try:
+        return int(0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
+
+
+def _where(path: str) -> str:
+    return f"`{path}`"
+
+
+def _int(path: str, value, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise ConfigError(f"{_where(path)} must be an integer >= {low}, got {value!r}")
+    return int(value)
+
+
+def _names(path: str, value, allowed: list[str] | None) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ConfigError(f"{_where(path)} must be a list of names, got {value!r}")
+    if allowed is not None:
+        for v in value:
+            if v not in allowed:
+                raise ConfigError(f"{_where(path)} names unknown tracker {v!r}; available: {', '.join(allowed)}")
+    if len(set(value)) != len(value):
+        raise ConfigError(f"{_where(path)} repeats a name: {value!r}")
+    return tuple(value)
+
+
+def _unknown(path: str, d: dict, allowed: set[str]) -> None:
+    extra = sorted(set(d) - allowed)
+    if extra:
+        key = f"{path}.{extra[0]}" if path else extra[0]
+        raise ConfigError(f"unknown key `{key}` (valid: {', '.join(sorted(allowed))})")
+
+
+def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
+    """Validate a configuration dict (as read from TOML) into a :class:`Config`."""
+    import scenes
+
+    if not isinstance(data, dict):
+        raise ConfigError(f"a configuration must be a table, got {type(data).__name__}")
+    if "sweep" in data:
+        raise ConfigError("this configuration has a `[sweep]` table: run it with `stripebench sweep CONFIG --out DIR`")
+    _unknown("", data, _TOP)
+    name = data.get("name", _default("name"))
+    if not isinstance(name, str) or not name:
+        raise ConfigError(f"`name` must be a non-empty string, got {name!r}")
+    seed = _int("seed", data.get("seed", _default("seed")), 0)
+    specs = parse_trackers(data.get("trackers", []))
+    names = tuple(s.label for s in specs)
+    baselines = _names("baselines", data.get("baselines", _default("baselines")), None)
+    dp = _names("dp", data.get("dp", _default("dp")), None)
+    for group, members in (("baselines", baselines), ("dp", dp)):
+        for m in members:
+            if m not in names:
+                raise ConfigError(f"`{group}` names {m!r}, which is not among `trackers` {list(names)}")
+    n_samples = _int("n_samples", data.get("n_samples", _default("n_samples")), 1)
+    n_boot = _int("n_boot", data.get("n_boot", _default("n_boot")), 10)
+    for key, value, top in (("n_samples", n_samples, 10**6), ("n_boot", n_boot, 10**6)):
+        if value > top:
+            raise ConfigError(f"`{key}` must be at most {top}, got {value!r}")
+    from bench.evaluate.restore import METHODS
+
+    restore = data.get("restore", _default("restore"))
+    if restore not in METHODS:
+        raise ConfigError(f"`restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
+    real_set = data.get("real_set", _default("real_set"))
+    if not isinstance(real_set, str):
+        raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r}")
+    if real_set and real_set != "shipped" and not Path(real_set).is_dir():
+        raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r} (no such folder)")
+    render_ahead = data.get("render_ahead", _default("render_ahead"))
+    if not isinstance(render_ahead, bool):
+        raise ConfigError(f"`render_ahead` must be true or false, got {render_ahead!r}")
+    render_in = data.get("render", _default("render"))
+    if not isinstance(render_in, dict):
+        raise ConfigError(f"`render` must be a table, got {render_in!r}")
+    _unknown("render", render_in, set(RENDER_KEYS))
+    render = {k: _int(f"render.{k}", v, 1) for k, v in render_in.items()}
+    from scenes.params import DEFAULTS as SCENE_DEFAULTS, MAX_SIZE
+
+    for k, v in render.items():
+        if v > MAX_SIZE[k]:
+            raise ConfigError(f"`render.{k}` must be at most {MAX_SIZE[k]}, got {v!r}")
+    overridable = set(scene_override_keys())
+    exps_in = data.get("experiments")
+    if not isinstance(exps_in, list) or not exps_in:
+        raise ConfigError(f"`experiments` must be a non-empty list of tables, got {exps_in!r}")
+    exps = []
+    scene_names = scenes.available()
+    for i, e in enumerate(exps_in):
+        path = f"experiments[{i}]"
+        if not isinstance(e, dict):
+            raise ConfigError(f"`{path}` must be a table, got {e!r}")
+        _unknown(path, e, _EXP_KEYS | overridable)
+        scene = e.get("scene")
+        if scene not in scene_names:
+            raise ConfigError(f"`{path}.scene` must be one of {', '.join(scene_names)}, got {scene!r}")
+        material = e.get("material", "matte")
+        if material not in scenes.MATERIALS:
+            raise ConfigError(f"`{path}.material` must be one of {', '.join(scenes.MATERIALS)}, got {material!r}")
+        n_angles = _int(f"{path}.n_angles", e["n_angles"], 2) if "n_angles" in e else None
+        if n_angles is not None and n_angles > MAX_SIZE["n_angles"]:
+            raise ConfigError(f"`{path}.n_angles` must be at most {MAX_SIZE['n_angles']}, got {n_angles!r}")
+        angles = None
+        if "angles" in e:
+            a = e["angles"]
+            if (not isinstance(a, list) or len(a) < 2
+                    or not all(isinstance(x, numbers.Real) and not isinstance(x, bool) for x in a)):
+                raise ConfigError(f"`{path}.angles` must be a list of at least 2 numbers (deg), got {a!r}")
+            angles = tuple(float(x) for x in a)
+            bad = next((x for x in angles if not math.isfinite(x) or abs(x) > MAX_ANGLE_DEG), None)
+            if bad is not None:
+                raise ConfigError(f"`{path}.angles` must be finite mirror angles within +-{MAX_ANGLE_DEG:g} deg, "
+                                  f"got {bad!r}")
+            if len(angles) > MAX_SIZE["n_angles"]:
+                raise ConfigError(f"`{path}.angles` must list at most {MAX_SIZE['n_angles']} angles, "
+                                  f"got {len(angles)}")
+            if n_angles is not None:
+                raise ConfigError(f"`{path}` gives both `n_angles` and `angles`; give one")
+        overrides = {k: e[k] for k in sorted(overridable & set(e))}
+        for k, top in SCENE_UPPER_BOUNDS.items():
+            v = overrides.get(k)
+            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v > top:
+                raise ConfigError(f"`{path}.{k}` must be at most {top:g}, got {v!r}")
+        for k, low in SCENE_LOWER_BOUNDS.items():
+            v = overrides.get(k)
+            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v < low:
+                raise ConfigError(f"`{path}.{k}` must be at least {low:g}, got {v!r}")
+        try:  # let the scene validate its own parameters
+            scenes.make(scene, material=material, **render, **overrides)
+        except (TypeError, KeyError, ValueError) as exc:
+            msg = exc.args[0] if exc.args else str(exc)
+            raise ConfigError(f"`{path}`: {msg}") from None
+        exp_name = e.get("name")
+        if exp_name is not None and (not isinstance(exp_name, str) or not exp_name
+                                     or not set(exp_name) <= _LABEL_CHARS):
+            raise ConfigError(f"`{path}.name` must be letters, digits, '_', '-' or '.', got {exp_name!r}")
+        condition = e.get("condition", "")
+        if not isinstance(condition, str):
+            raise ConfigError(f"`{path}.condition` must be a string, got {condition!r}")
+        exps.append(Experiment(scene, material, n_angles, angles, overrides, exp_name, condition))
+    keys = [e.key for e in exps]
+    dup = sorted({k for k in keys if keys.count(k) > 1})
+    if dup:
+        raise ConfigError(f"`experiments` lists {dup[0]!r} twice")
+    width = render.get("width", SCENE_DEFAULTS["width"])
+    height = render.get("height", SCENE_DEFAULTS["height"])
+    for i, e in enumerate(exps):
+        frames = len(e.angles) if e.angles is not None else (e.n_angles or SCENE_DEFAULTS["n_angles"])
+        need = estimate_memory_bytes(frames, width, height, len(specs))
+        if need > _memory_limit_bytes():
+            raise ConfigError(f"`experiments[{i}]` needs about {need / 2**30:.1f} GiB of memory "
+                              f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
+                              f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")
+    return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source,
+                  restore=restore, real_set=real_set, tracker_specs=specs, render_ahead=render_ahead)
+
+
+def read_toml(path) -> dict[str, Any]:
+    """The TOML document at ``path`` as a dict (:class:`ConfigError` if unreadable or invalid)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"cannot read configuration {str(p)!r}: {exc.strerror}") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
+
+
+def load(path) -> Config:
+    """Read and validate a TOML configuration file."""
+    return parse(read_toml(path), source=str(Path(path)))
+
+
+def profile(name: str) -> Config:
+    """One of the embedded profiles: ``paper`` (the default experiment), ``quick``, ``ci``."""
+    if not isinstance(name, str) or name not in PROFILES:
+        raise ConfigError(f"unknown profile {name!r}; available: {', '.join(PROFILES)}")
+    text = resources.files("bench.config.profiles").joinpath(f"{name}.toml").read_text(encoding="utf-8")
+    return parse(tomllib.loads(text), source=f"profile:{name}")
+
+
+def with_overrides(config: Config, **changes) -> Config:
+    """A copy with top-level fields replaced (e.g. ``seed``, ``trackers``), re-validated."""
+    d = copy.deepcopy(config.to_dict())
+    d.update({k: (list(v) if isinstance(v, tuple) else v) for k, v in changes.items()})
+    return parse(d, source=config.source)

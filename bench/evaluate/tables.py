@@ -1,0 +1,253 @@
+"""From scans to metric records, sample points and improvement statistics.
+
+Pure functions: a :class:`bench.run.scan.ScanResult`, a rig and numbers in,
+tables out. Depth is the paper's ``R`` (eq. 3), the distance from the mirror
+axis; errors are in mm.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bench.evaluate.metrics import frame_record
+from bench.evaluate.restore import restore_depth_map
+from bench.evaluate.stats import GROSS_MM, STATISTICS, WITHIN_MM, bootstrap_improvement, robust_summary
+from bench.evaluate.triangulation import depth_cm
+
+__all__ = ["true_depth_cm", "tracker_depth_cm", "scan_records", "draw_samples", "sample_table", "sample_columns",
+           "improvements", "robust_table", "verdicts", "worst_frames"]
+
+
+def true_depth_cm(scan) -> np.ndarray:
+    """``R`` (cm) of the ground-truth points, (F, H), NaN where no stripe."""
+    p = scan.truth_points_cm
+    return np.hypot(p[..., 0], p[..., 1])
+
+
+def tracker_depth_cm(scan, name: str, rig) -> np.ndarray:
+    """``R`` (cm) triangulated from a tracker's columns, (F, H)."""
+    return depth_cm(scan.columns[name], rig)
+
+
+def scan_records(scan, rig, experiment, *, object_only: bool = False, restore: str = "rows") -> list[dict]:
+    """One metric record per tracker for one scan (see :func:`bench.evaluate.metrics.frame_record`).
+
+    Adds ``scene``, ``material``, ``experiment``, ``tracker``, ``ms_per_frame``
+    (mean over frames of the tracker's own time), ``failed_frames``,
+    ``filled_fraction`` (lit rows the restoration had to fill) and ``region``.
+    """
+    truth = scan.truth_columns.copy()
+    r_true = true_depth_cm(scan)
+    if object_only:
+        truth[~scan.on_object] = np.nan
+    lit = ~np.isnan(truth)
+    out = []
+    for name in sorted(scan.columns):
+        cols = scan.columns[name]
+        r_pred = tracker_depth_cm(scan, name, rig)
+        rec = frame_record(
+            np.where(scan.on_object, cols, np.nan) if object_only else cols,
+            truth,
+            depth_pred_mm=10.0 * np.where(lit, r_pred, np.nan),
+            depth_true_mm=10.0 * np.where(lit, r_true, np.nan),
+            false_cols=scan.false_columns,
+        )
+        _, filled = restore_depth_map(r_pred, restore)
+        rec.update(
+            experiment=experiment.key, scene=experiment.scene, material=experiment.material, tracker=name,
+            region="object" if object_only else "all", condition=getattr(experiment, "condition", "") or "",
+            ms_per_frame=float(1e3 * np.nanmean(scan.seconds[name])) if np.isfinite(scan.seconds[name]).any()
+            else float("nan"),
+            failed_frames=int(np.count_nonzero(scan.status[name] != 0)),
+            filled_fraction=float(filled[lit].mean()) if lit.any() else float("nan"),
+            frames=int(scan.angles.size),
+        )
+        out.append(rec)
+    return out
+
+
+def draw_samples(scan, n: int, seed) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` random (frame, row) cells on the object's lit, visible surface.
+
+    Drawn without replacement with ``numpy.random.default_rng(seed)`` (all of
+    them if there are fewer); the same cells serve every tracker.
+    """
+    ok = scan.on_object & ~np.isnan(scan.truth_columns)
+    f, r = np.nonzero(ok)
+    if f.size == 0:
+        return f, r
+    rng = np.random.default_rng(seed)
+    pick = np.sort(rng.choice(f.size, size=min(n, f.size), replace=False))
+    return f[pick], r[pick]
+
+
+SAMPLE_COLUMNS = ("experiment", "scene", "material", "sample", "frame", "row", "mirror_angle_deg", "true_depth_cm")
+
+
+def sample_columns(tracker_names) -> list[str]:
+    """The columns of the sample table for these trackers."""
+    return list(SAMPLE_COLUMNS) + [c for n in sorted(tracker_names) for c in (f"error_mm_{n}", f"filled_{n}")]
+
+
+def sample_table(scan, rig, experiment, n: int, seed, restore: str = "rows") -> list[dict]:
+    """The sample points of one scan with each tracker's depth error (mm) on
+    its restored surface (:func:`bench.evaluate.restore.restore_depth_map` by ``restore``;
+    NaN where the restoration leaves no value)."""
+    f, r = draw_samples(scan, n, seed)
+    r_true = true_depth_cm(scan)
+    rows = [{"experiment": experiment.key, "scene": experiment.scene, "material": experiment.material,
+             "sample": k, "frame": int(fi), "row": int(ri), "mirror_angle_deg": float(scan.angles[fi]),
+             "true_depth_cm": float(r_true[fi, ri])} for k, (fi, ri) in enumerate(zip(f, r))]
+    for name in sorted(scan.columns):
+        filled, was_filled = restore_depth_map(tracker_depth_cm(scan, name, rig), restore)
+        for row, fi, ri in zip(rows, f, r):
+            row[f"error_mm_{name}"] = float(10.0 * (filled[fi, ri] - r_true[fi, ri]))
+            row[f"filled_{name}"] = bool(was_filled[fi, ri])
+    return rows
+
+
+def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group_by: str | None = "experiment"):
+    """The precision-improvement statistic ``1 - S_DP / S_noDP`` with bootstrap CIs.
+
+    Parameters
+    ----------
+    samples : pandas.DataFrame
+        :func:`sample_table` rows (``error_mm_<tracker>`` columns).
+    dp_names, base_names : sequence of str
+    n_boot, seed : int
+    group_by : str or None
+        Column to group by (one result per group) in addition to the pooled
+        result over every sample (group ``"all"``).
+
+    Returns
+    -------
+    list of dict: ``group, dp, baseline, statistic, value, low, high, n``.
+    Pairs where either error is NaN are dropped (``n`` says how many remain).
+    """
+    groups = [("all", samples)]
+    if group_by is not None and len(samples):
+        groups += [(str(k), g) for k, g in samples.groupby(group_by, sort=True)]
+    out = []
+    for gi, (label, g) in enumerate(groups):
+        for dp in dp_names:
+            for base in base_names:
+                if len(g) == 0:
+                    a = b = np.zeros(0)
+                else:
+                    a = g[f"error_mm_{dp}"].to_numpy(float)
+                    b = g[f"error_mm_{base}"].to_numpy(float)
+                ok = ~np.isnan(a) & ~np.isnan(b)
+                for si, stat in enumerate(STATISTICS):
+                    if ok.sum() < 2:
+                        res = {"value": np.nan, "low": np.nan, "high": np.nan, "n": int(ok.sum())}
+                    else:
+                        res = bootstrap_improvement(a[ok], b[ok], stat, n_boot=n_boot,
+                                                    seed=int(np.random.SeedSequence([seed, gi, si]).generate_state(1)[0]))
+                    out.append({"group": label, "dp": dp, "baseline": base, "statistic": stat, "value": res["value"],
+                                "low": res["low"], "high": res["high"], "n": res["n"]})
+    return out
+
+
+def robust_table(samples, labels, *, group_by: str | None = "experiment", within_mm: float = WITHIN_MM,
+                 gross_mm: float = GROSS_MM) -> list[dict]:
+    """Robust figures of every tracker's sample errors, per group and pooled.
+
+    A sample with no value (NaN: nothing restored there) counts as a miss: it
+    is in the denominator of ``within`` but never inside the band.
+
+    Parameters
+    ----------
+    samples : pandas.DataFrame
+        :func:`sample_table` rows.
+    labels : sequence of str
+        Tracker labels (``error_mm_<label>`` columns).
+
+    Returns
+    -------
+    list of dict: ``group, tracker, n, n_missing, within, within_low, within_high,
+    median_abs_mm, median_mm, p95_abs_mm, n_gross, rmse_mm`` (see :func:`bench.evaluate.stats.robust_summary`;
+    ``within`` and its Wilson interval are over all ``n`` samples, missing ones included;
+    the other figures over the samples with a value). Group ``"all"`` pools every sample
+    (over unlike conditions).
+    """
+    from bench.evaluate.stats import wilson_interval
+
+    groups = [("all", samples)]
+    if group_by is not None and len(samples):
+        groups += [(str(k), g) for k, g in samples.groupby(group_by, sort=False)]
+    out = []
+    for label, g in groups:
+        for name in labels:
+            e = g[f"error_mm_{name}"].to_numpy(float) if len(g) else np.zeros(0)
+            r = robust_summary(e, within_mm=within_mm, gross_mm=gross_mm)
+            n_all = int(e.size)
+            k = int(round(r["within"] * r["n"])) if r["n"] else 0
+            lo, hi = wilson_interval(k, n_all)
+            out.append({"group": label, "tracker": name, "n": n_all, "n_missing": n_all - r["n"],
+                        "within": k / n_all if n_all else float("nan"), "within_low": lo, "within_high": hi,
+                        "median_abs_mm": r["median_abs_mm"], "median_mm": r["median_mm"],
+                        "p95_abs_mm": r["p95_abs_mm"],
+                        "n_gross": r["n_gross"], "rmse_mm": r["rmse_mm"]})
+    return out
+
+
+def verdicts(robust: list[dict], improvement: list[dict], dp_labels, base_labels) -> list[dict]:
+    """Which of each (DP, baseline) pair is more precise, per group, by each statistic.
+
+    A statistic decides only when its intervals say so: the ±5 mm fraction when
+    the two Wilson intervals do not overlap, the RMSE ratio when its bootstrap
+    interval excludes 0; otherwise it is ``"tie"``. Median |error| and gross-error
+    counts are reported alongside without a test.
+
+    Returns
+    -------
+    list of dict: ``group, dp, baseline, within`` (winner label or ``"tie"``),
+    ``rmse`` (likewise), and the figures of both trackers.
+    """
+    rob = {(r["group"], r["tracker"]): r for r in robust}
+    imp = {(i["group"], i["dp"], i["baseline"]): i for i in improvement if i["statistic"] == "rmse"}
+    out = []
+    for group in dict.fromkeys(r["group"] for r in robust):
+        for d in dp_labels:
+            for b in base_labels:
+                rd, rb = rob.get((group, d)), rob.get((group, b))
+                if rd is None or rb is None:
+                    continue
+                if rd["within_low"] > rb["within_high"]:
+                    w = d
+                elif rb["within_low"] > rd["within_high"]:
+                    w = b
+                else:
+                    w = "tie"
+                i = imp.get((group, d, b))
+                if i is None or not np.isfinite(i["low"]):
+                    rm = "tie"
+                elif i["low"] > 0:
+                    rm = d
+                elif i["high"] < 0:
+                    rm = b
+                else:
+                    rm = "tie"
+                out.append({"group": group, "dp": d, "baseline": b, "within": w, "rmse": rm,
+                            "dp_figures": rd, "baseline_figures": rb, "ratio": i})
+    return out
+
+
+def worst_frames(scan, k: int) -> list[int]:
+    """The ``k`` frames where the trackers miss the truth most: largest mean over
+    trackers of the fraction of lit rows that are not hits (|error| > 3 px or
+    nothing reported), worst first; ties to the earlier frame. Frames with no lit row are never
+    chosen; fewer than ``k`` if fewer frames have lit rows."""
+    from bench.evaluate.metrics import HIT_PX
+
+    lit = ~np.isnan(scan.truth_columns)
+    n_lit = lit.sum(axis=1)
+    miss = np.zeros(scan.truth_columns.shape[0])
+    for name in scan.columns:
+        err = np.abs(scan.columns[name] - scan.truth_columns)
+        hit = (err <= HIT_PX) & lit
+        miss += 1.0 - np.divide(hit.sum(axis=1), n_lit, out=np.ones_like(miss), where=n_lit > 0)
+    miss /= max(len(scan.columns), 1)
+    ok = np.flatnonzero(n_lit > 0)
+    order = ok[np.argsort(-miss[ok], kind="stable")]
+    return [int(i) for i in order[:k]]

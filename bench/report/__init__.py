@@ -1,0 +1,1 @@
+"""Reports from saved runs: figures and HTML pages (runs, real runs, sweeps)."""

@@ -1,0 +1,313 @@
+"""Figures of a run (matplotlib with the Agg backend; pyvista off-screen for 3-D).
+
+Every function takes arrays or tables and a path and writes one PNG.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["fig_tracking", "fig_samples", "fig_bars", "fig_curves", "fig_gallery", "fig_shapes", "tracker_colour",
+           "clip_for_plot", "TRACKER_COLOURS", "SAMPLE_CAP_MM"]
+
+# One colour per tracker label, the same in every run and figure.
+TRACKER_COLOURS = {
+    "threshold": "#000000", "centroid": "#7f7f7f", "dp4": "#2ca02c", "dp8": "#17becf", "dp4_iso": "#98df8a",
+    "dp8_iso": "#9edae5", "gauss3": "#ff7f0e", "parabolic": "#ffbb78", "blais_rioux": "#9467bd",
+    "steger": "#8c564b", "com_bg": "#e377c2", "dp8_subpixel": "#1f77b4",
+}
+_PALETTE = ["#d62728", "#bcbd22", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd", "#e6550d",
+            "#31a354", "#756bb1", "#636363"]
+_MARKERS = ["o", "s", "D", "^", "v", "<", ">", "P", "X", "*", "h", "p"]
+SAMPLE_CAP_MM = 1000.0  # Fig. 10's axis ends here; larger errors are drawn at the edge, marked and counted
+
+
+def tracker_colour(label: str) -> str:
+    """The colour of a tracker label: fixed for the registered trackers, else a
+    stable hash of the label (never its position in a list)."""
+    import hashlib
+
+    if label in TRACKER_COLOURS:
+        return TRACKER_COLOURS[label]
+    return _PALETTE[int(hashlib.sha1(label.encode()).hexdigest(), 16) % len(_PALETTE)]
+
+
+def _marker(label: str) -> str:
+    import hashlib
+
+    return _MARKERS[int(hashlib.sha1(label.encode()).hexdigest(), 16) % len(_MARKERS)]
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _draw_tracks(ax, tracks: dict, truth_columns, step: int = 4) -> None:
+    """Each tracker's detections as markers on every ``step``-th row (offset per
+    tracker so markers do not hide each other), the truth as a thin dashed line."""
+    rows = np.arange(len(truth_columns))
+    ax.plot(truth_columns, rows, color="#ff2020", lw=1.0, ls=(0, (3, 2)), label="ground truth", zorder=3)
+    for k, (name, cols) in enumerate(sorted(tracks.items())):
+        sel = rows[(rows + k) % step == 0]
+        ax.plot(np.asarray(cols)[sel], sel, ls="none", marker=_marker(name), ms=3.5, mew=0.8, mfc="none",
+                color=tracker_colour(name), label=name, zorder=4)
+
+
+def fig_tracking(image, cost_field, tracks: dict, truth_columns, path, title: str = "") -> Path:
+    """The paper's Fig. 7: (a) the frame, (b) the DP accumulated cost field,
+    (c) each tracker's detections (markers) over the frame with the ground truth."""
+    plt = _plt()
+    fig, ax = plt.subplots(1, 3, figsize=(15, 5.0), constrained_layout=True)
+    ax[0].imshow(image, cmap="gray", vmin=0, vmax=255)
+    ax[0].set_title("(a) frame (8-bit)")
+    im = ax[1].imshow(cost_field, cmap="jet")
+    fig.colorbar(im, ax=ax[1], shrink=0.8, label="accumulated cost")
+    ax[1].set_title("(b) DP accumulated cost (4-conn.)")
+    ax[2].imshow(image, cmap="gray", vmin=0, vmax=255)
+    _draw_tracks(ax[2], tracks, truth_columns)
+    ax[2].legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=7, framealpha=0.8)
+    ax[2].set_title("(c) detections (markers, every 4th row)")
+    for a in ax:
+        a.set_xlabel("column (px)")
+        a.set_ylabel("row (px)")
+    if title:
+        fig.suptitle(title)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return Path(path)
+
+
+def fig_gallery(image, truth_columns, tracks: dict, path, title: str = "") -> Path:
+    """One failure-gallery frame: the image with the truth and each tracker's
+    detections as markers, large enough to read at report size."""
+    plt = _plt()
+    H, W = image.shape
+    fig, ax = plt.subplots(figsize=(9.0, 9.0 * H / W * 0.9))
+    fig.subplots_adjust(left=0.08, right=0.80, bottom=0.09, top=0.94)  # fixed: the legend sits right of it
+    ax.imshow(image, cmap="gray", vmin=0, vmax=max(int(np.max(image)), 1))
+    _draw_tracks(ax, tracks, truth_columns)
+    ax.set_xlim(-0.5, W - 0.5)
+    ax.set_ylim(H - 0.5, -0.5)
+    ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8, framealpha=0.8)
+    ax.set_xlabel("column (px)")
+    ax.set_ylabel("row (px)")
+    ax.set_title(title, fontsize=9)
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return Path(path)
+
+
+def clip_for_plot(errors, cap: float = SAMPLE_CAP_MM):
+    """Errors as drawn in Fig. 10: values beyond ``±cap`` are put at the edge.
+
+    Returns
+    -------
+    y : ndarray
+        The value drawn (NaN stays NaN: no value at that sample).
+    clipped : ndarray of bool
+        True where ``|error| > cap``.
+    missing : ndarray of bool
+        True where there is no value.
+
+    Examples
+    --------
+    >>> y, c, m = clip_for_plot([1.0, -2500.0, np.nan], cap=1000.0)
+    >>> y.tolist(), c.tolist(), m.tolist()
+    ([1.0, -1000.0, nan], [False, True, False], [False, False, True])
+    """
+    e = np.asarray(errors, dtype=np.float64)
+    missing = np.isnan(e)
+    clipped = ~missing & (np.abs(e) > cap)
+    y = np.where(clipped, np.sign(e) * cap, e)
+    return y, clipped, missing
+
+
+def fig_samples(samples, dp: str, baseline: str, path, title: str = "", stat: dict | None = None,
+                robust: dict | None = None, within_mm: float = 5.0) -> Path:
+    """The paper's Fig. 10 with every sample shown: depth error (mm) of each sample
+    point with DP (green diamonds) and without (black circles), the ±5 mm band.
+
+    The axis is linear within ±10 mm and logarithmic beyond (symlog) up to
+    :data:`SAMPLE_CAP_MM`; errors beyond are drawn at the edge as triangles and
+    counted in the legend; samples with no value (nothing restored there) are
+    drawn as crosses on the zero line and counted. ``robust`` maps a label to
+    its :func:`bench.evaluate.stats.robust_summary` figures, shown in the title.
+    """
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(9.0, 4.8), constrained_layout=True)
+    x = np.arange(len(samples))
+    ax.axhspan(-within_mm, within_mm, color="#cfe8cf", alpha=0.7, label=f"±{within_mm:g} mm")
+    ax.axhline(0, color="0.3", lw=0.8)
+    for name, style in ((baseline, dict(marker="o", mfc="none", mec="black", ms=5, color="black")),
+                        (dp, dict(marker="D", color="#2ca02c", ms=4))):
+        y, clipped, missing = clip_for_plot(samples[f"error_mm_{name}"].to_numpy(float))
+        who = "without DP" if name == baseline else "with DP"
+        ax.plot(x[~clipped], y[~clipped], ls="none", label=f"{who} ({name})", **style)
+        if clipped.any():
+            ax.plot(x[clipped], y[clipped], ls="none", marker="^" if name == dp else "v", ms=7,
+                    color=style.get("color", "black"), mfc="none" if name == baseline else None,
+                    label=f"{name}: {int(clipped.sum())} beyond ±{SAMPLE_CAP_MM:g} mm (at the edge)")
+        if missing.any():
+            ax.plot(x[missing], np.zeros(int(missing.sum())), ls="none", marker="x", ms=6,
+                    color=style.get("color", "black"), label=f"{name}: {int(missing.sum())} with no value")
+    ax.set_yscale("symlog", linthresh=10.0, linscale=1.0)
+    ax.set_ylim(-SAMPLE_CAP_MM * 1.3, SAMPLE_CAP_MM * 1.3)
+    ax.set_xlabel("sample")
+    ax.set_ylabel("depth error (mm), symlog beyond ±10")
+    lines = [title] if title else []
+    if robust:
+        parts = []
+        for name in (dp, baseline):
+            r = robust.get(name)
+            if r is not None and r["n"]:
+                parts.append(f"{name}: {100 * r['within']:.0f} % within ±{within_mm:g} mm "
+                             f"[{100 * r['within_low']:.0f}, {100 * r['within_high']:.0f}], median "
+                             f"{r['median_abs_mm']:.2g} mm, {r['n_gross']} gross")
+        lines.append("; ".join(parts))
+    if stat is not None and np.isfinite(stat.get("value", np.nan)):
+        lines.append(f"1 - RMSE_DP/RMSE_noDP = {100 * stat['value']:.0f} % "
+                     f"[{100 * stat['low']:.0f}, {100 * stat['high']:.0f}] (95 % CI); paper: 30 %")
+    ax.set_title("\n".join(lines), fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return Path(path)
+
+
+def fig_bars(metrics, path, metric: str = "hit_rate", title: str = "") -> Path:
+    """One bar per tracker and experiment of an object-region metric (linear axis).
+
+    Experiments are identified by their key (two experiments of one scene and
+    material, e.g. a lux sweep, are two groups of bars)."""
+    plt = _plt()
+    m = metrics[metrics["region"] == "object"]
+    exps = list(dict.fromkeys(m["experiment"]))
+    names = sorted(m["tracker"].unique())
+    fig, ax = plt.subplots(figsize=(max(8.0, 0.9 * len(exps) + 3), 4.0), constrained_layout=True)
+    width = 0.8 / max(len(names), 1)
+    x = np.arange(len(exps))
+    table = (m.pivot_table(index="experiment", columns="tracker", values=metric, sort=False, dropna=False)
+             .reindex(index=exps, columns=names))
+    for k, name in enumerate(names):
+        ax.bar(x + k * width, table[name].to_numpy(float), width, color=tracker_colour(name), label=name)
+    ax.set_xticks(x + 0.4 - width / 2, exps, rotation=30, ha="right", fontsize=8)
+    ax.set_ylabel(f"{metric} (object rows)")
+    if metric in ("hit_rate", "coverage"):
+        ax.set_ylim(0, 1.02)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    ax.set_title(title or f"{metric} on the object, per experiment")
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return Path(path)
+
+
+def fig_curves(table, key: str, path, metric: str = "hit_rate", title: str = "", mark=None) -> Path:
+    """A metric against one swept setting, one line per tracker.
+
+    ``table`` has columns ``key``, ``tracker``, ``metric`` and optionally
+    ``low``/``high`` (an interval drawn as a band); ``mark`` is a value of ``key``
+    to mark with a vertical line (e.g. the paper's 400 lux)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7.5, 4.0), constrained_layout=True)
+    for name, g in table.groupby("tracker", sort=True):
+        g = g.sort_values(key)
+        ax.plot(g[key], g[metric], marker=_marker(name), color=tracker_colour(name), label=name, ms=4)
+        if {"low", "high"} <= set(g.columns):
+            ax.fill_between(g[key], g["low"], g["high"], color=tracker_colour(name), alpha=0.15)
+    if mark is not None:
+        ax.axvline(mark, color="0.4", ls=":", lw=1)
+    ax.set_xlabel(key)
+    ax.set_ylabel(metric)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    ax.set_title(title, fontsize=9)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return Path(path)
+
+
+def _quads(points):
+    """PolyData faces for the (F, H) grid of points where all 4 corners exist."""
+    F, H, _ = points.shape
+    ok = np.isfinite(points).all(axis=-1)
+    idx = np.arange(F * H).reshape(F, H)
+    q = ok[:-1, :-1] & ok[1:, :-1] & ok[:-1, 1:] & ok[1:, 1:]
+    f, r = np.nonzero(q)
+    faces = np.stack([np.full(f.size, 4), idx[f, r], idx[f + 1, r], idx[f + 1, r + 1], idx[f, r + 1]], axis=1)
+    return faces.ravel()
+
+
+def _quiet_vtk() -> None:
+    """No VTK warnings on the terminal (e.g. "bad X server connection" off-screen)."""
+    try:
+        from vtkmodules.vtkCommonCore import vtkObject
+
+        vtkObject.GlobalWarningDisplayOff()
+    except Exception:  # pragma: no cover - VTK layout differs
+        pass
+
+
+ERROR_CLIM_MM = 10.0  # the error maps of Fig. 8/9 saturate at ±this
+
+
+def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0), errors_mm: dict | None = None,
+               columns: int = 3) -> Path:
+    """Restored 3-D surfaces, seen from the rig's side, in a grid of panels.
+
+    ``surfaces`` maps a label to an (F, H, 3) grid of points (cm, NaN where
+    missing); quads with a missing corner are left out. The first surface (the
+    ground truth) sets the view and is coloured by depth R (cm). Every other
+    surface is coloured by its depth error (mm) from ``errors_mm[label]`` (F, H),
+    on a diverging map saturating at ±:data:`ERROR_CLIM_MM` (or by R when no
+    error is given). ``columns`` panels per row, 400 x 360 px each.
+    """
+    import pyvista as pv
+
+    _quiet_vtk()
+    pv.OFF_SCREEN = True
+    labels = list(surfaces)
+    grids = [np.asarray(surfaces[k], float) for k in labels]
+    ref = grids[0][np.isfinite(grids[0]).all(-1)]
+    if ref.size == 0:
+        raise ValueError("no surface points to draw")
+    r_ref = np.hypot(ref[:, 0], ref[:, 1])
+    clim = (float(np.percentile(r_ref, 1)), float(np.percentile(r_ref, 99)))
+    centre = 0.5 * (ref.min(axis=0) + ref.max(axis=0))
+    extent = float(np.linalg.norm(ref.max(axis=0) - ref.min(axis=0)))
+    view = np.asarray(camera_cm, float) - centre
+    view[2] = 0.0
+    view /= np.linalg.norm(view)
+    eye = centre + 2.6 * extent * view + np.array([0.0, 0.0, 0.25 * extent])
+    ncol = min(columns, len(labels))
+    nrow = -(-len(labels) // ncol)
+    plotter = pv.Plotter(off_screen=True, shape=(nrow, ncol), window_size=(400 * ncol, 360 * nrow), border=False)
+    errors_mm = errors_mm or {}
+    for k, (label, g) in enumerate(zip(labels, grids)):
+        plotter.subplot(k // ncol, k % ncol)
+        pts = np.nan_to_num(g.reshape(-1, 3))
+        faces = _quads(g)
+        err = errors_mm.get(label)
+        if faces.size:
+            mesh = pv.PolyData(pts, faces=faces)
+            if err is not None:
+                mesh["error (mm)"] = np.nan_to_num(np.asarray(err, float).reshape(-1))
+                plotter.add_mesh(mesh, scalars="error (mm)", cmap="RdBu_r", clim=(-ERROR_CLIM_MM, ERROR_CLIM_MM),
+                                 show_scalar_bar=True,
+                                 scalar_bar_args={"title": f"{label} (mm)", "vertical": True,
+                                                  "position_x": 0.80, "n_labels": 5, "fmt": "%.0f"})
+            else:
+                mesh["R (cm)"] = np.hypot(pts[:, 0], pts[:, 1])
+                plotter.add_mesh(mesh, scalars="R (cm)", cmap="jet", clim=clim, show_scalar_bar=True,
+                                 scalar_bar_args={"title": "R (cm)", "vertical": True, "position_x": 0.84})
+        plotter.add_text(label if err is None else f"{label}: depth error", font_size=11)
+        plotter.camera_position = [tuple(eye), tuple(centre), (0.0, 0.0, 1.0)]
+        plotter.reset_camera_clipping_range()
+    plotter.screenshot(str(path))
+    plotter.close()
+    return Path(path)

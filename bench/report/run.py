@@ -1,0 +1,443 @@
+"""The run report: figures from saved results and one self-contained HTML page.
+
+``stripebench report RUN`` calls :func:`build_report` on a finished run folder;
+it needs only the saved files (no rendering).
+
+The page leads with the answer: per condition (the configuration's first
+condition is the paper's), which tracker of each DP / baseline pair is more
+precise by which statistic, in words, with intervals; then a tracker x
+condition table of the robust figures, Fig. 10 with every sample, a gallery of
+the frames where the trackers miss most, the paper's ratio tables, hit rates,
+Fig. 7, Fig. 8/9 with error maps, and the full metrics.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from bench.store.runfolder import load_run
+from bench.store.files import atomic_write_text
+from bench.run.scan import ScanResult
+
+__all__ = ["build_report", "make_figures", "verdict_sentence", "glance_table"]
+
+
+def _restored_points(arrays, name: str | None, rig, restore: str = "rows"):
+    """(F, H, 3) points of the ground truth (``name=None``) or of a tracker's
+    restored surface, and (F, H) depth errors (mm) of that surface (None for the truth)."""
+    from bench.evaluate.restore import restore_depth_map
+    from bench.evaluate.triangulation import depth_cm, points_from_depth
+
+    scan = ScanResult.from_arrays("", arrays)
+    F, H = scan.truth_columns.shape
+    if name is None:
+        pts = scan.truth_points_cm.copy()
+        pts[~scan.on_object] = np.nan
+        return pts, None
+    r, _ = restore_depth_map(depth_cm(scan.columns[name], rig), restore)
+    pts = points_from_depth(r, np.arange(H, dtype=float)[None, :], scan.angles[:, None], rig)
+    r_true = np.hypot(scan.truth_points_cm[..., 0], scan.truth_points_cm[..., 1])
+    err = 10.0 * (r - r_true)
+    # show the object: the cells whose true point is on the object (and a margin of one)
+    on = scan.on_object.copy()
+    on[1:] |= scan.on_object[:-1]
+    on[:-1] |= scan.on_object[1:]
+    on[:, 1:] |= scan.on_object[:, :-1]
+    on[:, :-1] |= scan.on_object[:, 1:]
+    pts[~on] = np.nan
+    return pts, err
+
+
+def _groups(summary) -> list[tuple[str, str, list[str]]]:
+    """(title, statistics group, experiment keys) per condition, in configuration order."""
+    groups = {r["group"] for r in summary.get("robust", [])}
+    out = []
+    for c in summary.get("conditions", []):
+        g = f"condition:{c['condition']}"
+        if g not in groups:
+            g = c["experiments"][0]
+        out.append((c["condition"], g, c["experiments"]))
+    return out
+
+
+def _pct(v) -> str:
+    return "–" if v is None or not np.isfinite(v) else f"{100 * v:.0f} %"
+
+
+def _warn(msg: str) -> None:
+    print(msg, file=sys.stderr)
+
+
+def _num(v, unit="") -> str:
+    return "–" if v is None or not np.isfinite(v) else f"{v:.2g}{unit}"
+
+
+def _signed(v) -> str:
+    """``+0.81`` / ``-0.03``: a signed error to two decimals, ``–`` when missing."""
+    return "–" if v is None or not np.isfinite(v) else f"{v:+.2f}"
+
+
+def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
+    """One plain sentence on a :func:`bench.evaluate.tables.verdicts` entry.
+
+    Examples
+    --------
+    >>> f = {"n": 10, "within": 0.9, "within_low": 0.6, "within_high": 0.98, "median_abs_mm": 0.5, "n_gross": 0}
+    >>> g = {"n": 10, "within": 0.2, "within_low": 0.06, "within_high": 0.5, "median_abs_mm": 9.0, "n_gross": 4}
+    >>> r = {"value": 0.4, "low": 0.1, "high": 0.6}
+    >>> verdict_sentence({"dp": "dp4", "baseline": "threshold", "within": "dp4", "rmse": "dp4",
+    ...                   "dp_figures": f, "baseline_figures": g, "ratio": r}).split(" (")[0]
+    'dp4 is more precise than threshold by both the ±5 mm fraction and the RMSE ratio'
+    """
+    d, b = v["dp"], v["baseline"]
+    fd, fb, r = v["dp_figures"], v["baseline_figures"], v["ratio"]
+    within = (f"{_pct(fd['within'])} [{_pct(fd['within_low'])}, {_pct(fd['within_high'])}] of the samples within "
+              f"±{within_mm:g} mm against {_pct(fb['within'])} [{_pct(fb['within_low'])}, {_pct(fb['within_high'])}]")
+    ratio = ("RMSE ratio 1 - S_DP/S_noDP " + (f"{_pct(r['value'])} [{_pct(r['low'])}, {_pct(r['high'])}]"
+                                               if r is not None else "–"))
+    extra = (f"median |error| {_num(fd['median_abs_mm'], ' mm')} against {_num(fb['median_abs_mm'], ' mm')}; "
+             f"gross errors (&gt; 50 mm) {fd['n_gross']} against {fb['n_gross']}")
+    w, m = v["within"], v["rmse"]
+    if w == m and w != "tie":
+        other = b if w == d else d
+        head = f"{w} is more precise than {other} by both the ±{within_mm:g} mm fraction and the RMSE ratio"
+    elif w == "tie" and m == "tie":
+        head = f"neither {d} nor {b} is more precise: the intervals of both statistics overlap"
+    elif w == "tie":
+        head = f"{m} is more precise by the RMSE ratio, but the ±{within_mm:g} mm fractions' intervals overlap"
+    elif m == "tie":
+        head = f"{w} is more precise by the ±{within_mm:g} mm fraction, but the RMSE ratio's interval includes 0"
+    else:
+        head = f"the statistics disagree: {w} wins by the ±{within_mm:g} mm fraction, {m} by the RMSE ratio"
+    return f"{head} ({d}: {within}; {ratio}; {extra})."
+
+
+def _headline(summary) -> str:
+    verdicts = summary.get("verdicts", [])
+    if not verdicts:
+        return ("<p>No DP tracker or no baseline was chosen (<code>dp</code>, <code>baselines</code>), so the "
+                "report compares no pair; see the table below.</p>")
+    within = summary.get("within_mm", 5.0)
+    base0 = summary["config"]["baselines"][0] if summary["config"].get("baselines") else None
+    by_group: dict[str, list[dict]] = {}
+    for v in verdicts:
+        by_group.setdefault(v["group"], []).append(v)
+
+    def items(vs):
+        main = [v for v in vs if v["baseline"] == base0]
+        rest = [v for v in vs if v["baseline"] != base0]
+        out = "<ul>" + "".join(f"<li>{verdict_sentence(v, within)}</li>" for v in main) + "</ul>"
+        if rest:
+            out += ("<details><summary>against the other baselines</summary><ul>"
+                    + "".join(f"<li>{verdict_sentence(v, within)}</li>" for v in rest) + "</ul></details>")
+        return out
+
+    parts = []
+    for k, (title, group, keys) in enumerate(_groups(summary)):
+        vs = by_group.get(group, [])
+        if not vs:
+            continue
+        n = vs[0]["dp_figures"]["n"]
+        lead = "" if title.lower().startswith("the paper's condition") else (
+            "The paper's condition: " if k == 0 else "Condition: ")
+        shown = title if lead else title[:1].upper() + title[1:]
+        parts.append(f"<h3>{lead}{html.escape(shown)} <small>({', '.join(map(html.escape, keys))}; {n} sample "
+                     f"points)</small></h3>" + items(vs))
+    pooled = by_group.get("all", [])
+    if pooled and len(_groups(summary)) > 1:
+        parts.append("<h3>Pooled over unlike conditions <small>(an average of different effects, not a "
+                     "condition)</small></h3>" + items(pooled))
+    return "".join(parts)
+
+
+def _cell_colour(x: float) -> str:
+    if not np.isfinite(x):
+        return "#ffffff"
+    hue = 120.0 * float(np.clip(x, 0.0, 1.0))  # red (0) to green (1)
+    return f"hsl({hue:.0f}, 70%, 85%)"
+
+
+def glance_table(summary) -> str:
+    """The tracker x condition table of the ±5 mm fraction (Wilson 95 % interval),
+    median |error| and gross-error count; colour by the fraction, the best tracker
+    of each condition marked with ★ (highest fraction, then lowest median);
+    trackers ranked by their mean fraction over the conditions."""
+    rob = {(r["group"], r["tracker"]): r for r in summary.get("robust", [])}
+    groups = _groups(summary)
+    if not groups or not rob:
+        return ""
+    labels = list(dict.fromkeys(r["tracker"] for r in summary["robust"]))
+    mean = {}
+    for lab in labels:
+        vals = np.array([rob[(g, lab)]["within"] for _, g, _ in groups if (g, lab) in rob], float)
+        vals = vals[np.isfinite(vals)]
+        mean[lab] = float(vals.mean()) if vals.size else float("nan")
+    labels.sort(key=lambda lab: -mean[lab] if np.isfinite(mean[lab]) else 1.0)
+    best = {}
+    for _, g, _ in groups:
+        cand = [(rob[(g, lab)]["within"], -rob[(g, lab)]["median_abs_mm"], lab) for lab in labels
+                if (g, lab) in rob and np.isfinite(rob[(g, lab)]["within"])]
+        if cand:
+            top = max(cand, key=lambda c: (c[0], np.nan_to_num(c[1], nan=-np.inf)))
+            best[g] = top[2]
+    head = "".join(f"<th>{html.escape(t)}</th>" for t, _, _ in groups)
+    rows = []
+    for rank, lab in enumerate(labels, 1):
+        cells = []
+        for _, g, _ in groups:
+            r = rob.get((g, lab))
+            if r is None:
+                cells.append("<td>–</td>")
+                continue
+            star = " ★" if best.get(g) == lab else ""
+            txt = (f"<b>{_pct(r['within'])}{star}</b><br><small>[{_pct(r['within_low'])}, {_pct(r['within_high'])}]"
+                   f" · med {_num(r['median_abs_mm'])} mm · bias {_signed(r.get('median_mm'))} mm"
+                   f" · {r['n_gross']} gross</small>")
+            cells.append(f"<td style='background:{_cell_colour(r['within'])}'>{txt}</td>")
+        rows.append(f"<tr><td>{rank}</td><th>{html.escape(lab)}</th>{''.join(cells)}</tr>")
+    within = summary.get("within_mm", 5.0)
+    return (f"<h2>At a glance: samples within ±{within:g} mm, per tracker and condition</h2><p>Fraction of the "
+            f"sample points whose depth error on the restored surface (restoration <code>"
+            f"{html.escape(summary.get('restore', 'rows'))}</code>) is within ±{within:g} mm (the paper's Fig. 10 "
+            f"band), Wilson 95 % interval, median |error|, the signed median error (bias: positive is "
+            f"farther from the rig, e.g. under a translucent surface) and the count of gross errors (&gt; "
+            f"{summary.get('gross_mm', 50.0):g} mm). ★ best of the condition; rows ranked by the mean fraction.</p>"
+            f"<table><tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
+
+
+def _improvement_tables(summary) -> str:
+    """Experiments x (DP, baseline) pairs, one table per statistic (the paper's ratio)."""
+    imp = summary["improvement"]
+    if not imp:
+        return ""
+    pairs = list(dict.fromkeys((i["dp"], i["baseline"]) for i in imp))
+    groups = list(dict.fromkeys(i["group"] for i in imp))
+    by = {(i["group"], i["dp"], i["baseline"], i["statistic"]): i for i in imp}
+    head = "".join(f"<th>{html.escape(d)} vs {html.escape(b)}</th>" for d, b in pairs)
+    out = []
+    for stat, title in (("rmse", "RMSE"), ("mae", "MAE"), ("std", "standard deviation")):
+        rows = []
+        for g in groups:
+            cells = []
+            for d, b in pairs:
+                i = by.get((g, d, b, stat))
+                cells.append("<td>–</td>" if i is None else
+                             f"<td><b>{_pct(i['value'])}</b> [{_pct(i['low'])}, {_pct(i['high'])}]"
+                             f" <small>n={i['n']}</small></td>")
+            name = "pooled over unlike conditions" if g == "all" else g
+            rows.append(f"<tr><td>{html.escape(name)}</td>{''.join(cells)}</tr>")
+        out.append(f"<h3>by {title}</h3><table><tr><th>group</th>{head}</tr>{''.join(rows)}</table>")
+    return ("<h2>The paper's statistic: 1 - S_DP / S_noDP</h2><p>Over the sample points' depth errors on the restored "
+            "surfaces, S = RMSE, MAE or standard deviation, with a paired bootstrap 95 % confidence interval. The paper "
+            f"reports about {int(100 * summary['paper_improvement'])} %. Negative: the method without DP was more "
+            "precise. The ratio rests on the largest errors: read it beside the table above.</p>" + "".join(out))
+
+
+def _hit_table(metrics) -> str:
+    m = metrics[metrics["region"] == "object"]
+    if m.empty or "hit_rate" not in m:
+        return ""
+    fmt = {"float_format": lambda v: f"{v:.2f}", "na_rep": "–", "border": 0}
+    hit = m.pivot_table(index="experiment", columns="tracker", values="hit_rate", sort=False)
+    cov = m.pivot_table(index="experiment", columns="tracker", values="coverage", sort=False)
+    out = ("<h2>Hit rate and coverage on the object</h2><p>Hit rate: the object's lit rows where the tracker "
+           "reports a column within 3 px of the truth (a missed row is a miss). Coverage: rows with any "
+           "detection.</p><h3>hit rate</h3>" + hit.to_html(**fmt) + "<h3>coverage</h3>" + cov.to_html(**fmt))
+    a = metrics[metrics["region"] == "all"]
+    if "false_lock_rate" in a and a["false_lock_rate"].notna().any():
+        lock = a[a["false_lock_rate"].notna()].pivot_table(index="experiment", columns="tracker",
+                                                             values="false_lock_rate", sort=False)
+        out += ("<h3>false-lock rate (shiny materials, every row)</h3><p>Among the rows where the tracker reports "
+                "a column, the fraction within 3 px of a false stripe (the sheet mirrored by the object) and not "
+                "within 3 px of the truth.</p>" + lock.to_html(**fmt))
+    return out
+
+
+def _sweeps(cfg) -> list[tuple[str, str, list[str]]]:
+    """Experiments of one scene and material that differ in exactly one numeric
+    override: (title, key, experiment keys) for each such family of 3 or more."""
+    from bench.config import parse
+
+    exps = parse(cfg).experiments
+    fams: dict = {}
+    for e in exps:
+        for k, v in e.overrides.items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                rest = tuple(sorted((kk, repr(vv)) for kk, vv in e.overrides.items() if kk != k))
+                fams.setdefault((e.scene, e.material, k, rest), []).append(e.key)
+    return [(f"{s}/{m}", k, keys) for (s, m, k, _), keys in fams.items() if len(keys) >= 3]
+
+
+def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> dict[str, list[Path]]:
+    """Write every figure of a run into ``run_dir/figures``; returns them by
+    section. ``data`` is the run's :func:`~bench.run.experiment.load_run` if the
+    caller already has it."""
+    import pandas as pd
+
+    import scenes
+
+    from bench.report import figures
+    from bench.config import parse
+
+    run_dir = Path(run_dir)
+    data = load_run(run_dir, say=_warn) if data is None else data
+    summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
+    cfg = summary["config"]
+    config = parse(cfg)
+    figdir = run_dir / "figures"
+    figdir.mkdir(exist_ok=True)
+    for old in figdir.glob("*.png"):  # figures of an earlier report must not linger
+        old.unlink()
+    out: dict[str, list[Path]] = {"tracking": [], "samples": [], "gallery": [], "bars": [], "curves": [],
+                                  "shapes": []}
+    fd = data["figdata"]
+    if fd is not None:
+        from trackers.dp import accumulated_cost
+
+        cols = {str(n): fd[f"columns/{n}"] for n in fd["trackers"]}
+        p = figures.fig_tracking(fd["image"], accumulated_cost(fd["image"], connectivity=4), cols,
+                                 fd["truth_columns"], figdir / "fig7_tracking.png",
+                                 title=f"{fd['experiment']} at mirror angle {float(fd['mirror_angle_deg']):.2f} deg "
+                                       "(the frame where the trackers miss most)")
+        out["tracking"].append(p)
+    stats = {(s["group"], s["dp"], s["baseline"], s["statistic"]): s for s in summary["improvement"]}
+    rob = {(r["group"], r["tracker"]): r for r in summary.get("robust", [])}
+    dp0 = cfg["dp"][0] if cfg["dp"] else None
+    base0 = cfg["baselines"][0] if cfg["baselines"] else None
+    if dp0 and base0 and len(samples):
+        for key, g in samples.groupby("experiment", sort=False):
+            st = stats.get((key, dp0, base0, "rmse"))
+            r = {n: rob[(key, n)] for n in (dp0, base0) if (key, n) in rob}
+            out["samples"].append(figures.fig_samples(g.reset_index(drop=True), dp0, base0,
+                                                      figdir / f"fig10_{key}.png", title=f"{key}: {len(g)} samples",
+                                                      stat=st, robust=r, within_mm=summary.get("within_mm", 5.0)))
+    gal = data.get("gallery")
+    if gal is not None:
+        for k, key in enumerate(str(x) for x in gal["keys"]):
+            exp, frame = key.rsplit("/", 1)
+            labels = [str(n) for n in gal[f"{key}/labels"]]
+            tracks = {n: gal[f"{key}/columns/{n}"] for n in labels}
+            truth = gal[f"{key}/truth"]
+            lit = np.isfinite(truth)
+            hits = {n: float(np.mean(np.abs(tracks[n][lit] - truth[lit]) <= 3.0)) if lit.any() else np.nan
+                    for n in labels}
+            worst = ", ".join(f"{n} {hits[n]:.2f}" for n in sorted(hits, key=lambda n: hits[n])[:4])
+            out["gallery"].append(figures.fig_gallery(gal[f"{key}/image"], truth, tracks,
+                                                      figdir / f"gallery_{k:02d}.png",
+                                                      title=f"{exp}, frame {frame}: lowest hit rates {worst}"))
+    if len(metrics):
+        out["bars"].append(figures.fig_bars(metrics, figdir / "bars_hit_rate.png", "hit_rate"))
+        for title, key, keys in _sweeps(cfg):
+            m = metrics[(metrics["region"] == "object") & metrics["experiment"].isin(keys)]
+            val = {e.key: e.overrides[key] for e in config.experiments if e.key in keys}
+            t = pd.DataFrame({key: m["experiment"].map(val), "tracker": m["tracker"], "hit_rate": m["hit_rate"]})
+            mark = {"ambient_lux": 400.0, "laser_power_mw": 3.0}.get(key)
+            out["curves"].append(figures.fig_curves(t, key, figdir / f"curve_{title.replace('/', '-')}_{key}.png",
+                                                    title=f"{title}: hit rate on the object against {key}",
+                                                    mark=mark))
+    # 3-D restored shapes: the first experiment of each scene
+    done = set()
+    show = [n for n in list(cfg["dp"]) + list(cfg["baselines"])] or list(config.trackers)[:4]
+    for exp in config.experiments:
+        if exp.scene in done or exp.key not in data["scans"]:
+            continue
+        done.add(exp.scene)
+        arrays = data["scans"][exp.key]
+        rig = scenes.make(exp.scene, width=int(cfg["render"].get("width", 512)),
+                          height=int(cfg["render"].get("height", 480))).rig
+        names = [n for n in show if n in {str(x) for x in arrays["trackers"]}]
+        surf = {"ground truth": _restored_points(arrays, None, rig)[0]}
+        errs = {}
+        for n in names:
+            surf[n], errs[n] = _restored_points(arrays, n, rig, summary.get("restore", "rows"))
+        try:
+            out["shapes"].append(figures.fig_shapes(surf, figdir / f"shape_{exp.key}.png", title=exp.key,
+                                                    errors_mm=errs))
+        except Exception as exc:  # a missing OpenGL must not lose the rest of the report
+            if not quiet:
+                print(f"stripebench: 3-D figure of {exp.key} skipped: {type(exc).__name__}: {exc}", file=sys.stderr)
+    return out
+
+
+def _img(path: Path, width: str = "100%") -> str:
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return f'<img src="data:image/png;base64,{data}" alt="{html.escape(path.stem)}" style="max-width:{width}">'
+
+
+def build_report(run_dir, *, quiet: bool = False) -> Path:
+    """Write ``figures/*.png`` and ``report.html`` for a finished run."""
+    run_dir = Path(run_dir)
+    data = load_run(run_dir, say=_warn)
+    figs = make_figures(run_dir, quiet=quiet, data=data)
+    s, metrics = data["summary"], data["metrics"]
+    cfg = s["config"]
+    parts = [f"<h1>stripebench run <code>{html.escape(run_dir.name)}</code></h1>",
+             f"<p>Configuration <code>{html.escape(cfg['name'])}</code> ({html.escape(s.get('config_source', ''))}), "
+             f"seed {s['seed']}, git {html.escape(s['git_revision'])}, Mitsuba variant(s) "
+             f"{html.escape(', '.join(s['variants']))}, wall time {s['wall_s']:.0f} s, restoration "
+             f"<code>{html.escape(s.get('restore', 'rows'))}</code>. "
+             f"Versions: {html.escape(', '.join(f'{k} {v}' for k, v in s['versions'].items()))}.</p>"]
+    parts.append("<h2>Which tracker is more precise, per condition</h2><p>A statistic decides only when its 95 % "
+                 "intervals do: the ±5 mm fractions' Wilson intervals must not overlap; the RMSE ratio's bootstrap "
+                 "interval must exclude 0.</p>" + _headline(s))
+    parts.append(glance_table(s))
+    if figs["samples"]:
+        parts.append("<h2>Every sample (Fig. 10)</h2><p>Depth error of each sample point with and without DP; the "
+                     "axis is linear within ±10 mm and logarithmic beyond, so no error is hidden (beyond "
+                     "±1000 mm points sit at the edge, marked and counted).</p>"
+                     + "".join(_img(p) for p in figs["samples"]))
+    if figs["gallery"]:
+        parts.append("<h2>Failure gallery</h2><p>Per experiment, the frames where the trackers miss the truth most "
+                     "(mean over trackers of the lit rows that are not within 3 px). Markers every 4th row, offset "
+                     "per tracker; the truth dashed red.</p>"
+                     + "".join(_img(p, "49%") for p in figs["gallery"]))
+    if s.get("sim_to_real"):
+        from bench.store.realset import sim_to_real_html
+
+        parts.append(sim_to_real_html(s["sim_to_real"]).replace(
+            "<h2>Renders vs photographs</h2>",
+            "<h2>Renders vs photographs</h2><p>Each tracker's hit rate (within 3 px) on the object rows of this "
+            "run, averaged over its experiments, beside its mean hit rate over the photographs of the real set "
+            f"<code>{html.escape(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; references "
+            "only where the stripe is visible, see docs/real.md).</p>"))
+    parts.append(_improvement_tables(s))
+    parts.append(_hit_table(metrics))
+    if figs["bars"]:
+        parts.append("".join(_img(p) for p in figs["bars"]))
+    if figs["curves"]:
+        parts.append("<h2>Sweeps</h2>" + "".join(_img(p, "70%") for p in figs["curves"]))
+    if figs["tracking"]:
+        parts.append("<h2>Tracking one frame (Fig. 7)</h2>" + "".join(_img(p) for p in figs["tracking"]))
+    if figs["shapes"]:
+        parts.append("<h2>Restored shapes (Fig. 8, 9)</h2><p>The ground truth coloured by depth R, and each "
+                     "tracker's restored surface coloured by its depth error (mm, saturating at ±10 mm).</p>"
+                     + "".join(_img(p) for p in figs["shapes"]))
+    cols = [c for c in ["experiment", "tracker", "region", "hit_rate", "coverage", "px_mae", "px_rmse", "px_p95",
+                        "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "outlier_rate", "false_detections",
+                        "filled_fraction", "ms_per_frame", "failed_frames"] if c in metrics]
+    table = metrics[cols].to_html(index=False, float_format=lambda v: f"{v:.3g}", na_rep="–", border=0)
+    parts.append("<h2>Metrics</h2><p>Pixel errors against the ground-truth column of each lit row; depth errors "
+                 "(mm) of R from eq. (3); coverage = detected / lit rows; hit rate = lit rows within 3 px / lit rows; "
+                 "outliers = |error| &gt; 3 px among detected lit rows; false detections = detected / unlit rows; "
+                 "region <i>object</i> keeps the rows whose true point lies on the object.</p>" + table)
+    fails = [(sc["experiment"], n, c, sc["failure_messages"][n]) for sc in s["scans"]
+             for n, c in sc["failures"].items() if c]
+    if fails:
+        parts.append("<h2>Tracker failures</h2><ul>" + "".join(
+            f"<li><b>{html.escape(n)}</b> on {html.escape(e)}: {c} frame(s) failed: "
+            f"{html.escape('; '.join(m))}</li>" for e, n, c, m in fails) + "</ul>")
+    parts.append("<h2>Configuration</h2><pre>" + html.escape(json.dumps(cfg, indent=2)) + "</pre>")
+    page = ("<!doctype html><html><head><meta charset='utf-8'><title>stripebench report</title><style>"
+            "body{font-family:system-ui,sans-serif;max-width:1250px;margin:2em auto;padding:0 1em;color:#222}"
+            "table{border-collapse:collapse;font-size:12px;margin:1em 0}td,th{border:1px solid #ccc;padding:3px 6px;"
+            "text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}</style></head><body>"
+            + "\n".join(p for p in parts if p) + "</body></html>")
+    path = run_dir / "report.html"
+    atomic_write_text(path, page)
+    return path

@@ -1,0 +1,288 @@
+"""The regression gate: compare a run's metrics with a committed baseline.
+
+``stripebench check RUN --baseline results/baselines/ci.json`` compares every
+gated metric of every (experiment, tracker, region) with the baseline, each
+with its own direction and tolerance, prints a table and exits 1 on any
+regression (or on anything missing from either side), 0 otherwise.
+``--update`` writes the run's metrics as the new baseline, on purpose.
+
+A metric regresses when it moves in its bad direction by more than
+``abs + rel * |baseline|``; a value that becomes NaN (or stops being NaN)
+regresses too. Runtimes are not gated (they depend on the machine).
+
+A real-photograph run (``stripebench real``) is gated the same way on its
+own metrics (:data:`REAL_TOLERANCES`: hit rate, MAE on the hits, coverage,
+false detections) per image x tracker and for the mean over images, e.g.
+``stripebench check results/runs/real --baseline results/baselines/real.json``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline",
+           "validate_baseline", "comparability", "COMPARED_KEYS", "rows_to_json"]
+
+# what must agree between two runs (or a run and a baseline) for their metrics to be comparable
+COMPARED_KEYS = ("render", "experiments", "seed")
+
+# metric -> (direction, absolute tolerance, relative tolerance)
+TOLERANCES: dict[str, tuple[str, float, float]] = {
+    "px_mae": ("lower", 0.05, 0.05),
+    "px_rmse": ("lower", 0.10, 0.05),
+    "px_p95": ("lower", 0.10, 0.05),
+    "depth_mae_mm": ("lower", 0.10, 0.05),
+    "depth_rmse_mm": ("lower", 0.20, 0.05),
+    "depth_p95_mm": ("lower", 0.20, 0.05),
+    "coverage": ("higher", 0.01, 0.0),
+    "hit_rate": ("higher", 0.01, 0.0),
+    "false_lock_rate": ("lower", 0.01, 0.05),
+    "outlier_rate": ("lower", 0.01, 0.05),
+    "false_detections": ("lower", 0.01, 0.05),
+}
+#: The gated metrics of a real-photograph run (``stripebench real``, summary ``kind = "real"``).
+REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
+    "hit_rate": ("higher", 0.01, 0.0),
+    "mae_px": ("lower", 0.05, 0.05),
+    "coverage": ("higher", 0.01, 0.0),
+    "false_detections": ("lower", 0.01, 0.05),
+}
+_FORMAT = 1
+
+
+def tolerances_for(summary: dict) -> dict[str, tuple[str, float, float]]:
+    """The gated metrics of a run: :data:`REAL_TOLERANCES` for a real-photograph
+    run, :data:`TOLERANCES` otherwise."""
+    return REAL_TOLERANCES if summary.get("kind") == "real" else TOLERANCES
+
+
+@dataclass(frozen=True)
+class Row:
+    key: str  # experiment/tracker/region
+    metric: str
+    baseline: float | None
+    now: float | None
+    verdict: str  # ok, better, REGRESSED, MISSING IN RUN, NOT IN BASELINE
+
+    @property
+    def failed(self) -> bool:
+        return self.verdict not in ("ok", "better")
+
+    @property
+    def delta(self) -> float | None:
+        if self.baseline is None or self.now is None or _nan(self.baseline) or _nan(self.now):
+            return None
+        return self.now - self.baseline
+
+
+def _nan(v) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
+def _clean(v):
+    v = float(v)
+    return None if math.isnan(v) else v
+
+
+def baseline_from_run(run_dir) -> dict:
+    """The gated metrics of a finished run, as a baseline document."""
+    from bench.store.runfolder import RunFolderError, load_metrics, load_summary
+
+    run_dir = Path(run_dir)
+    summary = load_summary(run_dir)
+    metrics = load_metrics(run_dir)
+    tols = tolerances_for(summary)
+    missing = [m for m in tols if m not in metrics.columns]
+    if missing:
+        raise RunFolderError(f"{str(run_dir / 'metrics.parquet')!r} has no column {missing[0]!r}")
+    entries = {}
+    for r in metrics.to_dict("records"):
+        key = f"{r['experiment']}/{r['tracker']}/{r['region']}"
+        entries[key] = {m: _clean(r[m]) for m in tols}
+    doc = {
+        "format": _FORMAT,
+        "config": summary["config"],
+        "git_revision": summary.get("git_revision", "unknown"),
+        "variants": summary.get("variants", []),
+        "tolerances": {m: {"direction": d, "abs": a, "rel": rel} for m, (d, a, rel) in tols.items()},
+        "metrics": entries,
+    }
+    if summary.get("kind") == "real":
+        doc["kind"] = "real"
+    return doc
+
+
+def write_baseline(run_dir, path) -> dict:
+    """Write the run's metrics as the baseline at ``path`` (atomically)."""
+    from bench.store.files import atomic_write_text
+
+    doc = baseline_from_run(run_dir)
+    atomic_write_text(path, json.dumps(doc, indent=1, sort_keys=True) + "\n")
+    return doc
+
+
+def _number_or_none(v) -> bool:
+    return v is None or (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v))
+
+
+def validate_baseline(doc, where: str = "baseline") -> dict:
+    """Check a baseline document's structure and values; returns it.
+
+    Raises
+    ------
+    ValueError
+        One line naming the first bad entry (``where`` names the file).
+
+    Examples
+    --------
+    >>> validate_baseline({"format": 1, "metrics": {"e/t/all": {"px_mae": "x"}}})
+    Traceback (most recent call last):
+    ...
+    ValueError: baseline: `metrics.e/t/all.px_mae` must be a number or null, got 'x'
+    """
+    if not isinstance(doc, dict) or doc.get("format") != _FORMAT or "metrics" not in doc:
+        raise ValueError(f"{where} is not a stripebench baseline (format {_FORMAT})")
+    metrics = doc["metrics"]
+    if not isinstance(metrics, dict):
+        raise ValueError(f"{where}: `metrics` must be an object, got {metrics!r:.60}")
+    for key, entry in metrics.items():
+        if not isinstance(entry, dict):
+            raise ValueError(f"{where}: `metrics.{key}` must be an object of metric values, got {entry!r:.60}")
+        for m, v in entry.items():
+            if not _number_or_none(v):
+                raise ValueError(f"{where}: `metrics.{key}.{m}` must be a number or null, got {v!r:.60}")
+    tols = doc.get("tolerances")
+    if tols is not None:
+        if not isinstance(tols, dict):
+            raise ValueError(f"{where}: `tolerances` must be an object, got {tols!r:.60}")
+        for m, t in tols.items():
+            if not isinstance(t, dict) or set(t) != {"direction", "abs", "rel"}:
+                raise ValueError(f"{where}: `tolerances.{m}` must have exactly `direction`, `abs` and `rel`, "
+                                 f"got {t!r:.80}")
+            if t["direction"] not in ("lower", "higher"):
+                raise ValueError(f"{where}: `tolerances.{m}.direction` must be 'lower' or 'higher', "
+                                 f"got {t['direction']!r}")
+            for k in ("abs", "rel"):
+                if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
+                    raise ValueError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
+    cfg = doc.get("config")
+    if cfg is not None and not isinstance(cfg, dict):
+        raise ValueError(f"{where}: `config` must be an object, got {cfg!r:.60}")
+    return doc
+
+
+def load_baseline(path) -> dict:
+    """Read and check a baseline file (see :func:`validate_baseline`).
+
+    Raises
+    ------
+    FileNotFoundError
+        Unreadable file.
+    ValueError
+        Not JSON, or not a valid baseline.
+    """
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise FileNotFoundError(f"cannot read baseline {str(path)!r}: {exc.strerror}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"baseline {str(path)!r} is not valid JSON: {str(exc).splitlines()[0]}") from None
+    return validate_baseline(doc, f"baseline {str(path)!r}")
+
+
+def comparability(config_a: dict | None, config_b: dict | None) -> list[str]:
+    """What differs between two runs' configurations among :data:`COMPARED_KEYS`
+    (render size and spp, experiments, seed); empty when their metrics are comparable.
+
+    Examples
+    --------
+    >>> comparability({"seed": 0, "render": {"width": 64}, "experiments": []},
+    ...               {"seed": 1, "render": {"width": 128}, "experiments": []})
+    ["render ({'width': 64} vs {'width': 128})", 'seed (0 vs 1)']
+    """
+    if config_a is None or config_b is None:
+        return []
+    out = []
+    for k in COMPARED_KEYS:
+        a, b = config_a.get(k), config_b.get(k)
+        if a != b:
+            if k == "experiments" and isinstance(a, list) and isinstance(b, list):
+                out.append(f"experiments ({len(a)} vs {len(b)}, or different scenes, materials, angles or overrides)")
+            else:
+                out.append(f"{k} ({a!r:.60} vs {b!r:.60})")
+    return out
+
+
+def rows_to_json(rows: list[Row], *, all_rows: bool = True) -> dict:
+    """The counts over all rows and the rows (only the changed ones unless ``all_rows``) as a JSON-friendly dict."""
+    failed = sum(r.failed for r in rows)
+    better = sum(r.verdict == "better" for r in rows)
+    return {"checks": len(rows), "failed": failed, "better": better, "unchanged": len(rows) - failed - better,
+            "rows": [{"key": r.key, "metric": r.metric, "baseline": r.baseline, "now": r.now, "delta": r.delta,
+                      "verdict": r.verdict} for r in rows if all_rows or r.verdict != "ok"]}
+
+
+def _verdict(metric: str, base, now, tol: dict) -> str:
+    if _nan(base) and _nan(now):
+        return "ok"
+    if _nan(base) != _nan(now):
+        return "REGRESSED"
+    worse = (now - base) if tol["direction"] == "lower" else (base - now)
+    allowed = tol["abs"] + tol["rel"] * abs(base)
+    if worse > allowed:
+        return "REGRESSED"
+    if worse < -allowed:
+        return "better"
+    return "ok"
+
+
+def compare(baseline: dict, current: dict) -> list[Row]:
+    """Every (entry, metric) of both documents with its verdict."""
+    tols = baseline.get("tolerances") or {m: {"direction": d, "abs": a, "rel": r}
+                                          for m, (d, a, r) in TOLERANCES.items()}
+    rows = []
+    bm, cm = baseline["metrics"], current["metrics"]
+    for key in sorted(set(bm) | set(cm)):
+        if key not in cm:
+            rows.append(Row(key, "*", None, None, "MISSING IN RUN"))
+            continue
+        if key not in bm:
+            rows.append(Row(key, "*", None, None, "NOT IN BASELINE"))
+            continue
+        for metric in sorted(set(bm[key]) | set(cm[key])):
+            if metric not in cm[key]:
+                rows.append(Row(key, metric, bm[key][metric], None, "MISSING IN RUN"))
+            elif metric not in bm[key] or metric not in tols:
+                rows.append(Row(key, metric, None, cm[key][metric], "NOT IN BASELINE"))
+            else:
+                b, n = bm[key][metric], cm[key][metric]
+                rows.append(Row(key, metric, b, n, _verdict(metric, b, n, tols[metric])))
+    return rows
+
+
+def _f(v) -> str:
+    if v is None:
+        return "–"
+    if isinstance(v, float) and math.isnan(v):
+        return "nan"
+    return f"{v:.4g}"
+
+
+def format_table(rows: list[Row], *, all_rows: bool = False) -> str:
+    """A fixed-width table; by default the failing and improved rows only,
+    then a one-line count."""
+    shown = [r for r in rows if all_rows or r.verdict != "ok"]
+    w = max([len(r.key) for r in shown] + [5])
+    lines = [f"{'entry':<{w}}  {'metric':<17}{'baseline':>11}{'now':>11}{'delta':>11}  verdict"]
+    for r in shown:
+        d = r.delta
+        lines.append(f"{r.key:<{w}}  {r.metric:<17}{_f(r.baseline):>11}{_f(r.now):>11}"
+                     f"{(f'{d:+.3g}' if d is not None else '–'):>11}  {r.verdict}")
+    failed = sum(r.failed for r in rows)
+    better = sum(r.verdict == "better" for r in rows)
+    lines.append(f"{len(rows)} checks: {failed} failed, {better} better, {len(rows) - failed - better} unchanged "
+                 "within tolerance")
+    return "\n".join(lines)

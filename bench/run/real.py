@@ -1,0 +1,318 @@
+"""Running trackers on photographs: ``stripebench track`` and ``stripebench real``.
+
+``track`` writes, per image, ``NAME.csv`` (``row``, then ``col_<label>``,
+``score_<label>`` per tracker; rows of the frame the trackers saw, i.e. the
+image turned by ``--rotate``) and ``NAME_overlay.png`` (the photograph with a
+marker per row and tracker, one colour per label, in the photograph's own
+orientation).
+
+``real`` evaluates trackers on a real set (layout in :mod:`bench.store.realset`) into a
+run folder::
+
+    config.json        dataset, trackers, tolerance, seed
+    metrics.parquet    one record per tracker x image (experiment = image name,
+    metrics.csv        region = "real"): hit_rate, mae_px, coverage, false_detections,
+                       n_ref, ms_per_frame, status, message; plus experiment = "mean"
+    tracks/NAME.csv    the columns of every tracker (as ``track`` writes them)
+    overlays/NAME.png  the photograph with every tracker's columns and the reference
+    summary.json       kind = "real", config, per-tracker means with bootstrap CIs, versions
+    report.html        tables and the overlays of the worst images per tracker
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from bench.store import realset as real
+from bench.store.files import atomic_write_bytes, atomic_write_text
+
+__all__ = ["PALETTE", "REFERENCE_COLOUR", "track_images", "overlay", "run_real", "write_track_csv",
+           "build_real_report"]
+
+#: Marker colours (RGB) of the trackers, in the order given.
+PALETTE = [(255, 0, 255), (0, 255, 255), (255, 255, 0), (0, 128, 255), (255, 128, 0), (0, 255, 0), (255, 0, 0),
+           (128, 0, 255), (255, 255, 255), (0, 0, 255)]
+REFERENCE_COLOUR = (0, 200, 0)
+
+
+def _display_rgb(original: np.ndarray) -> np.ndarray:
+    """An 8-bit RGB version of a photograph for drawing on."""
+    img = np.asarray(original)
+    if img.dtype != np.uint8:
+        f = img.astype(np.float64)
+        top = np.percentile(f, 99.9) if f.size else 1.0
+        img = np.clip(np.rint(255.0 * f / max(top, 1e-12)), 0, 255).astype(np.uint8)
+    if img.ndim == 2:
+        img = np.repeat(img[..., None], 3, axis=2)
+    return np.ascontiguousarray(img)
+
+
+def overlay(original, tracks: dict, *, rotate_deg: int = 0, reference=None, radius: int = 1,
+            dim: float = 0.6) -> np.ndarray:
+    """The photograph (dimmed) with a square marker per row of every track.
+
+    Parameters
+    ----------
+    original : ndarray, shape (H, W) or (H, W, 3)
+        The photograph as read.
+    tracks : dict
+        label -> columns, shape (H',), of the frame turned by ``rotate_deg``.
+    rotate_deg : int
+    reference : array_like, shape (H',), optional
+        Drawn first, in :data:`REFERENCE_COLOUR`, one pixel wide.
+    radius : int
+        Marker half-size in px.
+    dim : float
+        Factor on the photograph so the markers stand out.
+
+    Returns
+    -------
+    ndarray of uint8, shape (H, W, 3)
+    """
+    out = (_display_rgb(original).astype(np.float64) * dim).astype(np.uint8)
+    H, W = out.shape[:2]
+    layers = []
+    if reference is not None:
+        layers.append((np.asarray(reference, float), REFERENCE_COLOUR, 0))
+    for i, cols in enumerate(tracks.values()):
+        layers.append((np.asarray(cols, float), PALETTE[i % len(PALETTE)], radius))
+    for cols, colour, rad in layers:
+        rows = np.arange(cols.size, dtype=float)
+        ok = ~np.isnan(cols)
+        r, c = real.unrotate_points(rows[ok], cols[ok], rotate_deg, (H, W))
+        r = np.rint(r).astype(int)
+        c = np.rint(c).astype(int)
+        for dr in range(-rad, rad + 1):
+            for dc in range(-rad, rad + 1):
+                rr, cc = r + dr, c + dc
+                keep = (rr >= 0) & (rr < H) & (cc >= 0) & (cc < W)
+                out[rr[keep], cc[keep]] = colour
+    return out
+
+
+def _png_bytes(img: np.ndarray) -> bytes:
+    import imageio.v3 as iio
+
+    return iio.imwrite("<bytes>", img, extension=".png")
+
+
+def write_track_csv(path, labels: list[str], results: dict) -> None:
+    """``row``, then ``col_<label>``, ``score_<label>`` per label (empty where NaN)."""
+    import pandas as pd
+
+    H = next(iter(results.values())).columns.shape[0] if results else 0
+    data = {"row": np.arange(H)}
+    for lab in labels:
+        data[f"col_{lab}"] = results[lab].columns
+        data[f"score_{lab}"] = results[lab].score
+    atomic_write_text(path, pd.DataFrame(data).to_csv(index=False, float_format="%.4f"))
+
+
+def _track_all(trackers: dict, frame, background):
+    """label -> (Track, ms, status, message); a failing tracker gives an empty track."""
+    from trackers import Track
+
+    out = {}
+    for lab, t in trackers.items():
+        t0 = time.perf_counter()
+        try:
+            tr = t.track(frame, background=background)
+            status, msg = "ok", ""
+        except Exception as exc:  # a tracker's failure is recorded, the run goes on
+            tr = Track.empty(frame.shape[0])
+            status, msg = "failed", f"{type(exc).__name__}: {exc}".splitlines()[0]
+        out[lab] = (tr, 1e3 * (time.perf_counter() - t0), status, msg)
+    return out
+
+
+def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, channel: str = "auto",
+                 laser: str = "red", rotate_deg: int = 0, err=None, say=print) -> int:
+    """Run trackers on image files; returns the number of files that failed.
+
+    A file that cannot be read (or whose background cannot) gets one line on
+    ``err`` and the others go on. ``background`` (a path) is used for every
+    image; otherwise, with ``pair``, ``NAME_off.EXT`` beside ``NAME.EXT``; files
+    that are the laser-off partner of another given file are not tracked.
+    """
+    err = sys.stderr if err is None else err
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    trackers = {s.label: s.make() for s in specs}
+    labels = list(trackers)
+    paths = [Path(p) for p in paths]
+    given = {p.resolve() for p in paths}
+    failed = 0
+    bg_fixed = None
+    if background is not None:
+        bg_fixed = real.rotate_image(real.select_channel(real.read_image(background), channel, laser), rotate_deg)
+    for p in paths:
+        if pair and background is None and p.stem.endswith("_off"):
+            partner = [p.with_name(p.stem[:-4] + s) for s in (p.suffix,) + real.IMAGE_SUFFIXES]
+            if any(q.resolve() in given for q in partner):
+                continue  # the laser-off frame of another input
+        try:
+            frame, original = real.load_frame(p, channel=channel, laser=laser, rotate_deg=rotate_deg)
+            bg, bg_name = bg_fixed, (Path(background).name if background is not None else None)
+            if bg is None and pair:
+                q = real.background_for(p)
+                if q is not None:
+                    bg, _ = real.load_frame(q, channel=channel, laser=laser, rotate_deg=rotate_deg)
+                    bg_name = q.name
+            if bg is not None and bg.shape != frame.shape:
+                raise real.ImageError(f"{str(p)!r}: background {bg_name} has shape {bg.shape}, the image {frame.shape}")
+        except real.ImageError as exc:
+            print(f"stripebench track: {exc}", file=err)
+            failed += 1
+            continue
+        res = _track_all(trackers, frame, bg)
+        tracks = {lab: r[0] for lab, r in res.items()}
+        write_track_csv(out / f"{p.stem}.csv", labels, tracks)
+        atomic_write_bytes(out / f"{p.stem}_overlay.png",
+                           _png_bytes(overlay(original, {k: v.columns for k, v in tracks.items()},
+                                              rotate_deg=rotate_deg, radius=max(1, min(original.shape[:2]) // 300))))
+        parts = []
+        for lab, (tr, ms, status, msg) in res.items():
+            n = int(tr.detected.sum())
+            parts.append(f"{lab} {n}/{tr.height} rows {ms:.0f} ms" + (f" FAILED ({msg})" if status != "ok" else ""))
+        say(f"{p.name}{' (background ' + bg_name + ')' if bg is not None else ''}: " + "; ".join(parts))
+    colours = ", ".join(f"{lab}={'#%02x%02x%02x' % PALETTE[i % len(PALETTE)]}" for i, lab in enumerate(labels))
+    say(f"stripebench track: wrote {out} (overlay colours: {colours})")
+    return failed
+
+
+# ---------------------------------------------------------------------------------------------------- real runs
+
+
+def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000, seed: int = 0,
+             quiet: bool = False) -> Path:
+    """Evaluate trackers on a real set; returns the run folder.
+
+    Raises
+    ------
+    bench.store.realset.DatasetError
+        The set breaks the layout (every problem listed).
+    """
+    import pandas as pd
+
+    from bench.store.provenance import git_revision, versions
+
+    t_start = time.perf_counter()
+    images = real.load_dataset(dataset)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    config = {"dataset": str(Path(dataset)), "trackers": [s.to_value() for s in specs], "tol_px": tol_px,
+              "n_boot": n_boot, "seed": seed, "images": [im.name for im in images]}
+    atomic_write_text(out / "config.json", json.dumps(config, indent=2))
+    trackers = {s.label: s.make() for s in specs}
+    labels = list(trackers)
+    records = []
+    for k, im in enumerate(images):
+        frame, bg, original, ref = im.load()
+        res = _track_all(trackers, frame, bg)
+        tracks = {lab: r[0] for lab, r in res.items()}
+        write_track_csv(out / "tracks" / f"{im.name}.csv", labels, tracks)
+        atomic_write_bytes(out / "overlays" / f"{im.name}.png",
+                           _png_bytes(overlay(original, {lab: t.columns for lab, t in tracks.items()},
+                                              rotate_deg=im.rotate_deg, reference=ref)))
+        for lab, (tr, ms, status, msg) in res.items():
+            m = real.image_metrics(tr.columns, ref, tol_px)
+            records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
+                            "has_background": im.background_path is not None, "status": status, "message": msg})
+        if not quiet:
+            hr = ", ".join(f"{r['tracker']} {r['hit_rate']:.2f}" for r in records[-len(labels):])
+            print(f"[{k + 1}/{len(images)}] {im.name}: hit rate {hr}", file=sys.stderr, flush=True)
+    per_image = pd.DataFrame.from_records(records)
+    means, summary_rows = [], {}
+    for j, lab in enumerate(labels):
+        sub = per_image[per_image["tracker"] == lab]
+        stats = {}
+        for metric in ("hit_rate", "mae_px", "coverage", "false_detections"):
+            stats[metric] = real.bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
+        summary_rows[lab] = stats
+        means.append({"experiment": "mean", "tracker": lab, "region": "real",
+                      **{m: s["mean"] for m, s in stats.items()}, "n_ref": int(sub["n_ref"].sum()),
+                      "ms_per_frame": float(sub["ms_per_frame"].median()), "has_background": False,
+                      "status": "ok" if (sub["status"] == "ok").all() else "failed",
+                      "message": "; ".join(sorted(set(sub["message"]) - {""}))[:200]})
+    metrics = pd.concat([per_image, pd.DataFrame.from_records(means)], ignore_index=True)
+    buf = io.BytesIO()
+    metrics.to_parquet(buf, index=False)
+    atomic_write_bytes(out / "metrics.parquet", buf.getvalue())
+    atomic_write_text(out / "metrics.csv", metrics.to_csv(index=False))
+    summary = {"kind": "real", "config": config, "seed": seed, "tol_px": tol_px, "versions": versions(),
+               "git_revision": git_revision(), "run_dir": str(out), "variants": [], "trackers": summary_rows,
+               "n_images": len(images), "wall_s": time.perf_counter() - t_start}
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2))
+    _report(out, metrics, summary, labels, images)
+    return out
+
+
+def build_real_report(run_dir) -> Path:
+    """Rebuild ``report.html`` of a finished real run from its saved files
+    (provenance columns only if the dataset is still where the run found it)."""
+    import pandas as pd
+
+    out = Path(run_dir)
+    summary = json.loads((out / "summary.json").read_text())
+    metrics = pd.read_parquet(out / "metrics.parquet")
+    labels = list(summary["trackers"])
+    images, _ = real.validate_dataset(summary["config"]["dataset"])
+    _report(out, metrics, summary, labels, images)
+    return out / "report.html"
+
+
+def _img_tag(path: Path, max_w: int = 360) -> str:
+    import imageio.v3 as iio
+
+    img = iio.imread(path)
+    step = max(1, int(np.ceil(img.shape[1] / max_w)))
+    small = img[::step, ::step]
+    return f"<img src='data:image/png;base64,{base64.b64encode(_png_bytes(small)).decode()}' alt='{path.name}'>"
+
+
+def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> None:
+    e = html.escape
+    rows = []
+    for lab in labels:
+        s = summary["trackers"][lab]
+        h, m, c = s["hit_rate"], s["mae_px"], s["coverage"]
+        rows.append(f"<tr><td>{e(lab)}</td><td><b>{h['mean']:.3f}</b> [{h['lo']:.3f}, {h['hi']:.3f}]</td>"
+                    f"<td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td></tr>")
+    per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values="hit_rate")
+    per = per[labels]
+    head = "".join(f"<th>{e(lab)}</th>" for lab in labels)
+    body = "".join(f"<tr><td>{e(str(name))}</td>" + "".join(f"<td>{v:.2f}</td>" for v in r) + "</tr>"
+                   for name, r in zip(per.index, per.to_numpy()))
+    legend = " ".join(f"<span style='background:#{''.join('%02x' % v for v in PALETTE[i % len(PALETTE)])};"
+                      f"padding:0 6px'>&nbsp;</span> {e(lab)}" for i, lab in enumerate(labels))
+    legend += f" <span style='background:#{''.join('%02x' % v for v in REFERENCE_COLOUR)};padding:0 6px'>&nbsp;</span> reference"
+    worst = []
+    for lab in labels:
+        col = per[lab].sort_values()
+        names = [n for n in col.index[:2]]
+        tags = "".join(f"<figure>{_img_tag(out / 'overlays' / f'{n}.png')}<figcaption>{e(n)}: hit rate "
+                       f"{col[n]:.2f}</figcaption></figure>" for n in names)
+        worst.append(f"<h3>{e(lab)}</h3><div class='row'>{tags}</div>")
+    notes = "".join(f"<tr><td>{e(im.name)}</td><td>{e(im.meta.get('source_repo', ''))}</td>"
+                    f"<td>{e(im.meta.get('license', ''))}</td><td>{e(im.meta.get('notes', ''))}</td></tr>"
+                    for im in images)
+    page = f"""<!doctype html><html><head><meta charset='utf-8'><title>stripebench real</title>
+<style>body{{font-family:sans-serif;margin:2em;max-width:1200px}} td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}
+.row{{display:flex;flex-wrap:wrap;gap:8px}} figure{{margin:0}} figcaption{{font-size:small}}</style></head><body>
+<h1>Real photographs: {summary['n_images']} images, tolerance {summary['tol_px']:g} px</h1>
+<p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']};
+means over images with 95 % bootstrap intervals over images.</p>
+<table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th></tr>{''.join(rows)}</table>
+<h2>Hit rate per image</h2><table><tr><th>image</th>{head}</tr>{body}</table>
+<h2>The worst images per tracker</h2><p>{legend}</p>{''.join(worst)}
+<h2>Images</h2><table><tr><th>image</th><th>source</th><th>license</th><th>notes</th></tr>{notes}</table>
+</body></html>"""
+    atomic_write_text(out / "report.html", page)

@@ -1,0 +1,1 @@
+"""Every file a run writes or reads: atomic writes, run folders, checkpoints, baselines, the real-set layout."""

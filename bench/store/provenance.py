@@ -1,0 +1,93 @@
+"""Provenance: what made a result (package versions, the git revision, fingerprints of the source).
+
+Every run kind (``run``, ``real``, ``sweep``) records these in its summary;
+checkpoints and sweep units record :func:`code_fingerprint` /
+:func:`source_fingerprint` so that results made by other code are not resumed.
+"""
+
+from __future__ import annotations
+
+import platform
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+__all__ = ["versions", "git_revision", "source_fingerprint", "tracker_source_files", "code_fingerprint"]
+
+
+def versions() -> dict[str, str]:
+    """The versions of Python and of the packages that shape results (``not installed`` where absent)."""
+    out = {"python": platform.python_version()}
+    for dist in ("stripebench", "numpy", "numba", "scikit-image", "mitsuba", "drjit", "pandas", "matplotlib",
+                 "pyvista", "colour-science"):
+        try:
+            out[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            out[dist] = "not installed"
+    return out
+
+
+def git_revision() -> str:
+    """``git describe --always --dirty`` of the source tree, or ``unknown``."""
+    root = Path(__file__).resolve().parents[2]
+    try:
+        out = subprocess.run(["git", "describe", "--always", "--dirty", "--abbrev=12"], cwd=root,
+                             capture_output=True, text=True, timeout=10)
+        return out.stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def source_fingerprint() -> str:
+    """A hash of the source of the packages whose code changes results
+    (``trackers``, ``scenes``): a checkpoint made by other code is not resumed."""
+    import hashlib
+
+    import scenes
+    import trackers
+
+    h = hashlib.sha256()
+    for pkg in (trackers, scenes):
+        root = Path(pkg.__file__).parent
+        for f in sorted(root.rglob("*.py")):
+            h.update(str(f.relative_to(root)).encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def tracker_source_files(trackers_) -> list[Path]:
+    """The source files behind tracker objects, wherever their classes live.
+
+    For every class in each tracker's MRO (the library's own ``trackers``
+    package excepted, :func:`source_fingerprint` covers it): the ``.py`` files
+    of its top-level package, or its module file when it is a plain module.
+    Entry-point plugins are included, so editing a plugin invalidates its results.
+    """
+    seen: set[Path] = set()
+    for t in trackers_:
+        for cls in type(t).__mro__:
+            top = cls.__module__.split(".")[0]
+            if top in ("builtins", "abc", "trackers"):
+                continue
+            mod = sys.modules.get(top)
+            if mod is None:
+                continue
+            paths = getattr(mod, "__path__", None)
+            if paths is not None:
+                for root in paths:
+                    seen.update(Path(root).rglob("*.py"))
+            elif getattr(mod, "__file__", None):
+                seen.add(Path(mod.__file__))
+    return sorted(p.resolve() for p in seen if p.is_file())
+
+
+def code_fingerprint(trackers_=()) -> str:
+    """:func:`source_fingerprint` plus the source of the given trackers' own modules (plugins)."""
+    import hashlib
+
+    h = hashlib.sha256(source_fingerprint().encode())
+    for f in tracker_source_files(trackers_):
+        h.update(str(f).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]

@@ -1,0 +1,609 @@
+"""Real photographs: image readers, the real-set layout and its validator,
+per-image metrics and the sim-to-real comparison. Pure functions and file
+readers only (no running, no reporting: see :mod:`bench.run.real`).
+
+A real set is a folder::
+
+    manifest.csv      columns name, has_background (0/1), laser_colour, and optionally
+                      rotate, channel, source_repo, source_commit, source_path, license, notes
+    NAME.png          the laser-on photograph
+    NAME_off.png      optional laser-off frame of the same view (has_background = 1)
+    NAME_ref.csv      header ``row,col``: one line per row of the tracker's frame
+                      (NAME.png turned by ``rotate``), ``col`` in px, empty where
+                      there is no reference
+
+Coordinates follow the trackers: row 0 at the top, an integer column is the
+centre of that pixel.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
+           "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
+           "load_dataset", "validate_dataset", "read_reference", "image_metrics", "bootstrap_mean",
+           "synthetic_hit_rates", "sim_to_real", "sim_to_real_sentences", "sim_to_real_html"]
+
+#: The real set shipped with stripebench (13 photographs from 3 public rigs, see docs/real.md).
+SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
+CHANNELS = ("auto", "r", "g", "b", "gray", "excess")
+LASERS = ("red", "green", "blue")
+ROTATIONS = (0, 90, 180, 270)
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
+_LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
+_CHANNEL_INDEX = {"r": 0, "g": 1, "b": 2}
+#: ``auto`` on a colour photograph: the laser's colour channel minus the mean of the other two.
+AUTO_CHANNEL = "excess"
+MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
+MANIFEST_OPTIONAL = ("rotate", "channel", "source_repo", "source_commit", "source_path", "license", "notes")
+
+
+class ImageError(ValueError):
+    """A file that cannot be read as a photograph; ``str(err)`` is one line."""
+
+
+class DatasetError(ValueError):
+    """A real set that breaks the layout; ``problems`` holds one line per problem."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        super().__init__(self.problems[0] if len(self.problems) == 1 else
+                         f"{len(self.problems)} problems: " + "; ".join(self.problems))
+
+
+def read_image(path) -> np.ndarray:
+    """Read a PNG, JPEG or TIFF file (8 or 16 bit, grey or colour; 16-bit colour as TIFF).
+
+    PNG and JPEG are read with Pillow, TIFF with tifffile (through imageio).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    ndarray, shape (H, W) or (H, W, 3)
+        ``uint8`` or ``uint16`` (or float for float TIFFs) as stored; an alpha
+        channel is dropped. JPEG EXIF orientation is not applied.
+
+    Raises
+    ------
+    ImageError
+        Missing, unreadable, not an image, or not 2-D / 3-channel.
+    """
+    import imageio.v3 as iio
+
+    p = Path(path)
+    if p.suffix.lower() not in IMAGE_SUFFIXES:
+        raise ImageError(f"{str(p)!r}: not a PNG, JPEG or TIFF file (suffix {p.suffix!r})")
+    if not p.is_file():
+        raise ImageError(f"{str(p)!r}: no such file")
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise ImageError(f"{str(p)!r}: cannot read file ({exc.strerror})") from None
+    try:  # from bytes: imageio's plugin search leaves no open file behind on a bad file
+        plugin = "tifffile" if p.suffix.lower() in (".tif", ".tiff") else "pillow"
+        img = np.asarray(iio.imread(data, plugin=plugin, extension=p.suffix.lower()))
+    except Exception as exc:  # imageio raises many types for a bad file
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ImageError(f"{str(p)!r}: cannot read image ({msg})") from None
+    if img.ndim == 3 and img.shape[2] in (2, 4):  # grey+alpha, RGBA
+        img = img[..., :1][..., 0] if img.shape[2] == 2 else img[..., :3]
+    if img.ndim == 3 and img.shape[2] == 1:
+        img = img[..., 0]
+    if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] != 3) or img.size == 0:
+        raise ImageError(f"{str(p)!r}: expected a grey or RGB image, got shape {img.shape}")
+    if img.dtype.kind not in "uif":
+        raise ImageError(f"{str(p)!r}: unsupported pixel type {img.dtype}")
+    return img
+
+
+def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarray:
+    """The 2-D frame a tracker sees.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, 3)
+        As returned by :func:`read_image`.
+    channel : {'auto', 'r', 'g', 'b', 'gray', 'excess'}
+        ``r``/``g``/``b``: that colour channel; ``gray``: Rec. 709 luma
+        (0.2126 R + 0.7152 G + 0.0722 B); ``excess``: the laser's channel minus
+        the mean of the other two, clipped at 0; ``auto``: ``excess`` on a colour
+        image, the image itself on a grey one (also when stored as RGB with
+        three equal channels). A 2-D image is returned unchanged for every channel.
+    laser : {'red', 'green', 'blue'}
+        The laser's colour (for ``excess`` and ``auto``).
+
+    Returns
+    -------
+    ndarray, shape (H, W)
+        The channel in the image's units (DN): ``uint8``/``uint16`` for a plain
+        channel, ``float64`` for ``gray`` and ``excess``.
+
+    Raises
+    ------
+    ValueError
+        An unknown ``channel`` or ``laser``.
+
+    Examples
+    --------
+    >>> rgb = np.array([[[200, 100, 50]]], dtype=np.uint8)
+    >>> float(select_channel(rgb, "excess", "red")[0, 0])
+    125.0
+    >>> int(select_channel(rgb, "g")[0, 0])
+    100
+    """
+    if channel not in CHANNELS:
+        raise ValueError(f"`channel` must be one of {', '.join(CHANNELS)}, got {channel!r}")
+    if laser not in LASERS:
+        raise ValueError(f"`laser` must be one of {', '.join(LASERS)}, got {laser!r}")
+    img = np.asarray(image)
+    if img.ndim == 2:
+        return img
+    if img.ndim != 3 or img.shape[2] != 3:
+        raise ValueError(f"`image` must have shape (H, W) or (H, W, 3), got {img.shape}")
+    if channel == "auto":
+        if np.array_equal(img[..., 0], img[..., 1]) and np.array_equal(img[..., 0], img[..., 2]):
+            return np.ascontiguousarray(img[..., 0])  # a grey picture stored as RGB
+        channel = AUTO_CHANNEL
+    if channel in _CHANNEL_INDEX:
+        return np.ascontiguousarray(img[..., _CHANNEL_INDEX[channel]])
+    f = img.astype(np.float64)
+    if channel == "gray":
+        return 0.2126 * f[..., 0] + 0.7152 * f[..., 1] + 0.0722 * f[..., 2]
+    k = _LASER_INDEX[laser]
+    others = [i for i in range(3) if i != k]
+    return np.maximum(f[..., k] - 0.5 * (f[..., others[0]] + f[..., others[1]]), 0.0)
+
+
+def rotate_image(image, rotate_deg: int) -> np.ndarray:
+    """Turn an image counter-clockwise by ``rotate_deg`` (0, 90, 180, 270), e.g.
+    so that a horizontal stripe becomes vertical.
+
+    Examples
+    --------
+    >>> rotate_image(np.arange(6).reshape(2, 3), 90).tolist()
+    [[2, 5], [1, 4], [0, 3]]
+    """
+    if rotate_deg not in ROTATIONS:
+        raise ValueError(f"`rotate_deg` must be one of 0, 90, 180, 270, got {rotate_deg!r}")
+    return np.ascontiguousarray(np.rot90(np.asarray(image), k=rotate_deg // 90))
+
+
+def unrotate_points(rows, cols, rotate_deg: int, shape) -> tuple[np.ndarray, np.ndarray]:
+    """Map (row, col) points of a frame turned by :func:`rotate_image` back to
+    the original image of shape ``shape`` (H, W, ...).
+
+    Examples
+    --------
+    >>> img = np.zeros((2, 3)); img[0, 2] = 1
+    >>> r, c = np.nonzero(rotate_image(img, 90))
+    >>> [float(v[0]) for v in unrotate_points(r, c, 90, img.shape)]
+    [0.0, 2.0]
+    """
+    r = np.asarray(rows, dtype=np.float64)
+    c = np.asarray(cols, dtype=np.float64)
+    H0, W0 = shape[0], shape[1]
+    k = rotate_deg // 90
+    if rotate_deg not in ROTATIONS:
+        raise ValueError(f"`rotate_deg` must be one of 0, 90, 180, 270, got {rotate_deg!r}")
+    if k == 0:
+        return r, c
+    if k == 1:
+        return c, (W0 - 1) - r
+    if k == 2:
+        return (H0 - 1) - r, (W0 - 1) - c
+    return (H0 - 1) - c, r
+
+
+def background_for(path) -> Path | None:
+    """The laser-off frame paired with ``path`` by name: ``NAME_off.EXT`` beside
+    ``NAME.EXT`` (the same suffix, or any other image suffix), or None."""
+    p = Path(path)
+    for suffix in (p.suffix,) + tuple(s for s in IMAGE_SUFFIXES if s != p.suffix.lower()):
+        cand = p.with_name(f"{p.stem}_off{suffix}")
+        if cand.is_file():
+            return cand
+    return None
+
+
+def load_frame(path, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0):
+    """Read a photograph as the 2-D frame a tracker sees, plus its original.
+
+    Returns
+    -------
+    frame : ndarray, shape (H', W')
+        :func:`select_channel` then :func:`rotate_image`.
+    original : ndarray, shape (H, W) or (H, W, 3)
+        The file's pixels as read.
+    """
+    original = read_image(path)
+    return rotate_image(select_channel(original, channel, laser), rotate_deg), original
+
+
+# ---------------------------------------------------------------------------------------------------- the real set
+
+
+@dataclass(frozen=True)
+class RealImage:
+    """One photograph of a real set (a manifest row, checked)."""
+
+    name: str
+    image_path: Path
+    background_path: Path | None
+    reference_path: Path
+    laser_colour: str
+    rotate_deg: int = 0
+    channel: str = "auto"
+    meta: dict = field(default_factory=dict)
+
+    def load(self):
+        """``(frame, background frame or None, original, reference columns)``;
+        the frames as the trackers see them, the reference per row of the frame."""
+        frame, original = load_frame(self.image_path, channel=self.channel, laser=self.laser_colour,
+                                     rotate_deg=self.rotate_deg)
+        bg = None
+        if self.background_path is not None:
+            bg, _ = load_frame(self.background_path, channel=self.channel, laser=self.laser_colour,
+                               rotate_deg=self.rotate_deg)
+        ref = read_reference(self.reference_path, frame.shape)
+        return frame, bg, original, ref
+
+
+def read_reference(path, shape) -> np.ndarray:
+    """The reference columns of ``NAME_ref.csv`` for a frame of ``shape`` (H, W).
+
+    The file has the header ``row,col`` and one line per row ``0 .. H-1`` in
+    order; ``col`` is a number in ``[-0.5, W - 0.5]`` or empty (no reference).
+
+    Returns
+    -------
+    ndarray of float64, shape (H,)
+        NaN where there is no reference.
+
+    Raises
+    ------
+    DatasetError
+        One problem (the first) naming the file, the line and the value.
+    """
+    p = Path(path)
+    H, W = int(shape[0]), int(shape[1])
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise DatasetError([f"{p.name}: cannot read reference ({exc.strerror})"]) from None
+    rows = list(csv.reader(text.splitlines()))
+    if not rows or [h.strip() for h in rows[0]] != ["row", "col"]:
+        raise DatasetError([f"{p.name}: header must be 'row,col', got {','.join(rows[0]) if rows else ''!r}"])
+    body = [r for r in rows[1:] if r]
+    if len(body) != H:
+        raise DatasetError([f"{p.name}: {len(body)} rows for an image of height {H} (one line per row expected)"])
+    out = np.full(H, np.nan)
+    for i, r in enumerate(body):
+        line = i + 2
+        if len(r) != 2:
+            raise DatasetError([f"{p.name} line {line}: expected 2 fields, got {r!r}"])
+        try:
+            row = int(r[0])
+        except ValueError:
+            raise DatasetError([f"{p.name} line {line}: row must be an integer, got {r[0]!r}"]) from None
+        if row != i:
+            raise DatasetError([f"{p.name} line {line}: rows must run 0..{H - 1} in order, got {row}"])
+        if r[1].strip() == "":
+            continue
+        try:
+            col = float(r[1])
+        except ValueError:
+            raise DatasetError([f"{p.name} line {line}: col must be a number or empty, got {r[1]!r}"]) from None
+        if not math.isfinite(col) or not -0.5 <= col <= W - 0.5:
+            raise DatasetError([f"{p.name} line {line}: col must lie in [-0.5, {W - 0.5}], got {r[1]!r}"])
+        out[i] = col
+    return out
+
+
+def _manifest(root: Path) -> tuple[list[dict], list[str]]:
+    path = root / "manifest.csv"
+    if not path.is_file():
+        return [], [f"{str(root)!r}: no manifest.csv (not a real set)"]
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        return [], [f"manifest.csv: cannot read ({exc})"]
+    reader = csv.DictReader(text.splitlines())
+    cols = reader.fieldnames or []
+    missing = [c for c in MANIFEST_REQUIRED if c not in cols]
+    if missing:
+        return [], [f"manifest.csv: missing column(s) {', '.join(missing)} (have {', '.join(cols) or 'none'})"]
+    unknown = [c for c in cols if c not in MANIFEST_REQUIRED + MANIFEST_OPTIONAL]
+    if unknown:
+        return [], [f"manifest.csv: unknown column(s) {', '.join(unknown)} "
+                    f"(valid: {', '.join(MANIFEST_REQUIRED + MANIFEST_OPTIONAL)})"]
+    rows = list(reader)
+    if not rows:
+        return [], ["manifest.csv: no images listed"]
+    return rows, []
+
+
+def _check_row(root: Path, line: int, row: dict) -> tuple[RealImage | None, list[str]]:
+    probs = []
+    name = (row.get("name") or "").strip()
+    where = f"manifest.csv line {line}"
+    if not name or any(ch in name for ch in "/\\") or name.endswith("_off") or name.endswith("_ref"):
+        return None, [f"{where}: bad name {name!r}"]
+    hb = (row.get("has_background") or "").strip()
+    if hb not in ("0", "1"):
+        probs.append(f"{where} ({name}): has_background must be 0 or 1, got {hb!r}")
+    laser = (row.get("laser_colour") or "").strip()
+    if laser not in LASERS:
+        probs.append(f"{where} ({name}): laser_colour must be one of {', '.join(LASERS)}, got {laser!r}")
+    rot_s = (row.get("rotate") or "0").strip() or "0"
+    rot = int(rot_s) if rot_s.lstrip("-").isdigit() else None
+    if rot not in ROTATIONS:
+        probs.append(f"{where} ({name}): rotate must be one of 0, 90, 180, 270, got {rot_s!r}")
+    channel = (row.get("channel") or "auto").strip() or "auto"
+    if channel not in CHANNELS:
+        probs.append(f"{where} ({name}): channel must be one of {', '.join(CHANNELS)}, got {channel!r}")
+    img = root / f"{name}.png"
+    off = root / f"{name}_off.png"
+    ref = root / f"{name}_ref.csv"
+    if not img.is_file():
+        probs.append(f"{name}: missing image {img.name}")
+    if hb == "1" and not off.is_file():
+        probs.append(f"{name}: has_background is 1 but {off.name} is missing")
+    if hb == "0" and off.is_file():
+        probs.append(f"{name}: {off.name} exists but has_background is 0")
+    if not ref.is_file():
+        probs.append(f"{name}: missing reference {ref.name}")
+    if probs:
+        return None, probs
+    meta = {k: (row.get(k) or "").strip() for k in MANIFEST_OPTIONAL if k not in ("rotate", "channel")}
+    return RealImage(name, img, off if hb == "1" else None, ref, laser, rot, channel, meta), []
+
+
+def validate_dataset(root) -> tuple[list[RealImage], list[str]]:
+    """Check a real set: manifest, files, image shapes and references.
+
+    Returns
+    -------
+    images : list of RealImage
+        The images that passed every check.
+    problems : list of str
+        One line per problem (empty when the set is valid).
+    """
+    root = Path(root)
+    rows, probs = _manifest(root)
+    images, seen = [], set()
+    for i, row in enumerate(rows):
+        name = (row.get("name") or "").strip()
+        if name in seen:
+            probs.append(f"manifest.csv line {i + 2}: name {name!r} listed twice")
+            continue
+        seen.add(name)
+        entry, p = _check_row(root, i + 2, row)
+        if p:
+            probs += p
+            continue
+        try:
+            img = read_image(entry.image_path)
+            shape = rotate_image(img[..., 0] if img.ndim == 3 else img, entry.rotate_deg).shape
+            if entry.background_path is not None:
+                off = read_image(entry.background_path)
+                if off.shape != img.shape:
+                    probs.append(f"{entry.name}: {entry.background_path.name} has shape {off.shape}, "
+                                 f"{entry.image_path.name} has {img.shape}")
+                    continue
+            read_reference(entry.reference_path, shape)
+        except ImageError as exc:
+            probs.append(f"{entry.name}: {exc}")
+            continue
+        except DatasetError as exc:
+            probs += exc.problems
+            continue
+        images.append(entry)
+    return images, probs
+
+
+def load_dataset(root) -> list[RealImage]:
+    """The images of a valid real set.
+
+    Raises
+    ------
+    DatasetError
+        With every problem :func:`validate_dataset` finds.
+    """
+    images, probs = validate_dataset(root)
+    if probs:
+        raise DatasetError(probs)
+    return images
+
+
+# ---------------------------------------------------------------------------------------------------- metrics
+
+
+def image_metrics(columns, reference, tol_px: float = 3.0) -> dict[str, float]:
+    """One tracker on one photograph.
+
+    Parameters
+    ----------
+    columns : array_like, shape (H,)
+        The tracker's columns (px), NaN where it reports nothing.
+    reference : array_like, shape (H,)
+        Reference columns (px), NaN where there is none.
+    tol_px : float
+        A reference row is a hit when ``|col - ref| <= tol_px``.
+
+    Returns
+    -------
+    dict
+        ``hit_rate`` (hits / reference rows; a missing detection is a miss),
+        ``mae_px`` (mean ``|col - ref|`` over the hits), ``coverage`` (reference
+        rows with a detection), ``false_detections`` (rows without a reference
+        that have a detection, over such rows), ``n_ref``. NaN where undefined.
+
+    Examples
+    --------
+    >>> m = image_metrics([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, 5.0, np.nan])
+    >>> m["hit_rate"], m["mae_px"], m["coverage"], m["false_detections"]
+    (0.3333333333333333, 1.0, 0.6666666666666666, 1.0)
+    """
+    if not (isinstance(tol_px, (int, float)) and tol_px >= 0 and math.isfinite(tol_px)):
+        raise ValueError(f"`tol_px` must be a finite number >= 0, got {tol_px!r}")
+    c = np.asarray(columns, dtype=np.float64)
+    r = np.asarray(reference, dtype=np.float64)
+    if c.shape != r.shape or c.ndim != 1:
+        raise ValueError(f"`columns` {c.shape} and `reference` {r.shape} must be 1-D of the same length")
+    has_ref = ~np.isnan(r)
+    n_ref = int(has_ref.sum())
+    det = ~np.isnan(c)
+    err = np.abs(c[has_ref] - r[has_ref])
+    hits = err <= tol_px
+    no_ref = int((~has_ref).sum())
+    return {
+        "hit_rate": float(hits.sum() / n_ref) if n_ref else float("nan"),
+        "mae_px": float(err[hits].mean()) if hits.any() else float("nan"),
+        "coverage": float(det[has_ref].sum() / n_ref) if n_ref else float("nan"),
+        "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
+        "n_ref": n_ref,
+    }
+
+
+def bootstrap_mean(values, *, n_boot: int = 2000, seed: int = 0, level: float = 0.95) -> dict[str, float]:
+    """Mean over images with a percentile bootstrap interval (images resampled
+    with replacement; NaNs dropped first; seeded).
+
+    Returns
+    -------
+    dict
+        ``mean``, ``lo``, ``hi``, ``n`` (NaN bounds with fewer than 2 values).
+
+    Examples
+    --------
+    >>> bootstrap_mean([1.0, 1.0, np.nan])
+    {'mean': 1.0, 'lo': 1.0, 'hi': 1.0, 'n': 2}
+    """
+    v = np.asarray(values, dtype=np.float64)
+    v = v[~np.isnan(v)]
+    if v.size == 0:
+        return {"mean": float("nan"), "lo": float("nan"), "hi": float("nan"), "n": 0}
+    if v.size < 2:
+        return {"mean": float(v.mean()), "lo": float("nan"), "hi": float("nan"), "n": int(v.size)}
+    rng = np.random.default_rng(seed)
+    idx = rng.integers(0, v.size, size=(n_boot, v.size))
+    means = v[idx].mean(axis=1)
+    a = (1.0 - level) / 2.0
+    return {"mean": float(v.mean()), "lo": float(np.quantile(means, a)), "hi": float(np.quantile(means, 1 - a)),
+            "n": int(v.size)}
+
+
+# ---------------------------------------------------------------------------------------------------- sim-to-real
+
+
+def synthetic_hit_rates(run_dir, region: str = "object") -> dict[str, float]:
+    """label -> mean ``hit_rate`` over the experiments of a synthetic run
+    (``metrics.parquet``, rows of ``region``)."""
+    import pandas as pd
+
+    m = pd.read_parquet(Path(run_dir) / "metrics.parquet")
+    if "hit_rate" not in m.columns:
+        raise ValueError(f"{str(run_dir)!r}: metrics.parquet has no hit_rate column (an older run?)")
+    m = m[m["region"] == region]
+    return {str(k): float(v) for k, v in m.groupby("tracker")["hit_rate"].mean().items()}
+
+
+def sim_to_real(synthetic_hit_rates: dict, real_hit_rates: dict) -> dict:
+    """Compare the hit rates the renders predict with those measured on photographs.
+
+    Parameters
+    ----------
+    synthetic_hit_rates, real_hit_rates : dict
+        Tracker label -> hit rate in [0, 1]; only labels in both are compared.
+
+    Returns
+    -------
+    dict
+        ``table``: list of ``{tracker, synthetic, real, delta, rank_synthetic,
+        rank_real}`` sorted by real hit rate (rank 1 = best, ties averaged);
+        ``spearman_rho``, ``spearman_p`` (``scipy.stats.spearmanr`` across
+        trackers; NaN with fewer than 3 trackers or constant rates); ``n``.
+
+    Examples
+    --------
+    >>> r = sim_to_real({"a": 0.9, "b": 0.5, "c": 0.7}, {"a": 0.6, "b": 0.2, "c": 0.4, "d": 0.1})
+    >>> r["n"], r["spearman_rho"], r["table"][0]["tracker"]
+    (3, 1.0, 'a')
+    """
+    from scipy.stats import rankdata, spearmanr
+
+    for arg, d in (("synthetic_hit_rates", synthetic_hit_rates), ("real_hit_rates", real_hit_rates)):
+        if not isinstance(d, dict):
+            raise ValueError(f"`{arg}` must be a dict of tracker -> hit rate, got {type(d).__name__}")
+        for k, v in d.items():
+            if not isinstance(v, (int, float)) or (not math.isnan(v) and not 0.0 <= v <= 1.0):
+                raise ValueError(f"`{arg}[{k!r}]` must be a hit rate in [0, 1], got {v!r}")
+    labels = [k for k in synthetic_hit_rates if k in real_hit_rates
+              and not math.isnan(synthetic_hit_rates[k]) and not math.isnan(real_hit_rates[k])]
+    s = np.array([synthetic_hit_rates[k] for k in labels], dtype=float)
+    r = np.array([real_hit_rates[k] for k in labels], dtype=float)
+    rank_s = rankdata(-s) if labels else np.array([])
+    rank_r = rankdata(-r) if labels else np.array([])
+    table = [{"tracker": k, "synthetic": float(s[i]), "real": float(r[i]), "delta": float(r[i] - s[i]),
+              "rank_synthetic": float(rank_s[i]), "rank_real": float(rank_r[i])} for i, k in enumerate(labels)]
+    table.sort(key=lambda t: (-t["real"], t["tracker"]))
+    rho = p = float("nan")
+    if len(labels) >= 3 and np.ptp(s) > 0 and np.ptp(r) > 0:
+        res = spearmanr(s, r)
+        rho, p = float(res.statistic), float(res.pvalue)
+    return {"table": table, "spearman_rho": rho, "spearman_p": p, "n": len(labels)}
+
+
+def sim_to_real_sentences(result: dict, *, margin: float = 0.10) -> list[str]:
+    """Plain sentences on a :func:`sim_to_real` result: the rank agreement, then
+    the trackers whose real hit rate lies more than ``margin`` below (renders
+    over-predict) or above (under-predict) the synthetic one.
+
+    Examples
+    --------
+    >>> r = sim_to_real({"a": 0.9, "b": 0.5, "c": 0.7}, {"a": 0.6, "b": 0.45, "c": 0.7})
+    >>> sim_to_real_sentences(r)[1]
+    'The renders over-predict a (synthetic 0.90, real 0.60).'
+    """
+    out = []
+    rho, n = result["spearman_rho"], result["n"]
+    if n < 3 or math.isnan(rho):
+        out.append(f"Too few trackers with distinct hit rates ({n}) for a rank correlation.")
+    else:
+        word = "agree" if rho >= 0.7 else "partly agree" if rho >= 0.3 else "do not agree"
+        out.append(f"Synthetic and real rankings of {n} trackers {word} (Spearman's rho = {rho:.2f}).")
+    over = [t for t in result["table"] if t["delta"] < -margin]
+    under = [t for t in result["table"] if t["delta"] > margin]
+
+    def fmt(ts):
+        return ", ".join(f"{t['tracker']} (synthetic {t['synthetic']:.2f}, real {t['real']:.2f})" for t in ts)
+
+    if over:
+        out.append(f"The renders over-predict {fmt(over)}.")
+    if under:
+        out.append(f"The renders under-predict {fmt(under)}.")
+    if not over and not under and result["table"]:
+        out.append(f"Every tracker's real hit rate lies within {margin:.2f} of the synthetic one.")
+    return out
+
+
+def sim_to_real_html(result: dict) -> str:
+    """An HTML fragment: the sentences and the table of :func:`sim_to_real`."""
+    import html
+
+    rows = "".join(f"<tr><td>{html.escape(t['tracker'])}</td><td>{t['synthetic']:.3f}</td><td>{t['real']:.3f}</td>"
+                   f"<td>{t['delta']:+.3f}</td><td>{t['rank_synthetic']:g}</td><td>{t['rank_real']:g}</td></tr>"
+                   for t in result["table"])
+    text = "".join(f"<p>{html.escape(s)}</p>" for s in sim_to_real_sentences(result))
+    return (f"<section class='sim-to-real'><h2>Renders vs photographs</h2>{text}<table><tr><th>tracker</th>"
+            f"<th>synthetic hit rate</th><th>real hit rate</th><th>real - synthetic</th><th>rank (synthetic)</th>"
+            f"<th>rank (real)</th></tr>{rows}</table></section>")

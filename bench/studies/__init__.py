@@ -1,0 +1,1 @@
+"""Studies on synthetic frames: sub-pixel estimators, translucency, tuning procedures, speed benchmarks."""

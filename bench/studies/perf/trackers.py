@@ -1,0 +1,278 @@
+"""Speed of every registered tracker on a varied frame set (``stripebench perf``).
+
+The frame set (:func:`bench.studies.perf.frames.varied_frames`, seeded) holds every
+kind of frame the DP solver finds easy or hard: clean, noisy, long gaps and
+cuts, bright blobs, bright ambient gradients, saturated wide stripes, two
+stripes; at 512x480 and 960x600. For each tracker: the median and the worst
+ms per frame over the set, the median at 512x480 only, and for the DP
+trackers the median ratio of MCP's time (same connectivity) to theirs. A frame's time is
+the least of ``--repeats`` calls, by default in the calling thread's CPU
+time (``--clock cpu``: on a shared machine wall time mostly measures the
+other processes; ``--clock wall`` for an idle one).
+
+The exact DP solver (:meth:`trackers.dp.DPTracker.path`: node costs, the
+accumulated cost, backtracking) is timed on the same frames for 4- and
+8-connectivity, at ``h_weight=1`` and at :data:`TARGET_H_WEIGHT`; skimage's
+``MCP_Geometric`` solves the same isotropic graph (node cost ``1/(I+1)``, all
+top-row starts, all bottom-row ends, then the traceback) on every
+``--mcp-every``-th frame only (it is slow); the ratio is the median over those
+frames of MCP's time over the solver's. The time of each tracker's first call
+in a fresh process (numba's JIT compile with an empty cache, and the load
+from the on-disk cache) is reported separately.
+
+Targets (``--strict`` exits 1 if one is missed): the solver at
+``h_weight=1`` at least :data:`SOLVER_VS_MCP` times faster than MCP for both
+connectivities; the solver at :data:`TARGET_H_WEIGHT` at most
+:data:`H_WEIGHT_SLOWDOWN` times the isotropic solve (medians); ``dp4`` and
+``dp8`` and the trackers of :data:`MS_TARGETS` under their median ms at
+512x480; :data:`RATIO_TARGETS` relative to another tracker.
+
+Instead of the synthetic set: your own frames with ``--frames`` (``.npy`` or
+8-bit PNG files), or the photographs of a real set with ``--real [DIR]``
+(default: the shipped set, frames as the trackers see them there).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from trackers.dp import DEFAULT_H_WEIGHT
+
+__all__ = ["frame_ms", "time_trackers", "time_solver", "time_mcp", "first_call_seconds", "main",
+           "CLOCKS", "TARGET_H_WEIGHT", "SOLVER_VS_MCP", "H_WEIGHT_SLOWDOWN", "MS_TARGETS", "RATIO_TARGETS"]
+
+#: The h_weight whose speed is checked against the isotropic solve: the DP
+#: trackers' default (chosen by ``stripebench tune dp``).
+TARGET_H_WEIGHT = DEFAULT_H_WEIGHT
+#: Least speed-up of the exact solver over MCP_Geometric (median over frames).
+SOLVER_VS_MCP = 100.0
+#: Most slowdown of the solver at TARGET_H_WEIGHT over h_weight=1 (medians).
+H_WEIGHT_SLOWDOWN = 1.5
+#: Upper bounds in median ms per frame at 512x480.
+MS_TARGETS = {"threshold": 0.5, "centroid": 0.5, "gauss3": 1.0, "parabolic": 1.0, "blais_rioux": 1.0, "com_bg": 1.0,
+              "steger": 20.0, "dp4": 1.5, "dp8": 1.5}
+#: Upper bounds as multiples of another tracker's median time in the same run.
+RATIO_TARGETS = {"dp8_subpixel": ("dp8", 1.5)}
+
+
+#: Clocks for :func:`frame_ms`: the calling thread's CPU time (work done,
+#: least disturbed on a shared machine) or wall time.
+CLOCKS = {"cpu": time.thread_time, "wall": time.perf_counter}
+
+
+def frame_ms(fn, frames, repeats: int = 3, clock: str = "cpu") -> np.ndarray:
+    """Milliseconds of ``fn(frame)`` for each frame: the least of ``repeats``
+    calls (one untimed warm-up call first: JIT and caches), on ``clock``
+    (``"cpu"``: this thread's CPU time; ``"wall"``: wall time)."""
+    if clock not in CLOCKS:
+        raise ValueError(f"`clock` must be one of 'cpu', 'wall', got {clock!r}")
+    now = CLOCKS[clock]
+    fn(frames[0])
+    out = np.empty(len(frames))
+    for k, f in enumerate(frames):
+        best = np.inf
+        for _ in range(repeats):
+            t0 = now()
+            fn(f)
+            best = min(best, now() - t0)
+        out[k] = 1e3 * best
+    return out
+
+
+def time_trackers(names, frames, repeats: int = 3, clock: str = "cpu") -> dict[str, np.ndarray]:
+    """Per-frame milliseconds of ``track()`` for each tracker name."""
+    import trackers
+
+    return {name: frame_ms(trackers.make(name).track, frames, repeats, clock) for name in names}
+
+
+def time_solver(frames, connectivity: int, h_weight: float, repeats: int = 3, clock: str = "cpu") -> np.ndarray:
+    """Per-frame milliseconds of the exact DP solver (``DPTracker.path``)."""
+    import trackers
+
+    t = trackers.make("dp8" if connectivity == 8 else "dp4", h_weight=h_weight)
+    return frame_ms(t.path, frames, repeats, clock)
+
+
+def time_mcp(frames, connectivity: int, repeats: int = 1, clock: str = "cpu") -> np.ndarray:
+    """Per-frame milliseconds of skimage MCP_Geometric on the isotropic DP graph."""
+    from skimage.graph import MCP_Geometric
+
+    def solve(img):
+        cost = 1.0 / (img.astype(np.float64) + 1.0)
+        H, W = cost.shape
+        m = MCP_Geometric(cost, fully_connected=connectivity == 8)
+        costs, _ = m.find_costs([(0, j) for j in range(W)], [(H - 1, j) for j in range(W)])
+        return m.traceback((H - 1, int(np.argmin(costs[-1]))))
+
+    return frame_ms(solve, frames, repeats, clock)
+
+
+def first_call_seconds(name: str, cache_dir: str | None) -> float:
+    """Seconds of the first ``track()`` in a fresh process (JIT or cache load).
+
+    ``cache_dir=None`` uses the normal numba cache; a path uses that
+    directory as numba's cache (an empty one measures a cold compile).
+    """
+    code = (
+        "import time, numpy as np, trackers\n"
+        f"t = trackers.make({name!r}); img = np.zeros((48, 64), np.uint8); img[:, 30] = 200\n"
+        "t0 = time.perf_counter(); t.track(img); print(time.perf_counter() - t0)\n"
+    )
+    env = dict(os.environ)
+    if cache_dir is not None:
+        env["NUMBA_CACHE_DIR"] = cache_dir
+    root = pathlib.Path(__file__).resolve().parents[3]
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=root, check=True)
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+def _load_frames(paths) -> list[tuple[str, np.ndarray]]:
+    frames = []
+    for p in paths:
+        p = pathlib.Path(p)
+        if p.suffix == ".npy":
+            img = np.load(p)
+        else:
+            from skimage.io import imread
+
+            img = imread(p)
+            img = img if img.ndim == 2 else img[..., 0]
+        frames.append((p.name, img))
+    return frames
+
+
+def _fmt(v, spec):
+    return format(v, spec) if v is not None else "-"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="stripebench perf", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--trackers", help="comma-separated tracker names (default: all registered)")
+    parser.add_argument("--frames", nargs="+", metavar="FILE", help="time on these frames (.npy or PNG)")
+    parser.add_argument("--per-kind", type=int, default=2, help="synthetic frames per kind and size (default 2)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the synthetic frames (default 0)")
+    parser.add_argument("--repeats", type=int, default=3, help="calls per frame, the least counts (default 3)")
+    parser.add_argument("--mcp-every", type=int, default=4, help="time MCP on every n-th frame (default 4)")
+    parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu",
+                        help="cpu: this thread's CPU time (default; robust on a shared machine), or wall")
+    parser.add_argument("--real", nargs="?", const="", metavar="DIR",
+                        help="time on the frames of a real set (default: the shipped bench/data/real)")
+    parser.add_argument("--no-jit", action="store_true", help="skip the first-call (JIT) measurements")
+    parser.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
+    parser.add_argument("--json", metavar="FILE", help="also write the figures as JSON")
+    args = parser.parse_args(argv)
+
+    import trackers
+    from bench.studies.perf.frames import varied_frames
+
+    names = trackers.available() if not args.trackers else [n.strip() for n in args.trackers.split(",") if n.strip()]
+    for n in names:
+        if n not in trackers.available():
+            parser.error(f"unknown tracker {n!r}; available: {', '.join(trackers.available())}")
+    if args.per_kind < 1 or args.repeats < 1 or args.mcp_every < 1:
+        parser.error("--per-kind, --repeats and --mcp-every must be >= 1")
+    if args.frames and args.real is not None:
+        parser.error("give --frames or --real, not both")
+    if args.real is not None:
+        from bench.store import realset as real
+
+        try:
+            labelled = [(im.name, im.load()[0]) for im in real.load_dataset(args.real or real.SHIPPED)]
+        except real.DatasetError as exc:
+            parser.error(f"--real: {exc}")
+    else:
+        labelled = _load_frames(args.frames) if args.frames else varied_frames(args.per_kind, seed=args.seed)
+    frames = [f for _, f in labelled]
+    small = np.array([f.shape == (480, 512) for f in frames])
+    sizes = sorted({f"{f.shape[1]}x{f.shape[0]}" for f in frames})
+    print(f"stripebench perf: {len(frames)} frame(s) ({', '.join(sizes)}), least of {args.repeats} call(s) per "
+          f"frame, {args.clock} time; MCP_Geometric on frames 0, {args.mcp_every}, {2 * args.mcp_every}, ... "
+          f"({os.cpu_count()} cores)", flush=True)
+
+    solver = {}
+    for conn in (4, 8):
+        for hw in (1.0, TARGET_H_WEIGHT):
+            solver[conn, hw] = time_solver(frames, conn, hw, args.repeats, args.clock)
+    sub = np.arange(0, len(frames), args.mcp_every)
+    mcp = {conn: time_mcp([frames[k] for k in sub], conn, 1, args.clock) for conn in (4, 8)}
+    ms = time_trackers(names, frames, args.repeats, args.clock)
+    jit = {}
+    if not args.no_jit:
+        with tempfile.TemporaryDirectory() as empty:
+            for n in names:
+                jit[n] = (first_call_seconds(n, os.path.join(empty, n)), first_call_seconds(n, None))
+
+    def med_small(a):
+        return float(np.median(a[small])) if small.any() else None
+
+    print(f"{'tracker':<14}{'median ms':>10}{'worst ms':>10}{'512x480 ms':>12}{'x MCP':>8}{'1st call cold s':>17}"
+          f"{'1st call cached s':>19}")
+    rows = []
+    for n in names:
+        a = ms[n]
+        conn = getattr(trackers.make(n), "connectivity", None)  # the DP trackers: against MCP on their graph
+        ratio = float(np.median(mcp[conn] / a[sub])) if conn in mcp else None
+        r = {"tracker": n, "median_ms": float(np.median(a)), "worst_ms": float(a.max()), "median_ms_512x480": med_small(a),
+             "speedup_vs_mcp": ratio,
+             "first_call_cold_s": jit.get(n, (None, None))[0], "first_call_cached_s": jit.get(n, (None, None))[1]}
+        rows.append(r)
+        print(f"{n:<14}{r['median_ms']:>10.3f}{r['worst_ms']:>10.2f}{_fmt(r['median_ms_512x480'], '.3f'):>12}"
+              f"{_fmt(ratio, '.0f'):>8}{_fmt(r['first_call_cold_s'], '.2f'):>17}"
+              f"{_fmt(r['first_call_cached_s'], '.2f'):>19}")
+    print(f"{'exact solver':<24}{'median ms':>10}{'worst ms':>10}{'MCP ms (median)':>17}{'x MCP (median)':>16}")
+    solver_rows = []
+    for (conn, hw), a in solver.items():
+        ratio = float(np.median(mcp[conn] / a[sub]))
+        r = {"connectivity": conn, "h_weight": hw, "median_ms": float(np.median(a)), "worst_ms": float(a.max()),
+             "mcp_median_ms": float(np.median(mcp[conn])), "speedup_vs_mcp": ratio}
+        solver_rows.append(r)
+        label = f"{conn}-conn, h_weight={hw:g}"
+        print(f"{label:<24}{r['median_ms']:>10.3f}{r['worst_ms']:>10.2f}{r['mcp_median_ms']:>17.1f}{ratio:>16.0f}")
+    per_kind = {}
+    for (conn, hw), a in solver.items():
+        for (label, _), t in zip(labelled, a):
+            per_kind.setdefault(label, {})[f"{conn}/{hw:g}"] = float(t)
+
+    verdicts = []  # (text, ok)
+    for conn in (4, 8):
+        ratio = float(np.median(mcp[conn] / solver[conn, 1.0][sub]))
+        verdicts.append((f"solver {conn}-conn h_weight=1: {ratio:.0f}x MCP (target >= {SOLVER_VS_MCP:g}x)",
+                         ratio >= SOLVER_VS_MCP))
+        slow = float(np.median(solver[conn, TARGET_H_WEIGHT]) / np.median(solver[conn, 1.0]))
+        verdicts.append((f"solver {conn}-conn h_weight={TARGET_H_WEIGHT:g}: {slow:.2f}x the isotropic solve "
+                         f"(target <= {H_WEIGHT_SLOWDOWN:g}x)", slow <= H_WEIGHT_SLOWDOWN))
+    for r in rows:
+        limit = MS_TARGETS.get(r["tracker"])
+        if limit is not None and r["median_ms_512x480"] is not None:
+            verdicts.append((f"{r['tracker']} {r['median_ms_512x480']:.3f} ms median at 512x480 "
+                             f"(target <= {limit:g} ms)", r["median_ms_512x480"] <= limit))
+        ref, factor = RATIO_TARGETS.get(r["tracker"], (None, None))
+        if ref in ms:
+            ratio = float(np.median(ms[r["tracker"]]) / np.median(ms[ref]))
+            verdicts.append((f"{r['tracker']} {ratio:.2f}x {ref} (target <= {factor:g}x)", ratio <= factor))
+    for text, ok in verdicts:
+        print(f"  {text}: {'met' if ok else 'MISSED'}")
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(
+            {"frames": [label for label, _ in labelled], "mcp_frames": sub.tolist(), "trackers": rows,
+             "solver": solver_rows, "solver_ms_per_frame": per_kind,
+             "verdicts": [{"text": t, "met": ok} for t, ok in verdicts]}, indent=2))
+    missed = sum(not ok for _, ok in verdicts)
+    if args.strict and missed:
+        print(f"stripebench perf: {missed} target(s) missed", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

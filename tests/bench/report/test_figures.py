@@ -1,0 +1,44 @@
+import numpy as np
+import pandas as pd
+
+from bench.report import figures
+
+
+def test_fig10_clips_nothing_silently():
+    y, clipped, missing = figures.clip_for_plot([3.0, -2e4, 1500.0, np.nan, -999.0], cap=1000.0)
+    np.testing.assert_array_equal(clipped, [False, True, True, False, False])
+    np.testing.assert_array_equal(missing, [False, False, False, True, False])
+    assert y[1] == -1000.0 and y[2] == 1000.0 and y[4] == -999.0
+
+
+def test_fig10_marks_and_counts_clipped_samples(tmp_path, monkeypatch):
+    s = pd.DataFrame({"error_mm_dp": [0.1, 2e4, np.nan, -3.0], "error_mm_th": [0.2, -30.0, 1.0, -5e3]})
+    labels = []
+    import matplotlib.axes
+
+    real_legend = matplotlib.axes.Axes.legend
+
+    def spy(self, *a, **k):
+        labels.extend(h.get_label() for h in self.get_legend_handles_labels()[0])
+        return real_legend(self, *a, **k)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "legend", spy)
+    p = figures.fig_samples(s, "dp", "th", tmp_path / "f.png", title="t")
+    assert p.is_file()
+    assert "dp: 1 beyond ±1000 mm (at the edge)" in labels and "th: 1 beyond ±1000 mm (at the edge)" in labels
+    assert "dp: 1 with no value" in labels
+
+
+def test_tracker_colours_follow_the_label_not_the_position():
+    assert figures.tracker_colour("dp4") == figures.TRACKER_COLOURS["dp4"]
+    assert figures.tracker_colour("my_plugin") == figures.tracker_colour("my_plugin")
+    registered = [figures.tracker_colour(n) for n in ("threshold", "centroid", "dp4", "dp8", "gauss3", "parabolic",
+                                                       "blais_rioux", "steger", "com_bg", "dp8_subpixel")]
+    assert len(set(registered)) == len(registered)
+
+
+def test_bars_of_two_experiments_of_one_scene_and_material(tmp_path):
+    m = pd.DataFrame({"experiment": ["cone-patchy_ambient_lux=0", "cone-patchy_ambient_lux=400"] * 2,
+                      "scene": "cone", "material": "patchy", "tracker": ["a", "a", "b", "b"], "region": "object",
+                      "hit_rate": [0.9, 0.5, 0.8, np.nan]})
+    assert figures.fig_bars(m, tmp_path / "b.png").is_file()

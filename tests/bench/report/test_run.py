@@ -1,0 +1,48 @@
+"""The report's pure pieces: verdict sentences, the at-a-glance table, the sweep families."""
+
+import re
+
+from bench.report.run import _sweeps, glance_table, verdict_sentence
+
+
+def _fig(within, lo, hi, med, gross, n=100):
+    return {"n": n, "within": within, "within_low": lo, "within_high": hi, "median_abs_mm": med, "n_gross": gross}
+
+
+def _verdict(w, m):
+    return {"dp": "dp4", "baseline": "threshold", "within": w, "rmse": m, "dp_figures": _fig(0.9, 0.8, 0.95, 0.5, 0),
+            "baseline_figures": _fig(0.5, 0.4, 0.6, 3.0, 7), "ratio": {"value": 0.4, "low": 0.1, "high": 0.6}}
+
+
+def test_verdict_sentences_say_what_the_intervals_say():
+    assert verdict_sentence(_verdict("dp4", "dp4")).startswith("dp4 is more precise than threshold by both")
+    assert verdict_sentence(_verdict("tie", "tie")).startswith("neither dp4 nor threshold is more precise")
+    assert verdict_sentence(_verdict("tie", "threshold")).startswith("threshold is more precise by the RMSE ratio, but")
+    assert verdict_sentence(_verdict("dp4", "tie")).startswith("dp4 is more precise by the ±5 mm fraction, but")
+    s = verdict_sentence(_verdict("dp4", "threshold"))
+    assert s.startswith("the statistics disagree: dp4 wins by the ±5 mm fraction, threshold by the RMSE ratio")
+    assert "90 % [80 %, 95 %]" in s and "gross errors (&gt; 50 mm) 0 against 7" in s
+
+
+def test_glance_table_marks_the_best_of_each_condition_and_ranks_by_the_mean():
+    robust = []
+    for group, figs in (("condition:a", {"t1": (0.5, 1.0), "t2": (0.9, 0.4), "t3": (0.9, 0.2)}),
+                        ("b-x", {"t1": (0.99, 0.1), "t2": (0.2, 9.0), "t3": (0.8, 0.3)})):
+        for name, (w, med) in figs.items():
+            robust.append({"group": group, "tracker": name, **_fig(w, w - 0.05, w + 0.05, med, 0)})
+    summary = {"robust": robust, "conditions": [{"condition": "a", "experiments": ["a-x", "a-y"]},
+                                                {"condition": "b-x", "experiments": ["b-x"]}]}
+    page = glance_table(summary)
+    rows = re.findall(r"<tr><td>(\d)</td><th>(\w+)</th>(.*?)</tr>", page)
+    assert [(r[0], r[1]) for r in rows] == [("1", "t3"), ("2", "t1"), ("3", "t2")]  # means 0.85, 0.745, 0.55
+    stars = {name: cells.count("★") for _, name, cells in rows}
+    assert stars == {"t3": 1, "t1": 1, "t2": 0}  # a: t3 (ties t2 on the fraction, lower median); b: t1
+
+
+def test_sweep_families_are_experiments_differing_in_one_numeric_override():
+    exps = [{"scene": "cone", "material": "patchy", "n_angles": 2, "ambient_lux": v} for v in (0.0, 400.0, 1000.0)]
+    exps.append({"scene": "cone", "material": "matte", "n_angles": 2})
+    fams = _sweeps({"render": {"width": 64, "height": 60}, "experiments": exps, "trackers": ["threshold"],
+                    "baselines": [], "dp": []})
+    assert fams == [("cone/patchy", "ambient_lux", ["cone-patchy_ambient_lux=0.0", "cone-patchy_ambient_lux=400.0",
+                                                    "cone-patchy_ambient_lux=1000.0"])]

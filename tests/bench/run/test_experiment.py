@@ -1,0 +1,130 @@
+"""The harness end to end on tiny renders (64x60)."""
+
+import filecmp
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bench.config import parse
+from bench.run.experiment import default_run_dir, run
+
+pytestmark = pytest.mark.slow
+
+
+def test_run_folder_holds_everything(tiny_run):
+    out, cfg = tiny_run
+    for name in ("run.json", "config.json", "metrics.parquet", "metrics.csv", "timings.csv", "samples.csv",
+                 "summary.json", "report.html",
+                 "figdata.npz", "scans/cone-patchy.npz", "scans/plane-absorbing.npz",
+                 "gallery.npz", "figures/fig7_tracking.png", "figures/fig10_cone-patchy.png",
+                 "figures/bars_hit_rate.png", "figures/gallery_00.png"):
+        assert (out / name).is_file(), name
+    m = pd.read_parquet(out / "metrics.parquet")
+    assert len(m) == 2 * 4 * 2  # experiments x trackers x regions
+    assert set(m["tracker"]) == set(cfg.trackers)
+    for col in ("px_mae", "px_rmse", "px_p95", "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "coverage",
+                "hit_rate", "condition", "outlier_rate", "false_detections", "filled_fraction", "failed_frames"):
+        assert col in m.columns
+    assert "ms_per_frame" not in m.columns  # timings live in timings.csv
+    assert pd.read_csv(out / "metrics.csv").shape == m.shape
+    t = pd.read_csv(out / "timings.csv")
+    assert len(t) == len(m) and (t["ms_per_frame"] > 0).all()
+
+
+def test_samples_are_the_same_points_for_every_tracker(tiny_run):
+    out, cfg = tiny_run
+    s = pd.read_csv(out / "samples.csv")
+    assert (s.groupby("experiment").size() <= cfg.n_samples).all()
+    assert {f"error_mm_{n}" for n in cfg.trackers} <= set(s.columns)
+    assert s[["frame", "row"]].notna().all().all() and (s["true_depth_cm"].between(20, 61)).all()
+
+
+def test_summary_has_statistics_versions_and_revision(tiny_run):
+    out, cfg = tiny_run
+    s = json.loads((out / "summary.json").read_text())
+    assert s["seed"] == 1 and s["paper_improvement"] == 0.30
+    assert {"numpy", "mitsuba", "drjit", "numba"} <= set(s["versions"]) and s["git_revision"]
+    groups = {(i["group"], i["dp"], i["baseline"], i["statistic"]) for i in s["improvement"]}
+    assert ("all", "dp4", "threshold", "rmse") in groups and ("cone-patchy", "dp8", "threshold", "std") in groups
+    for i in s["improvement"]:
+        if np.isfinite(i["value"]):
+            assert i["low"] <= i["high"]
+    assert s["coverage"] and all(0 <= c["coverage"] <= 1 for c in s["coverage"] if c["coverage"] == c["coverage"])
+
+
+def test_report_is_self_contained(tiny_run):
+    out, _ = tiny_run
+    page = (out / "report.html").read_text()
+    assert page.count("data:image/png;base64,") >= 4 and "src=\"http" not in page
+    for section in ("Which tracker is more precise", "The paper's condition: patchy cone", "At a glance",
+                    "Every sample (Fig. 10)", "Failure gallery", "The paper's statistic", "Hit rate and coverage"):
+        assert section in page, section
+
+
+def test_the_within_fraction_recomputed_from_samples_equals_the_reported_one(tiny_run):
+    out, cfg = tiny_run
+    s = json.loads((out / "summary.json").read_text())
+    samples = pd.read_csv(out / "samples.csv")
+    rob = {(r["group"], r["tracker"]): r for r in s["robust"]}
+    assert s["restore"] == "rows" and s["within_mm"] == 5.0
+    for key, g in samples.groupby("experiment"):
+        for name in cfg.trackers:
+            e = g[f"error_mm_{name}"].to_numpy(float)
+            assert rob[(key, name)]["within"] == pytest.approx(np.mean(np.abs(e) <= 5.0))
+            assert rob[(key, name)]["n_gross"] == int(np.sum(np.abs(e) > 50.0))
+    assert {v["group"] for v in s["verdicts"]} >= {"all", "cone-patchy"}
+    assert s["conditions"] == [{"condition": "patchy cone", "experiments": ["cone-patchy"]},
+                               {"condition": "plane-absorbing", "experiments": ["plane-absorbing"]}]
+
+
+def test_gallery_holds_the_worst_frames_as_rendered(tiny_run):
+    from bench.store.files import load_npz
+
+    out, cfg = tiny_run
+    g = load_npz(out / "gallery.npz")
+    keys = [str(k) for k in g["keys"]]
+    assert {k.rsplit("/", 1)[0] for k in keys} == {"cone-patchy", "plane-absorbing"}
+    scans = {k: load_npz(out / "scans" / f"{k}.npz") for k in ("cone-patchy", "plane-absorbing")}
+    for k in keys:
+        exp, i = k.rsplit("/", 1)
+        assert g[f"{k}/image"].dtype == np.uint8 and g[f"{k}/image"].shape == (60, 64)
+        np.testing.assert_array_equal(g[f"{k}/truth"], scans[exp]["truth_columns"][int(i)])
+        for n in cfg.trackers:
+            np.testing.assert_array_equal(g[f"{k}/columns/{n}"], scans[exp][f"columns/{n}"][int(i)])
+
+
+def test_same_config_and_seed_give_byte_identical_metrics_files(tiny_run, tmp_path):
+    out, cfg = tiny_run
+    again = run(cfg, tmp_path / "again", progress=False, quiet=True)
+    for name in ("metrics.csv", "metrics.parquet", "samples.csv"):
+        assert filecmp.cmp(out / name, again / name, shallow=False), name
+    # the timings differ from run to run: they are kept apart
+    assert (out / "timings.csv").read_bytes() != (again / "timings.csv").read_bytes()
+
+
+def test_default_run_dir_depends_on_the_configuration(tiny_dict):
+    a = default_run_dir(parse(tiny_dict))
+    b = default_run_dir(parse({**tiny_dict, "seed": 2}))
+    assert a != b and a.name.startswith("tiny-") and default_run_dir(parse(tiny_dict)) == a
+
+
+@pytest.mark.slow
+def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
+    from bench.report.run import build_report
+
+    d = {**tiny_dict, "real_set": "shipped", "trackers": ["threshold", "dp4"], "baselines": ["threshold"],
+         "dp": ["dp4"], "experiments": tiny_dict["experiments"][:1]}
+    out = run(parse(d), tmp_path / "r", progress=False, quiet=True)
+    s = json.loads((out / "summary.json").read_text())["sim_to_real"]
+    real = pd.read_parquet(out / "real" / "metrics.parquet")
+    means = real[real.experiment == "mean"].set_index("tracker")["hit_rate"]
+    m = pd.read_parquet(out / "metrics.parquet")
+    synth = m[m.region == "object"].groupby("tracker")["hit_rate"].mean()
+    rows = {t["tracker"]: t for t in s["table"]}
+    assert set(rows) == {"threshold", "dp4"} and s["n"] == 2 and s["dataset"] == "shipped"
+    for name in rows:
+        assert rows[name]["real"] == pytest.approx(means[name]) and rows[name]["synthetic"] == pytest.approx(synth[name])
+    assert "Too few trackers" in s["sentences"][0]  # two trackers: no rank correlation is claimed
+    assert "Renders vs photographs" in build_report(out, quiet=True).read_text()

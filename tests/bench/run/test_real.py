@@ -1,0 +1,189 @@
+"""``stripebench track`` and ``stripebench real``: outputs, failures, pairing,
+rotation, run folders, the gate on real runs, and the shipped set end to end."""
+
+import csv
+import json
+import shutil
+
+import imageio.v3 as iio
+import numpy as np
+import pandas as pd
+import pytest
+
+from bench.run import gate
+
+from bench.store import realset as real
+from bench.cli import main
+from bench.run.real import PALETTE, overlay
+
+
+def _frame(h=40, w=50, col=20, value=200, bar=None):
+    img = np.full((h, w), 12, np.uint8)
+    img[:, col] = value
+    img[:, col - 1] = img[:, col + 1] = value // 2
+    if bar is not None:  # ambient structure the laser-off frame also shows
+        img[:, bar] = 250
+    return img
+
+
+def test_track_writes_csv_and_overlay_and_goes_on_past_a_broken_file(tmp_path, capsys):
+    iio.imwrite(tmp_path / "a.png", _frame())
+    rgb = np.repeat(_frame(col=30)[..., None], 3, axis=2)
+    iio.imwrite(tmp_path / "b.png", rgb)
+    (tmp_path / "broken.png").write_bytes(b"\x89PNG but not really")
+    out = tmp_path / "out"
+    rc = main(["track", str(tmp_path / "a.png"), str(tmp_path / "broken.png"), str(tmp_path / "b.png"),
+               "--out", str(out), "--trackers", 'threshold,{label="wide",name="com_bg",params={half_window=3}}'])
+    assert rc == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "broken.png" in err[0] and "cannot read image" in err[0]
+    for name, col in (("a", 20), ("b", 30)):
+        df = pd.read_csv(out / f"{name}.csv")
+        assert list(df.columns) == ["row", "col_threshold", "score_threshold", "col_wide", "score_wide"]
+        assert len(df) == 40 and np.allclose(df["col_threshold"], col) and np.allclose(df["col_wide"], col)
+        ov = iio.imread(out / f"{name}_overlay.png")
+        assert ov.shape == (40, 50, 3)
+        assert tuple(ov[10, col]) in (PALETTE[0], PALETTE[1])  # a tracker's marker on the stripe
+    assert not (out / "broken.csv").exists()
+
+
+def test_track_usage_errors_exit_2(tmp_path, capsys):
+    iio.imwrite(tmp_path / "a.png", _frame())
+    assert main(["track", str(tmp_path / "a.png"), "--out", str(tmp_path / "o"), "--trackers", "nope"]) == 2
+    assert "unknown tracker 'nope'" in capsys.readouterr().err
+    assert main(["track", str(tmp_path / "a.png"), "--out", str(tmp_path / "o"),
+                 "--background", str(tmp_path / "missing.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("stripebench: error: --background:") and "no such file" in err[0]
+    with pytest.raises(SystemExit) as e:
+        main(["track", str(tmp_path / "a.png"), "--out", str(tmp_path / "o"), "--rotate", "45"])
+    assert e.value.code == 2
+
+
+def test_track_pairs_the_laser_off_frame_by_name(tmp_path):
+    # ambient bar at column 40, brighter than the stripe: only the laser-off frame removes it
+    iio.imwrite(tmp_path / "s.png", _frame(bar=40))
+    iio.imwrite(tmp_path / "s_off.png", _frame(value=12, bar=40))
+    args = [str(tmp_path / "s.png"), str(tmp_path / "s_off.png"), "--trackers", "com_bg"]
+    assert main(["track", *args, "--out", str(tmp_path / "paired")]) == 0
+    assert not (tmp_path / "paired" / "s_off.csv").exists()  # the partner is not tracked itself
+    paired = pd.read_csv(tmp_path / "paired" / "s.csv")["col_com_bg"]
+    assert np.allclose(paired, 20.0)
+    assert main(["track", str(tmp_path / "s.png"), "--trackers", "com_bg", "--no-pair",
+                 "--out", str(tmp_path / "alone")]) == 0
+    alone = pd.read_csv(tmp_path / "alone" / "s.csv")["col_com_bg"]
+    assert np.allclose(alone, 40.0)
+    assert main(["track", str(tmp_path / "s.png"), "--trackers", "com_bg", "--no-pair",
+                 "--background", str(tmp_path / "s_off.png"), "--out", str(tmp_path / "explicit")]) == 0
+    assert np.allclose(pd.read_csv(tmp_path / "explicit" / "s.csv")["col_com_bg"], 20.0)
+
+
+def test_track_rotates_horizontal_stripes_and_draws_them_back(tmp_path):
+    img = _frame(h=40, w=50, col=20).T.copy()  # stripe along row 20 of a 50 x 40 image
+    iio.imwrite(tmp_path / "h.png", img)
+    assert main(["track", str(tmp_path / "h.png"), "--trackers", "threshold", "--rotate", "90",
+                 "--out", str(tmp_path / "o")]) == 0
+    df = pd.read_csv(tmp_path / "o" / "h.csv")
+    assert len(df) == 40  # rows of the turned frame = columns of the file
+    assert np.allclose(df["col_threshold"], 20)  # turned counter-clockwise: file row 20 -> column 20
+    ov = iio.imread(tmp_path / "o" / "h_overlay.png")
+    assert ov.shape == (50, 40, 3) and tuple(ov[20, 5]) == PALETTE[0] and tuple(ov[5, 5]) != PALETTE[0]
+
+
+def test_overlay_draws_the_reference_and_skips_nan():
+    ov = overlay(np.zeros((5, 6), np.uint8), {"t": [1.0, np.nan, 2.0, 2.0, 2.0]}, reference=[4.0] * 5, radius=0)
+    assert tuple(ov[0, 1]) == PALETTE[0] and tuple(ov[1, 4]) != PALETTE[0] and tuple(ov[1, 4]) == (0, 200, 0)
+    assert not ov[1, :4].any()
+
+
+def _tiny_set(root):
+    """Two grey images with known stripes and references."""
+    root.mkdir()
+    a = _frame(col=20)
+    b = _frame(col=10, bar=35)  # the bar wins every row for a threshold tracker without background
+    iio.imwrite(root / "a.png", a)
+    iio.imwrite(root / "b.png", b)
+    iio.imwrite(root / "b_off.png", _frame(col=10, value=12, bar=35))
+    ref_a = np.full(40, 21.0)  # 1 px off: hits, MAE 1
+    ref_a[30:] = np.nan
+    ref_b = np.full(40, 10.0)
+    for name, ref in (("a", ref_a), ("b", ref_b)):
+        lines = ["row,col"] + [f"{i}," + ("" if np.isnan(c) else f"{c}") for i, c in enumerate(ref)]
+        (root / f"{name}_ref.csv").write_text("\n".join(lines) + "\n")
+    (root / "manifest.csv").write_text("name,has_background,laser_colour,license\na,0,red,CC0\nb,1,red,CC0\n")
+    return root
+
+
+def test_real_run_folder_metrics_and_gate(tmp_path, capsys):
+    root = _tiny_set(tmp_path / "set")
+    out = tmp_path / "run"
+    assert main(["real", str(root), "--out", str(out), "--trackers", "threshold,com_bg", "--n-boot", "50"]) == 0
+    printed = capsys.readouterr().out
+    assert "hit rate" in printed and "report at" in printed
+    for f in ("config.json", "metrics.parquet", "metrics.csv", "summary.json", "report.html", "tracks/a.csv",
+              "overlays/b.png"):
+        assert (out / f).exists(), f
+    m = pd.read_parquet(out / "metrics.parquet").set_index(["experiment", "tracker"])
+    assert m.loc[("a", "threshold"), "hit_rate"] == 1.0 and m.loc[("a", "threshold"), "mae_px"] == 1.0
+    assert m.loc[("a", "threshold"), "false_detections"] == 1.0 and m.loc[("a", "threshold"), "n_ref"] == 30
+    assert m.loc[("b", "threshold"), "hit_rate"] == 0.0  # the ambient bar, 25 px away
+    assert m.loc[("b", "com_bg"), "hit_rate"] == 1.0  # the laser-off frame removes the bar
+    assert m.loc[("mean", "threshold"), "hit_rate"] == 0.5
+    (out / "report.html").unlink()
+    assert main(["report", str(out)]) == 0 and "hit rate" in (out / "report.html").read_text()
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["kind"] == "real" and summary["trackers"]["com_bg"]["hit_rate"]["mean"] == 1.0
+    base = gate.baseline_from_run(out)
+    assert base["kind"] == "real" and set(base["tolerances"]) == set(gate.REAL_TOLERANCES)
+    assert set(base["metrics"]["a/threshold/real"]) == set(gate.REAL_TOLERANCES)
+    bfile = tmp_path / "real.json"
+    assert main(["check", str(out), "--baseline", str(bfile), "--update"]) == 0
+    assert main(["check", str(out), "--baseline", str(bfile)]) == 0
+    doc = json.loads(bfile.read_text())
+    doc["metrics"]["a/threshold/real"]["hit_rate"] = 1.0
+    doc["metrics"]["b/com_bg/real"]["hit_rate"] = 1.0
+    doc["metrics"]["b/threshold/real"]["hit_rate"] = 0.5  # the run's 0.0 is now a regression
+    bfile.write_text(json.dumps(doc))
+    capsys.readouterr()
+    assert main(["check", str(out), "--baseline", str(bfile)]) == 1
+    res = capsys.readouterr()
+    assert "1 regression(s): threshold:hit_rate" in res.err
+    assert any(line.startswith("b/threshold/real") and line.endswith("REGRESSED") for line in res.out.splitlines())
+
+
+def test_real_on_a_broken_set_lists_every_problem_and_exits_2(tmp_path, capsys):
+    root = _tiny_set(tmp_path / "set")
+    (root / "a_ref.csv").unlink()
+    (root / "b_off.png").unlink()
+    for argv in (["real", str(root), "--check"], ["real", str(root), "--out", str(tmp_path / "run")]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err == ["stripebench real: a: missing reference a_ref.csv",
+                       "stripebench real: b: has_background is 1 but b_off.png is missing"]
+    assert not (tmp_path / "run").exists()
+    assert main(["real", str(tmp_path / "set"), "--tol", "0"]) == 2
+    assert "--tol must be a number > 0" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_real_on_three_shipped_images_end_to_end(tmp_path):
+    names = ["al_room3", "ag_tape", "dg_weld"]  # one image of each rig
+    sub = tmp_path / "subset"
+    sub.mkdir()
+    rows = list(csv.DictReader((real.SHIPPED / "manifest.csv").read_text().splitlines()))
+    with open(sub / "manifest.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
+        w.writeheader()
+        w.writerows(r for r in rows if r["name"] in names)
+    for n in names:
+        for suffix in (".png", "_ref.csv"):
+            shutil.copy(real.SHIPPED / f"{n}{suffix}", sub / f"{n}{suffix}")
+    out = tmp_path / "run"
+    assert main(["real", str(sub), "--out", str(out), "--trackers", "threshold,steger,dp8", "--quiet"]) == 0
+    m = pd.read_parquet(out / "metrics.parquet")
+    assert sorted(set(m["experiment"])) == sorted(names + ["mean"])
+    assert m["hit_rate"].between(0, 1).all() and (m["status"] == "ok").all()
+    # a clear stripe on a wall: every tracker finds it where the reference is
+    assert (m[m["experiment"] == "al_room3"]["hit_rate"] > 0.9).all()
+    html = (out / "report.html").read_text()
+    assert "The worst images per tracker" in html and html.count("<img") == 6

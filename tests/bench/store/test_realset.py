@@ -1,0 +1,281 @@
+"""Real photographs: readers, channels, rotation, pairing, the real-set validator,
+per-image metrics and the sim-to-real comparison."""
+
+import csv
+
+import imageio.v3 as iio
+import numpy as np
+import pandas as pd
+import pytest
+import tifffile
+
+from bench.store import realset as real
+
+
+def _write_set(root, images, *, manifest=None):
+    """A tiny real set: images = {name: (on, off or None, ref or None, laser)}."""
+    root.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for name, (on, off, ref, laser) in images.items():
+        iio.imwrite(root / f"{name}.png", on)
+        if off is not None:
+            iio.imwrite(root / f"{name}_off.png", off)
+        if ref is not None:
+            lines = ["row,col"] + [f"{i}," + ("" if np.isnan(c) else f"{c}") for i, c in enumerate(ref)]
+            (root / f"{name}_ref.csv").write_text("\n".join(lines) + "\n")
+        rows.append({"name": name, "has_background": int(off is not None), "laser_colour": laser})
+    with open(root / "manifest.csv", "w", newline="") as f:
+        cols = manifest or ["name", "has_background", "laser_colour"]
+        w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    return root
+
+
+def _stripe(h=20, w=30, col=12, value=200, colour=None):
+    img = np.full((h, w), 10, np.uint8)
+    img[:, col] = value
+    if colour is None:
+        return img
+    rgb = np.repeat(img[..., None], 3, axis=2)
+    rgb[:, col] = colour
+    return rgb
+
+
+# ---------------------------------------------------------------------------------------------------- readers
+
+
+def test_read_grey_rgb_rgba_16bit_png_tiff_and_jpeg(tmp_path):
+    grey = _stripe()
+    iio.imwrite(tmp_path / "g.png", grey)
+    assert real.read_image(tmp_path / "g.png").dtype == np.uint8
+    np.testing.assert_array_equal(real.read_image(tmp_path / "g.png"), grey)
+    rgb = _stripe(colour=(220, 30, 40))
+    iio.imwrite(tmp_path / "c.png", rgb)
+    np.testing.assert_array_equal(real.read_image(tmp_path / "c.png"), rgb)
+    rgba = np.concatenate([rgb, np.full(rgb.shape[:2] + (1,), 255, np.uint8)], axis=2)
+    iio.imwrite(tmp_path / "a.png", rgba)
+    np.testing.assert_array_equal(real.read_image(tmp_path / "a.png"), rgb)
+    g16 = grey.astype(np.uint16) * 257
+    iio.imwrite(tmp_path / "g16.png", g16)
+    out = real.read_image(tmp_path / "g16.png")
+    assert out.dtype == np.uint16 and int(out.max()) == 200 * 257
+    tifffile.imwrite(tmp_path / "c16.tif", rgb.astype(np.uint16) * 257)
+    out = real.read_image(tmp_path / "c16.tif")
+    assert out.dtype == np.uint16 and out.shape == rgb.shape and int(out[0, 12, 0]) == 220 * 257
+    wide = rgb.copy()
+    wide[:, 8:17] = (220, 30, 40)  # JPEG's chroma subsampling smears a 1-px colour line
+    iio.imwrite(tmp_path / "c.jpg", wide, quality=95)
+    out = real.read_image(tmp_path / "c.jpg")
+    assert out.shape == rgb.shape and out.dtype == np.uint8 and abs(int(out[5, 12, 0]) - 220) < 20
+
+
+@pytest.mark.parametrize("content, suffix, message", [
+    (b"not an image at all", ".png", "cannot read image"),
+    (b"", ".jpg", "cannot read image"),
+    (None, ".png", "no such file"),
+    (b"x", ".gif", "not a PNG, JPEG or TIFF file"),
+])
+def test_bad_files_raise_one_line(tmp_path, content, suffix, message):
+    p = tmp_path / f"bad{suffix}"
+    if content is not None:
+        p.write_bytes(content)
+    with pytest.raises(real.ImageError, match=message) as err:
+        real.read_image(p)
+    assert "\n" not in str(err.value)
+
+
+def test_channels_on_a_colour_pixel():
+    px = np.array([[[200, 100, 50]]], dtype=np.uint8)
+    assert int(real.select_channel(px, "r")[0, 0]) == 200
+    assert int(real.select_channel(px, "b")[0, 0]) == 50
+    assert real.select_channel(px, "gray")[0, 0] == pytest.approx(0.2126 * 200 + 0.7152 * 100 + 0.0722 * 50)
+    assert real.select_channel(px, "excess", "red")[0, 0] == pytest.approx(200 - 75)
+    assert real.select_channel(px, "excess", "green")[0, 0] == 0.0  # 100 - 125 clipped
+    assert real.select_channel(px, "excess", "blue")[0, 0] == 0.0
+    np.testing.assert_array_equal(real.select_channel(px, "auto", "green"), real.select_channel(px, "excess", "green"))
+    grey_rgb = np.repeat(np.array([[7, 9]], np.uint8)[..., None], 3, axis=2)
+    assert real.select_channel(grey_rgb, "auto").tolist() == [[7, 9]]  # not the all-zero excess
+    u16 = px.astype(np.uint16) * 257
+    assert real.select_channel(u16, "g").dtype == np.uint16
+
+
+def test_grey_image_is_its_own_channel_and_bad_names_are_refused():
+    g = _stripe()
+    for ch in real.CHANNELS:
+        assert real.select_channel(g, ch) is g
+    with pytest.raises(ValueError, match="`channel` must be one of"):
+        real.select_channel(g, "red")
+    with pytest.raises(ValueError, match="`laser` must be one of"):
+        real.select_channel(g, "r", "yellow")
+
+
+@pytest.mark.parametrize("rot", [0, 90, 180, 270])
+def test_unrotate_points_inverts_rotate_image(rot):
+    rng = np.random.default_rng(rot)
+    img = np.zeros((7, 11))
+    rr, cc = rng.integers(0, 7, 5), rng.integers(0, 11, 5)
+    img[rr, cc] = 1
+    r, c = np.nonzero(real.rotate_image(img, rot))
+    r0, c0 = real.unrotate_points(r, c, rot, img.shape)
+    assert set(zip(r0.astype(int), c0.astype(int))) == set(zip(rr, cc))
+    with pytest.raises(ValueError, match="`rotate_deg` must be one of"):
+        real.rotate_image(img, 45)
+
+
+def test_background_pairing_by_name(tmp_path):
+    iio.imwrite(tmp_path / "a.png", _stripe())
+    iio.imwrite(tmp_path / "a_off.png", _stripe(value=10))
+    iio.imwrite(tmp_path / "b.png", _stripe())
+    iio.imwrite(tmp_path / "c.jpg", _stripe(colour=(200, 0, 0)))
+    iio.imwrite(tmp_path / "c_off.png", _stripe(value=10))
+    assert real.background_for(tmp_path / "a.png") == tmp_path / "a_off.png"
+    assert real.background_for(tmp_path / "b.png") is None
+    assert real.background_for(tmp_path / "c.jpg") == tmp_path / "c_off.png"
+
+
+# ---------------------------------------------------------------------------------------------------- the real set
+
+
+def test_a_valid_set_loads(tmp_path):
+    ref = np.full(20, 12.0)
+    ref[:3] = np.nan
+    root = _write_set(tmp_path / "set", {"one": (_stripe(), _stripe(value=10), ref, "red"),
+                                         "two": (_stripe(colour=(0, 250, 0)), None, np.full(20, 12.0), "green")})
+    images, problems = real.validate_dataset(root)
+    assert problems == [] and [i.name for i in images] == ["one", "two"]
+    frame, bg, original, r = images[0].load()
+    assert frame.shape == (20, 30) and bg is not None and np.isnan(r[:3]).all() and r[5] == 12.0
+    frame, bg, _, _ = images[1].load()
+    assert bg is None and frame[0, 12] == 250.0 and frame[0, 0] == 0.0  # green minus the mean of red and blue
+
+
+def test_validator_gives_one_line_per_problem(tmp_path):
+    good = np.full(20, 12.0)
+    root = _write_set(tmp_path / "set", {
+        "noref": (_stripe(), None, None, "red"),
+        "short": (_stripe(), None, good[:15], "red"),
+        "offshape": (_stripe(), _stripe(h=19), good, "red"),
+        "laser": (_stripe(), None, good, "purple"),
+        "fine": (_stripe(), None, good, "red"),
+    })
+    (root / "stray_off.png").write_bytes(b"")  # not in the manifest: ignored
+    images, problems = real.validate_dataset(root)
+    assert [i.name for i in images] == ["fine"]
+    assert len(problems) == 4
+    assert any(p == "noref: missing reference noref_ref.csv" for p in problems)
+    assert any(p.startswith("short_ref.csv: 15 rows for an image of height 20") for p in problems)
+    assert any(p.startswith("offshape: offshape_off.png has shape (19, 30)") for p in problems)
+    assert any("laser_colour must be one of red, green, blue, got 'purple'" in p for p in problems)
+    with pytest.raises(real.DatasetError) as err:
+        real.load_dataset(root)
+    assert err.value.problems == problems
+
+
+@pytest.mark.parametrize("text, message", [
+    ("name,laser_colour\na,red\n", "manifest.csv: missing column(s) has_background"),
+    ("name,has_background,laser_colour,colour\n", "manifest.csv: unknown column(s) colour"),
+    ("name,has_background,laser_colour\n", "manifest.csv: no images listed"),
+    (None, "no manifest.csv (not a real set)"),
+])
+def test_bad_manifest_is_one_line(tmp_path, text, message):
+    if text is not None:
+        (tmp_path / "manifest.csv").write_text(text)
+    images, problems = real.validate_dataset(tmp_path)
+    assert images == [] and len(problems) == 1 and message in problems[0]
+
+
+@pytest.mark.parametrize("body, message", [
+    ("row,col\n0,1\n1,x\n", "line 3: col must be a number or empty, got 'x'"),
+    ("row,col\n0,1\n2,1\n", "line 3: rows must run 0..1 in order, got 2"),
+    ("row,col\n0,1\n1,30\n", "line 3: col must lie in [-0.5, 29.5], got '30'"),
+    ("r,c\n0,1\n1,1\n", "header must be 'row,col'"),
+])
+def test_reference_errors_name_the_line(tmp_path, body, message):
+    p = tmp_path / "x_ref.csv"
+    p.write_text(body)
+    with pytest.raises(real.DatasetError, match=message.replace("[", r"\[").replace("]", r"\]")):
+        real.read_reference(p, (2, 30))
+
+
+def test_the_shipped_set_is_valid():
+    images, problems = real.validate_dataset(real.SHIPPED)
+    assert problems == []
+    assert len(images) >= 12
+    assert len({im.meta["source_repo"] for im in images}) >= 3
+    assert all(im.meta["license"] and im.meta["source_commit"] and im.meta["notes"] for im in images)
+
+
+# ---------------------------------------------------------------------------------------------------- metrics
+
+
+def test_image_metrics_against_hand_computed_values():
+    cols = [10.0, 14.0, np.nan, 3.0, 20.5, 7.0]
+    ref = [11.0, 10.0, 5.0, np.nan, 20.0, 10.0]
+    m = real.image_metrics(cols, ref, tol_px=3.0)
+    # reference rows 0, 1, 2, 4, 5: errors 1, 4, miss, 0.5, 3 (3 is a hit: |error| <= tol)
+    assert m["n_ref"] == 5
+    assert m["hit_rate"] == pytest.approx(3 / 5)
+    assert m["mae_px"] == pytest.approx((1 + 0.5 + 3) / 3)
+    assert m["coverage"] == pytest.approx(4 / 5)
+    assert m["false_detections"] == pytest.approx(1.0)
+    m = real.image_metrics(cols, ref, tol_px=0.5)
+    assert m["hit_rate"] == pytest.approx(1 / 5) and m["mae_px"] == pytest.approx(0.5)
+    empty = real.image_metrics([np.nan, np.nan], [np.nan, np.nan])
+    assert np.isnan(empty["hit_rate"]) and np.isnan(empty["mae_px"]) and empty["false_detections"] == 0.0
+    with pytest.raises(ValueError, match="`tol_px` must be a finite number >= 0"):
+        real.image_metrics(cols, ref, tol_px=-1)
+
+
+def test_bootstrap_mean_is_seeded_and_brackets_the_mean():
+    v = [0.2, 0.9, 0.5, 0.7, np.nan, 0.1]
+    a = real.bootstrap_mean(v, n_boot=500, seed=3)
+    assert a == real.bootstrap_mean(v, n_boot=500, seed=3)
+    assert a["n"] == 5 and a["mean"] == pytest.approx(0.48)
+    assert 0.1 <= a["lo"] < a["mean"] < a["hi"] <= 0.9
+    assert real.bootstrap_mean(v, n_boot=500, seed=4) != a
+
+
+# ---------------------------------------------------------------------------------------------------- sim-to-real
+
+
+def test_sim_to_real_rank_correlation_by_hand():
+    syn = {"a": 0.9, "b": 0.8, "c": 0.7, "d": 0.6, "only_synthetic": 0.5}
+    rea = {"a": 0.5, "b": 0.6, "c": 0.4, "d": 0.3, "only_real": 0.1}
+    r = real.sim_to_real(syn, rea)
+    # ranks (1 = best): synthetic a1 b2 c3 d4, real b1 a2 c3 d4; rho = 1 - 6 * 2 / (4 * 15) = 0.8
+    assert r["n"] == 4 and r["spearman_rho"] == pytest.approx(0.8)
+    assert [t["tracker"] for t in r["table"]] == ["b", "a", "c", "d"]
+    assert r["table"][0]["delta"] == pytest.approx(-0.2) and r["table"][0]["rank_real"] == 1.0
+    text = real.sim_to_real_sentences(r)
+    assert text[0] == "Synthetic and real rankings of 4 trackers agree (Spearman's rho = 0.80)."
+    # every real rate lies more than 0.10 below its synthetic one (deltas -0.4, -0.2, -0.3, -0.3)
+    assert text[1] == ("The renders over-predict b (synthetic 0.80, real 0.60), a (synthetic 0.90, real 0.50), "
+                       "c (synthetic 0.70, real 0.40), d (synthetic 0.60, real 0.30).")
+    assert len(text) == 2
+    html = real.sim_to_real_html(r)
+    assert html.count("<tr>") == 5 and "Spearman" in html
+
+
+def test_sim_to_real_under_prediction_and_too_few_trackers():
+    r = real.sim_to_real({"a": 0.2, "b": 0.3}, {"a": 0.6, "b": 0.35})
+    assert r["n"] == 2 and np.isnan(r["spearman_rho"])
+    text = real.sim_to_real_sentences(r)
+    assert text[0].startswith("Too few trackers") and text[1] == "The renders under-predict a (synthetic 0.20, real 0.60)."
+    with pytest.raises(ValueError, match=r"`real_hit_rates\['a'\]` must be a hit rate in \[0, 1\], got 1.5"):
+        real.sim_to_real({"a": 0.2}, {"a": 1.5})
+
+
+def test_synthetic_hit_rates_read_the_object_region(tmp_path):
+    pd.DataFrame({"experiment": ["e1", "e2", "e1", "e2", "e1"], "tracker": ["t", "t", "u", "u", "t"],
+                  "region": ["object", "object", "object", "object", "all"],
+                  "hit_rate": [0.2, 0.4, 1.0, 0.5, 0.9]}).to_parquet(tmp_path / "metrics.parquet")
+    assert real.synthetic_hit_rates(tmp_path) == {"t": pytest.approx(0.3), "u": pytest.approx(0.75)}
+
+
+def test_docstring_examples_run():
+    import doctest
+
+    with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
+        result = doctest.testmod(real, extraglobs={"np": np}, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0

@@ -10,7 +10,8 @@ the repeats (none with a single repeat).
 
 from __future__ import annotations
 
-import numpy as np
+
+from bench.evaluate.stats import t_interval
 
 __all__ = ["reference_point", "curves", "per_unit_costs", "CURVE_METRICS", "PAPER_POINT"]
 
@@ -37,19 +38,6 @@ def reference_point(sweep_dict: dict, material: str | None = None) -> dict:
         want = material if key == "material" else _paper_or_default(key)
         ref[key] = want if want in values else values[0]
     return ref
-
-
-def _t_interval(x: np.ndarray) -> tuple[float, float, float]:
-    from scipy.stats import t
-
-    x = x[~np.isnan(x)]
-    if x.size == 0:
-        return float("nan"), float("nan"), float("nan")
-    m = float(x.mean())
-    if x.size < 2:
-        return m, float("nan"), float("nan")
-    half = float(t.ppf(0.975, x.size - 1) * x.std(ddof=1) / np.sqrt(x.size))
-    return m, m - half, m + half
 
 
 def curves(table, sweep, metrics=CURVE_METRICS) -> list[dict]:
@@ -84,7 +72,7 @@ def curves(table, sweep, metrics=CURVE_METRICS) -> list[dict]:
                 at = sel[sel[key] == value]
                 for tracker, h in at.groupby("tracker", sort=False):
                     for m in metrics:
-                        mean, lo, hi = _t_interval(h[m].to_numpy(float))
+                        mean, lo, hi = t_interval(h[m].to_numpy(float))
                         out.append({"experiment": exp, "key": key, "value": value, "tracker": tracker, "metric": m,
                                     "mean": mean, "low": lo, "high": hi, "n": int(h[m].notna().sum())})
     return out

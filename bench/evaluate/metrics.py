@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "false_lock_rate",
-           "frame_record", "OUTLIER_PX", "HIT_PX"]
+           "frame_record", "hits", "OUTLIER_PX", "HIT_PX"]
 
 OUTLIER_PX = 3.0
 HIT_PX = 3.0  # a row is a hit when the reported column is within this many px of the truth
@@ -41,6 +41,30 @@ def coverage(pred, truth) -> float:
     return float(np.count_nonzero(~np.isnan(pred[lit])) / n) if n else float("nan")
 
 
+def hits(pred, truth, tol_px: float = HIT_PX) -> np.ndarray:
+    """The one hit rule: ``|pred - truth| <= tol_px``, elementwise; a row with no
+    detection or no truth (NaN on either side) is not a hit.
+
+    Parameters
+    ----------
+    pred, truth : array_like, float, px
+        Reported and true columns, broadcastable to one shape.
+    tol_px : float
+        Largest hit distance in px (default :data:`HIT_PX`).
+
+    Returns
+    -------
+    numpy.ndarray of bool, the broadcast shape
+
+    Examples
+    --------
+    >>> hits([10.0, 14.0, np.nan, 5.0], [11.0, 10.0, 7.0, np.nan]).tolist()
+    [True, False, False, False]
+    """
+    with np.errstate(invalid="ignore"):
+        return np.abs(np.asarray(pred, dtype=np.float64) - np.asarray(truth, dtype=np.float64)) <= tol_px
+
+
 def hit_rate(pred, truth, tol_px: float = HIT_PX) -> float:
     """Among rows with a lit visible stripe, the fraction where the tracker reports a
     column within ``tol_px`` of the truth (a row with no detection is a miss); NaN if none.
@@ -56,8 +80,7 @@ def hit_rate(pred, truth, tol_px: float = HIT_PX) -> float:
     n = int(lit.sum())
     if not n:
         return float("nan")
-    err = np.abs(pred[lit] - truth[lit])
-    return float(np.count_nonzero(err <= tol_px) / n)  # NaN compares False: a miss
+    return float(np.count_nonzero(hits(pred[lit], truth[lit], tol_px)) / n)
 
 
 def outlier_rate(pred, truth, threshold_px: float = OUTLIER_PX) -> float:

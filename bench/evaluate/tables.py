@@ -238,14 +238,13 @@ def worst_frames(scan, k: int) -> list[int]:
     trackers of the fraction of lit rows that are not hits (|error| > 3 px or
     nothing reported), worst first; ties to the earlier frame. Frames with no lit row are never
     chosen; fewer than ``k`` if fewer frames have lit rows."""
-    from bench.evaluate.metrics import HIT_PX
+    from bench.evaluate.metrics import hits
 
     lit = ~np.isnan(scan.truth_columns)
     n_lit = lit.sum(axis=1)
     miss = np.zeros(scan.truth_columns.shape[0])
     for name in scan.columns:
-        err = np.abs(scan.columns[name] - scan.truth_columns)
-        hit = (err <= HIT_PX) & lit
+        hit = hits(scan.columns[name], scan.truth_columns)
         miss += 1.0 - np.divide(hit.sum(axis=1), n_lit, out=np.ones_like(miss), where=n_lit > 0)
     miss /= max(len(scan.columns), 1)
     ok = np.flatnonzero(n_lit > 0)

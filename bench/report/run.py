@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.evaluate.metrics import hit_rate
 from bench.store.runfolder import load_run
 from bench.store.files import atomic_write_text
 from bench.run.scan import ScanResult
@@ -324,10 +325,8 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
             labels = [str(n) for n in gal[f"{key}/labels"]]
             tracks = {n: gal[f"{key}/columns/{n}"] for n in labels}
             truth = gal[f"{key}/truth"]
-            lit = np.isfinite(truth)
-            hits = {n: float(np.mean(np.abs(tracks[n][lit] - truth[lit]) <= 3.0)) if lit.any() else np.nan
-                    for n in labels}
-            worst = ", ".join(f"{n} {hits[n]:.2f}" for n in sorted(hits, key=lambda n: hits[n])[:4])
+            rate = {n: hit_rate(tracks[n], truth) for n in labels}
+            worst = ", ".join(f"{n} {rate[n]:.2f}" for n in sorted(rate, key=lambda n: rate[n])[:4])
             out["gallery"].append(figures.fig_gallery(gal[f"{key}/image"], truth, tracks,
                                                       figdir / f"gallery_{k:02d}.png",
                                                       title=f"{exp}, frame {frame}: lowest hit rates {worst}"))
@@ -398,7 +397,7 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                      "per tracker; the truth dashed red.</p>"
                      + "".join(_img(p, "49%") for p in figs["gallery"]))
     if s.get("sim_to_real"):
-        from bench.store.realset import sim_to_real_html
+        from bench.report.simreal import sim_to_real_html
 
         parts.append(sim_to_real_html(s["sim_to_real"]).replace(
             "<h2>Renders vs photographs</h2>",

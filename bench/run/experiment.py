@@ -206,8 +206,9 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     """Evaluate the same tracker settings on the configuration's real set (into
     ``<run>/real``) and compare each tracker's mean object hit rate over the
     experiments with its mean hit rate over the photographs."""
-    from bench.store import realset as real
+    from bench.evaluate import simreal
     from bench.run.real import run_real
+    from bench.store import realset as real
 
     dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
     _say(f"real set {dataset}: {len(config.tracker_specs)} trackers", quiet)
@@ -216,9 +217,9 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     rm = real_run_means(rdir)
     obj = metrics[metrics["region"] == "object"]
     synthetic = {str(k): float(v) for k, v in obj.groupby("tracker")["hit_rate"].mean().items()}
-    result = real.sim_to_real(synthetic, rm)
+    result = simreal.sim_to_real(synthetic, rm)
     result["dataset"] = str(config.real_set)
-    result["sentences"] = real.sim_to_real_sentences(result)
+    result["sentences"] = simreal.sim_to_real_sentences(result)
     return result
 
 

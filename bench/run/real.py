@@ -31,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.evaluate.simreal import image_metrics
+from bench.evaluate.stats import bootstrap_mean
 from bench.store import realset as real
 from bench.store.files import atomic_write_bytes, atomic_write_text
 
@@ -223,7 +225,7 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
                            _png_bytes(overlay(original, {lab: t.columns for lab, t in tracks.items()},
                                               rotate_deg=im.rotate_deg, reference=ref)))
         for lab, (tr, ms, status, msg) in res.items():
-            m = real.image_metrics(tr.columns, ref, tol_px)
+            m = image_metrics(tr.columns, ref, tol_px)
             records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
                             "has_background": im.background_path is not None, "status": status, "message": msg})
         if not quiet:
@@ -235,7 +237,7 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
         sub = per_image[per_image["tracker"] == lab]
         stats = {}
         for metric in ("hit_rate", "mae_px", "coverage", "false_detections"):
-            stats[metric] = real.bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
+            stats[metric] = bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
         summary_rows[lab] = stats
         means.append({"experiment": "mean", "tracker": lab, "region": "real",
                       **{m: s["mean"] for m, s in stats.items()}, "n_ref": int(sub["n_ref"].sum()),

@@ -1,6 +1,8 @@
-"""Real photographs: image readers, the real-set layout and its validator,
-per-image metrics and the sim-to-real comparison. Pure functions and file
-readers only (no running, no reporting: see :mod:`bench.run.real`).
+"""Real photographs: image readers, the real-set layout and its validator.
+
+File readers only: per-image metrics and the sim-to-real numbers are in
+:mod:`bench.evaluate.simreal`, running in :mod:`bench.run.real`, the HTML in
+:mod:`bench.report.simreal`.
 
 A real set is a folder::
 
@@ -27,8 +29,7 @@ import numpy as np
 
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
-           "load_dataset", "validate_dataset", "read_reference", "image_metrics", "bootstrap_mean",
-           "synthetic_hit_rates", "sim_to_real", "sim_to_real_sentences", "sim_to_real_html"]
+           "load_dataset", "validate_dataset", "read_reference", "synthetic_hit_rates"]
 
 #: The real set shipped with stripebench (13 photographs from 3 public rigs, see docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
@@ -424,84 +425,6 @@ def load_dataset(root) -> list[RealImage]:
     return images
 
 
-# ---------------------------------------------------------------------------------------------------- metrics
-
-
-def image_metrics(columns, reference, tol_px: float = 3.0) -> dict[str, float]:
-    """One tracker on one photograph.
-
-    Parameters
-    ----------
-    columns : array_like, shape (H,)
-        The tracker's columns (px), NaN where it reports nothing.
-    reference : array_like, shape (H,)
-        Reference columns (px), NaN where there is none.
-    tol_px : float
-        A reference row is a hit when ``|col - ref| <= tol_px``.
-
-    Returns
-    -------
-    dict
-        ``hit_rate`` (hits / reference rows; a missing detection is a miss),
-        ``mae_px`` (mean ``|col - ref|`` over the hits), ``coverage`` (reference
-        rows with a detection), ``false_detections`` (rows without a reference
-        that have a detection, over such rows), ``n_ref``. NaN where undefined.
-
-    Examples
-    --------
-    >>> m = image_metrics([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, 5.0, np.nan])
-    >>> m["hit_rate"], m["mae_px"], m["coverage"], m["false_detections"]
-    (0.3333333333333333, 1.0, 0.6666666666666666, 1.0)
-    """
-    if not (isinstance(tol_px, (int, float)) and tol_px >= 0 and math.isfinite(tol_px)):
-        raise ValueError(f"`tol_px` must be a finite number >= 0, got {tol_px!r}")
-    c = np.asarray(columns, dtype=np.float64)
-    r = np.asarray(reference, dtype=np.float64)
-    if c.shape != r.shape or c.ndim != 1:
-        raise ValueError(f"`columns` {c.shape} and `reference` {r.shape} must be 1-D of the same length")
-    has_ref = ~np.isnan(r)
-    n_ref = int(has_ref.sum())
-    det = ~np.isnan(c)
-    err = np.abs(c[has_ref] - r[has_ref])
-    hits = err <= tol_px
-    no_ref = int((~has_ref).sum())
-    return {
-        "hit_rate": float(hits.sum() / n_ref) if n_ref else float("nan"),
-        "mae_px": float(err[hits].mean()) if hits.any() else float("nan"),
-        "coverage": float(det[has_ref].sum() / n_ref) if n_ref else float("nan"),
-        "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
-        "n_ref": n_ref,
-    }
-
-
-def bootstrap_mean(values, *, n_boot: int = 2000, seed: int = 0, level: float = 0.95) -> dict[str, float]:
-    """Mean over images with a percentile bootstrap interval (images resampled
-    with replacement; NaNs dropped first; seeded).
-
-    Returns
-    -------
-    dict
-        ``mean``, ``lo``, ``hi``, ``n`` (NaN bounds with fewer than 2 values).
-
-    Examples
-    --------
-    >>> bootstrap_mean([1.0, 1.0, np.nan])
-    {'mean': 1.0, 'lo': 1.0, 'hi': 1.0, 'n': 2}
-    """
-    v = np.asarray(values, dtype=np.float64)
-    v = v[~np.isnan(v)]
-    if v.size == 0:
-        return {"mean": float("nan"), "lo": float("nan"), "hi": float("nan"), "n": 0}
-    if v.size < 2:
-        return {"mean": float(v.mean()), "lo": float("nan"), "hi": float("nan"), "n": int(v.size)}
-    rng = np.random.default_rng(seed)
-    idx = rng.integers(0, v.size, size=(n_boot, v.size))
-    means = v[idx].mean(axis=1)
-    a = (1.0 - level) / 2.0
-    return {"mean": float(v.mean()), "lo": float(np.quantile(means, a)), "hi": float(np.quantile(means, 1 - a)),
-            "n": int(v.size)}
-
-
 # ---------------------------------------------------------------------------------------------------- sim-to-real
 
 
@@ -515,95 +438,3 @@ def synthetic_hit_rates(run_dir, region: str = "object") -> dict[str, float]:
         raise ValueError(f"{str(run_dir)!r}: metrics.parquet has no hit_rate column (an older run?)")
     m = m[m["region"] == region]
     return {str(k): float(v) for k, v in m.groupby("tracker")["hit_rate"].mean().items()}
-
-
-def sim_to_real(synthetic_hit_rates: dict, real_hit_rates: dict) -> dict:
-    """Compare the hit rates the renders predict with those measured on photographs.
-
-    Parameters
-    ----------
-    synthetic_hit_rates, real_hit_rates : dict
-        Tracker label -> hit rate in [0, 1]; only labels in both are compared.
-
-    Returns
-    -------
-    dict
-        ``table``: list of ``{tracker, synthetic, real, delta, rank_synthetic,
-        rank_real}`` sorted by real hit rate (rank 1 = best, ties averaged);
-        ``spearman_rho``, ``spearman_p`` (``scipy.stats.spearmanr`` across
-        trackers; NaN with fewer than 3 trackers or constant rates); ``n``.
-
-    Examples
-    --------
-    >>> r = sim_to_real({"a": 0.9, "b": 0.5, "c": 0.7}, {"a": 0.6, "b": 0.2, "c": 0.4, "d": 0.1})
-    >>> r["n"], r["spearman_rho"], r["table"][0]["tracker"]
-    (3, 1.0, 'a')
-    """
-    from scipy.stats import rankdata, spearmanr
-
-    for arg, d in (("synthetic_hit_rates", synthetic_hit_rates), ("real_hit_rates", real_hit_rates)):
-        if not isinstance(d, dict):
-            raise ValueError(f"`{arg}` must be a dict of tracker -> hit rate, got {type(d).__name__}")
-        for k, v in d.items():
-            if not isinstance(v, (int, float)) or (not math.isnan(v) and not 0.0 <= v <= 1.0):
-                raise ValueError(f"`{arg}[{k!r}]` must be a hit rate in [0, 1], got {v!r}")
-    labels = [k for k in synthetic_hit_rates if k in real_hit_rates
-              and not math.isnan(synthetic_hit_rates[k]) and not math.isnan(real_hit_rates[k])]
-    s = np.array([synthetic_hit_rates[k] for k in labels], dtype=float)
-    r = np.array([real_hit_rates[k] for k in labels], dtype=float)
-    rank_s = rankdata(-s) if labels else np.array([])
-    rank_r = rankdata(-r) if labels else np.array([])
-    table = [{"tracker": k, "synthetic": float(s[i]), "real": float(r[i]), "delta": float(r[i] - s[i]),
-              "rank_synthetic": float(rank_s[i]), "rank_real": float(rank_r[i])} for i, k in enumerate(labels)]
-    table.sort(key=lambda t: (-t["real"], t["tracker"]))
-    rho = p = float("nan")
-    if len(labels) >= 3 and np.ptp(s) > 0 and np.ptp(r) > 0:
-        res = spearmanr(s, r)
-        rho, p = float(res.statistic), float(res.pvalue)
-    return {"table": table, "spearman_rho": rho, "spearman_p": p, "n": len(labels)}
-
-
-def sim_to_real_sentences(result: dict, *, margin: float = 0.10) -> list[str]:
-    """Plain sentences on a :func:`sim_to_real` result: the rank agreement, then
-    the trackers whose real hit rate lies more than ``margin`` below (renders
-    over-predict) or above (under-predict) the synthetic one.
-
-    Examples
-    --------
-    >>> r = sim_to_real({"a": 0.9, "b": 0.5, "c": 0.7}, {"a": 0.6, "b": 0.45, "c": 0.7})
-    >>> sim_to_real_sentences(r)[1]
-    'The renders over-predict a (synthetic 0.90, real 0.60).'
-    """
-    out = []
-    rho, n = result["spearman_rho"], result["n"]
-    if n < 3 or math.isnan(rho):
-        out.append(f"Too few trackers with distinct hit rates ({n}) for a rank correlation.")
-    else:
-        word = "agree" if rho >= 0.7 else "partly agree" if rho >= 0.3 else "do not agree"
-        out.append(f"Synthetic and real rankings of {n} trackers {word} (Spearman's rho = {rho:.2f}).")
-    over = [t for t in result["table"] if t["delta"] < -margin]
-    under = [t for t in result["table"] if t["delta"] > margin]
-
-    def fmt(ts):
-        return ", ".join(f"{t['tracker']} (synthetic {t['synthetic']:.2f}, real {t['real']:.2f})" for t in ts)
-
-    if over:
-        out.append(f"The renders over-predict {fmt(over)}.")
-    if under:
-        out.append(f"The renders under-predict {fmt(under)}.")
-    if not over and not under and result["table"]:
-        out.append(f"Every tracker's real hit rate lies within {margin:.2f} of the synthetic one.")
-    return out
-
-
-def sim_to_real_html(result: dict) -> str:
-    """An HTML fragment: the sentences and the table of :func:`sim_to_real`."""
-    import html
-
-    rows = "".join(f"<tr><td>{html.escape(t['tracker'])}</td><td>{t['synthetic']:.3f}</td><td>{t['real']:.3f}</td>"
-                   f"<td>{t['delta']:+.3f}</td><td>{t['rank_synthetic']:g}</td><td>{t['rank_real']:g}</td></tr>"
-                   for t in result["table"])
-    text = "".join(f"<p>{html.escape(s)}</p>" for s in sim_to_real_sentences(result))
-    return (f"<section class='sim-to-real'><h2>Renders vs photographs</h2>{text}<table><tr><th>tracker</th>"
-            f"<th>synthetic hit rate</th><th>real hit rate</th><th>real - synthetic</th><th>rank (synthetic)</th>"
-            f"<th>rank (real)</th></tr>{rows}</table></section>")

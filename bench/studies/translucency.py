@@ -33,6 +33,8 @@ import time
 
 import numpy as np
 
+from bench.evaluate.stats import mad_scale
+
 __all__ = ["FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "stripe_widths_px", "run_study",
            "summarise", "render_noise", "write_csv", "plot", "main"]
 
@@ -248,19 +250,6 @@ def summarise(records: list[dict], width: int, bins=INCIDENCE_BINS_DEG) -> list[
     return out
 
 
-def _mad_scale(d: np.ndarray) -> float:
-    """``1.4826 median(|d - median(d)|)``: the standard deviation of a normal sample, robust to outliers.
-
-    Examples
-    --------
-    >>> round(_mad_scale(np.array([-1.0, 0.0, 1.0, 100.0])), 4)
-    1.4826
-    """
-    d = np.asarray(d, float)
-    d = d[np.isfinite(d)]
-    return float(1.4826 * np.median(np.abs(d - np.median(d)))) if d.size else np.nan
-
-
 def render_noise(obj_name: str, material: str, spps, *, width: int = 512, height: int = 480, seed: int = 0,
                  tracker: str = "com_bg", sensor_draws: int = 8) -> list[dict]:
     """Monte Carlo noise of the stripe's centre against spp, beside the sensor's noise.
@@ -309,7 +298,7 @@ def render_noise(obj_name: str, material: str, spps, *, width: int = 512, height
         d = d[np.isfinite(d)]
         out.append({"object": obj_name, "material": material, "spp": int(spp), "rows": int(d.size),
                     "mc_noise_px": float(np.std(d) / np.sqrt(2.0)) if d.size else np.nan,
-                    "sensor_noise_px": np.nan, "mc_noise_mad_px": _mad_scale(d) / np.sqrt(2.0),
+                    "sensor_noise_px": np.nan, "mc_noise_mad_px": mad_scale(d) / np.sqrt(2.0),
                     "sensor_noise_mad_px": np.nan, "s_per_frame": float(dt[1]),
                     "cpu_s_per_frame": float(cpu[1])})
     s, f, rows = best
@@ -323,7 +312,7 @@ def render_noise(obj_name: str, material: str, spps, *, width: int = 512, height
         d = c[0] - c[1]
         d = d[np.isfinite(d)]
         sens.append(np.std(d) / np.sqrt(2.0) if d.size else np.nan)
-        sens_mad.append(_mad_scale(d) / np.sqrt(2.0))
+        sens_mad.append(mad_scale(d) / np.sqrt(2.0))
     for r in out:
         r["sensor_noise_px"] = float(np.nanmean(sens))
         r["sensor_noise_mad_px"] = float(np.nanmean(sens_mad))

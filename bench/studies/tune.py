@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bench.evaluate.metrics import hits
+
 __all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "main"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_dp.toml"
@@ -146,9 +148,7 @@ def hit_fraction(columns, truth_columns, on_object, hit_px: float) -> tuple[floa
     n = int(lit.sum())
     if n == 0:
         return float("nan"), 0
-    with np.errstate(invalid="ignore"):
-        hit = np.abs(cols - truth) <= hit_px  # NaN compares False: a miss
-    return float((hit & lit).sum() / n), n
+    return float((hits(cols, truth, hit_px) & lit).sum() / n), n
 
 
 def choose(scores: dict[float, float], tie: float) -> float:

@@ -79,3 +79,19 @@ def test_frame_record_false_lock_rate_needs_false_stripe_truth():
     false_cols = np.array([[[np.nan], [40.0], [42.0]]])
     assert frame_record(pred, truth, false_cols=false_cols)["false_lock_rate"] == pytest.approx(2 / 3)
     assert np.isnan(frame_record(pred, truth)["false_lock_rate"])
+
+
+def test_every_hit_rate_of_the_harness_uses_the_one_hit_rule():
+    from bench.evaluate.metrics import HIT_PX, hit_rate, hits
+    from bench.evaluate.simreal import image_metrics
+    from bench.studies.tune import hit_fraction
+
+    rng = np.random.default_rng(5)
+    truth = rng.uniform(0, 100, 400)
+    truth[rng.random(400) < 0.1] = np.nan
+    pred = truth + rng.choice([-HIT_PX, HIT_PX, -3.5, 2.0, 0.0, np.nan], 400)  # exactly HIT_PX away is a hit
+    want = hits(pred, truth)[~np.isnan(truth)].mean()
+    assert hit_rate(pred, truth) == pytest.approx(want)
+    assert image_metrics(pred, truth)["hit_rate"] == pytest.approx(want)
+    assert hit_fraction(pred, truth, np.ones(400, bool), HIT_PX)[0] == pytest.approx(want)
+    assert 0.3 < want < 0.9

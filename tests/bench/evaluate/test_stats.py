@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from bench.evaluate.stats import bootstrap_improvement, improvement, spread
+from bench.evaluate.stats import bootstrap_improvement, bootstrap_mean, improvement, mad_scale, spread, t_interval
 
 
 def test_spread():
@@ -71,3 +71,24 @@ def test_robust_summary_by_hand():
     assert r["rmse_mm"] == pytest.approx(np.sqrt(np.mean(np.square([1, 2, 5, 7, 51, 80]))))
     assert r["within_low"] < 0.5 < r["within_high"]
     assert robust_summary([np.nan])["n"] == 0
+
+
+def test_bootstrap_mean_is_seeded_and_brackets_the_mean():
+    v = [0.2, 0.9, 0.5, 0.7, np.nan, 0.1]
+    a = bootstrap_mean(v, n_boot=500, seed=3)
+    assert a == bootstrap_mean(v, n_boot=500, seed=3)
+    assert a["n"] == 5 and a["mean"] == pytest.approx(0.48)
+    assert 0.1 <= a["lo"] < a["mean"] < a["hi"] <= 0.9
+    assert bootstrap_mean(v, n_boot=500, seed=4) != a
+
+
+def test_t_interval_by_hand():
+    # mean 2, s = 1, n = 3: half-width t(0.975, 2) * 1 / sqrt(3) = 4.302653 / 1.732051
+    m, lo, hi = t_interval(np.array([1.0, 2.0, 3.0, np.nan]))
+    assert m == 2.0 and hi - m == pytest.approx(4.302653 / np.sqrt(3), rel=1e-6) and m - lo == pytest.approx(hi - m)
+    assert np.isnan(t_interval(np.array([5.0]))[1]) and np.isnan(t_interval(np.array([np.nan]))[0])
+
+
+def test_mad_scale_ignores_one_outlier():
+    assert mad_scale(np.array([-1.0, 0.0, 1.0, 100.0])) == pytest.approx(1.4826)
+    assert mad_scale(np.zeros(5)) == 0.0 and np.isnan(mad_scale(np.array([np.nan])))

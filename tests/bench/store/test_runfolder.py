@@ -5,7 +5,6 @@ import importlib
 import json
 import subprocess
 import sys
-import textwrap
 import time
 
 import numpy as np

@@ -356,8 +356,13 @@ def _unknown(path: str, d: dict, allowed: set[str]) -> None:
         raise ConfigError(f"unknown key `{key}` (valid: {', '.join(sorted(allowed))})")
 
 
-def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
-    """Validate a configuration dict (as read from TOML) into a :class:`Config`."""
+def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True) -> Config:
+    """Validate a configuration dict (as read from TOML) into a :class:`Config`.
+
+    ``machine=False`` skips the checks that depend on this machine (that a
+    ``real_set`` folder exists here, that a scan fits in this machine's memory):
+    for a configuration saved by a run that already passed them (the report
+    reads a run made elsewhere)."""
     import scenes
 
     if not isinstance(data, dict):
@@ -390,7 +395,7 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     real_set = data.get("real_set", _default("real_set"))
     if not isinstance(real_set, str):
         raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r}")
-    if real_set and real_set != "shipped" and not Path(real_set).is_dir():
+    if machine and real_set and real_set != "shipped" and not Path(real_set).is_dir():
         raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r} (no such folder)")
     render_ahead = data.get("render_ahead", _default("render_ahead"))
     if not isinstance(render_ahead, bool):
@@ -472,7 +477,7 @@ def parse(data: dict[str, Any], source: str = "<dict>") -> Config:
     for i, e in enumerate(exps):
         frames = len(e.angles) if e.angles is not None else (e.n_angles or SCENE_DEFAULTS["n_angles"])
         need = estimate_memory_bytes(frames, width, height, len(specs))
-        if need > _memory_limit_bytes():
+        if machine and need > _memory_limit_bytes():
             raise ConfigError(f"`experiments[{i}]` needs about {need / 2**30:.1f} GiB of memory "
                               f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
                               f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")

@@ -14,7 +14,7 @@ from bench.evaluate.restore import restore_depth_map
 from bench.evaluate.stats import GROSS_MM, STATISTICS, WITHIN_MM, bootstrap_improvement, robust_summary
 from bench.evaluate.triangulation import depth_cm
 
-__all__ = ["true_depth_cm", "tracker_depth_cm", "scan_records", "draw_samples", "sample_table", "sample_columns",
+__all__ = ["true_depth_cm", "tracker_depth_cm", "restored_points", "scan_records", "draw_samples", "sample_table", "sample_columns",
            "improvements", "robust_table", "verdicts", "worst_frames"]
 
 
@@ -27,6 +27,49 @@ def true_depth_cm(scan) -> np.ndarray:
 def tracker_depth_cm(scan, name: str, rig) -> np.ndarray:
     """``R`` (cm) triangulated from a tracker's columns, (F, H)."""
     return depth_cm(scan.columns[name], rig)
+
+
+def restored_points(scan, name: str | None, rig, restore: str = "rows"):
+    """3-D points of the ground truth (``name=None``) or of a tracker's restored
+    surface, for the report's shape figures.
+
+    Parameters
+    ----------
+    scan : ScanResult
+        One experiment's scan (frames x rows).
+    name : str or None
+        Tracker label, or None for the ground truth.
+    rig : scenes.rig.Rig
+        The rig of eqs. (3), (4), (7).
+    restore : str
+        How missed rows are filled (:func:`bench.evaluate.restore.restore_depth_map`).
+
+    Returns
+    -------
+    points : numpy.ndarray, shape (F, H, 3), cm
+        NaN away from the object (a margin of one cell is kept).
+    errors : numpy.ndarray, shape (F, H), mm, or None
+        Restored depth minus the true depth, as in :func:`scan_records`; None for the truth.
+    """
+    from bench.evaluate.triangulation import points_from_depth
+
+    F, H = scan.truth_columns.shape
+    if name is None:
+        pts = scan.truth_points_cm.copy()
+        pts[~scan.on_object] = np.nan
+        return pts, None
+    r, _ = restore_depth_map(tracker_depth_cm(scan, name, rig), restore)
+    pts = points_from_depth(r, np.arange(H, dtype=float)[None, :], scan.angles[:, None], rig)
+    r_true = true_depth_cm(scan)
+    err = 10.0 * (r - r_true)
+    # show the object: the cells whose true point is on the object (and a margin of one)
+    on = scan.on_object.copy()
+    on[1:] |= scan.on_object[:-1]
+    on[:-1] |= scan.on_object[1:]
+    on[:, 1:] |= scan.on_object[:, :-1]
+    on[:, :-1] |= scan.on_object[:, 1:]
+    pts[~on] = np.nan
+    return pts, err
 
 
 def scan_records(scan, rig, experiment, *, object_only: bool = False, restore: str = "rows") -> list[dict]:

@@ -22,37 +22,12 @@ from pathlib import Path
 import numpy as np
 
 from bench.evaluate.metrics import hit_rate
+from bench.evaluate.tables import restored_points
 from bench.store.runfolder import load_run
 from bench.store.files import atomic_write_text
 from bench.run.scan import ScanResult
 
 __all__ = ["build_report", "make_figures", "verdict_sentence", "glance_table"]
-
-
-def _restored_points(arrays, name: str | None, rig, restore: str = "rows"):
-    """(F, H, 3) points of the ground truth (``name=None``) or of a tracker's
-    restored surface, and (F, H) depth errors (mm) of that surface (None for the truth)."""
-    from bench.evaluate.restore import restore_depth_map
-    from bench.evaluate.triangulation import depth_cm, points_from_depth
-
-    scan = ScanResult.from_arrays("", arrays)
-    F, H = scan.truth_columns.shape
-    if name is None:
-        pts = scan.truth_points_cm.copy()
-        pts[~scan.on_object] = np.nan
-        return pts, None
-    r, _ = restore_depth_map(depth_cm(scan.columns[name], rig), restore)
-    pts = points_from_depth(r, np.arange(H, dtype=float)[None, :], scan.angles[:, None], rig)
-    r_true = np.hypot(scan.truth_points_cm[..., 0], scan.truth_points_cm[..., 1])
-    err = 10.0 * (r - r_true)
-    # show the object: the cells whose true point is on the object (and a margin of one)
-    on = scan.on_object.copy()
-    on[1:] |= scan.on_object[:-1]
-    on[:-1] |= scan.on_object[1:]
-    on[:, 1:] |= scan.on_object[:, :-1]
-    on[:, :-1] |= scan.on_object[:, 1:]
-    pts[~on] = np.nan
-    return pts, err
 
 
 def _groups(summary) -> list[tuple[str, str, list[str]]]:
@@ -265,7 +240,7 @@ def _sweeps(cfg) -> list[tuple[str, str, list[str]]]:
     override: (title, key, experiment keys) for each such family of 3 or more."""
     from bench.config import parse
 
-    exps = parse(cfg).experiments
+    exps = parse(cfg, "summary.json", machine=False).experiments
     fams: dict = {}
     for e in exps:
         for k, v in e.overrides.items():
@@ -290,7 +265,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
     data = load_run(run_dir, say=_warn) if data is None else data
     summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
     cfg = summary["config"]
-    config = parse(cfg)
+    config = parse(cfg, "summary.json", machine=False)
     figdir = run_dir / "figures"
     figdir.mkdir(exist_ok=True)
     for old in figdir.glob("*.png"):  # figures of an earlier report must not linger
@@ -351,10 +326,11 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
         rig = scenes.make(exp.scene, width=int(cfg["render"].get("width", 512)),
                           height=int(cfg["render"].get("height", 480))).rig
         names = [n for n in show if n in {str(x) for x in arrays["trackers"]}]
-        surf = {"ground truth": _restored_points(arrays, None, rig)[0]}
+        scan = ScanResult.from_arrays("", arrays)
+        surf = {"ground truth": restored_points(scan, None, rig)[0]}
         errs = {}
         for n in names:
-            surf[n], errs[n] = _restored_points(arrays, n, rig, summary.get("restore", "rows"))
+            surf[n], errs[n] = restored_points(scan, n, rig, summary.get("restore", "rows"))
         try:
             out["shapes"].append(figures.fig_shapes(surf, figdir / f"shape_{exp.key}.png", title=exp.key,
                                                     errors_mm=errs))

@@ -2,6 +2,8 @@
 
 import re
 
+import pytest
+
 from bench.report.run import _sweeps, glance_table, verdict_sentence
 
 
@@ -46,3 +48,23 @@ def test_sweep_families_are_experiments_differing_in_one_numeric_override():
                     "baselines": [], "dp": []})
     assert fams == [("cone/patchy", "ambient_lux", ["cone-patchy_ambient_lux=0.0", "cone-patchy_ambient_lux=400.0",
                                                     "cone-patchy_ambient_lux=1000.0"])]
+
+
+def test_a_report_reads_only_what_the_run_saved(tiny_run, tmp_path, monkeypatch):
+    """A run's report is rebuilt where the run's real set is gone and the machine has less memory."""
+    import json
+    import shutil
+
+    from bench import config as config_mod
+    from bench.report.run import build_report
+
+    out, _ = tiny_run
+    copy = tmp_path / "moved"
+    shutil.copytree(out, copy)
+    summary = json.loads((copy / "summary.json").read_text())
+    summary["config"]["real_set"] = str(tmp_path / "a-real-set-that-was-moved")
+    (copy / "summary.json").write_text(json.dumps(summary))
+    monkeypatch.setattr(config_mod, "_memory_limit_bytes", lambda: 1)
+    with pytest.raises(config_mod.ConfigError):  # the live checks would refuse this configuration here
+        config_mod.parse(summary["config"])
+    assert build_report(copy, quiet=True).is_file()

@@ -31,7 +31,7 @@ __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "Imag
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
            "load_dataset", "validate_dataset", "read_reference", "synthetic_hit_rates"]
 
-#: The real set shipped with stripebench (13 photographs from 3 public rigs, see docs/real.md).
+#: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
 CHANNELS = ("auto", "r", "g", "b", "gray", "excess")
 LASERS = ("red", "green", "blue")

@@ -92,18 +92,28 @@ class TrackerSpec:
     label: str
     name: str
     params: dict[str, Any] = field(default_factory=dict)
+    #: seconds one frame may take; a slower frame fails with status ``timeout`` (None: no limit)
+    timeout_s: float | None = None
+    #: run the tracker in its own worker process: a hang, segfault or exit fails its frames, not the run
+    isolate: bool = False
 
     def make(self):
-        """A new tracker of this setting."""
+        """A new tracker of this setting (run it through :func:`bench.run.track.build_trackers`
+        to honour ``timeout_s`` and ``isolate``)."""
         import trackers
 
         return trackers.make(self.name, **self.params)
 
     def to_value(self):
         """The configuration value: the bare name when it is a plain default setting."""
-        if self.label == self.name and not self.params:
+        if self.label == self.name and not self.params and self.timeout_s is None and not self.isolate:
             return self.name
-        return {"label": self.label, "name": self.name, "params": dict(self.params)}
+        out = {"label": self.label, "name": self.name, "params": dict(self.params)}
+        if self.timeout_s is not None:
+            out["timeout_s"] = self.timeout_s
+        if self.isolate:
+            out["isolate"] = True
+        return out
 
 
 _LABEL_CHARS = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.")
@@ -113,9 +123,9 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
     if isinstance(value, str):
         spec = TrackerSpec(value, value, {})
     elif isinstance(value, dict):
-        extra = sorted(set(value) - {"label", "name", "params"})
+        extra = sorted(set(value) - {"label", "name", "params", "timeout_s", "isolate"})
         if extra:
-            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params)")
+            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params, timeout_s, isolate)")
         name = value.get("name")
         if not isinstance(name, str):
             raise ConfigError(f"`{path}.name` must be a tracker name, got {name!r}")
@@ -123,7 +133,14 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
         params = value.get("params", {})
         if not isinstance(params, dict):
             raise ConfigError(f"`{path}.params` must be a table, got {params!r}")
-        spec = TrackerSpec(label, name, dict(params))
+        timeout_s = value.get("timeout_s")
+        if timeout_s is not None and (not isinstance(timeout_s, numbers.Real) or isinstance(timeout_s, bool)
+                                      or not 0 < timeout_s <= 86400):
+            raise ConfigError(f"`{path}.timeout_s` must be a number of seconds in (0, 86400], got {timeout_s!r}")
+        isolate = value.get("isolate", False)
+        if not isinstance(isolate, bool):
+            raise ConfigError(f"`{path}.isolate` must be true or false, got {isolate!r}")
+        spec = TrackerSpec(label, name, dict(params), None if timeout_s is None else float(timeout_s), isolate)
     else:
         raise ConfigError(f"`{path}` must be a tracker name or a table {{label, name, params}}, got {value!r}")
     if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= _LABEL_CHARS:
@@ -257,7 +274,8 @@ class Config:
     render_ahead: bool = True
 
     def make_trackers(self) -> dict:
-        """label -> a new tracker of each setting, in configuration order."""
+        """label -> a new tracker of each setting, in configuration order (plain trackers:
+        :func:`bench.run.track.build_trackers` adds ``timeout_s`` and ``isolate``)."""
         return {s.label: s.make() for s in self.tracker_specs}
 
     def to_dict(self) -> dict[str, Any]:

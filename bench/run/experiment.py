@@ -18,7 +18,8 @@ from bench.run import renderahead
 from bench.config import Config
 from bench.store.runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
                         write_tables)
-from bench.run.scan import STATUS, pending_frames, run_scan
+from bench.run.scan import pending_frames, run_scan
+from bench.run.track import STATUS, build_trackers
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.evaluate.stats import GROSS_MM, WITHIN_MM
 
@@ -93,7 +94,7 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     """
     t_start = time.perf_counter()
     out = Path(out_dir) if out_dir is not None else default_run_dir(config)
-    tracker_objs = config.make_trackers()
+    tracker_objs = build_trackers(config.tracker_specs)
     folder = RunFolder(out)
     folder.open(config.identity(), code_fingerprint(tracker_objs.values()), force=force,
                 say=lambda m: _say(m, False))  # damaged or stale files: always said

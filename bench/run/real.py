@@ -33,6 +33,7 @@ import numpy as np
 
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
+from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.files import atomic_write_bytes, atomic_write_text
 
@@ -119,19 +120,16 @@ def write_track_csv(path, labels: list[str], results: dict) -> None:
 
 
 def _track_all(trackers: dict, frame, background):
-    """label -> (Track, ms, status, message); a failing tracker gives an empty track."""
+    """label -> (Track, ms, status, message) by :func:`bench.run.track.track_frame`: a failing
+    tracker (it raised, returned columns outside the image, timed out, crashed) gives an empty
+    track and its :data:`~bench.run.track.STATUS` name; ``"ok"`` otherwise."""
     from trackers import Track
 
     out = {}
     for lab, t in trackers.items():
-        t0 = time.perf_counter()
-        try:
-            tr = t.track(frame, background=background)
-            status, msg = "ok", ""
-        except Exception as exc:  # a tracker's failure is recorded, the run goes on
-            tr = Track.empty(frame.shape[0])
-            status, msg = "failed", f"{type(exc).__name__}: {exc}".splitlines()[0]
-        out[lab] = (tr, 1e3 * (time.perf_counter() - t0), status, msg)
+        r = track_frame(t, frame, background)
+        tr = Track(r.columns, r.score) if r.ok else Track.empty(frame.shape[0])
+        out[lab] = (tr, 1e3 * r.seconds, STATUS[r.status], r.message)
     return out
 
 
@@ -147,7 +145,7 @@ def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, c
     err = sys.stderr if err is None else err
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    trackers = {s.label: s.make() for s in specs}
+    trackers = build_trackers(specs)
     labels = list(trackers)
     paths = [Path(p) for p in paths]
     given = {p.resolve() for p in paths}
@@ -213,7 +211,7 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
     config = {"dataset": str(Path(dataset)), "trackers": [s.to_value() for s in specs], "tol_px": tol_px,
               "n_boot": n_boot, "seed": seed, "images": [im.name for im in images]}
     atomic_write_text(out / "config.json", json.dumps(config, indent=2))
-    trackers = {s.label: s.make() for s in specs}
+    trackers = build_trackers(specs)
     labels = list(trackers)
     records = []
     for k, im in enumerate(images):

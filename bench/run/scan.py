@@ -1,68 +1,31 @@
 """One experiment's scan: render every mirror angle, run every tracker on it.
 
-The unit of work is :func:`track_frame` (one frame, one tracker: pure). A scan
+The unit of work is :func:`bench.run.track.track_frame` (one frame, one tracker: pure). A scan
 keeps its results in one ``.npz`` checkpoint, written atomically after every
 few frames and when interrupted, so a rerun resumes where it stopped (the
 renders themselves come back from the scenes' disk cache).
 
 A tracker that raises, returns something other than a :class:`trackers.Track`
-of the frame's height, or reports columns outside the image is recorded as
-*failed* for that frame (NaN columns, a status code and the message); the scan
-goes on.
+of the frame's height, reports columns outside the image, times out or crashes
+is recorded as *failed* for that frame (NaN columns, a status code of
+:data:`bench.run.track.STATUS` and the message); the scan goes on.
 """
 
 from __future__ import annotations
 
 import sys
 import time
-import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from bench.run.track import track_frame
 from bench.store.files import save_npz
 
-__all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "pending_frames", "scan_fingerprint", "STATUS"]
+__all__ = ["ScanResult", "run_scan", "pending_frames", "scan_fingerprint"]
 
-STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image"}
 _CHECKPOINT_S = 10.0
-
-
-@dataclass(frozen=True)
-class TrackResult:
-    """One tracker on one frame."""
-
-    columns: np.ndarray  # (H,) float64
-    score: np.ndarray  # (H,) float64
-    seconds: float
-    status: int
-    message: str
-
-
-def track_frame(tracker, image, background) -> TrackResult:
-    """Run ``tracker`` on one frame and check what it returns (never raises)."""
-    import trackers
-
-    H, W = image.shape
-    nan = np.full(H, np.nan)
-    t0 = time.perf_counter()
-    try:
-        out = tracker.track(image, background=background)
-    except Exception as exc:  # a tracker's failure is data, not a crash
-        dt = time.perf_counter() - t0
-        tb = traceback.extract_tb(exc.__traceback__)[-1]
-        return TrackResult(nan, nan, dt, 1, f"{type(exc).__name__}: {exc} ({Path(tb.filename).name}:{tb.lineno})")
-    dt = time.perf_counter() - t0
-    if not isinstance(out, trackers.Track):
-        return TrackResult(nan, nan, dt, 2, f"returned {type(out).__name__}, not Track")
-    if out.columns.shape != (H,):
-        return TrackResult(nan, nan, dt, 2, f"returned {out.columns.shape[0]} rows for a frame of {H}")
-    cols = out.columns
-    bad = ~np.isnan(cols) & ((cols < -0.5) | (cols > W - 0.5))
-    if bad.any():
-        return TrackResult(nan, nan, dt, 3, f"{int(bad.sum())} column(s) outside the image, e.g. {cols[bad][0]!r}")
-    return TrackResult(np.array(cols), np.array(out.score), dt, 0, "")
 
 
 @dataclass

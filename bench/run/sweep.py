@@ -238,7 +238,8 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
 
     from bench.evaluate import tables as analysis
     from bench.config import Experiment, parse_trackers
-    from bench.run.scan import _empty, track_frame
+    from bench.run.scan import _empty
+    from bench.run.track import build_trackers, track_frame
     from bench.store.provenance import source_fingerprint
     from bench.evaluate.stats import robust_summary
 
@@ -257,7 +258,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
 
     t1 = time.perf_counter()
     specs = parse_trackers(spec["trackers"])
-    trackers_ = {s.label: s.make() for s in specs}
+    trackers_ = build_trackers(specs)
     names = list(trackers_)
     H, W = batch.rig.height, batch.rig.width
     blank = np.zeros((H, W), np.uint8)

@@ -66,6 +66,7 @@ def tracker_source_files(trackers_) -> list[Path]:
     """
     seen: set[Path] = set()
     for t in trackers_:
+        t = getattr(t, "wrapped", t)  # a timed or isolated tracker: the tracker it runs
         for cls in type(t).__mro__:
             top = cls.__module__.split(".")[0]
             if top in ("builtins", "abc", "trackers"):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import trackers
-from bench.run.scan import ScanResult, run_scan, track_frame
+from bench.run.scan import ScanResult, run_scan
 from scenes import Frame, Truth
 from trackers import Track, Tracker
 from trackers.testing import make_stripe_image
@@ -60,20 +60,6 @@ class NotATrack(Tracker):
 
     def _track(self, image, background):
         return np.zeros(image.shape[0])
-
-
-def test_track_frame_records_failures_instead_of_raising():
-    img, _ = make_stripe_image(20, 30)
-    ok = track_frame(trackers.make("centroid"), img, None)
-    assert ok.status == 0 and ok.message == "" and not np.isnan(ok.columns).all()
-    r = track_frame(Raises(), img, None)
-    assert r.status == 1 and "RuntimeError: boom" in r.message and np.isnan(r.columns).all()
-    w = track_frame(WrongShape(), img, None)
-    assert w.status == 1 and "returned 22 rows for an image of 20" in w.message
-    o = track_frame(Outside(), img, None)
-    assert o.status == 3 and "outside the image" in o.message
-    n = track_frame(NotATrack(), img, None)
-    assert n.status == 1 and "AttributeError" in n.message  # Tracker.track reads .columns
 
 
 def test_scan_goes_on_past_failing_trackers_and_resumes(tmp_path):

@@ -20,3 +20,25 @@ def _private_render_cache_and_runs(tmp_path_factory):
             os.environ.pop(k, None)
         else:
             os.environ[k] = v
+
+
+@pytest.fixture
+def register_tracker():
+    """``register(name, factory, *, replace=False)``: a tracker registered for one test through the
+    public registry (``trackers.register``), removed after it; ``replace=True`` swaps a registered
+    one and restores it afterwards."""
+    import trackers
+
+    undo = []
+
+    def register(name, factory, *, replace=False):
+        old = trackers.unregister(name) if replace else None
+        trackers.register(name, factory)
+        undo.append((name, old))
+        return factory
+
+    yield register
+    for name, old in reversed(undo):
+        trackers.unregister(name)
+        if old is not None:
+            trackers.register(name, old)

@@ -15,7 +15,7 @@ pyvista; built-in trackers are imported when first made, third-party ones
 from ._base import Track, Tracker
 from ._registry import ENTRY_POINT_GROUP, Registry
 
-__all__ = ["Track", "Tracker", "available", "make", "register", "ENTRY_POINT_GROUP"]
+__all__ = ["Track", "Tracker", "available", "make", "register", "unregister", "ENTRY_POINT_GROUP"]
 
 _REGISTRY = Registry(ENTRY_POINT_GROUP)
 for _name, _target in {
@@ -54,3 +54,9 @@ def register(name: str, factory=None):
     """Register a tracker factory (class, callable or ``'module:attr'``) under
     ``name``; usable as a decorator. Raises ``ValueError`` if the name is taken."""
     return _REGISTRY.register(name, factory)
+
+
+def unregister(name: str):
+    """Remove the tracker ``name`` and return its factory (tests and notebooks swap trackers
+    with it). Raises ``KeyError`` if no tracker has that name."""
+    return _REGISTRY.unregister(name)

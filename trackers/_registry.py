@@ -62,6 +62,20 @@ class Registry:
 
         return add if factory is None else add(factory)
 
+    def unregister(self, name: str):
+        """Remove ``name`` and return its factory (for tests and notebooks that swap a tracker).
+
+        Raises
+        ------
+        KeyError
+            If no tracker has that name.
+        """
+        self._load_plugins()
+        try:
+            return self._factories.pop(name)
+        except (KeyError, TypeError):
+            raise KeyError(f"no tracker named {name!r} is registered") from None
+
     def _load_plugins(self) -> None:
         if self._plugins_loaded:
             return

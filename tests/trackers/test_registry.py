@@ -111,3 +111,13 @@ def test_entry_points_are_loaded_lazily_and_broken_ones_warn(tmp_path, monkeypat
     assert t.name == "plug" and t.track(np.ones((3, 3))).columns.tolist() == [0.0, 0.0, 0.0]
     # loaded once: no second round of warnings
     assert reg.available() == ["plug", "threshold"]
+
+
+def test_unregister_returns_the_factory_and_refuses_an_unknown_name():
+    import trackers as T
+
+    T.register("sb-temporary", T.make("dp4").__class__)
+    assert T.unregister("sb-temporary") is T.make("dp4").__class__
+    assert "sb-temporary" not in T.available()
+    with pytest.raises(KeyError, match="no tracker named 'sb-temporary'"):
+        T.unregister("sb-temporary")

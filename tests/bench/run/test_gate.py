@@ -8,7 +8,6 @@ import pandas as pd
 import pytest
 
 import scenes
-import trackers
 from bench.run import gate
 from bench.cli import main
 from bench.config import parse
@@ -30,12 +29,12 @@ def test_a_run_passes_against_its_own_baseline(good_run, capsys):
     assert "0 failed" in capsys.readouterr().out
 
 
-def test_a_degraded_tracker_fails_the_gate_and_is_named(good_run, gate_dict, tmp_path, monkeypatch, capsys):
+def test_a_degraded_tracker_fails_the_gate_and_is_named(good_run, gate_dict, tmp_path, register_tracker, capsys):
     out, base = good_run
     # the same configuration, but `threshold` built with a threshold no stripe reaches
-    factories = trackers._REGISTRY._factories
-    original = factories["threshold"]
-    monkeypatch.setitem(factories, "threshold", lambda **kw: original(threshold=254.0))
+    from trackers.threshold import ThresholdTracker
+
+    register_tracker("threshold", lambda **kw: ThresholdTracker(threshold=254.0), replace=True)
     bad = run(parse(gate_dict), tmp_path / "bad", progress=False, quiet=True)
     assert main(["check", str(bad), "--baseline", str(base)]) == 1
     captured = capsys.readouterr()
@@ -96,7 +95,8 @@ class Oracle(Tracker):
         return Track(cols, np.where(np.isnan(cols), np.nan, 1.0))
 
 
-def test_oracle_scores_zero_error_and_full_coverage_through_the_harness(gate_dict, tmp_path, monkeypatch):
+def test_oracle_scores_zero_error_and_full_coverage_through_the_harness(gate_dict, tmp_path, monkeypatch,
+                                                                        register_tracker):
     render = scenes.Scene.render
 
     def recording_render(self, *a, **kw):
@@ -105,7 +105,7 @@ def test_oracle_scores_zero_error_and_full_coverage_through_the_harness(gate_dic
         return f
 
     monkeypatch.setattr(scenes.Scene, "render", recording_render)
-    monkeypatch.setitem(trackers._REGISTRY._factories, "oracle", Oracle)
+    register_tracker("oracle", Oracle)
     cfg = parse({**gate_dict, "trackers": ["oracle", "threshold"], "baselines": ["threshold"], "dp": ["oracle"]})
     out = run(cfg, tmp_path / "oracle", progress=False, quiet=True)
     m = pd.read_parquet(out / "metrics.parquet")
@@ -124,8 +124,8 @@ class Raising(Tracker):
         raise ZeroDivisionError("tracker bug")
 
 
-def test_a_failing_tracker_is_recorded_and_reported(gate_dict, tmp_path, monkeypatch):
-    monkeypatch.setitem(trackers._REGISTRY._factories, "raising", Raising)
+def test_a_failing_tracker_is_recorded_and_reported(gate_dict, tmp_path, register_tracker):
+    register_tracker("raising", Raising)
     cfg = parse({**gate_dict, "trackers": ["threshold", "raising"], "dp": [], "baselines": []})
     out = run(cfg, tmp_path / "fails", progress=False, quiet=True)
     build_report(out, quiet=True)

@@ -10,7 +10,6 @@ import time
 import numpy as np
 import pytest
 
-import trackers
 from bench.store import runfolder
 from bench.config import parse
 from bench.run.experiment import run
@@ -183,20 +182,20 @@ OFFSET = {offset}
 
 
 @pytest.mark.slow
-def test_an_edited_plugin_tracker_invalidates_its_checkpoint(gate_dict, tmp_path, monkeypatch):
+def test_an_edited_plugin_tracker_invalidates_its_checkpoint(gate_dict, tmp_path, monkeypatch, register_tracker):
     mod_path = tmp_path / "sb_edit_plugin.py"
     mod_path.write_text(_PLUGIN.format(offset=0.0))
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.delitem(sys.modules, "sb_edit_plugin", raising=False)
     mod = importlib.import_module("sb_edit_plugin")
-    monkeypatch.setitem(trackers._REGISTRY._factories, "sbplug", mod.Plug)
+    register_tracker("sbplug", mod.Plug)
     cfg = parse({**gate_dict, "trackers": ["threshold", "sbplug"], "baselines": ["threshold"], "dp": ["sbplug"]})
     out = run(cfg, tmp_path / "r", progress=False, quiet=True)
     first = (out / "metrics.csv").read_text()
     # edit the plugin's source: the same configuration, other code
     mod_path.write_text(_PLUGIN.format(offset=0.25) + "\n# edited\n")
     mod = importlib.reload(mod)
-    monkeypatch.setitem(trackers._REGISTRY._factories, "sbplug", mod.Plug)
+    register_tracker("sbplug", mod.Plug, replace=True)
     mod.CALLS.clear()
     run(cfg, out, progress=False, quiet=True)
     assert len(mod.CALLS) > 0, "the old checkpoint was resumed"

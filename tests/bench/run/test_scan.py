@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import trackers
-from bench.run.scan import ScanResult, run_scan, track_frame
+from bench.run.scan import run_scan, track_frame
+from bench.store.checkpoint import ScanResult
 from scenes import Frame, Truth
 from trackers import Track, Tracker
 from trackers.testing import make_stripe_image
@@ -80,12 +81,12 @@ def test_scan_goes_on_past_failing_trackers_and_resumes(tmp_path):
     scene = SyntheticScene()
     trs = {"centroid": trackers.make("centroid"), "raises": Raises(), "outside": Outside()}
     ckpt = tmp_path / "scan.npz"
-    res, _ = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    res = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert res.complete and scene.renders == 3
     assert (res.status["raises"] == 1).all() and (res.status["outside"] == 3).all()
     assert (res.status["centroid"] == 0).all() and np.nanmax(np.abs(res.columns["centroid"] - res.truth_columns)) < 1
     # the checkpoint holds everything; a rerun renders nothing
-    again, _ = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    again = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert scene.renders == 3
     assert np.array_equal(again.columns["centroid"], res.columns["centroid"], equal_nan=True)
     assert again.messages["raises"][0].startswith("RuntimeError: boom")
@@ -108,7 +109,7 @@ def test_interrupted_scan_keeps_finished_frames(tmp_path):
     saved = ScanResult.from_arrays("syn", load_npz(ckpt))
     assert saved.done.tolist() == [True, True, False, False]
     fresh = SyntheticScene()
-    res, _ = run_scan("syn", fresh, [0.0, 1.0, 2.0, 3.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    res = run_scan("syn", fresh, [0.0, 1.0, 2.0, 3.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert fresh.renders == 2 and res.complete  # only the two missing frames
 
 
@@ -147,7 +148,7 @@ def test_a_damaged_checkpoint_is_reported_in_one_line_and_recomputed(damage, tmp
     scene = SyntheticScene()
     ckpt = tmp_path / "scan.npz"
     trs = {"threshold": trackers.make("threshold")}
-    first, _ = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    first = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     arrays = load_npz(ckpt)
     if damage == "columns of another height":
         arrays["columns/threshold"] = np.zeros((2, 7))
@@ -161,7 +162,7 @@ def test_a_damaged_checkpoint_is_reported_in_one_line_and_recomputed(damage, tmp
         ckpt.write_bytes(bytes(data))
     notes = []
     fresh = SyntheticScene()
-    res, _ = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False,
+    res = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False,
                       say=notes.append)
     assert fresh.renders == 2 and len(notes) == 1 and "recomputing" in notes[0]
     np.testing.assert_array_equal(res.columns["threshold"], first.columns["threshold"])

@@ -148,7 +148,7 @@ def _check_values(a: dict, names: list[str]) -> None:
     for n in names:
         bad = ~np.isin(a[f"status/{n}"], list(STATUS))
         if bad.any():
-            raise ValueError(f"array 'status/{n}' holds the unknown status {a[f'status/{n}'][bad][0]!r}")
+            raise ValueError(f"array 'status/{n}' holds the unknown status {a[f'status/{n}'][bad][0].item()!r}")
 
 
 def _checked_false_columns(fc, F: int, H: int):

@@ -200,11 +200,17 @@ class RunFolder:
             raise os_error("create run folder", self.path, exc) from None
         if not os.access(self.path, os.W_OK | os.X_OK):
             raise RunFolderError(f"cannot write to run folder {str(self.path)!r}: permission denied")
+        had_lock = (self.path / LOCK_FILE).exists()
         self.lock(say)
         try:
             self._claim(config_dict, code_fingerprint, force, say)
         except BaseException:
             self.unlock()
+            if not had_lock:  # a refused folder is left as it was found
+                try:
+                    (self.path / LOCK_FILE).unlink()
+                except OSError:
+                    pass
             raise
         return self
 

@@ -52,7 +52,8 @@ def summary_kind(doc: dict) -> str:
 
 
 def _type_name(typ) -> str:
-    return " or ".join(t.__name__ for t in typ) if isinstance(typ, tuple) else typ.__name__
+    name = " or ".join(t.__name__ for t in typ) if isinstance(typ, tuple) else typ.__name__
+    return ("an " if name[0] in "aeiou" else "a ") + name
 
 
 def _problem(doc: dict, kind: str) -> str | None:
@@ -61,7 +62,7 @@ def _problem(doc: dict, kind: str) -> str | None:
     for key, typ in REQUIRED[kind].items():
         v = doc.get(key)
         if not isinstance(v, typ) or isinstance(v, bool):
-            return f"`{key}` missing or not a {_type_name(typ)}"
+            return f"`{key}` missing or not {_type_name(typ)}"
     if kind == "run":
         cfg = doc["config"]
         if not isinstance(cfg.get("render"), dict) or not isinstance(cfg.get("experiments"), list):

@@ -166,3 +166,31 @@ def test_a_damaged_checkpoint_is_reported_in_one_line_and_recomputed(damage, tmp
                       say=notes.append)
     assert fresh.renders == 2 and len(notes) == 1 and "recomputing" in notes[0]
     np.testing.assert_array_equal(res.columns["threshold"], first.columns["threshold"])
+
+
+def test_a_checkpoint_edited_on_disk_is_recomputed_with_one_line(tmp_path):
+    from bench.store.files import load_npz, save_npz
+
+    scene = SyntheticScene()
+    ckpt = tmp_path / "scan.npz"
+    trs = {"threshold": trackers.make("threshold")}
+    first = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    arrays = load_npz(ckpt)
+    arrays["columns/threshold"] = arrays["columns/threshold"] + 3.0  # every column shifted 3 px
+    save_npz(ckpt, **arrays)
+    notes = []
+    fresh = SyntheticScene()
+    res = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False, say=notes.append)
+    assert fresh.renders == 2 and len(notes) == 1 and "edited or damaged" in notes[0] and "recomputing" in notes[0]
+    np.testing.assert_array_equal(res.columns["threshold"], first.columns["threshold"])
+
+
+def test_a_directory_in_the_checkpoints_place_is_removed_and_the_scan_computed(tmp_path):
+    ckpt = tmp_path / "scan.npz"
+    (ckpt / "junk").mkdir(parents=True)
+    notes = []
+    scene = SyntheticScene()
+    res = run_scan("syn", scene, [0.0, 1.0], {"threshold": trackers.make("threshold")}, spp=1, seed=0,
+                   checkpoint=ckpt, progress=False, say=notes.append)
+    assert res.complete and ckpt.is_file()
+    assert len(notes) == 1 and "a directory, not a file (removed)" in notes[0]

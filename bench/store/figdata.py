@@ -17,7 +17,6 @@ per key ``<key>/image`` (H, W), ``<key>/truth`` (H,) px, ``<key>/labels`` (T,),
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 

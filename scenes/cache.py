@@ -12,9 +12,15 @@ mirror angle, seed, Mitsuba and drjit versions, the variant and
 
 Files are written to a temporary name in the same folder and moved into place
 with ``os.replace`` (atomic on POSIX), so concurrent workers never see half a
-file.  Each file also stores its own key (``__key__``).  A file that fails to
-load, holds another key or arrays whose shapes disagree is reported in one line
-on stderr and treated as missing (re-rendered and overwritten).
+file.  Each file also stores its own key (``__key__``) and the SHA-256 of its
+arrays (``__sha256__``: every name, dtype, shape and the bytes; entries written
+before it existed have none and are read unverified, so existing caches stay
+valid).  A file that fails to load, holds another key, arrays whose shapes
+disagree, arrays that do not match their checksum (edited or damaged), or a
+laser or ambient pass that is not finite (NaN or infinity: the sensor's Poisson
+noise would fail on it) is reported in one line on stderr and treated as
+missing (re-rendered and overwritten).  A directory or other non-file where an
+entry's file should be is reported in one line and removed.
 Location: ``cache_dir`` argument, else ``$STRIPEBENCH_CACHE_DIR``, else
 ``~/.cache/stripebench``.
 """
@@ -24,6 +30,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -31,7 +38,7 @@ from typing import Dict, Optional
 
 import numpy as np
 
-__all__ = ["CODE_VERSION", "ENV_CACHE_DIR", "cache_root", "key", "path", "load", "store"]
+__all__ = ["CODE_VERSION", "ENV_CACHE_DIR", "cache_root", "key", "path", "load", "store", "checksum"]
 
 CODE_VERSION = 1
 ENV_CACHE_DIR = "STRIPEBENCH_CACHE_DIR"
@@ -75,6 +82,24 @@ def path(root: Path, k: str) -> Path:
 
 
 _KEY = "__key__"
+_SUM = "__sha256__"
+_FINITE = ("laser", "ambient")  # the passes the sensor turns into Poisson means
+
+
+def checksum(arrays: Dict[str, np.ndarray]) -> str:
+    """Hex SHA-256 of an entry's arrays: every name, dtype, shape and the bytes, in name order.
+
+    Examples
+    --------
+    >>> checksum({"a": np.zeros(2)}) == checksum({"a": np.zeros(2)}), checksum({"a": np.zeros(2)}) == checksum({"a": np.ones(2)})
+    (True, False)
+    """
+    h = hashlib.sha256()
+    for name in sorted(arrays):
+        v = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}\0{v.dtype.str}\0{v.shape}\0".encode())
+        h.update(v.tobytes())
+    return h.hexdigest()
 
 
 def _problem(arrays: Dict[str, np.ndarray], k: str) -> Optional[str]:
@@ -82,6 +107,12 @@ def _problem(arrays: Dict[str, np.ndarray], k: str) -> Optional[str]:
     stored = arrays.get(_KEY)
     if stored is not None and str(stored) != k:
         return f"it holds the entry {str(stored)[:12]}..."
+    digest = arrays.get(_SUM)
+    if digest is not None and str(digest) != checksum({n: v for n, v in arrays.items() if n != _SUM}):
+        return "its checksum does not match its arrays (edited or damaged)"
+    for name, v in arrays.items():
+        if v.dtype.kind == "f" and (not np.isfinite(v).all() if name in _FINITE else np.isinf(v).any()):
+            return f"`{name}` holds {'NaN or infinity' if name in _FINITE else 'infinity'}"
     laser = arrays.get("laser")
     if laser is None:
         return None
@@ -103,6 +134,9 @@ def load(root: Path, k: str) -> Optional[Dict[str, np.ndarray]]:
     None, so the caller re-renders and overwrites it.
     """
     p = _path(root, k)
+    if p.is_dir() or (p.exists() and not p.is_file()):
+        _remove_non_file(p)
+        return None
     if not p.exists():
         return None
     try:
@@ -114,25 +148,53 @@ def load(root: Path, k: str) -> Optional[Dict[str, np.ndarray]]:
         why = _problem(arrays, k)
         if why is None:
             arrays.pop(_KEY, None)
+            arrays.pop(_SUM, None)
             return arrays
     print(f"stripebench: render cache entry {p} is {why if why.startswith('unreadable') else 'wrong: ' + why}: "
           "re-rendering", file=sys.stderr)
     return None
 
 
+def _remove_non_file(p: Path) -> None:
+    """Report (one line) and remove a directory or other non-file standing where an entry should be."""
+    kind = "a directory" if p.is_dir() else "not a regular file"
+    try:
+        shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
+        done = "removed; re-rendering"
+    except OSError as exc:
+        done = f"cannot be removed ({exc.strerror or exc}); remove it"
+    print(f"stripebench: render cache entry {p} is {kind}, not a file: {done}", file=sys.stderr)
+
+
 def store(root: Path, k: str, arrays: Dict[str, np.ndarray]) -> Path:
-    """Write ``arrays`` under ``k`` atomically; returns the file's path."""
+    """Write ``arrays`` under ``k`` atomically, with the key and the arrays' :func:`checksum`;
+    returns the file's path.
+
+    Raises
+    ------
+    OSError
+        With ``filename`` = the entry's path (a full disk, a read-only cache, a directory in its place).
+    """
     p = _path(root, k)
     p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=p.parent)
+    if p.is_dir() and not p.is_symlink():
+        _remove_non_file(p)
+    arrays = {**arrays, _KEY: np.array(k)}
+    arrays[_SUM] = np.array(checksum(arrays))
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=p.parent)
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror or str(exc), str(p)) from exc
     try:
         with os.fdopen(fd, "wb") as f:
-            np.savez(f, **arrays, **{_KEY: np.array(k)})
+            np.savez(f, **arrays)
         os.replace(tmp, p)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(exc, OSError) and exc.filename != str(p):
+            raise OSError(exc.errno, exc.strerror or str(exc), str(p)) from exc
         raise
     return p

@@ -301,7 +301,7 @@ def _cmd_track(args) -> int:
         except real.ImageError as exc:
             raise UsageError(f"--background: {exc}") from None
     failed = track_images(args.images, args.out, specs, background=args.background, pair=not args.no_pair,
-                          channel=args.channel, laser=args.laser, rotate_deg=args.rotate)
+                          channel=args.channel, laser=args.laser, rotate_deg=args.rotate, force=args.force)
     return 1 if failed else 0
 
 
@@ -334,15 +334,15 @@ def _cmd_real(args) -> int:
         args.out = runs_root() / f"real-{dataset.resolve().name}"
     try:
         out = run_real(dataset, args.out, specs, tol_px=args.tol, n_boot=args.n_boot, seed=args.seed or 0,
-                       quiet=args.quiet)
+                       quiet=args.quiet, force=args.force)
     except real.DatasetError as exc:
         for line in exc.problems:
             print(f"stripebench real: {line}", file=sys.stderr)
         return 2
     if not args.quiet:
-        import json
+        from bench.store.realrun import load_real_run
 
-        summary = json.loads((out / "summary.json").read_text())
+        summary = load_real_run(out)["summary"]
         print(f"{'tracker':<16}{'hit rate':>10}{'95 % CI':>18}{'MAE px':>9}{'coverage':>10}")
         for lab, s in summary["trackers"].items():
             h = s["hit_rate"]
@@ -371,7 +371,7 @@ def _cmd_sweep(args) -> int:
         raise UsageError("--workers sizes the local cluster; it cannot be combined with --scheduler ADDRESS")
     try:
         out = run_sweep(config, sweep, args.out, scheduler=args.scheduler, workers=args.workers, chunk=args.chunk,
-                        progress=not args.quiet, quiet=args.quiet, timeout_s=args.timeout)
+                        progress=not args.quiet, quiet=args.quiet, timeout_s=args.timeout, force=args.force)
     except SweepError as exc:
         raise UsageError(str(exc)) from None
     from bench.report.sweep import build_report
@@ -392,8 +392,12 @@ def _add_sweep_parser(sub) -> None:
     p.add_argument("--chunk", type=int, help="grid points per task (default: every point of a render batch)")
     p.add_argument("--timeout", type=float, help="give up after this many seconds (finished units are kept)")
     p.add_argument("--seed", type=_seed_arg, help="seed for renders, noise, samples")
+    p.add_argument("--force", action="store_true", help=_FORCE_HELP)
     p.add_argument("--quiet", action="store_true", help="no progress")
     p.set_defaults(func=_cmd_sweep)
+
+
+_FORCE_HELP = "clear --out first if it holds another configuration's or kind's run (or other files)"
 
 
 def _cmd_translucency(args) -> int:
@@ -465,6 +469,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--laser", default="red", choices=["red", "green", "blue"], help="laser colour (default red)")
     p.add_argument("--rotate", type=int, default=0, choices=[0, 90, 180, 270],
                    help="turn the image counter-clockwise first (for horizontal stripes)")
+    p.add_argument("--force", action="store_true", help=_FORCE_HELP + "; replace outputs written for another input")
     p.set_defaults(func=_cmd_track)
     p = sub.add_parser("real", help="evaluate trackers on a real set (manifest.csv, NAME.png, NAME_ref.csv)")
     p.add_argument("dataset", help="real-set folder (e.g. bench/data/real)")
@@ -474,6 +479,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--n-boot", type=int, default=2000, help="bootstrap resamples over images (default 2000)")
     p.add_argument("--seed", type=_seed_arg, help="bootstrap seed (default 0)")
     p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
+    p.add_argument("--force", action="store_true", help=_FORCE_HELP)
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=_cmd_real)
     p = sub.add_parser("compare", help="compare two runs' metrics (RUN_B against RUN_A); exit 1 if RUN_B is worse",

@@ -1,6 +1,6 @@
 """From scans to metric records, sample points and improvement statistics.
 
-Pure functions: a :class:`bench.run.scan.ScanResult`, a rig and numbers in,
+Pure functions: a :class:`bench.store.checkpoint.ScanResult`, a rig and numbers in,
 tables out. Depth is the paper's ``R`` (eq. 3), the distance from the mirror
 axis; errors are in mm.
 """

@@ -25,7 +25,6 @@ from bench.evaluate.metrics import hit_rate
 from bench.evaluate.tables import restored_points
 from bench.store.runfolder import load_run
 from bench.store.files import atomic_write_text
-from bench.run.scan import ScanResult
 
 __all__ = ["build_report", "make_figures", "verdict_sentence", "glance_table"]
 
@@ -276,10 +275,9 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
     if fd is not None:
         from trackers.dp import accumulated_cost
 
-        cols = {str(n): fd[f"columns/{n}"] for n in fd["trackers"]}
-        p = figures.fig_tracking(fd["image"], accumulated_cost(fd["image"], connectivity=4), cols,
-                                 fd["truth_columns"], figdir / "fig7_tracking.png",
-                                 title=f"{fd['experiment']} at mirror angle {float(fd['mirror_angle_deg']):.2f} deg "
+        p = figures.fig_tracking(fd.image, accumulated_cost(fd.image, connectivity=4), fd.columns,
+                                 fd.truth_columns, figdir / "fig7_tracking.png",
+                                 title=f"{fd.experiment} at mirror angle {fd.mirror_angle_deg:.2f} deg "
                                        "(the frame where the trackers miss most)")
         out["tracking"].append(p)
     stats = {(s["group"], s["dp"], s["baseline"], s["statistic"]): s for s in summary["improvement"]}
@@ -295,16 +293,13 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
                                                       stat=st, robust=r, within_mm=summary.get("within_mm", 5.0)))
     gal = data.get("gallery")
     if gal is not None:
-        for k, key in enumerate(str(x) for x in gal["keys"]):
-            exp, frame = key.rsplit("/", 1)
-            labels = [str(n) for n in gal[f"{key}/labels"]]
-            tracks = {n: gal[f"{key}/columns/{n}"] for n in labels}
-            truth = gal[f"{key}/truth"]
-            rate = {n: hit_rate(tracks[n], truth) for n in labels}
+        for k, g in enumerate(gal):
+            tracks, truth = g.columns, g.truth_columns
+            rate = {n: hit_rate(tracks[n], truth) for n in tracks}
             worst = ", ".join(f"{n} {rate[n]:.2f}" for n in sorted(rate, key=lambda n: rate[n])[:4])
-            out["gallery"].append(figures.fig_gallery(gal[f"{key}/image"], truth, tracks,
+            out["gallery"].append(figures.fig_gallery(g.image, truth, tracks,
                                                       figdir / f"gallery_{k:02d}.png",
-                                                      title=f"{exp}, frame {frame}: lowest hit rates {worst}"))
+                                                      title=f"{g.experiment}, frame {g.frame}: lowest hit rates {worst}"))
     if len(metrics):
         out["bars"].append(figures.fig_bars(metrics, figdir / "bars_hit_rate.png", "hit_rate"))
         for title, key, keys in _sweeps(cfg):
@@ -322,11 +317,10 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
         if exp.scene in done or exp.key not in data["scans"]:
             continue
         done.add(exp.scene)
-        arrays = data["scans"][exp.key]
+        scan = data["scans"][exp.key]
         rig = scenes.make(exp.scene, width=int(cfg["render"].get("width", 512)),
                           height=int(cfg["render"].get("height", 480))).rig
-        names = [n for n in show if n in {str(x) for x in arrays["trackers"]}]
-        scan = ScanResult.from_arrays("", arrays)
+        names = [n for n in show if n in scan.columns]
         surf = {"ground truth": restored_points(scan, None, rig)[0]}
         errs = {}
         for n in names:

@@ -104,7 +104,10 @@ def _img(path: Path) -> str:
 def build_report(sweep_dir) -> Path:
     """``figures/sweep.png`` and a self-contained ``report.html`` from a finished sweep folder."""
     sweep_dir = Path(sweep_dir)
-    summary = json.loads((sweep_dir / "summary.json").read_text())
+    from bench.store.summary import read_summary
+    from bench.store.sweepfiles import LAYOUT
+
+    summary = read_summary(sweep_dir / LAYOUT["summary"], kind="sweep")
     sd = summary["sweep"]
     (sweep_dir / "figures").mkdir(exist_ok=True)
     n_rep = sd.get("repeats", 1)

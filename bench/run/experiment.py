@@ -1,7 +1,9 @@
 """Run a configuration end to end: scans, metrics, samples, statistics.
 
 The run folder's layout, its lock and its readers live in
-:mod:`bench.store.runfolder`; the report is built afterwards by
+:mod:`bench.store.runfolder` (the checkpoints in :mod:`bench.store.checkpoint`,
+the figure data in :mod:`bench.store.figdata`, the summary's builder in
+:mod:`bench.store.summary`); the report is built afterwards by
 :func:`bench.report.run.build_report` (the command line does both).
 """
 
@@ -16,10 +18,13 @@ import numpy as np
 from bench.evaluate import tables as analysis
 from bench.run import renderahead
 from bench.config import Config
+from bench.store.checkpoint import STATUS
+from bench.store.figdata import FigData, GalleryFrame
 from bench.store.runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
                         write_tables)
+from bench.store.summary import build_summary
 from bench.run.scan import pending_frames, run_scan
-from bench.run.track import STATUS, build_trackers
+from bench.run.track import build_trackers
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.evaluate.stats import GROSS_MM, WITHIN_MM
 
@@ -36,17 +41,6 @@ def _conditions(config: Config) -> list[dict]:
     for e in config.experiments:
         out.setdefault(e.condition or e.key, []).append(e.key)
     return [{"condition": c, "experiments": keys} for c, keys in out.items()]
-
-
-def _gallery_arrays(gallery: dict) -> dict:
-    arrays = {"keys": np.array(sorted(gallery), dtype=str)}
-    for key, (image, truth, cols) in gallery.items():
-        arrays[f"{key}/image"] = image
-        arrays[f"{key}/truth"] = truth
-        arrays[f"{key}/labels"] = np.array(list(cols), dtype=str)
-        for n, c in cols.items():
-            arrays[f"{key}/columns/{n}"] = c
-    return arrays
 
 
 def _scene_for(experiment, config: Config):
@@ -107,25 +101,25 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
 def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, records, samples, scan_info,
               gallery):
     """Every experiment's scan in order, appending to ``records``, ``samples``, ``scan_info`` and
-    ``gallery``; returns Fig. 7's data (or None). ``helper`` (a started :class:`RenderAhead` or
+    ``gallery`` (:class:`GalleryFrame` s); returns Fig. 7's :class:`FigData` (or None). ``helper`` (a started :class:`RenderAhead` or
     None) is told which frame is rendered next."""
     fig7 = None
     for k, (exp, scene, angles) in enumerate(plan):
         _say(f"[{k + 1}/{len(plan)}] {exp.key}: {len(angles)} frames at "
              f"{scene.rig.width}x{scene.rig.height}", quiet)
         t0 = time.perf_counter()
-        res, _ = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
-                          checkpoint=folder.checkpoint(exp.key), progress=progress,
-                          say=lambda m: _say(m, False),  # damaged or stale files: always said
-                          on_frame=None if helper is None else (lambda i, k=k: helper.at(k, i)))
+        res = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
+                       checkpoint=folder.checkpoint(exp.key), progress=progress,
+                       say=lambda m: _say(m, False),  # damaged or stale files: always said
+                       on_frame=None if helper is None else (lambda i, k=k: helper.at(k, i)))
         wall = time.perf_counter() - t0
         worst = analysis.worst_frames(res, GALLERY_FRAMES)
         for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
             frame = scene.render(float(angles[i]), spp=scene.params["spp"], seed=config.seed)
-            gallery[f"{exp.key}/{i}"] = (frame.image, frame.truth.columns, {n: res.columns[n][i] for n in res.columns})
+            cols = {n: res.columns[n][i] for n in res.columns}
+            gallery.append(GalleryFrame(exp.key, int(i), frame.image, frame.truth.columns, cols))
             if fig7 is None:
-                fig7 = (exp.key, float(angles[i]), (frame.image, frame.background, frame.truth.columns),
-                        {n: res.columns[n][i] for n in res.columns})
+                fig7 = FigData(exp.key, float(angles[i]), frame.image, frame.background, frame.truth.columns, cols)
         rig = scene.rig
         for region in (False, True):
             records += analysis.scan_records(res, rig, exp, object_only=region, restore=config.restore)
@@ -145,7 +139,7 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
     import pandas as pd
 
     out = folder.path
-    records, samples, scan_info, gallery = [], [], [], {}
+    records, samples, scan_info, gallery = [], [], [], []
     plan = [(exp, scene, _angles(exp, scene)) for exp, scene in
             ((e, _scene_for(e, config)) for e in config.experiments)]
     helper, off = None, renderahead.reason_off(config.render_ahead, [scene for _, scene, _ in plan])
@@ -180,25 +174,20 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
             robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
                 by_cond, config.trackers, group_by="condition") if r["group"] != "all"]
     write_tables(out, metrics, samples_df)
-    write_gallery(out, **_gallery_arrays(gallery))
+    write_gallery(out, gallery)
     if fig7 is not None:
-        key, angle, (image, background, truth_cols), cols = fig7
-        write_figdata(out, experiment=np.array(key), mirror_angle_deg=np.array(angle), image=image,
-                 background=background, truth_columns=truth_cols, trackers=np.array(sorted(cols)),
-                 **{f"columns/{n}": c for n, c in cols.items()})
-    summary = {
-        "config": config.to_dict(), "config_source": config.source, "seed": config.seed,
-        "versions": versions(), "git_revision": git_revision(), "run_dir": str(out),
-        "variants": sorted({s["variant"] for s in scan_info}), "scans": scan_info,
-        "improvement": stats, "paper_improvement": PAPER_IMPROVEMENT, "restore": config.restore,
-        "robust": robust, "within_mm": WITHIN_MM, "gross_mm": GROSS_MM, "conditions": conditions,
-        "verdicts": analysis.verdicts(robust, stats, config.dp, config.baselines),
-        "coverage": _coverage_table(metrics), "status_codes": STATUS,
-        "wall_s": time.perf_counter() - t_start,
-        "render_ahead": helper.stop() if helper is not None else {"off": off},
-    }
-    if config.real_set:
-        summary["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)
+        write_figdata(out, fig7)
+    extra = {"sim_to_real": _sim_to_real(config, out, metrics, quiet)} if config.real_set else {}
+    summary = build_summary(
+        "run", config=config.to_dict(), config_source=config.source, seed=config.seed,
+        versions=versions(), git_revision=git_revision(), run_dir=str(out),
+        variants=sorted({s["variant"] for s in scan_info}), scans=scan_info,
+        improvement=stats, paper_improvement=PAPER_IMPROVEMENT, restore=config.restore,
+        robust=robust, within_mm=WITHIN_MM, gross_mm=GROSS_MM, conditions=conditions,
+        verdicts=analysis.verdicts(robust, stats, config.dp, config.baselines),
+        coverage=_coverage_table(metrics), status_codes=STATUS,
+        wall_s=time.perf_counter() - t_start,
+        render_ahead=helper.stop() if helper is not None else {"off": off}, **extra)
     write_summary(out, summary)
     return out
 
@@ -208,13 +197,14 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     ``<run>/real``) and compare each tracker's mean object hit rate over the
     experiments with its mean hit rate over the photographs."""
     from bench.evaluate import simreal
-    from bench.run.real import run_real
     from bench.store import realset as real
+    from bench.store.realrun import real_run_means
+    from bench.run.real import run_real
 
     dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
     _say(f"real set {dataset}: {len(config.tracker_specs)} trackers", quiet)
     rdir = run_real(dataset, out / "real", config.tracker_specs, seed=config.seed, n_boot=min(config.n_boot, 2000),
-                    quiet=True)
+                    quiet=True, force=True)  # a folder inside this run's, which this process holds
     rm = real_run_means(rdir)
     obj = metrics[metrics["region"] == "object"]
     synthetic = {str(k): float(v) for k, v in obj.groupby("tracker")["hit_rate"].mean().items()}
@@ -222,15 +212,6 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     result["dataset"] = str(config.real_set)
     result["sentences"] = simreal.sim_to_real_sentences(result)
     return result
-
-
-def real_run_means(real_dir) -> dict[str, float]:
-    """label -> mean hit rate over the images of a real run (its ``mean`` rows)."""
-    import pandas as pd
-
-    m = pd.read_parquet(Path(real_dir) / "metrics.parquet")
-    m = m[m["experiment"] == "mean"]
-    return {str(r.tracker): float(r.hit_rate) for r in m.itertuples()}
 
 
 def _coverage_table(metrics) -> list[dict]:

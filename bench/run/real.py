@@ -4,27 +4,20 @@
 ``score_<label>`` per tracker; rows of the frame the trackers saw, i.e. the
 image turned by ``--rotate``) and ``NAME_overlay.png`` (the photograph with a
 marker per row and tracker, one colour per label, in the photograph's own
-orientation).
+orientation), into an output folder guarded like every run folder (kind
+``track``: locked, one tracker setting per folder unless ``force``; inputs
+whose outputs would collide or that lie inside the folder refused).
 
 ``real`` evaluates trackers on a real set (layout in :mod:`bench.store.realset`) into a
-run folder::
-
-    config.json        dataset, trackers, tolerance, seed
-    metrics.parquet    one record per tracker x image (experiment = image name,
-    metrics.csv        region = "real"): hit_rate, mae_px, coverage, false_detections,
-                       n_ref, ms_per_frame, status, message; plus experiment = "mean"
-    tracks/NAME.csv    the columns of every tracker (as ``track`` writes them)
-    overlays/NAME.png  the photograph with every tracker's columns and the reference
-    summary.json       kind = "real", config, per-tracker means with bootstrap CIs, versions
-    report.html        tables and the overlays of the worst images per tracker
+run folder of kind ``real`` (its files: :mod:`bench.store.realrun`): per-image
+and mean metrics, the tracks and overlays of every image, ``summary.json`` with
+per-tracker means and bootstrap CIs, ``report.html``.
 """
 
 from __future__ import annotations
 
 import base64
 import html
-import io
-import json
 import sys
 import time
 from pathlib import Path
@@ -35,10 +28,9 @@ from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
 from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
-from bench.store.files import atomic_write_bytes, atomic_write_text
+from bench.store.realrun import write_track_csv
 
-__all__ = ["PALETTE", "REFERENCE_COLOUR", "track_images", "overlay", "run_real", "write_track_csv",
-           "build_real_report"]
+__all__ = ["PALETTE", "REFERENCE_COLOUR", "track_images", "overlay", "run_real", "build_real_report"]
 
 #: Marker colours (RGB) of the trackers, in the order given.
 PALETTE = [(255, 0, 255), (0, 255, 255), (255, 255, 0), (0, 128, 255), (255, 128, 0), (0, 255, 0), (255, 0, 0),
@@ -107,18 +99,6 @@ def _png_bytes(img: np.ndarray) -> bytes:
     return iio.imwrite("<bytes>", img, extension=".png")
 
 
-def write_track_csv(path, labels: list[str], results: dict) -> None:
-    """``row``, then ``col_<label>``, ``score_<label>`` per label (empty where NaN)."""
-    import pandas as pd
-
-    H = next(iter(results.values())).columns.shape[0] if results else 0
-    data = {"row": np.arange(H)}
-    for lab in labels:
-        data[f"col_{lab}"] = results[lab].columns
-        data[f"score_{lab}"] = results[lab].score
-    atomic_write_text(path, pd.DataFrame(data).to_csv(index=False, float_format="%.4f"))
-
-
 def _track_all(trackers: dict, frame, background):
     """label -> (Track, ms, status, message) by :func:`bench.run.track.track_frame`: a failing
     tracker (it raised, returned columns outside the image, timed out, crashed) gives an empty
@@ -134,30 +114,67 @@ def _track_all(trackers: dict, frame, background):
 
 
 def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, channel: str = "auto",
-                 laser: str = "red", rotate_deg: int = 0, err=None, say=print) -> int:
+                 laser: str = "red", rotate_deg: int = 0, err=None, say=print, force: bool = False) -> int:
     """Run trackers on image files; returns the number of files that failed.
 
     A file that cannot be read (or whose background cannot) gets one line on
     ``err`` and the others go on. ``background`` (a path) is used for every
     image; otherwise, with ``pair``, ``NAME_off.EXT`` beside ``NAME.EXT``; files
     that are the laser-off partner of another given file are not tracked.
+
+    ``out_dir`` is a run folder of kind ``track``: locked while this runs and
+    claimed for these tracker settings (another setting's folder, or a non-empty
+    folder that is not one, is refused unless ``force``, which clears it).
+
+    Raises
+    ------
+    bench.store.runfolder.RunFolderError
+        The folder is locked, holds other settings' outputs (without ``force``),
+        an input lies inside it, or two inputs would write the same outputs
+        (:func:`bench.store.realrun.track_output_names`).
     """
+    from bench.store.provenance import code_fingerprint
+    from bench.store.realrun import track_output_names
+    from bench.store.runfolder import RunFolder
+
     err = sys.stderr if err is None else err
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    trackers = build_trackers(specs)
-    labels = list(trackers)
     paths = [Path(p) for p in paths]
     given = {p.resolve() for p in paths}
-    failed = 0
-    bg_fixed = None
-    if background is not None:
-        bg_fixed = real.rotate_image(real.select_channel(real.read_image(background), channel, laser), rotate_deg)
+    todo, seen = [], set()
     for p in paths:
         if pair and background is None and p.stem.endswith("_off"):
             partner = [p.with_name(p.stem[:-4] + s) for s in (p.suffix,) + real.IMAGE_SUFFIXES]
             if any(q.resolve() in given for q in partner):
                 continue  # the laser-off frame of another input
+        if p.resolve() not in seen:  # one file given twice is tracked once
+            seen.add(p.resolve())
+            todo.append(p)
+    names = track_output_names(todo, out, extra_inputs=[background] if background is not None else [],
+                               force=force)
+    identity = {"trackers": [s.to_value() for s in specs], "channel": channel, "laser": laser,
+                "rotate_deg": int(rotate_deg), "pair": bool(pair),
+                "background": None if background is None else str(Path(background).resolve())}
+    trackers = build_trackers(specs)
+    folder = RunFolder(out, kind="track")
+    folder.open(identity, code_fingerprint(trackers.values()), force=force, say=lambda m: print(m, file=err))
+    try:
+        return _track_locked(folder, todo, names, trackers, background, pair, channel, laser, rotate_deg, err, say)
+    finally:
+        folder.unlock()
+
+
+def _track_locked(folder, todo, names, trackers, background, pair, channel, laser, rotate_deg, err, say) -> int:
+    from bench.store.realrun import read_inputs, write_inputs
+
+    out = folder.path
+    labels = list(trackers)
+    inputs = read_inputs(out)
+    failed = 0
+    bg_fixed = None
+    if background is not None:
+        bg_fixed = real.rotate_image(real.select_channel(real.read_image(background), channel, laser), rotate_deg)
+    for p in todo:
         try:
             frame, original = real.load_frame(p, channel=channel, laser=laser, rotate_deg=rotate_deg)
             bg, bg_name = bg_fixed, (Path(background).name if background is not None else None)
@@ -174,8 +191,11 @@ def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, c
             continue
         res = _track_all(trackers, frame, bg)
         tracks = {lab: r[0] for lab, r in res.items()}
-        write_track_csv(out / f"{p.stem}.csv", labels, tracks)
-        atomic_write_bytes(out / f"{p.stem}_overlay.png",
+        name = names[p]
+        inputs[name] = str(p.resolve())
+        write_inputs(out, inputs)  # before the outputs: an interrupted track still knows whose they are
+        write_track_csv(out / f"{name}.csv", labels, tracks)
+        folder.write_bytes(f"{name}_overlay.png",
                            _png_bytes(overlay(original, {k: v.columns for k, v in tracks.items()},
                                               rotate_deg=rotate_deg, radius=max(1, min(original.shape[:2]) // 300))))
         parts = []
@@ -192,34 +212,57 @@ def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, c
 
 
 def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000, seed: int = 0,
-             quiet: bool = False) -> Path:
+             quiet: bool = False, force: bool = False) -> Path:
     """Evaluate trackers on a real set; returns the run folder.
+
+    The folder is a run folder of kind ``real`` (:class:`bench.store.runfolder.RunFolder`):
+    locked while this runs, claimed for the dataset, trackers, tolerance, resamples
+    and seed; another configuration's or kind's folder (or a non-empty folder that
+    is not a run) is refused unless ``force``, which clears it.
 
     Raises
     ------
     bench.store.realset.DatasetError
-        The set breaks the layout (every problem listed).
+        The set breaks the layout (every problem listed); checked before the folder is made.
+    bench.store.runfolder.RunFolderError
+        The folder is locked, of another configuration or kind (without ``force``), or cannot be written.
     """
-    import pandas as pd
-
-    from bench.store.provenance import git_revision, versions
+    from bench.store.provenance import code_fingerprint
+    from bench.store.runfolder import RunFolder
 
     t_start = time.perf_counter()
     images = real.load_dataset(dataset)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    trackers = build_trackers(specs)
+    identity = {"dataset": str(Path(dataset).resolve()), "trackers": [s.to_value() for s in specs],
+                "tol_px": tol_px, "n_boot": n_boot, "seed": seed}
+    folder = RunFolder(out_dir, kind="real")
+    folder.open(identity, code_fingerprint(trackers.values()), force=force,
+                say=lambda m: print(m, file=sys.stderr, flush=True))
+    try:
+        return _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed, quiet, t_start)
+    finally:
+        folder.unlock()
+
+
+def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed, quiet, t_start) -> Path:
+    import pandas as pd
+
+    from bench.store.provenance import git_revision, versions
+    from bench.store.realrun import LAYOUT, write_real_metrics
+    from bench.store.runfolder import write_summary
+    from bench.store.summary import build_summary
+
+    out = folder.path
     config = {"dataset": str(Path(dataset)), "trackers": [s.to_value() for s in specs], "tol_px": tol_px,
               "n_boot": n_boot, "seed": seed, "images": [im.name for im in images]}
-    atomic_write_text(out / "config.json", json.dumps(config, indent=2))
-    trackers = build_trackers(specs)
     labels = list(trackers)
     records = []
     for k, im in enumerate(images):
         frame, bg, original, ref = im.load()
         res = _track_all(trackers, frame, bg)
         tracks = {lab: r[0] for lab, r in res.items()}
-        write_track_csv(out / "tracks" / f"{im.name}.csv", labels, tracks)
-        atomic_write_bytes(out / "overlays" / f"{im.name}.png",
+        write_track_csv(out / LAYOUT["tracks"] / f"{im.name}.csv", labels, tracks)
+        folder.write_bytes(f"{LAYOUT['overlays']}/{im.name}.png",
                            _png_bytes(overlay(original, {lab: t.columns for lab, t in tracks.items()},
                                               rotate_deg=im.rotate_deg, reference=ref)))
         for lab, (tr, ms, status, msg) in res.items():
@@ -243,14 +286,11 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
                       "status": "ok" if (sub["status"] == "ok").all() else "failed",
                       "message": "; ".join(sorted(set(sub["message"]) - {""}))[:200]})
     metrics = pd.concat([per_image, pd.DataFrame.from_records(means)], ignore_index=True)
-    buf = io.BytesIO()
-    metrics.to_parquet(buf, index=False)
-    atomic_write_bytes(out / "metrics.parquet", buf.getvalue())
-    atomic_write_text(out / "metrics.csv", metrics.to_csv(index=False))
-    summary = {"kind": "real", "config": config, "seed": seed, "tol_px": tol_px, "versions": versions(),
-               "git_revision": git_revision(), "run_dir": str(out), "variants": [], "trackers": summary_rows,
-               "n_images": len(images), "wall_s": time.perf_counter() - t_start}
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2))
+    write_real_metrics(out, metrics)
+    summary = build_summary("real", config=config, seed=seed, tol_px=tol_px, versions=versions(),
+                            git_revision=git_revision(), run_dir=str(out), variants=[], trackers=summary_rows,
+                            n_images=len(images), wall_s=time.perf_counter() - t_start)
+    write_summary(out, summary)
     _report(out, metrics, summary, labels, images)
     return out
 
@@ -258,11 +298,11 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
 def build_real_report(run_dir) -> Path:
     """Rebuild ``report.html`` of a finished real run from its saved files
     (provenance columns only if the dataset is still where the run found it)."""
-    import pandas as pd
+    from bench.store.realrun import load_real_run
 
     out = Path(run_dir)
-    summary = json.loads((out / "summary.json").read_text())
-    metrics = pd.read_parquet(out / "metrics.parquet")
+    saved = load_real_run(out)
+    summary, metrics = saved["summary"], saved["metrics"]
     labels = list(summary["trackers"])
     images, _ = real.validate_dataset(summary["config"]["dataset"])
     _report(out, metrics, summary, labels, images)
@@ -315,4 +355,7 @@ means over images with 95 % bootstrap intervals over images.</p>
 <h2>The worst images per tracker</h2><p>{legend}</p>{''.join(worst)}
 <h2>Images</h2><table><tr><th>image</th><th>source</th><th>license</th><th>notes</th></tr>{notes}</table>
 </body></html>"""
-    atomic_write_text(out / "report.html", page)
+    from bench.store.files import atomic_write_text
+    from bench.store.realrun import LAYOUT
+
+    atomic_write_text(out / LAYOUT["report"], page)

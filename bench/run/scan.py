@@ -3,7 +3,10 @@
 The unit of work is :func:`bench.run.track.track_frame` (one frame, one tracker: pure). A scan
 keeps its results in one ``.npz`` checkpoint, written atomically after every
 few frames and when interrupted, so a rerun resumes where it stopped (the
-renders themselves come back from the scenes' disk cache).
+renders themselves come back from the scenes' disk cache). The checkpoint's
+format, its checksum and its reader are :mod:`bench.store.checkpoint`; a
+checkpoint that is damaged, edited, of another format or made for other
+settings is reported in one line and the scan recomputed.
 
 A tracker that raises, returns something other than a :class:`trackers.Track`
 of the frame's height, reports columns outside the image, times out or crashes
@@ -15,111 +18,18 @@ from __future__ import annotations
 
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from bench.run.track import track_frame
-from bench.store.files import save_npz
+from bench.store.checkpoint import FALSE_K, ScanResult, read_checkpoint, write_checkpoint
 
-__all__ = ["ScanResult", "run_scan", "pending_frames", "scan_fingerprint"]
+__all__ = ["run_scan", "pending_frames", "scan_fingerprint"]
 
 _CHECKPOINT_S = 10.0
 
 
-@dataclass
-class ScanResult:
-    """Everything one scan produced (arrays indexed frame x row)."""
-
-    key: str
-    angles: np.ndarray  # (F,)
-    truth_columns: np.ndarray  # (F, H)
-    truth_points_cm: np.ndarray  # (F, H, 3)
-    on_object: np.ndarray  # (F, H) bool
-    columns: dict  # name -> (F, H)
-    scores: dict  # name -> (F, H)
-    seconds: dict  # name -> (F,)
-    status: dict  # name -> (F,) int
-    messages: dict  # name -> list[str] (F)
-    done: np.ndarray  # (F,) bool
-    variant: str
-    width: int
-    render_seconds: float
-    fingerprint: str = ""
-    # (F, H, FALSE_K) columns of the false stripes (mirrored sheet) per row, NaN-padded;
-    # None when the scene computes no false-stripe mask (non-shiny materials)
-    false_columns: np.ndarray | None = None
-
-    @property
-    def complete(self) -> bool:
-        return bool(self.done.all())
-
-    def to_arrays(self) -> dict[str, np.ndarray]:
-        out = {
-            "angles": self.angles, "truth_columns": self.truth_columns, "truth_points_cm": self.truth_points_cm,
-            "on_object": self.on_object, "done": self.done, "variant": np.array(self.variant),
-            "width": np.array(self.width), "render_seconds": np.array(self.render_seconds),
-            "trackers": np.array(sorted(self.columns)), "fingerprint": np.array(self.fingerprint),
-        }
-        if self.false_columns is not None:
-            out["false_columns"] = self.false_columns
-        for n in self.columns:
-            out[f"columns/{n}"] = self.columns[n]
-            out[f"scores/{n}"] = self.scores[n]
-            out[f"seconds/{n}"] = self.seconds[n]
-            out[f"status/{n}"] = self.status[n]
-            out[f"messages/{n}"] = np.array(self.messages[n], dtype=str)
-        return out
-
-    @classmethod
-    def from_arrays(cls, key: str, a: dict[str, np.ndarray]) -> "ScanResult":
-        """Rebuild from :meth:`to_arrays`'s output.
-
-        Raises
-        ------
-        ValueError
-            A missing array or arrays whose shapes do not agree (a damaged or foreign checkpoint).
-        """
-        need = ("angles", "truth_columns", "truth_points_cm", "on_object", "done", "variant", "width",
-                "render_seconds", "trackers")
-        missing = [k for k in need if k not in a]
-        if missing:
-            raise ValueError(f"no array {missing[0]!r}")
-        names = [str(n) for n in np.atleast_1d(a["trackers"])] if a["trackers"].size else []
-        for n in names:
-            for part in ("columns", "scores", "seconds", "status", "messages"):
-                if f"{part}/{n}" not in a:
-                    raise ValueError(f"no array '{part}/{n}'")
-        F = a["angles"].shape[0] if a["angles"].ndim == 1 else -1
-        H = a["truth_columns"].shape[1] if a["truth_columns"].ndim == 2 else -1
-        shapes = {"truth_columns": (F, H), "truth_points_cm": (F, H, 3), "on_object": (F, H), "done": (F,),
-                  **{f"{p}/{n}": (F, H) for n in names for p in ("columns", "scores")},
-                  **{f"{p}/{n}": (F,) for n in names for p in ("seconds", "status", "messages")}}
-        for k, shape in shapes.items():
-            if F < 0 or H < 0 or a[k].shape != shape:
-                raise ValueError(f"array {k!r} has shape {a[k].shape}, expected {shape}")
-        return cls(
-            key=key, angles=a["angles"], truth_columns=a["truth_columns"], truth_points_cm=a["truth_points_cm"],
-            on_object=a["on_object"].astype(bool), done=a["done"].astype(bool), variant=str(a["variant"]),
-            width=int(a["width"]), render_seconds=float(a["render_seconds"]),
-            columns={n: a[f"columns/{n}"] for n in names}, scores={n: a[f"scores/{n}"] for n in names},
-            seconds={n: a[f"seconds/{n}"] for n in names}, status={n: a[f"status/{n}"] for n in names},
-            messages={n: [str(m) for m in a[f"messages/{n}"]] for n in names},
-            fingerprint=str(a.get("fingerprint", "")),
-            false_columns=_checked_false_columns(a.get("false_columns"), F, H),
-        )
-
-
-FALSE_K = 8  # false-stripe columns kept per row (the nearest to the truth first are not needed: all, up to 8)
-
-
-def _checked_false_columns(fc, F: int, H: int):
-    if fc is None:
-        return None
-    if fc.ndim != 3 or fc.shape[:2] != (F, H):
-        raise ValueError(f"array 'false_columns' has shape {fc.shape}, expected ({F}, {H}, K)")
-    return fc
 
 
 def _pad_false(cols: np.ndarray, k: int = FALSE_K) -> np.ndarray:
@@ -128,17 +38,6 @@ def _pad_false(cols: np.ndarray, k: int = FALSE_K) -> np.ndarray:
     n = min(k, cols.shape[1])
     out[:, :n] = cols[:, :n]
     return out
-
-
-def _empty(key, angles, height, names) -> ScanResult:
-    F, H = len(angles), height
-    nanFH = lambda: np.full((F, H), np.nan)  # noqa: E731
-    return ScanResult(
-        key=key, angles=np.asarray(angles, float), truth_columns=nanFH(), truth_points_cm=np.full((F, H, 3), np.nan),
-        on_object=np.zeros((F, H), bool), columns={n: nanFH() for n in names}, scores={n: nanFH() for n in names},
-        seconds={n: np.full(F, np.nan) for n in names}, status={n: np.zeros(F, np.int64) for n in names},
-        messages={n: [""] * F for n in names}, done=np.zeros(F, bool), variant="", width=0, render_seconds=0.0,
-    )
 
 
 def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
@@ -152,23 +51,15 @@ def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
                         "source": code_fingerprint(trackers_.values())})
 
 
-def _resume(key, scene, angles, names, fingerprint, checkpoint) -> tuple[ScanResult | None, str]:
-    """The checkpoint's results when they belong to this scan (else None), and why not ("" if none)."""
-    from bench.store.runfolder import read_npz
-
-    saved, why = read_npz(checkpoint)
-    if saved is not None:
-        try:
-            prev = ScanResult.from_arrays(key, saved)
-        except (KeyError, ValueError, TypeError) as exc:
-            prev, why = None, f"damaged: {exc}"
-        if prev is not None:
-            if (np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names)
-                    and prev.truth_columns.shape[1] == scene.rig.height
-                    and str(saved.get("fingerprint", "")) == fingerprint):
-                return prev, ""
-            if prev.done.any():
-                why = "made by other code, trackers or settings"
+def _resume(key, scene, angles, names, fingerprint, checkpoint, clear_bad=False) -> tuple[ScanResult | None, str]:
+    """The checkpoint's results when they belong to this scan (else None), and why not ("" if there is none)."""
+    prev, why = read_checkpoint(checkpoint, key, clear_bad=clear_bad)
+    if prev is not None:
+        if (np.array_equal(prev.angles, angles) and sorted(prev.columns) == sorted(names)
+                and prev.truth_columns.shape[1] == scene.rig.height and prev.fingerprint == fingerprint):
+            return prev, ""
+        why = "made by other code, trackers or settings" if prev.done.any() else None
+        prev = None
     return None, why or ""
 
 
@@ -181,7 +72,7 @@ def pending_frames(key: str, scene, angles, trackers_: dict, *, spp: int, seed: 
 
 
 def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, checkpoint: Path,
-             progress: bool = True, keep_frame: int | None = None, say=None, on_frame=None):
+             progress: bool = True, say=None, on_frame=None):
     """Render and track one scan, resuming from ``checkpoint`` if it matches.
 
     Parameters
@@ -198,33 +89,30 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
         The scan's ``.npz`` file (read to resume, written atomically).
     progress : bool
         tqdm bar on stderr.
-    keep_frame : int, optional
-        Index of a frame whose image to return as well (for figures).
     say : callable, optional
-        Receives a one-line note when the checkpoint is unreadable, damaged or
-        made by other code or settings (it is then recomputed).
+        Receives a one-line note when the checkpoint is unreadable, damaged,
+        edited (its checksum), of another format, a directory (removed) or made
+        by other code or settings (it is then recomputed).
     on_frame : callable, optional
         Called with a frame's index (into ``angles``) just before that frame is
         rendered (the render-ahead helper follows the scan's position with it).
 
     Returns
     -------
-    ScanResult, and the kept frame's ``(image, background)`` or None.
+    ScanResult
     """
     from tqdm import tqdm
 
     names = list(trackers_)
     angles = np.asarray(angles, float)
     fingerprint = scan_fingerprint(scene, trackers_, spp, seed)
-    res, why = _resume(key, scene, angles, names, fingerprint, checkpoint)
+    res, why = _resume(key, scene, angles, names, fingerprint, checkpoint, clear_bad=True)
     if why and say is not None:
-        say(f"stripebench: checkpoint {checkpoint} is {why if why.startswith('made') else 'unreadable (' + why + ')'}: "
-            "recomputing that scan")
+        say(f"stripebench: checkpoint {checkpoint} is {why}: recomputing that scan")
     if res is None:
-        res = _empty(key, angles, scene.rig.height, names)
+        res = ScanResult.empty(key, angles, scene.rig.height, names)
     res.fingerprint = fingerprint
-    kept = None
-    todo = [i for i in range(len(angles)) if not res.done[i] or (keep_frame is not None and i == keep_frame)]
+    todo = [i for i in range(len(angles)) if not res.done[i]]
     if todo:  # first calls compile (numba); keep that out of the per-frame times
         H, W = scene.rig.height, scene.rig.width
         blank = np.zeros((H, W), np.uint8)
@@ -238,10 +126,6 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                 on_frame(i)
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
-            if i == keep_frame:
-                kept = (frame.image, frame.background, frame.truth.columns)
-                if res.done[i]:
-                    continue
             res.render_seconds += time.perf_counter() - t0
             res.variant = frame.variant
             res.width = frame.image.shape[1]
@@ -261,8 +145,8 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                 res.messages[n][i] = r.message
             res.done[i] = True
             if time.monotonic() - last_save > _CHECKPOINT_S:
-                save_npz(checkpoint, **res.to_arrays())
+                write_checkpoint(checkpoint, res)
                 last_save = time.monotonic()
     finally:
-        save_npz(checkpoint, **res.to_arrays())
-    return res, kept
+        write_checkpoint(checkpoint, res)
+    return res

@@ -35,10 +35,13 @@ configuration's ``seed`` fixes their Monte Carlo noise) and varies
 The interval over repeats is therefore the spread due to sensor noise and
 sampling at one fixed render; render noise (spp) is not resampled.
 
-**Results** in the sweep folder: ``sweep.parquet`` / ``sweep.csv`` (one row per
-experiment x grid point x repeat x tracker label), ``summary.json``,
-``report.html`` (curves), ``config.json`` and ``units/<fingerprint>.json``, the
-finished units (a rerun skips them: resume).
+**Results** in the sweep folder (its files: :mod:`bench.store.sweepfiles`; a run
+folder of kind ``sweep``, locked and claimed for the configuration and the grid
+like every run folder, :class:`bench.store.runfolder.RunFolder`):
+``sweep.parquet`` / ``sweep.csv`` (one row per experiment x grid point x repeat x
+tracker label), ``summary.json``, ``report.html`` (curves), ``config.json`` and
+``units/<fingerprint>.json``, the finished units with their checksums (a rerun
+skips them: resume; a damaged or edited one is said in one line and recomputed).
 """
 
 from __future__ import annotations
@@ -57,7 +60,7 @@ from typing import Any, Callable
 import numpy as np
 
 from bench.config import Config, ConfigError, parse, read_toml, scene_override_keys
-from bench.store.files import atomic_write_text, config_hash, runs_root
+from bench.store.files import config_hash
 from bench.evaluate.curves import PAPER_POINT  # noqa: F401  (re-exported: the paper's operating point)
 
 __all__ = ["Sweep", "SweepError", "parse_sweep", "load", "plan", "run_unit", "run_sweep", "default_sweep_dir",
@@ -164,8 +167,11 @@ def load(path) -> tuple[Config, Sweep]:
 
 
 def default_sweep_dir(config: Config, sweep: Sweep) -> Path:
-    """``<runs root>/<name>-sweep-<hash of the configuration and the sweep>``."""
-    return runs_root() / f"{config.name}-sweep-{config_hash([config.to_dict(), sweep.to_dict()])}"
+    """``<runs root>/<safe name>-sweep-<hash of the configuration and the sweep>``, always inside the runs root
+    (the name keeps ``[A-Za-z0-9_.-]``, :func:`bench.store.runfolder.safe_dir_name`)."""
+    from bench.store.runfolder import named_run_dir
+
+    return named_run_dir(config.name, f"sweep-{config_hash([config.to_dict(), sweep.to_dict()])}")
 
 
 # -- planning ------------------------------------------------------------------------------------------------------
@@ -238,8 +244,8 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
 
     from bench.evaluate import tables as analysis
     from bench.config import Experiment, parse_trackers
-    from bench.run.scan import _empty
     from bench.run.track import build_trackers, track_frame
+    from bench.store.checkpoint import ScanResult
     from bench.store.provenance import source_fingerprint
     from bench.evaluate.stats import robust_summary
 
@@ -275,7 +281,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
         scene = scenes.make(spec["scene"], material=material, seed=seed, **render, **{**base, **values})
         exp = Experiment(spec["scene"], material, None, tuple(angles), {})
         for r in range(spec["repeats"]):
-            res = _empty(spec["experiment_key"], angles, H, names)
+            res = ScanResult.empty(spec["experiment_key"], angles, H, names)
             for i, a in enumerate(angles):
                 frame = scene.render(float(a), spp=spp, seed=seed, noise_draw=r)
                 res.truth_columns[i] = frame.truth.columns
@@ -386,23 +392,34 @@ def _execute(units: list[dict], on_result: Callable[[int, dict], None], *, sched
 # -- the driver ----------------------------------------------------------------------------------------------------
 
 def _unit_path(out: Path, fp: str) -> Path:
-    return out / "units" / f"{fp}.json"
+    from bench.store.sweepfiles import unit_path
+
+    return unit_path(out, fp)
 
 
-def _load_unit(path: Path) -> dict | None:
-    try:
-        return json.loads(path.read_text())
-    except (OSError, ValueError):
-        return None
+def _load_unit(path: Path, say) -> dict | None:
+    """A finished unit's result, or None (a damaged, edited or foreign file is said in one line)."""
+    from bench.store.sweepfiles import read_unit
+
+    res, why = read_unit(path, clear_bad=True)
+    if why:
+        say(f"stripebench: sweep unit {path} is {why}: recomputing that unit")
+    return res
 
 
 def _save_unit(path: Path, result: dict) -> None:
-    atomic_write_text(path, json.dumps(result))
+    from bench.store.files import os_error
+    from bench.store.sweepfiles import write_unit
+
+    try:
+        write_unit(path, result)
+    except OSError as exc:
+        raise os_error("write", path, exc) from None
 
 
 def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | None = None,
               workers: int | None = None, chunk: int | None = None, progress: bool = True, quiet: bool = False,
-              timeout_s: float | None = None, connect_timeout_s: float = 30.0) -> Path:
+              timeout_s: float | None = None, connect_timeout_s: float = 30.0, force: bool = False) -> Path:
     """Run a sweep; returns its folder. Finished units already in ``out_dir`` are skipped.
 
     Parameters
@@ -422,12 +439,19 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
         Give up (finished units kept) when the units take longer than this.
     connect_timeout_s : float
         Bound on connecting to the scheduler and waiting for a first local worker.
-    """
-    import pandas as pd
+    force : bool
+        Clear ``out_dir`` first if it holds another configuration's or kind's run (or other files).
 
-    from bench.store.provenance import git_revision, versions
-    from bench.store.runfolder import _json_default
+    Raises
+    ------
+    bench.store.runfolder.RunFolderError
+        The folder is locked by another process, holds another configuration's or kind's
+        run (without ``force``), or cannot be written.
+    SweepError
+        Scheduler unreachable, workers with other code, timeout.
+    """
     from bench.store.provenance import source_fingerprint
+    from bench.store.runfolder import RunFolder
 
     t_start = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
@@ -440,14 +464,32 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
             print(msg, file=sys.stderr, flush=True)
 
     out = Path(out_dir) if out_dir is not None else default_sweep_dir(config, sweep)
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "config.json", json.dumps({**config.to_dict(), "sweep": sweep.to_dict()}, indent=2))
-    source = source_fingerprint()
     units = plan(config, sweep, chunk=chunk)
+    source = source_fingerprint()
+    folder = RunFolder(out, kind="sweep")
+    folder.open({**config.identity(), "sweep": sweep.to_dict()}, source, force=force,
+                say=lambda m: print(m, file=sys.stderr, flush=True))  # damaged or stale files: always said
+    try:
+        return _sweep_locked(config, sweep, folder, units, source, scheduler, workers, progress, quiet, timeout_s,
+                             connect_timeout_s, say, t_start)
+    finally:
+        folder.unlock()
+
+
+def _sweep_locked(config, sweep, folder, units, source, scheduler, workers, progress, quiet, timeout_s,
+                  connect_timeout_s, say, t_start) -> Path:
+    import pandas as pd
+
+    from bench.store.provenance import git_revision, versions
+    from bench.store.runfolder import write_summary
+    from bench.store.summary import build_summary
+    from bench.store.sweepfiles import write_sweep_table
+
+    out = folder.path
     fps = [_fingerprint(u, source) for u in units]
     results: dict[int, dict] = {}
     for i, fp in enumerate(fps):
-        saved = _load_unit(_unit_path(out, fp))
+        saved = _load_unit(_unit_path(out, fp), lambda m: print(m, file=sys.stderr, flush=True))
         if saved is not None:
             results[i] = saved
     todo = [i for i in range(len(units)) if i not in results]
@@ -475,7 +517,7 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
         bar.close()
     rows = [row for i in range(len(units)) for row in results[i]["rows"]]
     table = pd.DataFrame.from_records(rows)
-    _write_tables(out, table)
+    write_sweep_table(out, table)
     unit_info = [{"fingerprint": fps[i], "experiment": u["experiment_key"], "render_overrides": u["render_overrides"],
                   "points": len(u["points"]), "repeats": u["repeats"], "frames": results[i]["frames"],
                   "evaluations": results[i]["evaluations"], "render_s": results[i]["render_s"],
@@ -486,14 +528,15 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
                  for i, u in enumerate(units)]
     from bench.evaluate.curves import curves, per_unit_costs
 
-    summary = {"config": config.to_dict(), "sweep": sweep.to_dict(), "config_source": config.source,
-               "seed": config.seed, "versions": {**versions(), **_dask_versions()}, "git_revision": git_revision(),
-               "source_fingerprint": source, "sweep_dir": str(out), "engine": engine, "units": unit_info,
-               "costs": per_unit_costs(unit_info), "region": "object (columns ending in _all: every lit row)",
-               "repeat_varies": "sensor noise (Scene.render noise_draw=repeat) and the sample draw; "
-                                "renders are shared by all repeats",
-               "curves": curves(table, sweep), "wall_s": time.perf_counter() - t_start}
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=_json_default))
+    summary = build_summary(
+        "sweep", config=config.to_dict(), sweep=sweep.to_dict(), config_source=config.source,
+        seed=config.seed, versions={**versions(), **_dask_versions()}, git_revision=git_revision(),
+        source_fingerprint=source, sweep_dir=str(out), engine=engine, units=unit_info,
+        costs=per_unit_costs(unit_info), region="object (columns ending in _all: every lit row)",
+        repeat_varies="sensor noise (Scene.render noise_draw=repeat) and the sample draw; "
+                      "renders are shared by all repeats",
+        curves=curves(table, sweep), wall_s=time.perf_counter() - t_start)
+    write_summary(out, summary)
     return out
 
 
@@ -509,23 +552,9 @@ def _dask_versions() -> dict[str, str]:
     return out
 
 
-def _write_tables(out: Path, table) -> None:
-    import io
-
-    from bench.store.files import atomic_write_bytes
-
-    buf = io.BytesIO()
-    table.to_parquet(buf, index=False)
-    atomic_write_bytes(out / "sweep.parquet", buf.getvalue())
-    atomic_write_text(out / "sweep.csv", table.to_csv(index=False))
-
-
 def load_sweep(sweep_dir) -> dict[str, Any]:
-    """The saved results of a sweep: ``table`` (DataFrame) and ``summary`` (dict)."""
-    import pandas as pd
+    """The saved results of a sweep: ``table`` (DataFrame) and ``summary`` (dict)
+    (:func:`bench.store.sweepfiles.load_sweep`; ``RunFolderError`` in one line if it is not a finished sweep)."""
+    from bench.store.sweepfiles import load_sweep as _load
 
-    d = Path(sweep_dir)
-    if not (d / "summary.json").exists():
-        raise FileNotFoundError(f"{d} is not a finished sweep (no summary.json)")
-    return {"table": pd.read_parquet(d / "sweep.parquet"), "summary": json.loads((d / "summary.json").read_text())}
-
+    return _load(sweep_dir)

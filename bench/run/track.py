@@ -34,11 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.store.checkpoint import STATUS
+
 __all__ = ["STATUS", "TrackResult", "track_frame", "build_trackers", "TimedTracker", "IsolatedTracker",
            "TrackerTimeout", "TrackerCrashed", "TrackerRaised"]
 
-#: Status codes of :class:`TrackResult` (stored in checkpoints as integers).
-STATUS = {0: "ok", 1: "raised", 2: "bad-output", 3: "out-of-image", 4: "timeout", 5: "crashed"}
 
 
 class TrackerTimeout(Exception):

@@ -1,26 +1,72 @@
-"""Files of a run: atomic writes and the run folder."""
+"""Files of a run: atomic writes, npz and JSON readers that say why they fail, content checksums.
+
+Every writer here names the file in its ``OSError`` (a full disk during ``write``
+or ``fsync`` has no file name of its own), so the command line's one-line
+message says which file could not be written.
+"""
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import io
 import json
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["atomic_write_bytes", "atomic_write_text", "save_npz", "load_npz", "config_hash", "runs_root"]
+__all__ = ["RunFolderError", "os_error", "atomic_write_bytes", "atomic_write_text", "save_npz", "load_npz",
+           "read_npz", "array_checksum", "json_checksum", "clear_non_file", "non_file_kind", "check_format",
+           "config_hash", "runs_root"]
+
+
+class RunFolderError(ValueError):
+    """A run folder or one of its files that cannot be used as asked; ``str(err)`` is one line."""
+
+
+def os_error(action: str, path, exc: OSError) -> RunFolderError:
+    """One line for an ``OSError``: ``cannot <action> '<file>': <reason>`` (the file of the error, else ``path``).
+
+    Examples
+    --------
+    >>> import errno
+    >>> str(os_error("write", "/r/x.csv", OSError(errno.ENOSPC, "No space left on device")))
+    "cannot write '/r/x.csv': no space left on the device"
+    """
+    reason = exc.strerror or str(exc)
+    if exc.errno == errno.ENOSPC:
+        reason = "no space left on the device"
+    return RunFolderError(f"cannot {action} {str(exc.filename or path)!r}: {reason}")
+
+
+def _named(exc: OSError, path: Path) -> OSError:
+    """``exc`` with ``filename`` set to ``path`` (the file being written, not its temporary name)."""
+    if exc.filename == str(path):
+        return exc
+    named = OSError(exc.errno, exc.strerror or str(exc), str(path))
+    return named
 
 
 def atomic_write_bytes(path, data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file and ``os.replace``:
-    a reader never sees a half-written file, an interruption leaves the old one."""
+    a reader never sees a half-written file, an interruption leaves the old one.
+
+    Raises
+    ------
+    OSError
+        With ``filename`` = ``path`` whatever step failed (``mkstemp``, ``write``,
+        ``fsync``: a full disk, ``replace``: a directory in the file's place).
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise _named(exc, path) from exc
     try:
         umask = os.umask(0)
         os.umask(umask)
@@ -30,15 +76,18 @@ def atomic_write_bytes(path, data: bytes) -> None:
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(exc, OSError):
+            raise _named(exc, path) from exc
         raise
 
 
 def atomic_write_text(path, text: str) -> None:
+    """:func:`atomic_write_bytes` of UTF-8 text."""
     atomic_write_bytes(path, text.encode("utf-8"))
 
 
@@ -49,14 +98,131 @@ def save_npz(path, **arrays) -> None:
     atomic_write_bytes(path, buf.getvalue())
 
 
-def load_npz(path) -> dict[str, np.ndarray] | None:
-    """The arrays of an ``.npz`` file, or None if it is missing or unreadable
-    (truncated, bad CRC, not a zip); :func:`bench.store.runfolder.read_npz` also says why."""
+def read_npz(path) -> tuple[dict[str, np.ndarray] | None, str | None]:
+    """The arrays of an ``.npz`` file and None, or None and why it could not be read.
+
+    A missing file gives ``(None, None)``; a truncated, corrupt (bad CRC, not a
+    zip), pickled file or a directory in its place gives ``(None, reason)``, never an exception.
+
+    Examples
+    --------
+    >>> read_npz("/nonexistent/x.npz")
+    (None, None)
+    """
+    path = Path(path)
+    if not path.exists() and not path.is_symlink():
+        return None, None
+    kind = non_file_kind(path)
+    if kind is not None:
+        return None, f"{kind} in its place"
     try:
         with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            return {k: z[k] for k in z.files}
-    except Exception:  # noqa: BLE001 - any damage means "recompute"
+            return {k: z[k] for k in z.files}, None
+    except Exception as exc:  # BadZipFile, CRC errors, EOF, pickles, ...: all mean "recompute"
+        return None, f"{type(exc).__name__}: {exc}".splitlines()[0][:200]
+
+
+def load_npz(path) -> dict[str, np.ndarray] | None:
+    """The arrays of an ``.npz`` file, or None if it is missing or unreadable
+    (truncated, bad CRC, not a zip); :func:`read_npz` also says why."""
+    return read_npz(path)[0]
+
+
+def array_checksum(arrays: dict[str, np.ndarray]) -> str:
+    """Hex SHA-256 of named arrays: every name, dtype, shape and the bytes, in name order.
+
+    Two dicts have the same checksum exactly when they hold the same names with
+    arrays of the same dtype, shape and bytes (NaN payloads included).
+
+    Examples
+    --------
+    >>> a = array_checksum({"x": np.arange(3.0)})
+    >>> a == array_checksum({"x": np.arange(3.0)}), a == array_checksum({"x": np.arange(3.0) + 1e-12})
+    (True, False)
+    """
+    h = hashlib.sha256()
+    for name in sorted(arrays):
+        v = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}\0{v.dtype.str}\0{v.shape}\0".encode())
+        h.update(v.tobytes())
+    return h.hexdigest()
+
+
+def json_checksum(doc: Any) -> str:
+    """Hex SHA-256 of a JSON document in canonical form (sorted keys, no spaces; NaN kept as ``NaN``).
+
+    Examples
+    --------
+    >>> json_checksum({"a": 1, "b": [1.5]}) == json_checksum({"b": [1.5], "a": 1})
+    True
+    """
+    blob = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def non_file_kind(path) -> str | None:
+    """``"a directory"``, ``"a FIFO"``, ... when ``path`` exists and is not a regular file (or a link to one);
+    None when it is a regular file or missing."""
+    p = Path(path)
+    if p.is_file() or not (p.exists() or p.is_symlink()):
         return None
+    if p.is_symlink():
+        return "a broken link"
+    if p.is_dir():
+        return "a directory"
+    if p.is_fifo():
+        return "a FIFO"
+    if p.is_socket():
+        return "a socket"
+    return "a device or other non-file"
+
+
+def clear_non_file(path) -> str | None:
+    """Remove what stands where a stripebench file should be if it is not a regular file.
+
+    Returns
+    -------
+    str or None
+        What was removed (``"a directory"`` ...), None when ``path`` is a regular file or missing.
+
+    Raises
+    ------
+    RunFolderError
+        It could not be removed (one line naming it).
+    """
+    p = Path(path)
+    kind = non_file_kind(p)
+    if kind is None:
+        return None
+    try:
+        if p.is_dir() and not p.is_symlink():
+            shutil.rmtree(p)
+        else:
+            p.unlink()
+    except OSError as exc:
+        raise RunFolderError(f"{str(p)!r} is {kind} where stripebench keeps a file and cannot be removed "
+                             f"({exc.strerror or exc}); remove it") from None
+    return kind
+
+
+def check_format(found: Any, supported: tuple[int, ...], what: str, path) -> int:
+    """The format number ``found`` if this code reads it, else a one-line :class:`RunFolderError`.
+
+    Examples
+    --------
+    >>> check_format(2, (1, 2), "checkpoint", "/r/scans/a.npz")
+    2
+    >>> check_format(7, (1, 2), "checkpoint", "/r/scans/a.npz")
+    Traceback (most recent call last):
+    ...
+    bench.store.files.RunFolderError: '/r/scans/a.npz' is a checkpoint of format 7; this stripebench reads format 1 or 2
+    """
+    if isinstance(found, np.ndarray) and found.shape == ():
+        found = found.item()
+    if isinstance(found, bool) or not isinstance(found, (int, np.integer)) or int(found) not in supported:
+        reads = " or ".join(str(s) for s in supported)
+        raise RunFolderError(f"{str(path)!r} is a {what} of format {found!r}; this stripebench reads format {reads}")
+    return int(found)
 
 
 def config_hash(data: Any) -> str:

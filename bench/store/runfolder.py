@@ -1,14 +1,17 @@
-"""The run folder: its layout, writers, readers, lock and format version.
+"""The run folder of every kind of run: its layout, identity, lock, format version, writers and readers.
 
-Every file of a run is written and read here; :mod:`bench.run.experiment`,
-:mod:`bench.run.gate`, :mod:`bench.report.run` and the command line go through this
-module. Layout of a run folder (``<runs root>/<name>-<config hash>/`` by
-default)::
+Every file of a run is written and read in :mod:`bench.store`: this module (the
+folder, ``run.json``, the tables and the readers of a finished run),
+:mod:`bench.store.checkpoint` (scan checkpoints), :mod:`bench.store.figdata`
+(Fig. 7's frame, the failure gallery), :mod:`bench.store.summary`
+(``summary.json``), :mod:`bench.store.sweepfiles` (sweep units and tables),
+:mod:`bench.store.realrun` (``track`` and ``real`` outputs). Layout of a
+synthetic run folder (``<runs root>/<name>-<config hash>/`` by default)::
 
-    run.json           format, configuration hash, code fingerprint: whose folder this is
+    run.json           format, kind, configuration hash, code fingerprint: whose folder this is
     .lock              held (``fcntl.flock``) by the process writing the folder
     config.json        the validated configuration
-    scans/<exp>.npz    per-experiment checkpoint (frames x rows of every tracker)
+    scans/<exp>.npz    per-experiment checkpoint (frames x rows of every tracker), with its checksum
     figdata.npz        the frame and fields Fig. 7 shows
     gallery.npz        per experiment, the frames where the trackers miss the truth most
     metrics.parquet    one record per tracker x experiment x region (no timings:
@@ -19,35 +22,47 @@ default)::
     figures/*.png
     report.html        self-contained report
 
-A folder belongs to one configuration: :meth:`RunFolder.open` refuses a folder
-written for another configuration (or a non-empty folder that is not a run)
-unless ``force=True``, which clears it first (a folder of the same
-configuration is resumed, with or without ``force``). When only the code changed
-(trackers, scenes, plugin trackers' modules), the results are recomputed in
-place. Every reader validates what it reads and raises :class:`RunFolderError`
-(one line naming the file and the problem).
+**One guard for every kind of run** (:data:`KINDS`: ``run``, ``real``,
+``sweep``, ``track``, ``score``): :meth:`RunFolder.open` locks the folder (a
+second process is refused at once) and claims it for one kind and
+configuration. A folder of another kind or configuration, a non-empty folder
+that is not a run, or a ``run.json`` of a newer format is refused in one line
+unless ``force=True``, which clears it first (a folder of the same kind and
+configuration is resumed, with or without ``force``). When only the code
+changed (trackers, scenes, plugin trackers' modules) the results are cleared and
+recomputed, the resumable files (checkpoints, sweep units) kept: they check
+their own fingerprints. An unreadable ``run.json`` is said in one line and the
+folder recovered for this run (unless its ``config.json`` names another
+configuration), keeping the checkpoints whose own checksums hold. A directory
+where ``.lock`` or ``run.json`` should be is removed with one line. Every reader
+validates what it reads and raises :class:`RunFolderError` (one line naming the
+file and the problem).
 """
 
 from __future__ import annotations
 
-import errno
 import json
-import math
 import os
 import re
 import shutil
 from pathlib import Path
-from typing import Any
 
-import numpy as np
+from bench.store.files import (RunFolderError, atomic_write_bytes, atomic_write_text, check_format, clear_non_file,
+                               config_hash, non_file_kind, os_error, read_npz, runs_root, save_npz)
+from bench.store.summary import read_summary
 
-from bench.store.files import atomic_write_bytes, atomic_write_text, config_hash, save_npz, runs_root
+__all__ = ["FORMAT", "KINDS", "LAYOUT", "RunFolderError", "RunFolder", "default_run_dir", "named_run_dir",
+           "safe_dir_name", "read_npz", "save_npz", "write_tables", "write_summary", "write_figdata", "write_gallery",
+           "load_summary", "load_metrics", "load_run", "METRIC_KEYS", "TIMING_COLUMNS"]
 
-__all__ = ["FORMAT", "LAYOUT", "RunFolderError", "RunFolder", "default_run_dir", "safe_dir_name", "read_npz",
-           "write_tables", "write_summary", "write_figdata", "write_gallery", "load_summary", "load_metrics", "load_run",
-           "METRIC_KEYS", "TIMING_COLUMNS"]
-
-FORMAT = 1
+FORMAT = 2  # run.json: 1 had no `kind` (every such folder is a synthetic run)
+_READS = (1, 2)
+#: The kinds of run folder, and what each is called in messages.
+KINDS = {"run": "run", "real": "real run", "sweep": "sweep", "track": "track output", "score": "score"}
+#: Per kind, the folder of resumable files kept when the code changes (each checks its own fingerprint).
+RESUMABLE = {"run": "scans", "sweep": "units"}
+#: Kinds whose folder gathers outputs over several commands: not cleared when the code changes.
+ACCUMULATES = ("track",)
 RUN_FILE = "run.json"
 LOCK_FILE = ".lock"
 LAYOUT = {
@@ -58,11 +73,6 @@ LAYOUT = {
 }
 METRIC_KEYS = ("experiment", "tracker", "region")
 TIMING_COLUMNS = ("ms_per_frame",)
-_SUMMARY_KEYS = {"config": dict, "seed": int, "improvement": list, "scans": list}
-
-
-class RunFolderError(ValueError):
-    """A run folder that cannot be used as asked; ``str(err)`` is one line."""
 
 
 def safe_dir_name(name: str) -> str:
@@ -80,51 +90,64 @@ def safe_dir_name(name: str) -> str:
     return slug[:80]
 
 
-def default_run_dir(config) -> Path:
-    """``<runs root>/<safe name>-<hash of the configuration>``, always inside the runs root."""
+def named_run_dir(name: str, tag: str) -> Path:
+    """``<runs root>/<safe name>-<tag>``: always inside the runs root, whatever ``name`` holds.
+
+    Raises
+    ------
+    RunFolderError
+        ``tag`` would leave the runs root (a programming error: tags are hashes).
+    """
     root = runs_root()
-    out = root / f"{safe_dir_name(config.name)}-{config_hash(config.identity())}"
-    if not out.resolve().is_relative_to(root.resolve()):  # cannot happen with safe_dir_name; kept as a guard
-        raise RunFolderError(f"run name {config.name!r} would place the run outside {str(root)!r}")
+    out = root / f"{safe_dir_name(name)}-{safe_dir_name(tag)}"
+    if out.parent != root or not out.resolve().is_relative_to(root.resolve()):
+        raise RunFolderError(f"run name {name!r} would place the run outside {str(root)!r}")
     return out
 
 
-def _os_error(action: str, path, exc: OSError) -> RunFolderError:
-    reason = exc.strerror or str(exc)
-    if exc.errno == errno.ENOSPC:
-        reason = "no space left on the device"
-    return RunFolderError(f"cannot {action} {str(exc.filename or path)!r}: {reason}")
+def default_run_dir(config) -> Path:
+    """``<runs root>/<safe name>-<hash of the configuration>``, always inside the runs root."""
+    return named_run_dir(config.name, config_hash(config.identity()))
 
 
 class RunFolder:
-    """One run folder: lock it, claim it for a configuration, read and write its files.
+    """One run folder: lock it, claim it for a kind and configuration, read and write its files.
 
     Parameters
     ----------
     path : path-like
         The folder (created by :meth:`open` if missing).
+    kind : str
+        One of :data:`KINDS` (default ``"run"``).
     """
 
-    def __init__(self, path):
+    def __init__(self, path, kind: str = "run"):
+        if kind not in KINDS:
+            raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
         self.path = Path(path)
+        self.kind = kind
         self._lock_fd: int | None = None
 
     def __repr__(self) -> str:
-        return f"RunFolder({str(self.path)!r})"
+        return f"RunFolder({str(self.path)!r}, kind={self.kind!r})"
 
     # -- lock ---------------------------------------------------------------
-    def lock(self) -> None:
+    def lock(self, say=None) -> None:
         """Take the folder's lock or raise :class:`RunFolderError` at once if
-        another process holds it. Released by :meth:`unlock` or when the process ends."""
+        another process holds it. Released by :meth:`unlock` or when the process ends.
+        A directory (or other non-file) where ``.lock`` should be is removed first, said to ``say``."""
         import fcntl
 
         if self._lock_fd is not None:
             return
         lock_path = self.path / LOCK_FILE
+        kind = clear_non_file(lock_path)
+        if kind is not None and say is not None:
+            say(f"stripebench: {lock_path} was {kind}, not a lock file: removed")
         try:
             fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666)
         except OSError as exc:
-            raise _os_error("write to run folder", self.path, exc) from None
+            raise os_error("write to run folder", self.path, exc) from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -146,90 +169,169 @@ class RunFolder:
         self.unlock()
 
     # -- claim ---------------------------------------------------------------
-    def open(self, config_dict: dict, code_fingerprint: str, *, force: bool = False, say=None) -> "RunFolder":
-        """Create and lock the folder and claim it for ``config_dict``.
+    def open(self, config_dict: dict, code_fingerprint: str | None, *, force: bool = False,
+             say=None) -> "RunFolder":
+        """Create and lock the folder and claim it for this kind and ``config_dict``.
 
         Parameters
         ----------
         config_dict : dict
-            The configuration (``Config.to_dict()``).
-        code_fingerprint : str
-            Hash of the code the results depend on (see :func:`bench.store.provenance.code_fingerprint`).
+            The configuration (for a synthetic run ``Config.identity()``); its hash is the folder's identity
+            and it is written to ``config.json``.
+        code_fingerprint : str or None
+            Hash of the code the results depend on (see :func:`bench.store.provenance.code_fingerprint`);
+            None: not checked.
         force : bool
-            Clear a folder that holds another configuration's run (or other files) instead of refusing.
+            Clear a folder that holds another kind's or configuration's run (or other files) instead of refusing.
         say : callable, optional
-            Receives one-line notes (results recomputed because the code changed).
+            Receives one-line notes (results recomputed because the code changed, a folder recovered).
 
         Raises
         ------
         RunFolderError
             The path is a file, not writable, locked by another process, or holds
-            another configuration's run (without ``force``).
+            another kind's or configuration's run, or a newer format's (without ``force``).
         """
         if self.path.exists() and not self.path.is_dir():
             raise RunFolderError(f"run folder {str(self.path)!r} is a file, not a folder")
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise _os_error("create run folder", self.path, exc) from None
+            raise os_error("create run folder", self.path, exc) from None
         if not os.access(self.path, os.W_OK | os.X_OK):
             raise RunFolderError(f"cannot write to run folder {str(self.path)!r}: permission denied")
-        self.lock()
+        had_lock = (self.path / LOCK_FILE).exists()
+        self.lock(say)
         try:
             self._claim(config_dict, code_fingerprint, force, say)
         except BaseException:
             self.unlock()
+            if not had_lock:  # a refused folder is left as it was found
+                try:
+                    (self.path / LOCK_FILE).unlink()
+                except OSError:
+                    pass
             raise
         return self
 
     def _claim(self, config_dict, code_fingerprint, force, say) -> None:
         want = config_hash(config_dict)
-        record = self._read_record()
-        if record is None and self._old_layout_of(config_dict):
-            record = {"config_hash": want, "code": None}  # a run of this configuration from before run.json
+        record, problem = self._read_record()
+        recovered = False
+        if problem is not None:  # run.json unreadable: recover unless config.json says it is another's
+            stored = self._stored_config()
+            if stored is not None and stored != config_dict:
+                record = {"kind": "?", "config_hash": config_hash(stored), "name": stored.get("name", "?")
+                          if isinstance(stored, dict) else "?"}
+            else:
+                record, recovered = {"kind": self.kind, "config_hash": want, "code": None}, True
+        elif record is None and self._stored_config() == config_dict:
+            record = {"kind": self.kind, "config_hash": want, "code": None}  # a run from before run.json
         others = [p.name for p in self.path.iterdir() if p.name != LOCK_FILE]
-        mismatch = record is None or record.get("config_hash") != want
+        rec_kind = None if record is None else record.get("kind", "run")
+        mismatch = record is None or rec_kind != self.kind or record.get("config_hash") != want
         if others and mismatch:
             if not force:
-                if record is None:
-                    raise RunFolderError(f"{str(self.path)!r} is not empty and is not a stripebench run folder "
-                                         f"(holds {sorted(others)[0]!r}); choose another --out or pass --force "
-                                         "to clear it")
-                raise RunFolderError(
-                    f"run folder {str(self.path)!r} holds a run of another configuration "
-                    f"({record.get('name', '?')!r}, hash {record.get('config_hash', '?')}, this one {want}); "
-                    "choose another --out or pass --force to clear it")
+                raise RunFolderError(self._refusal(record, rec_kind, others, want, problem))
             self.clear()
-        elif record is not None and record.get("code") != code_fingerprint:
+        elif (record is not None and record.get("code") != code_fingerprint and code_fingerprint is not None
+              and self.kind not in ACCUMULATES) or recovered:
             if say is not None and record.get("code") is not None:
-                say(f"stripebench: the code changed since the run in {self.path} (trackers, scenes or plugins): "
-                    "its results are recomputed")
-            self.clear(keep_scans=True)  # the checkpoints check their own fingerprint
-        doc = {"format": FORMAT, "name": config_dict.get("name"), "config_hash": want, "code": code_fingerprint}
-        self._write(RUN_FILE, json.dumps(doc, indent=1, sort_keys=True) + "\n")
-        self._write(LAYOUT["config"], json.dumps(config_dict, indent=2))
+                say(f"stripebench: the code changed since the {KINDS[self.kind]} in {self.path} "
+                    "(trackers, scenes or plugins): its results are recomputed")
+            keep = RESUMABLE.get(self.kind)
+            self.clear(keep=(keep,) if keep else ())
+            if recovered:
+                kept, removed = self._verify_resumable()
+                if say is not None:
+                    say(f"stripebench: {self.path / RUN_FILE} is {problem}: the folder is recovered for this "
+                        f"{KINDS[self.kind]} (kept {kept} resumable file(s) whose checksums hold, removed {removed})")
+        keep = RESUMABLE.get(self.kind)
+        if keep is not None and (self.path / keep).exists() and not (self.path / keep).is_dir():
+            try:  # a file where the checkpoints' folder should be
+                (self.path / keep).unlink()
+            except OSError as exc:
+                raise os_error("clear", self.path / keep, exc) from None
+            if say is not None:
+                say(f"stripebench: {self.path / keep} was a file, not a folder: removed")
+        doc = {"format": FORMAT, "kind": self.kind, "name": config_dict.get("name"), "config_hash": want,
+               "code": code_fingerprint}
+        self.write_text(RUN_FILE, json.dumps(doc, indent=1, sort_keys=True) + "\n")
+        self.write_text(LAYOUT["config"], json.dumps(config_dict, indent=2))
 
-    def _old_layout_of(self, config_dict) -> bool:
-        """Whether the folder is a run of ``config_dict`` written before ``run.json`` existed."""
+    def _refusal(self, record, rec_kind, others, want, problem) -> str:
+        where = f"run folder {str(self.path)!r}"
+        tail = "choose another --out or pass --force to clear it"
+        if record is None:
+            return (f"{str(self.path)!r} is not empty and is not a stripebench run folder "
+                    f"(holds {sorted(others)[0]!r}); {tail}")
+        if "newer" in record:
+            return (f"{where} was written by a newer stripebench ({RUN_FILE} of format {record['newer']!r}; "
+                    f"this one reads format 1 or 2); {tail}")
+        if rec_kind != self.kind and rec_kind in KINDS:
+            return (f"{where} holds a {KINDS[rec_kind]} ({record.get('name', '?')!r}, hash "
+                    f"{record.get('config_hash', '?')}), not a {KINDS[self.kind]}; {tail}")
+        what = f" ({RUN_FILE} is {problem}; config.json names it)" if problem else ""
+        return (f"{where} holds a {KINDS.get(rec_kind, 'run')} of another configuration{what} "
+                f"({record.get('name', '?')!r}, hash {record.get('config_hash', '?')}, this one {want}); {tail}")
+
+    def _stored_config(self):
+        """``config.json`` as JSON, or None when missing or unreadable."""
         try:
-            return json.loads((self.path / LAYOUT["config"]).read_text(encoding="utf-8")) == config_dict
-        except (OSError, ValueError):
-            return False
-
-    def _read_record(self) -> dict | None:
-        p = self.path / RUN_FILE
-        if not p.exists():
+            return json.loads((self.path / LAYOUT["config"]).read_text(encoding="utf-8"))
+        except (OSError, ValueError, RecursionError):
             return None
+
+    def _read_record(self) -> tuple[dict | None, str | None]:
+        """``run.json``: (doc, None); (None, None) when missing; (None, why) when unreadable;
+        ({"newer": N}, None) for a format this code does not read."""
+        p = self.path / RUN_FILE
+        kind = non_file_kind(p)
+        if kind is not None:
+            return None, f"{kind}, not a file"
+        if not p.exists():
+            return None, None
         try:
             doc = json.loads(p.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            return {"config_hash": "unreadable"}
-        return doc if isinstance(doc, dict) else {"config_hash": "unreadable"}
+        except OSError as exc:
+            return None, f"unreadable ({exc.strerror or exc})"
+        except (ValueError, RecursionError) as exc:
+            return None, f"unreadable ({type(exc).__name__}: {str(exc).splitlines()[0][:100]})"
+        if not isinstance(doc, dict) or not isinstance(doc.get("config_hash"), str):
+            return None, "unreadable (not a run record)"
+        try:
+            check_format(doc.get("format", 1), _READS, "run record", p)
+        except RunFolderError:
+            return {"newer": doc.get("format"), "kind": "?"}, None
+        return doc, None
 
-    def clear(self, *, keep_scans: bool = False) -> None:
-        """Remove everything in the folder but its lock (and the checkpoints with ``keep_scans``)."""
+    def _verify_resumable(self) -> tuple[int, int]:
+        """Remove the resumable files whose own checks fail; (kept, removed)."""
+        keep = RESUMABLE.get(self.kind)
+        if keep is None or not (self.path / keep).is_dir():
+            return 0, 0
+        if self.kind == "run":
+            from bench.store.checkpoint import verify_checkpoint as verify
+        else:
+            from bench.store.sweepfiles import verify_unit as verify
+        kept = removed = 0
+        for p in sorted((self.path / keep).iterdir()):
+            if verify(p) is None:
+                kept += 1
+                continue
+            try:
+                shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
+            except OSError as exc:
+                raise os_error("clear", p, exc) from None
+            removed += 1
+        return kept, removed
+
+    def clear(self, *, keep=(), keep_scans: bool = False) -> None:
+        """Remove everything in the folder but its lock (and the folders named in ``keep``;
+        ``keep_scans`` keeps ``scans``)."""
+        keep = set(keep) | ({LAYOUT["scans"]} if keep_scans else set())
         for p in self.path.iterdir():
-            if p.name == LOCK_FILE or (keep_scans and p.name == LAYOUT["scans"]):
+            if p.name == LOCK_FILE or p.name in keep:
                 continue
             try:
                 if p.is_dir() and not p.is_symlink():
@@ -237,14 +339,26 @@ class RunFolder:
                 else:
                     p.unlink()
             except OSError as exc:
-                raise _os_error("clear", p, exc) from None
+                raise os_error("clear", p, exc) from None
 
     # -- writers -------------------------------------------------------------
-    def _write(self, name: str, text: str) -> None:
+    def write_text(self, name: str, text: str) -> Path:
+        """``<folder>/<name>`` written atomically; returns its path (``RunFolderError`` naming it on OSError)."""
+        path = self.path / name
         try:
-            atomic_write_text(self.path / name, text)
+            atomic_write_text(path, text)
         except OSError as exc:
-            raise _os_error("write", self.path / name, exc) from None
+            raise os_error("write", path, exc) from None
+        return path
+
+    def write_bytes(self, name: str, data: bytes) -> Path:
+        """``<folder>/<name>`` written atomically; returns its path (``RunFolderError`` naming it on OSError)."""
+        path = self.path / name
+        try:
+            atomic_write_bytes(path, data)
+        except OSError as exc:
+            raise os_error("write", path, exc) from None
+        return path
 
     def checkpoint(self, key: str) -> Path:
         """The checkpoint file of experiment ``key``."""
@@ -255,7 +369,7 @@ def _guard_write(path, fn) -> None:
     try:
         fn()
     except OSError as exc:
-        raise _os_error("write", path, exc) from None
+        raise os_error("write", path, exc) from None
 
 
 def write_tables(run_dir, metrics, samples) -> None:
@@ -276,106 +390,44 @@ def write_tables(run_dir, metrics, samples) -> None:
         _guard_write(run_dir / name, lambda: write(run_dir / name))
 
 
-def _json_default(o):
-    if isinstance(o, np.integer):
-        return int(o)
-    if isinstance(o, np.floating):
-        return float(o)
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
-
-
 def write_summary(run_dir, summary: dict) -> None:
-    """``summary.json``, atomically."""
-    path = Path(run_dir) / LAYOUT["summary"]
-    _guard_write(path, lambda: atomic_write_text(path, json.dumps(summary, indent=2, default=_json_default)))
+    """``summary.json`` (a :func:`bench.store.summary.build_summary` document), atomically."""
+    from bench.store import summary as _summary
+
+    _summary.write_summary(Path(run_dir) / LAYOUT["summary"], summary)
 
 
-def write_figdata(run_dir, **arrays) -> None:
-    """``figdata.npz`` (the frame Fig. 7 shows), atomically."""
+def write_figdata(run_dir, fig) -> None:
+    """``figdata.npz`` (a :class:`bench.store.figdata.FigData`: the frame Fig. 7 shows), atomically."""
+    from bench.store import figdata
+
     path = Path(run_dir) / LAYOUT["figdata"]
-    _guard_write(path, lambda: save_npz(path, **arrays))
+    _guard_write(path, lambda: figdata.write_figdata(path, fig))
 
 
-def write_gallery(run_dir, **arrays) -> None:
-    """``gallery.npz`` (the failure gallery's frames), atomically."""
+def write_gallery(run_dir, frames) -> None:
+    """``gallery.npz`` (:class:`bench.store.figdata.GalleryFrame` s: the failure gallery's frames), atomically."""
+    from bench.store import figdata
+
     path = Path(run_dir) / LAYOUT["gallery"]
-    _guard_write(path, lambda: save_npz(path, **arrays))
+    _guard_write(path, lambda: figdata.write_gallery(path, frames))
 
 
 # -- readers -------------------------------------------------------------------
-def read_npz(path) -> tuple[dict[str, np.ndarray] | None, str | None]:
-    """The arrays of an ``.npz`` file and None, or None and why it could not be read.
-
-    A missing file gives ``(None, None)``; a truncated, corrupt (bad CRC, not a
-    zip) or pickled file gives ``(None, reason)``, never an exception.
-
-    Examples
-    --------
-    >>> read_npz("/nonexistent/x.npz")
-    (None, None)
-    """
-    path = Path(path)
-    if not path.exists():
-        return None, None
-    try:
-        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            return {k: z[k] for k in z.files}, None
-    except Exception as exc:  # BadZipFile, CRC errors, EOF, pickles, ...: all mean "recompute"
-        return None, f"{type(exc).__name__}: {exc}".splitlines()[0][:200]
-
-
-def _figdata_problem(fd: dict) -> str | None:
-    need = {"experiment", "mirror_angle_deg", "image", "truth_columns", "trackers"}
-    if not need <= set(fd):
-        return f"missing {sorted(need - set(fd))[0]!r}"
-    img = fd["image"]
-    if img.ndim != 2:
-        return f"image of shape {img.shape}, not 2-D"
-    H = img.shape[0]
-    if fd["truth_columns"].shape != (H,):
-        return f"truth_columns of shape {fd['truth_columns'].shape} for an image of {H} rows"
-    for n in fd["trackers"]:
-        c = fd.get(f"columns/{n}")
-        if c is None or c.shape != (H,):
-            return f"columns of {str(n)!r} missing or not of shape ({H},)"
-    return None
-
-
 def load_summary(run_dir) -> dict:
-    """``summary.json`` of a finished run, checked.
+    """``summary.json`` of a finished run (synthetic or real), checked.
 
     Raises
     ------
     RunFolderError
-        No summary (not a finished run), unreadable, not JSON, or missing a key.
+        No summary (not a finished run), unreadable, not JSON, of another format, or missing a key.
     """
-    path = Path(run_dir) / LAYOUT["summary"]
     if not Path(run_dir).is_dir():
         raise RunFolderError(f"RUN must be a finished run folder, got {str(run_dir)!r} (not a folder)")
+    path = Path(run_dir) / LAYOUT["summary"]
     if not path.exists():
         raise RunFolderError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise _os_error("read", path, exc) from None
-    except ValueError as exc:
-        raise RunFolderError(f"{str(path)!r} is not valid JSON ({str(exc).splitlines()[0]}); "
-                             "rerun the run to rewrite it") from None
-    if not isinstance(doc, dict):
-        raise RunFolderError(f"{str(path)!r} is not a run summary (a JSON object)")
-    if doc.get("kind") == "real":  # a real-photograph run (bench.run.real): its own summary
-        if not isinstance(doc.get("config"), dict):
-            raise RunFolderError(f"{str(path)!r} is not a run summary: `config` missing or not a dict")
-        return doc
-    for key, typ in _SUMMARY_KEYS.items():
-        if not isinstance(doc.get(key), typ):
-            raise RunFolderError(f"{str(path)!r} is not a run summary: `{key}` missing or not a {typ.__name__}")
-    cfg = doc["config"]
-    if not isinstance(cfg.get("render"), dict) or not isinstance(cfg.get("experiments"), list):
-        raise RunFolderError(f"{str(path)!r} is not a run summary: `config` lacks `render` or `experiments`")
-    return doc
+    return read_summary(path, kind=("run", "real"))
 
 
 def load_metrics(run_dir, *, timings: bool = False):
@@ -387,6 +439,7 @@ def load_metrics(run_dir, *, timings: bool = False):
     RunFolderError
         Missing, unreadable or not a metrics table.
     """
+    import numpy as np
     import pandas as pd
 
     path = Path(run_dir) / LAYOUT["metrics_parquet"]
@@ -408,7 +461,7 @@ def load_metrics(run_dir, *, timings: bool = False):
     if timings:
         tpath = Path(run_dir) / LAYOUT["timings"]
         t = None
-        if tpath.exists():
+        if tpath.is_file():
             try:
                 t = pd.read_csv(tpath)
             except Exception:
@@ -428,8 +481,9 @@ def load_run(run_dir, *, say=None) -> dict:
     -------
     dict
         ``metrics`` (DataFrame, timings joined in), ``samples`` (DataFrame),
-        ``summary`` (dict), ``figdata`` (dict of arrays, or None when missing or
-        corrupt) and ``scans`` (experiment key -> arrays; unreadable ones left out).
+        ``summary`` (dict), ``figdata`` (:class:`bench.store.figdata.FigData`, or None when
+        missing or unusable), ``gallery`` (list of :class:`bench.store.figdata.GalleryFrame`, or None)
+        and ``scans`` (experiment key -> :class:`bench.store.checkpoint.ScanResult`; unusable ones left out).
 
     Raises
     ------
@@ -437,6 +491,9 @@ def load_run(run_dir, *, say=None) -> dict:
         Not a finished run, or its summary, metrics or samples are unreadable.
     """
     import pandas as pd
+
+    from bench.store.checkpoint import read_checkpoint
+    from bench.store.figdata import read_figdata, read_gallery
 
     run_dir = Path(run_dir)
     summary = load_summary(run_dir)
@@ -446,32 +503,22 @@ def load_run(run_dir, *, say=None) -> dict:
         samples = pd.read_csv(spath)
     except Exception as exc:
         raise RunFolderError(f"cannot read {str(spath)!r}: {type(exc).__name__}; rerun the run to rewrite it") from None
-    fd, why = read_npz(run_dir / LAYOUT["figdata"])
-    if fd is not None:
-        why = _figdata_problem(fd)
-        fd = None if why else fd
+    fd, why = read_figdata(run_dir / LAYOUT["figdata"])
     if why and say is not None:
         say(f"stripebench: {run_dir / LAYOUT['figdata']} is unusable ({why}): Fig. 7 is left out; "
             "rerun the run to rewrite it")
-    gallery, why = read_npz(run_dir / LAYOUT["gallery"])
-    if gallery is not None and "keys" not in gallery:
-        gallery, why = None, "no `keys` array"
-    if why and say is not None and (run_dir / LAYOUT["gallery"]).exists():
+    gallery, why = read_gallery(run_dir / LAYOUT["gallery"])
+    if why and say is not None:
         say(f"stripebench: {run_dir / LAYOUT['gallery']} is unusable ({why}): the failure gallery is left out; "
             "rerun the run to rewrite it")
     scans = {}
-    for p in sorted((run_dir / LAYOUT["scans"]).glob("*.npz")):
-        arrays, why = read_npz(p)
-        if arrays is None:
+    folder = run_dir / LAYOUT["scans"]
+    for p in sorted(folder.glob("*.npz")) if folder.is_dir() else []:
+        res, why = read_checkpoint(p, p.stem)
+        if res is None:
             if say is not None:
-                say(f"stripebench: checkpoint {p} is unreadable ({why}): left out")
+                say(f"stripebench: checkpoint {p} is {why}: left out")
             continue
-        scans[p.stem] = arrays
+        scans[p.stem] = res
     return {"metrics": metrics, "samples": samples, "summary": summary, "figdata": fd, "gallery": gallery,
             "scans": scans}
-
-
-def finite_or_none(v) -> Any:
-    """``float(v)``, or None for NaN (for JSON)."""
-    v = float(v)
-    return None if math.isnan(v) else v

@@ -197,8 +197,8 @@ def run(profile: TuneProfile, out: pathlib.Path, *, progress: bool = True) -> tu
         key = _key(e)
         if progress:
             print(f"[{k + 1}/{len(profile.experiments)}] {key}: {len(angles)} frames", file=sys.stderr, flush=True)
-        res, _ = run_scan(key, scene, angles, tr, spp=r["spp"], seed=profile.seed,
-                          checkpoint=out / "checkpoints" / f"{key}.npz", progress=progress)
+        res = run_scan(key, scene, angles, tr, spp=r["spp"], seed=profile.seed,
+                       checkpoint=out / "checkpoints" / f"{key}.npz", progress=progress)
         for n in profile.trackers:
             for h in profile.h_weights:
                 frac, rows = hit_fraction(res.columns[_tracker_name(n, h)], res.truth_columns, res.on_object,

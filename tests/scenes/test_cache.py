@@ -1,6 +1,7 @@
 import os
 
 import numpy as np
+import pytest
 
 from scenes import cache as C
 
@@ -75,3 +76,61 @@ def test_a_corrupt_entry_is_reported_in_one_line(tmp_path, capsys):
     assert C.load(tmp_path, k) is None
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "unreadable" in err[0]
+
+
+def test_an_entry_with_nan_in_a_pass_is_reported_and_re_rendered(tmp_path, capsys):
+    k = C.key({"e": 5})
+    bad = _entry()
+    bad["laser"][1, 2] = np.nan  # the sensor's Poisson noise fails on it ("lam value too large")
+    C.store(tmp_path, k, bad)
+    assert C.load(tmp_path, k) is None
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "`laser` holds NaN or infinity" in err[0] and "re-rendering" in err[0]
+    C.store(tmp_path, k, _entry())
+    assert C.load(tmp_path, k) is not None  # the re-render replaces it: not stuck
+
+
+def test_an_entry_edited_on_disk_fails_its_checksum(tmp_path, capsys):
+    k = C.key({"f": 6})
+    p = C.store(tmp_path, k, _entry())
+    with np.load(p) as z:
+        arrays = {n: z[n] for n in z.files}
+    arrays["columns"] = arrays["columns"] + 3.0  # the truth shifted 3 px, key and old checksum kept
+    np.savez(p, **arrays)
+    assert C.load(tmp_path, k) is None
+    assert "checksum does not match" in capsys.readouterr().err
+
+
+def test_an_entry_from_before_checksums_is_read_unverified(tmp_path):
+    k = C.key({"g": 7})
+    p = C._path(tmp_path, k)
+    p.parent.mkdir(parents=True)
+    np.savez(p, **_entry(), __key__=np.array(k))  # what CODE_VERSION 1 stored before checksums
+    back = C.load(tmp_path, k)
+    assert back is not None and set(back) == set(_entry())
+
+
+def test_a_directory_in_an_entrys_place_is_removed_with_one_line(tmp_path, capsys):
+    k = C.key({"h": 8})
+    p = C._path(tmp_path, k)
+    (p / "x").mkdir(parents=True)
+    assert C.load(tmp_path, k) is None and not p.exists()
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is a directory, not a file: removed" in err[0]
+    p.mkdir()
+    C.store(tmp_path, k, _entry())  # store clears it too (a render that did not load first)
+    assert C.load(tmp_path, k) is not None
+
+
+def test_a_full_disk_while_storing_names_the_entry(tmp_path, monkeypatch):
+    import errno
+
+    def full(*a, **kw):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", full)
+    k = C.key({"i": 9})
+    with pytest.raises(OSError) as exc:
+        C.store(tmp_path, k, _entry())
+    assert exc.value.filename == str(C._path(tmp_path, k)) and exc.value.errno == errno.ENOSPC
+    assert os.listdir(C._path(tmp_path, k).parent) == []

@@ -16,7 +16,6 @@ frame x grid point x repeat) that ``docs/sweeps.md`` uses for sizing.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -54,7 +53,9 @@ def _timed_sweep(config_text: str, out: Path, tmp: Path, label: str) -> tuple[fl
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
         raise RuntimeError(f"sweep {label} failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    summary = json.loads((out / label / "summary.json").read_text())
+    from bench.store.sweepfiles import load_sweep
+
+    summary = load_sweep(out / label)["summary"]
     return wall, summary
 
 

@@ -3,7 +3,7 @@ import pandas as pd
 import pytest
 
 from bench.evaluate.tables import robust_table, verdicts, worst_frames
-from bench.run.scan import ScanResult
+from bench.store.checkpoint import ScanResult
 
 
 def _samples():

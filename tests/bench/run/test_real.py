@@ -187,3 +187,126 @@ def test_real_on_three_shipped_images_end_to_end(tmp_path):
     assert (m[m["experiment"] == "al_room3"]["hit_rate"] > 0.9).all()
     html = (out / "report.html").read_text()
     assert "The worst images per tracker" in html and html.count("<img") == 6
+
+
+# -- the run-folder guard on `real` and `track` -------------------------------------------------------------------
+
+
+def _one_line(capsys, *needles):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("stripebench: error: "), err
+    for n in needles:
+        assert n in err[0], (n, err[0])
+    return err[0]
+
+
+def test_real_refuses_a_synthetic_run_folder_and_an_unrelated_folder(tmp_path, capsys):
+    from bench.store.runfolder import RunFolder
+
+    root = _tiny_set(tmp_path / "set")
+    run_dir = tmp_path / "synthetic"
+    with RunFolder(run_dir) as rf:
+        rf.open({"name": "paper", "render": {}, "experiments": []}, "code")
+    (run_dir / "summary.json").write_text('{"synthetic": true}')
+    config = (run_dir / "config.json").read_text()
+    argv = ["real", str(root), "--trackers", "threshold", "--n-boot", "20", "--quiet"]
+    assert main([*argv, "--out", str(run_dir)]) == 2
+    _one_line(capsys, "holds a run ('paper'", "not a real run", "--force")
+    assert (run_dir / "summary.json").read_text() == '{"synthetic": true}' and (run_dir / "config.json").read_text() == config
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine")
+    assert main([*argv, "--out", str(mine)]) == 2
+    _one_line(capsys, "is not empty and is not a stripebench run folder")
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    assert main([*argv, "--out", str(tmp_path / "r")]) == 0  # a fresh folder, then the same configuration again
+    assert main([*argv, "--out", str(tmp_path / "r")]) == 0
+    capsys.readouterr()
+    assert main([*argv[:3], "com_bg", *argv[4:], "--out", str(tmp_path / "r")]) == 2  # other trackers
+    _one_line(capsys, "holds a real run of another configuration")
+    assert main([*argv[:3], "com_bg", *argv[4:], "--out", str(tmp_path / "r"), "--force"]) == 0
+
+
+_HOLD = """
+import sys, time
+from bench.store.runfolder import RunFolder
+RunFolder(sys.argv[1]).lock()
+print("locked", flush=True)
+time.sleep(60)
+"""
+
+
+def test_a_second_real_on_one_folder_is_refused_at_once(tmp_path):
+    import subprocess
+    import sys
+
+    root = _tiny_set(tmp_path / "set")
+    out = tmp_path / "r"
+    out.mkdir()
+    holder = subprocess.Popen([sys.executable, "-c", _HOLD, str(out)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "locked"
+        proc = subprocess.run([sys.executable, "-m", "bench.cli", "real", str(root), "--out", str(out),
+                               "--trackers", "threshold", "--n-boot", "20", "--quiet"],
+                              capture_output=True, text=True, timeout=120)
+    finally:
+        holder.kill()
+        holder.wait()
+        holder.stdout.close()
+    err = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2 and len(err) == 1 and "is in use by another stripebench process" in err[0], proc.stderr
+    assert not (out / "summary.json").exists()
+
+
+def test_a_full_disk_during_real_is_one_line_naming_the_file(tmp_path, capsys, monkeypatch):
+    import errno
+    import os
+
+    root = _tiny_set(tmp_path / "set")
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)
+    assert main(["real", str(root), "--out", str(tmp_path / "r"), "--trackers", "threshold", "--quiet"]) == 2
+    line = _one_line(capsys, "no space left on the device", str(tmp_path / "r"))
+    assert ".tmp" not in line
+
+
+def test_track_refuses_colliding_outputs_and_inputs_inside_the_output_folder(tmp_path, capsys):
+    for sub in ("a", "b"):
+        (tmp_path / sub).mkdir()
+        iio.imwrite(tmp_path / sub / "same.png", _frame())
+    iio.imwrite(tmp_path / "dup.png", _frame())
+    iio.imwrite(tmp_path / "dup.jpg", _frame())
+    iio.imwrite(tmp_path / "x.png", _frame())
+    iio.imwrite(tmp_path / "x_overlay.png", _frame())
+    before = (tmp_path / "x_overlay.png").read_bytes()
+    for inputs, out, needle in ((["a/same.png", "b/same.png"], "o1", "would both write same.csv"),
+                                (["dup.png", "dup.jpg"], "o2", "would both write dup.csv"),
+                                (["x.png", "x_overlay.png"], ".", "is inside the output folder")):
+        argv = ["track", *[str(tmp_path / i) for i in inputs], "--out", str(tmp_path / out), "--trackers", "threshold"]
+        for force in ([], ["--force"]):
+            assert main([*argv, *force]) == 2
+            _one_line(capsys, needle)
+    assert (tmp_path / "x_overlay.png").read_bytes() == before and not (tmp_path / "o1").exists()
+
+
+def test_track_into_a_folder_of_other_settings_or_for_another_input_is_refused(tmp_path, capsys):
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    iio.imwrite(tmp_path / "a" / "s.png", _frame(col=20))
+    iio.imwrite(tmp_path / "b" / "s.png", _frame(col=30))
+    iio.imwrite(tmp_path / "t.png", _frame())
+    out = str(tmp_path / "o")
+    assert main(["track", str(tmp_path / "a" / "s.png"), "--out", out, "--trackers", "threshold"]) == 0
+    assert main(["track", str(tmp_path / "t.png"), "--out", out, "--trackers", "threshold"]) == 0  # adds t
+    capsys.readouterr()
+    assert main(["track", str(tmp_path / "t.png"), "--out", out, "--trackers", "com_bg"]) == 2
+    _one_line(capsys, "holds a track output of another configuration")
+    assert main(["track", str(tmp_path / "b" / "s.png"), "--out", out, "--trackers", "threshold"]) == 2
+    _one_line(capsys, "s.csv' was written for", "pass --force to replace it")
+    assert np.allclose(pd.read_csv(tmp_path / "o" / "s.csv")["col_threshold"], 20)
+    assert main(["track", str(tmp_path / "b" / "s.png"), "--out", out, "--trackers", "threshold", "--force"]) == 0
+    assert np.allclose(pd.read_csv(tmp_path / "o" / "s.csv")["col_threshold"], 30)
+    assert (tmp_path / "o" / "t.csv").exists()

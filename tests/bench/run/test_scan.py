@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import trackers
-from bench.run.scan import ScanResult, run_scan
+from bench.run.scan import run_scan
+from bench.store.checkpoint import ScanResult
 from scenes import Frame, Truth
 from trackers import Track, Tracker
 from trackers.testing import make_stripe_image
@@ -66,12 +67,12 @@ def test_scan_goes_on_past_failing_trackers_and_resumes(tmp_path):
     scene = SyntheticScene()
     trs = {"centroid": trackers.make("centroid"), "raises": Raises(), "outside": Outside()}
     ckpt = tmp_path / "scan.npz"
-    res, _ = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    res = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert res.complete and scene.renders == 3
     assert (res.status["raises"] == 1).all() and (res.status["outside"] == 3).all()
     assert (res.status["centroid"] == 0).all() and np.nanmax(np.abs(res.columns["centroid"] - res.truth_columns)) < 1
     # the checkpoint holds everything; a rerun renders nothing
-    again, _ = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    again = run_scan("syn", scene, [0.0, 1.0, 2.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert scene.renders == 3
     assert np.array_equal(again.columns["centroid"], res.columns["centroid"], equal_nan=True)
     assert again.messages["raises"][0].startswith("RuntimeError: boom")
@@ -94,7 +95,7 @@ def test_interrupted_scan_keeps_finished_frames(tmp_path):
     saved = ScanResult.from_arrays("syn", load_npz(ckpt))
     assert saved.done.tolist() == [True, True, False, False]
     fresh = SyntheticScene()
-    res, _ = run_scan("syn", fresh, [0.0, 1.0, 2.0, 3.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    res = run_scan("syn", fresh, [0.0, 1.0, 2.0, 3.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     assert fresh.renders == 2 and res.complete  # only the two missing frames
 
 
@@ -133,7 +134,7 @@ def test_a_damaged_checkpoint_is_reported_in_one_line_and_recomputed(damage, tmp
     scene = SyntheticScene()
     ckpt = tmp_path / "scan.npz"
     trs = {"threshold": trackers.make("threshold")}
-    first, _ = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    first = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
     arrays = load_npz(ckpt)
     if damage == "columns of another height":
         arrays["columns/threshold"] = np.zeros((2, 7))
@@ -147,7 +148,35 @@ def test_a_damaged_checkpoint_is_reported_in_one_line_and_recomputed(damage, tmp
         ckpt.write_bytes(bytes(data))
     notes = []
     fresh = SyntheticScene()
-    res, _ = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False,
+    res = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False,
                       say=notes.append)
     assert fresh.renders == 2 and len(notes) == 1 and "recomputing" in notes[0]
     np.testing.assert_array_equal(res.columns["threshold"], first.columns["threshold"])
+
+
+def test_a_checkpoint_edited_on_disk_is_recomputed_with_one_line(tmp_path):
+    from bench.store.files import load_npz, save_npz
+
+    scene = SyntheticScene()
+    ckpt = tmp_path / "scan.npz"
+    trs = {"threshold": trackers.make("threshold")}
+    first = run_scan("syn", scene, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False)
+    arrays = load_npz(ckpt)
+    arrays["columns/threshold"] = arrays["columns/threshold"] + 3.0  # every column shifted 3 px
+    save_npz(ckpt, **arrays)
+    notes = []
+    fresh = SyntheticScene()
+    res = run_scan("syn", fresh, [0.0, 1.0], trs, spp=1, seed=0, checkpoint=ckpt, progress=False, say=notes.append)
+    assert fresh.renders == 2 and len(notes) == 1 and "edited or damaged" in notes[0] and "recomputing" in notes[0]
+    np.testing.assert_array_equal(res.columns["threshold"], first.columns["threshold"])
+
+
+def test_a_directory_in_the_checkpoints_place_is_removed_and_the_scan_computed(tmp_path):
+    ckpt = tmp_path / "scan.npz"
+    (ckpt / "junk").mkdir(parents=True)
+    notes = []
+    scene = SyntheticScene()
+    res = run_scan("syn", scene, [0.0, 1.0], {"threshold": trackers.make("threshold")}, spp=1, seed=0,
+                   checkpoint=ckpt, progress=False, say=notes.append)
+    assert res.complete and ckpt.is_file()
+    assert len(notes) == 1 and "a directory, not a file (removed)" in notes[0]

@@ -307,3 +307,57 @@ def test_a_worker_with_other_code_stops_the_sweep(tmp_path, monkeypatch):
     with pytest.raises(sw.SweepError, match="runs other stripebench code \\(source 0123456789abcdef"):
         run_sweep(cfg, s, tmp_path / "x", scheduler="sync", progress=False, quiet=True)
     assert not list((tmp_path / "x" / "units").glob("*.json"))  # nothing from it is kept
+
+
+# -- the run-folder guard and the units' integrity ------------------------------------------------------------------
+
+def test_a_sweep_name_never_leaves_the_runs_folder(tmp_path, monkeypatch):
+    monkeypatch.setenv("STRIPEBENCH_RUNS", str(tmp_path / "runs"))
+    for name in ("../../x", "/etc/x", "a/../../b", ".."):
+        cfg = parse({**BASE, "name": name})
+        out = sw.default_sweep_dir(cfg, parse_sweep(dict(GRID), cfg))
+        assert out.parent == tmp_path / "runs" and "-sweep-" in out.name, (name, out)
+
+
+def test_a_sweep_into_another_kinds_folder_or_a_locked_one_is_refused(tmp_path):
+    from bench.store.runfolder import RunFolder, RunFolderError
+
+    cfg, s = _cfg_sweep()
+    with RunFolder(tmp_path / "run") as rf:
+        rf.open({"name": "paper"}, "code")
+    (tmp_path / "run" / "summary.json").write_text("{}")
+    with pytest.raises(RunFolderError, match="holds a run .*not a sweep.*--force"):
+        run_sweep(cfg, s, tmp_path / "run", scheduler="sync", progress=False, quiet=True)
+    assert (tmp_path / "run" / "summary.json").read_text() == "{}"
+    holder = RunFolder(tmp_path / "busy")
+    (tmp_path / "busy").mkdir()
+    holder.lock()
+    try:
+        with pytest.raises(RunFolderError, match="is in use by another stripebench process"):
+            run_sweep(cfg, s, tmp_path / "busy", scheduler="sync", progress=False, quiet=True)
+    finally:
+        holder.unlock()
+
+
+@pytest.mark.slow
+def test_damaged_edited_or_misplaced_units_are_recomputed_with_one_line_each(sequential, tmp_path, capsys):
+    cfg, s = _cfg_sweep()
+    out = tmp_path / "units"
+    run_sweep(cfg, s, out, scheduler="sync", chunk=2, progress=False, quiet=True)
+    table = _table(out)
+    units = sorted((out / "units").glob("*.json"))
+    assert len(units) == 3
+    units[0].write_text("[]")
+    doc = json.loads(units[1].read_text())
+    doc["result"]["rows"][0]["hit_rate"] = 0.123  # edited, old checksum kept
+    units[1].write_text(json.dumps(doc))
+    units[2].unlink()
+    units[2].mkdir()
+    capsys.readouterr()
+    run_sweep(cfg, s, out, scheduler="sync", chunk=2, progress=False, quiet=True)
+    err = [line for line in capsys.readouterr().err.splitlines() if "sweep unit" in line]
+    assert len(err) == 3 and all("recomputing that unit" in line for line in err)
+    assert any("of format 1" in line for line in err) and any("edited or damaged" in line for line in err)
+    assert any("a directory, not a file (removed)" in line for line in err)
+    pd.testing.assert_frame_equal(_table(out), table)
+    assert all(p.is_file() for p in units)

@@ -225,3 +225,121 @@ def test_a_run_folder_from_before_run_json_is_adopted_by_its_configuration(tmp_p
     with RunFolder(folder) as rf:
         rf.open({"name": "a", "seed": 0}, "c")
     assert (folder / "scans" / "x.npz").exists() and (folder / "run.json").exists()
+
+
+# -- one guard for every kind of run ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("first, second", [("run", "real"), ("run", "sweep"), ("real", "sweep"), ("sweep", "track"),
+                                           ("track", "real")])
+def test_a_folder_of_another_kind_is_refused_then_cleared_with_force(first, second, tmp_path):
+    folder = tmp_path / "f"
+    with RunFolder(folder, kind=first) as rf:
+        rf.open({"name": "a"}, "c")
+    (folder / "summary.json").write_text("{}")
+    with pytest.raises(RunFolderError, match=f"holds a {runfolder.KINDS[first]} .*not a {runfolder.KINDS[second]}"
+                                             ".*pass --force to clear it") as exc:
+        RunFolder(folder, kind=second).open({"name": "a"}, "c")  # the same configuration, another kind
+    assert "\n" not in str(exc.value) and (folder / "summary.json").read_text() == "{}"
+    with RunFolder(folder, kind=second) as rf:
+        rf.open({"name": "a"}, "c", force=True)
+    assert not (folder / "summary.json").exists()
+    assert json.loads((folder / "run.json").read_text())["kind"] == second
+
+
+def test_a_format_1_run_record_is_a_synthetic_run(tmp_path):
+    folder = tmp_path / "f"
+    folder.mkdir()
+    (folder / "run.json").write_text(json.dumps({"format": 1, "name": "a", "config_hash": runfolder.config_hash({"name": "a"}),
+                                                 "code": "c"}))
+    (folder / "report.html").write_text("kept")
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c")
+    assert (folder / "report.html").exists() and json.loads((folder / "run.json").read_text())["format"] == 2
+    with pytest.raises(RunFolderError, match="holds a run .*not a real run"):
+        RunFolder(folder, kind="real").open({"name": "a"}, "c")
+
+
+def test_a_run_record_of_a_newer_format_is_refused(tmp_path):
+    folder = tmp_path / "f"
+    folder.mkdir()
+    (folder / "run.json").write_text(json.dumps({"format": 99, "config_hash": "x", "kind": "run"}))
+    with pytest.raises(RunFolderError, match="written by a newer stripebench .*format 99"):
+        RunFolder(folder).open({"name": "a"}, "c")
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c", force=True)
+
+
+@pytest.mark.parametrize("damage", ["not json", "a list", "a directory", "not utf-8"])
+def test_an_unreadable_run_record_is_one_line_and_keeps_the_good_checkpoints(damage, tmp_path):
+    from bench.store.checkpoint import ScanResult, write_checkpoint
+
+    folder = tmp_path / "f"
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c")
+    write_checkpoint(folder / "scans" / "good.npz", ScanResult.empty("good", [0.0, 1.0], 4, ["t"]))
+    (folder / "scans" / "bad.npz").write_bytes(b"PK\x03\x04 damaged")
+    (folder / "metrics.csv").write_text("old results")
+    rec = folder / "run.json"
+    rec.unlink()
+    if damage == "a directory":
+        rec.mkdir()
+    else:
+        rec.write_bytes({"not json": b"{", "a list": b"[]", "not utf-8": b"\xff\xfe"}[damage])
+    notes = []
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c", say=notes.append)
+    assert len(notes) == 1 and "run.json is" in notes[0] and "recovered" in notes[0] and "kept 1" in notes[0]
+    assert sorted(p.name for p in (folder / "scans").iterdir()) == ["good.npz"]
+    assert not (folder / "metrics.csv").exists() and json.loads(rec.read_text())["kind"] == "run"
+
+
+def test_an_unreadable_run_record_of_another_configuration_is_refused(tmp_path):
+    folder = tmp_path / "f"
+    with RunFolder(folder) as rf:
+        rf.open({"name": "b"}, "c")
+    (folder / "run.json").write_text("{")
+    with pytest.raises(RunFolderError, match="another configuration .*run.json is unreadable"):
+        RunFolder(folder).open({"name": "a"}, "c")
+
+
+def test_a_directory_where_the_lock_should_be_is_removed_with_one_line(tmp_path):
+    folder = tmp_path / "f"
+    (folder / ".lock" / "x").mkdir(parents=True)
+    notes = []
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c", say=notes.append)
+    assert len(notes) == 1 and ".lock was a directory" in notes[0] and (folder / ".lock").is_file()
+
+
+def test_a_file_where_the_checkpoints_folder_should_be_is_removed(tmp_path):
+    folder = tmp_path / "f"
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c")
+    (folder / "scans").write_text("x")
+    notes = []
+    with RunFolder(folder) as rf:
+        rf.open({"name": "a"}, "c", say=notes.append)
+    assert not (folder / "scans").exists() and len(notes) == 1 and "scans was a file" in notes[0]
+
+
+def test_changed_code_keeps_a_sweeps_units_and_not_a_track_folders_outputs(tmp_path):
+    with RunFolder(tmp_path / "s", kind="sweep") as rf:
+        rf.open({"name": "a"}, "c1")
+    (tmp_path / "s" / "units").mkdir()
+    (tmp_path / "s" / "units" / "u.json").write_text("{}")
+    (tmp_path / "s" / "sweep.csv").write_text("old")
+    with RunFolder(tmp_path / "s", kind="sweep") as rf:
+        rf.open({"name": "a"}, "c2")
+    assert (tmp_path / "s" / "units" / "u.json").exists() and not (tmp_path / "s" / "sweep.csv").exists()
+    with RunFolder(tmp_path / "t", kind="track") as rf:
+        rf.open({"trackers": ["t"]}, "c1")
+    (tmp_path / "t" / "a.csv").write_text("row\n")
+    with RunFolder(tmp_path / "t", kind="track") as rf:
+        rf.open({"trackers": ["t"]}, "c2")
+    assert (tmp_path / "t" / "a.csv").exists()  # a track folder gathers outputs of several commands
+
+
+def test_an_unknown_kind_is_a_programming_error():
+    with pytest.raises(ValueError, match="`kind` must be one of run, real, sweep, track, score"):
+        RunFolder("x", kind="nope")

@@ -1,0 +1,175 @@
+"""The files of ``stripebench track`` and ``stripebench real``.
+
+``track`` writes into its output folder (a run folder of kind ``track``,
+:mod:`bench.store.runfolder`) per image ``NAME.csv`` (:func:`write_track_csv`)
+and ``NAME_overlay.png``, and records in ``inputs.json`` which input each
+``NAME`` was made from. :func:`track_output_names` gives every input its
+``NAME`` and refuses, in one line, inputs whose outputs would collide (two
+inputs with one file stem, ``a/same.png`` and ``b/same.png`` or ``dup.png`` and
+``dup.jpg``), an input inside the output folder (its outputs could overwrite
+it, and ``--force`` would clear it) and a ``NAME`` that an earlier ``track``
+into the same folder wrote for another input (unless ``force``).
+
+``real`` writes a run folder of kind ``real``::
+
+    run.json, .lock, config.json   as in every run folder (dataset, trackers, tolerance, seed)
+    metrics.parquet    one record per tracker x image (experiment = image name,
+    metrics.csv        region = "real"), plus experiment = "mean"
+    tracks/NAME.csv    the columns of every tracker (as ``track`` writes them)
+    overlays/NAME.png  the photograph with every tracker's columns and the reference
+    summary.json       kind = "real" (bench.store.summary)
+    report.html
+"""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+
+from bench.store.files import RunFolderError, atomic_write_text, os_error
+from bench.store.summary import read_summary
+
+__all__ = ["LAYOUT", "INPUTS_FILE", "write_track_csv", "track_output_names", "read_inputs", "write_inputs",
+           "write_real_metrics", "load_real_run", "real_run_means"]
+
+LAYOUT = {"metrics_parquet": "metrics.parquet", "metrics_csv": "metrics.csv", "tracks": "tracks",
+          "overlays": "overlays", "summary": "summary.json", "report": "report.html"}
+INPUTS_FILE = "inputs.json"
+
+
+def write_track_csv(path, labels: list[str], results: dict) -> None:
+    """``row``, then ``col_<label>``, ``score_<label>`` per label (empty where NaN), atomically.
+
+    Parameters
+    ----------
+    path : path-like
+    labels : list of str
+    results : dict
+        label -> :class:`trackers.Track` (columns in px, one per row).
+    """
+    import pandas as pd
+
+    H = next(iter(results.values())).columns.shape[0] if results else 0
+    data = {"row": np.arange(H)}
+    for lab in labels:
+        data[f"col_{lab}"] = results[lab].columns
+        data[f"score_{lab}"] = results[lab].score
+    try:
+        atomic_write_text(path, pd.DataFrame(data).to_csv(index=False, float_format="%.4f"))
+    except OSError as exc:
+        raise os_error("write", path, exc) from None
+
+
+def read_inputs(out_dir) -> dict[str, str]:
+    """``inputs.json`` of a track folder: output NAME -> the resolved input path ({} when absent or unreadable)."""
+    try:
+        doc = json.loads((Path(out_dir) / INPUTS_FILE).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return {}
+    if not isinstance(doc, dict):
+        return {}
+    return {str(k): str(v) for k, v in doc.items() if isinstance(v, str)}
+
+
+def write_inputs(out_dir, inputs: dict[str, str]) -> None:
+    """Write ``inputs.json`` (sorted), atomically."""
+    path = Path(out_dir) / INPUTS_FILE
+    try:
+        atomic_write_text(path, json.dumps(dict(sorted(inputs.items())), indent=1) + "\n")
+    except OSError as exc:
+        raise os_error("write", path, exc) from None
+
+
+def track_output_names(paths, out_dir, *, extra_inputs=(), force: bool = False) -> dict[Path, str]:
+    """The output ``NAME`` of each input (its file stem), checked against collisions.
+
+    Parameters
+    ----------
+    paths : sequence of path-like
+        The images to track.
+    out_dir : path-like
+        The output folder.
+    extra_inputs : sequence of path-like
+        Other files read (a ``--background``): they too must not lie inside ``out_dir``.
+    force : bool
+        Let a NAME that an earlier ``track`` into ``out_dir`` wrote for another input be replaced.
+
+    Returns
+    -------
+    dict
+        input path -> NAME (``NAME.csv``, ``NAME_overlay.png``).
+
+    Raises
+    ------
+    RunFolderError
+        An input inside ``out_dir``; two inputs with one NAME; a NAME recorded for another input (without ``force``).
+
+    Examples
+    --------
+    >>> track_output_names(["a/same.png", "b/same.png"], "/tmp/nonexistent-out")
+    Traceback (most recent call last):
+    ...
+    bench.store.files.RunFolderError: inputs 'a/same.png' and 'b/same.png' would both write same.csv and same_overlay.png; track them into separate --out folders
+    """
+    out = Path(out_dir).resolve()
+    for p in [*paths, *extra_inputs]:
+        if Path(p).resolve().is_relative_to(out):
+            raise RunFolderError(f"input {str(p)!r} is inside the output folder {str(out_dir)!r}: its outputs "
+                                 "could overwrite it; choose another --out")
+    names: dict[Path, str] = {}
+    by_name: dict[str, Path] = {}
+    for p in (Path(q) for q in paths):
+        name = p.stem
+        if name in by_name and by_name[name].resolve() != p.resolve():
+            raise RunFolderError(f"inputs {str(by_name[name])!r} and {str(p)!r} would both write {name}.csv and "
+                                 f"{name}_overlay.png; track them into separate --out folders")
+        by_name[name] = p
+        names[p] = name
+    if not force:
+        before = read_inputs(out_dir)
+        for p, name in names.items():
+            was = before.get(name)
+            if was is not None and was != str(p.resolve()):
+                raise RunFolderError(f"{str(Path(out_dir) / (name + '.csv'))!r} was written for {was!r}, not for "
+                                     f"{str(p)!r}; choose another --out or pass --force to replace it")
+    return names
+
+
+def write_real_metrics(run_dir, metrics) -> None:
+    """``metrics.parquet`` and ``metrics.csv`` of a real run, atomically (``RunFolderError`` naming the file)."""
+    from bench.store.files import atomic_write_bytes
+
+    d = Path(run_dir)
+    buf = io.BytesIO()
+    metrics.to_parquet(buf, index=False)
+    for name, write in ((LAYOUT["metrics_parquet"], lambda p: atomic_write_bytes(p, buf.getvalue())),
+                        (LAYOUT["metrics_csv"], lambda p: atomic_write_text(p, metrics.to_csv(index=False)))):
+        try:
+            write(d / name)
+        except OSError as exc:
+            raise os_error("write", d / name, exc) from None
+
+
+def load_real_run(run_dir) -> dict:
+    """A finished real run's ``summary`` (kind ``real``) and ``metrics`` (DataFrame), checked.
+
+    Raises
+    ------
+    RunFolderError
+        Not a finished real run, or its files unreadable (one line naming the file).
+    """
+    from bench.store.runfolder import load_metrics
+
+    d = Path(run_dir)
+    summary = read_summary(d / LAYOUT["summary"], kind="real")
+    return {"summary": summary, "metrics": load_metrics(d)}
+
+
+def real_run_means(run_dir) -> dict[str, float]:
+    """label -> mean hit rate over the images of a real run (its ``mean`` rows)."""
+    m = load_real_run(run_dir)["metrics"]
+    m = m[m["experiment"] == "mean"]
+    return {str(r.tracker): float(r.hit_rate) for r in m.itertuples()}

@@ -14,7 +14,7 @@ seeded; and rendered frames of the sphere and the plane (seed 1, 512x480,
 at h_weight 1 and 0.1: reported rows, rows off by more than 3 px (of the reported), median and
 worst error in px.
 
-Run: ``/work/main/.venv/bin/python scripts/dp_row_rules.py [--no-render]``.
+Run: ``.venv/bin/python scripts/dp_row_rules.py [--no-render]``.
 """
 
 from __future__ import annotations

@@ -2,7 +2,11 @@
 
 Every kind the DP solver finds hard or easy: a clean stripe, heavy noise,
 long dim gaps and cuts, bright blobs beside the stripe, bright ambient
-gradients, saturated wide stripes, two stripes; at 512x480 and 960x600.
+gradients, saturated wide stripes, two stripes, large sideways jumps of the
+stripe (depth discontinuities), saturated specular streaks beside the
+stripe (glints of the laser); at 512x480, 960x600, 960x540 and 360x640
+(width x height; the last two are the sizes of the widest and the tallest
+real photographs the solver was measured on).
 """
 
 from __future__ import annotations
@@ -12,17 +16,25 @@ import numpy as np
 __all__ = ["KINDS", "SIZES", "varied_frames"]
 
 #: Frame kinds, in the order :func:`varied_frames` builds them.
-KINDS = ("clean", "noisy", "gaps", "blobs", "gradient", "saturated", "two_stripes")
+KINDS = ("clean", "noisy", "gaps", "blobs", "gradient", "saturated", "two_stripes", "jumps", "streaks")
 #: Frame sizes (height, width) in pixels.
-SIZES = ((480, 512), (600, 960))
+SIZES = ((480, 512), (600, 960), (540, 960), (640, 360))
 
 
 def _frame(kind: str, height: int, width: int, seed: int) -> np.ndarray:
-    from trackers.testing import make_stripe_image
+    from trackers.testing import make_stripe_image, stripe_profile
 
     rng = np.random.default_rng(seed)
     bg = 6.0
-    if kind == "saturated":
+    if kind == "jumps":  # the stripe jumps sideways by 1/8 to 1/4 of the width at 3 rows
+        _, centre = make_stripe_image(height, width, seed=seed)
+        shift = np.zeros(height)
+        for r in np.sort(rng.integers(height // 8, height - height // 8, 3)):
+            step = rng.uniform(width / 8, width / 4) * rng.choice([-1.0, 1.0])
+            shift[r:] += step
+        centre = np.clip(centre + shift - np.median(shift), 4.0, width - 5.0)
+        img = bg + stripe_profile(centre, width, 1.5, 150.0) + rng.normal(0.0, 1.5, (height, width))
+    elif kind == "saturated":
         img, _ = make_stripe_image(height, width, sigma_px=3.0, peak=700.0, background=bg, noise=1.5, seed=seed)
     else:
         noise = 8.0 if kind == "noisy" else 1.5
@@ -47,6 +59,14 @@ def _frame(kind: str, height: int, width: int, seed: int) -> np.ndarray:
         angle = rng.uniform(0, 2 * np.pi)
         ramp = (np.cos(angle) * xx / width + np.sin(angle) * yy / height)
         img += 120.0 * (ramp - ramp.min()) / (np.ptp(ramp) + 1e-12)
+    elif kind == "streaks":  # saturated vertical glints of the laser 10-40 px beside the stripe
+        _, centre = make_stripe_image(height, width, seed=seed)
+        for _ in range(4):
+            n = int(rng.integers(max(2, height // 16), max(3, height // 5)))
+            a = int(rng.integers(0, max(1, height - n)))
+            side = rng.choice([-1.0, 1.0]) * rng.uniform(10.0, 40.0)
+            c = np.clip(centre[a : a + n] + side, 0.0, width - 1.0)
+            img[a : a + n] += stripe_profile(c, width, rng.uniform(1.0, 3.0), 600.0)
     elif kind == "two_stripes":
         other, _ = make_stripe_image(height, width, sigma_px=1.5, peak=150.0, background=0.0, noise=0.0,
                                      seed=seed + 1000)
@@ -79,7 +99,7 @@ def varied_frames(per_kind: int = 2, seed: int = 0, sizes=SIZES) -> list[tuple[s
 
     Examples
     --------
-    >>> frames = varied_frames(1, sizes=((48, 64),))  # 7 kinds
+    >>> frames = varied_frames(1, sizes=((48, 64),))  # 9 kinds
     >>> [label for label, _ in frames][:2], frames[0][1].shape
     (['clean 64x48', 'noisy 64x48'], (48, 64))
     """

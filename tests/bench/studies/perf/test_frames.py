@@ -16,7 +16,7 @@ def test_every_kind_at_every_size_seeded():
     b = F.varied_frames(2, seed=3, sizes=((60, 64), (30, 96)))
     c = F.varied_frames(2, seed=4, sizes=((60, 64), (30, 96)))
     assert len(a) == 2 * len(F.KINDS) * 2
-    assert [label for label, _ in a[:2]] == ["clean 64x60"] * 2 and a[-1][0] == "two_stripes 96x30"
+    assert [label for label, _ in a[:2]] == ["clean 64x60"] * 2 and a[-1][0] == f"{F.KINDS[-1]} 96x30"
     assert all(x[1].dtype == np.uint8 for x in a)
     assert all(np.array_equal(x[1], y[1]) for x, y in zip(a, b))
     assert not all(np.array_equal(x[1], y[1]) for x, y in zip(a, c))
@@ -28,6 +28,15 @@ def test_the_kinds_differ_as_named():
     assert frames["gradient 128x120"].astype(float).mean() > frames["clean 128x120"].astype(float).mean() + 30
     side = np.s_[:, :8]  # beside the stripe
     assert frames["noisy 128x120"][side].astype(float).std() > 3 * frames["clean 128x120"][side].astype(float).std()
+    # the brightest column jumps sideways by more than 1/8 of the width between two rows (a clean stripe
+    # moves less than a column per row)
+    peak = np.argmax(frames["jumps 128x120"], axis=1)
+    assert np.abs(np.diff(peak)).max() > 128 / 8 and np.abs(np.diff(np.argmax(frames["clean 128x120"], axis=1))).max() <= 2
+    # saturated glints beside the stripe: rows holding two bright runs more than 8 px apart
+    streaks = frames["streaks 128x120"]
+    assert (streaks == 255).any() and not (frames["clean 128x120"] == 255).any()
+    runs = [np.flatnonzero(row >= 100) for row in streaks]
+    assert sum(1 for c in runs if c.size and c.max() - c.min() > 8) >= 10
 
 
 @pytest.mark.parametrize("per_kind", [0, -1, 1.5, True])

@@ -5,7 +5,8 @@ A configuration is a TOML document::
     name = "paper"            # free text, names the run
     seed = 0                  # one seed for renders, noise, samples and bootstrap
     trackers = []             # tracker names or settings; empty = every registered tracker
-                              # (a setting: {label = "dp4_iso", name = "dp4", params = {h_weight = 1.0}})
+                              # (a setting: {label = "dp4_iso", name = "dp4", params = {h_weight = 1.0}},
+                              # optionally with its own restore = "none" overriding the run's `restore`)
     baselines = ["threshold", "centroid"]   # labels of the trackers "without DP"
     dp = ["dp4", "dp8"]       # labels of the DP trackers compared with them
     n_samples = 150           # sample points per experiment (the paper's 150)
@@ -92,6 +93,9 @@ class TrackerSpec:
     label: str
     name: str
     params: dict[str, Any] = field(default_factory=dict)
+    # how this setting's missed rows are restored (one of bench.evaluate.restore.METHODS);
+    # None: the run's ``restore``
+    restore: str | None = None
 
     def make(self):
         """A new tracker of this setting."""
@@ -100,10 +104,14 @@ class TrackerSpec:
         return trackers.make(self.name, **self.params)
 
     def to_value(self):
-        """The configuration value: the bare name when it is a plain default setting."""
-        if self.label == self.name and not self.params:
+        """The configuration value: the bare name when it is a plain default setting
+        (``restore`` appears only when the setting carries its own)."""
+        if self.label == self.name and not self.params and self.restore is None:
             return self.name
-        return {"label": self.label, "name": self.name, "params": dict(self.params)}
+        out = {"label": self.label, "name": self.name, "params": dict(self.params)}
+        if self.restore is not None:
+            out["restore"] = self.restore
+        return out
 
 
 _LABEL_CHARS = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.")
@@ -113,9 +121,9 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
     if isinstance(value, str):
         spec = TrackerSpec(value, value, {})
     elif isinstance(value, dict):
-        extra = sorted(set(value) - {"label", "name", "params"})
+        extra = sorted(set(value) - {"label", "name", "params", "restore"})
         if extra:
-            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params)")
+            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params, restore)")
         name = value.get("name")
         if not isinstance(name, str):
             raise ConfigError(f"`{path}.name` must be a tracker name, got {name!r}")
@@ -123,7 +131,13 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
         params = value.get("params", {})
         if not isinstance(params, dict):
             raise ConfigError(f"`{path}.params` must be a table, got {params!r}")
-        spec = TrackerSpec(label, name, dict(params))
+        restore = value.get("restore")
+        if restore is not None:
+            from bench.evaluate.restore import METHODS
+
+            if restore not in METHODS:
+                raise ConfigError(f"`{path}.restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
+        spec = TrackerSpec(label, name, dict(params), restore)
     else:
         raise ConfigError(f"`{path}` must be a tracker name or a table {{label, name, params}}, got {value!r}")
     if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= _LABEL_CHARS:
@@ -259,6 +273,18 @@ class Config:
     def make_trackers(self) -> dict:
         """label -> a new tracker of each setting, in configuration order."""
         return {s.label: s.make() for s in self.tracker_specs}
+
+    def restore_by_label(self) -> dict[str, str]:
+        """label -> how that setting's missed rows are restored: its own ``restore``, else the run's.
+
+        Examples
+        --------
+        >>> cfg = parse({"trackers": ["threshold", {"label": "gaps", "name": "threshold", "restore": "none"}],
+        ...              "baselines": [], "dp": [], "experiments": [{"scene": "plane", "n_angles": 2}]})
+        >>> cfg.restore_by_label()
+        {'threshold': 'rows', 'gaps': 'none'}
+        """
+        return {s.label: s.restore or self.restore for s in self.tracker_specs}
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged.

@@ -82,6 +82,12 @@ def _pct(v) -> str:
     return "–" if v is None or not np.isfinite(v) else f"{100 * v:.0f} %"
 
 
+def _iv(low, high) -> str:
+    """``[96, 99]``: an interval of fractions in per cent, ``[–]`` when missing."""
+    ok = low is not None and high is not None and np.isfinite(low) and np.isfinite(high)
+    return f"[{100 * low:.0f}, {100 * high:.0f}]" if ok else "[–]"
+
+
 def _esc(text) -> str:
     """``text`` escaped for HTML text and attribute values alike."""
     return html.escape(str(text), quote=True)
@@ -138,7 +144,7 @@ def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
     return f"{head} ({d}: {within}; {ratio}; {extra})."
 
 
-_CLAIM_MARK = {"reproduced": "✔ reproduced", "exceeded": "✔ exceeded", "not reproduced": "✘ not reproduced",
+_CLAIM_MARK = {"reproduced": "✔ reproduced", "exceeded": "▲ exceeded", "not reproduced": "✘ not reproduced",
                "contradicted": "✘ contradicted", "mixed": "± mixed", "not shown": "– not shown",
                "undecided": "– undecided", "undefined": "– undefined"}
 
@@ -147,7 +153,6 @@ def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
     """One headline sentence (HTML, escaped) on a :func:`bench.evaluate.readings.paper_claims` entry."""
     f, k = c["figures"], c["claims"]
     d, b = _esc(c["dp"]), _esc(c["baseline"])
-    iv = lambda lo, hi: f"[{_pct(lo)}, {_pct(hi)}]"  # noqa: E731
     pairs = ""
     if f.get("n_missing_dp") or f.get("n_missing_baseline"):
         pairs = (f" over the {f['ratio_n']} of {f['n_samples']} pairs where both have a depth ({b}: none at "
@@ -156,11 +161,11 @@ def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
     if c["paper_reading"]:
         who += ", <i>the reading the paper's text supports</i>"
     return (f"{who}: most samples within ±{within_mm:g} mm with DP <b>{_CLAIM_MARK[k['most_within']]}</b> "
-            f"({d} {_pct(f['dp_within'])} {iv(f['dp_within_low'], f['dp_within_high'])} against "
-            f"{_pct(f['baseline_within'])} {iv(f['baseline_within_low'], f['baseline_within_high'])}); "
+            f"({d} {_pct(f['dp_within'])} {_iv(f['dp_within_low'], f['dp_within_high'])} against "
+            f"{_pct(f['baseline_within'])} {_iv(f['baseline_within_low'], f['baseline_within_high'])}); "
             f"DP more precise <b>{_CLAIM_MARK[k['more_precise']]}</b>; the {_pct(paper_improvement)} improvement "
             f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {_pct(f['ratio_value'])} "
-            f"{iv(f['ratio_low'], f['ratio_high'])}{pairs}).")
+            f"{_iv(f['ratio_low'], f['ratio_high'])}{pairs}).")
 
 
 def claims_html(summary) -> str:
@@ -188,8 +193,11 @@ def claims_html(summary) -> str:
         why = (f"<details class='why'><summary>Why <code>{_esc(paper['baseline'])}</code> is the reading the "
                f"paper's text supports</summary><p>{_esc(PAPER_WHY[:1].upper() + PAPER_WHY[1:])}.</p>"
                "<ul>" + "".join(f"<li>{_esc(c['sentence'])}</li>" for c in claims) + "</ul></details>")
-    return (f"<h2>The paper's claim in its condition ({_esc(title)}; {c0['figures']['n']} sample points, "
-            f"DP = <code>{_esc(c0['dp'])}</code>), per reading of its \"method without DP\"</h2>"
+    if title.lower().startswith("the paper's condition: "):
+        title = title[len("the paper's condition: "):]
+    return (f"<h2>Is the paper's claim reproduced?</h2><p class='lead'>In the paper's condition ({_esc(title)}; "
+            f"{_esc(', '.join(c0['experiments']))}; {c0['figures']['n']} sample points; DP = "
+            f"<code>{_esc(c0['dp'])}</code>), per reading of its \"method without DP\", with 95 % intervals:</p>"
             f"<ul class='claims'>{items}</ul>" + why)
 
 
@@ -274,8 +282,9 @@ def glance_table(summary) -> str:
                 cells.append("<td>–</td>")
                 continue
             star = " ★" if best.get(g) == lab else ""
-            txt = (f"<b>{_pct(r['within'])}{star}</b> <small>[{_pct(r['within_low'])}, {_pct(r['within_high'])}]"
-                   f"<br>{_num(r['median_abs_mm'])} mm · {_signed(r.get('median_mm'))} · {r['n_gross']} gross</small>")
+            txt = (f"<span class='w'><b>{_pct(r['within'])}{star}</b> <small>{_iv(r['within_low'], r['within_high'])}"
+                   f"</small></span><br><small>{_num(r['median_abs_mm'])} mm · {_signed(r.get('median_mm'))} · "
+                   f"{r['n_gross']} gross</small>")
             cells.append(f"<td style='background:{_cell_colour(r['within'])}'>{txt}</td>")
         note = readings.READINGS.get(kinds.get(lab) or "", "")
         restore = _restore_of(summary, lab)
@@ -291,7 +300,8 @@ def glance_table(summary) -> str:
             f"interval; below, the median |error|, the signed median error (bias: positive is farther from the "
             f"rig) and the gross errors (&gt; {summary.get('gross_mm', 50.0):g} mm). ★ best of the condition; "
             f"rows ranked by the mean fraction.</p>"
-            f"<table class='glance'><tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
+            f"<table class='glance'><colgroup><col style='width:3.2em'><col style='width:9.5em'></colgroup>"
+            f"<tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
 
 
 def _improvement_tables(summary) -> str:
@@ -527,12 +537,13 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             f"{html.escape('; '.join(m))}</li>" for e, n, c, m in fails) + "</ul>")
     parts.append("<h2>Configuration</h2><pre>" + html.escape(json.dumps(cfg, indent=2)) + "</pre>")
     page = ("<!doctype html><html><head><meta charset='utf-8'><title>stripebench report</title><style>"
-            "body{font-family:system-ui,sans-serif;max-width:1340px;margin:1em auto;padding:0 1em;color:#222}"
+            "body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
             "h1{font-size:1.4em;margin:0.3em 0}h2{font-size:1.15em;margin:0.9em 0 0.3em}"
             "table{border-collapse:collapse;font-size:12px;margin:0.5em 0}td,th{border:1px solid #ccc;padding:3px 6px;"
             "text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}"
             "ul.claims{font-size:14px;margin:0.3em 0;padding-left:1.2em}p.why,p.note{font-size:12px;color:#444;"
-            "margin:0.3em 0}table.glance td{line-height:1.25}details{margin:0.3em 0}summary{cursor:pointer}"
+            "margin:0.3em 0}p.lead{margin:0.2em 0}table.glance{width:100%;table-layout:fixed}table.glance td{line-height:1.2;padding:2px 4px}table.glance span.w{white-space:nowrap}"
+            "table.glance small{font-size:10px}details{margin:0.3em 0}summary{cursor:pointer}"
             "</style></head><body>"
             + "\n".join(p for p in parts if p) + "</body></html>")
     path = run_dir / "report.html"

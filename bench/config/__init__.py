@@ -5,7 +5,8 @@ A configuration is a TOML document::
     name = "paper"            # free text, names the run
     seed = 0                  # one seed for renders, noise, samples and bootstrap
     trackers = []             # tracker names or settings; empty = every registered tracker
-                              # (a setting: {label = "dp4_iso", name = "dp4", params = {h_weight = 1.0}})
+                              # (a setting: {label = "dp4_iso", name = "dp4", params = {h_weight = 1.0}},
+                              # optionally with its own restore = "none" overriding the run's `restore`)
     baselines = ["threshold", "centroid"]   # labels of the trackers "without DP"
     dp = ["dp4", "dp8"]       # labels of the DP trackers compared with them
     n_samples = 150           # sample points per experiment (the paper's 150)
@@ -92,6 +93,9 @@ class TrackerSpec:
     label: str
     name: str
     params: dict[str, Any] = field(default_factory=dict)
+    # how this setting's missed rows are restored (one of bench.evaluate.restore.METHODS);
+    # None: the run's ``restore``
+    restore: str | None = None
     #: seconds one frame may take; a slower frame fails with status ``timeout`` (None: no limit)
     timeout_s: float | None = None
     #: run the tracker in its own worker process: a hang, segfault or exit fails its frames, not the run
@@ -105,10 +109,14 @@ class TrackerSpec:
         return trackers.make(self.name, **self.params)
 
     def to_value(self):
-        """The configuration value: the bare name when it is a plain default setting."""
-        if self.label == self.name and not self.params and self.timeout_s is None and not self.isolate:
+        """The configuration value: the bare name when it is a plain default setting
+        (``restore``, ``timeout_s`` and ``isolate`` appear only when the setting carries them)."""
+        if (self.label == self.name and not self.params and self.restore is None and self.timeout_s is None
+                and not self.isolate):
             return self.name
         out = {"label": self.label, "name": self.name, "params": dict(self.params)}
+        if self.restore is not None:
+            out["restore"] = self.restore
         if self.timeout_s is not None:
             out["timeout_s"] = self.timeout_s
         if self.isolate:
@@ -123,9 +131,10 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
     if isinstance(value, str):
         spec = TrackerSpec(value, value, {})
     elif isinstance(value, dict):
-        extra = sorted(set(value) - {"label", "name", "params", "timeout_s", "isolate"})
+        extra = sorted(set(value) - {"label", "name", "params", "restore", "timeout_s", "isolate"})
         if extra:
-            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params, timeout_s, isolate)")
+            raise ConfigError(f"unknown key `{path}.{extra[0]}` (valid: label, name, params, restore, timeout_s, "
+                              f"isolate)")
         name = value.get("name")
         if not isinstance(name, str):
             raise ConfigError(f"`{path}.name` must be a tracker name, got {name!r}")
@@ -133,6 +142,12 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
         params = value.get("params", {})
         if not isinstance(params, dict):
             raise ConfigError(f"`{path}.params` must be a table, got {params!r}")
+        restore = value.get("restore")
+        if restore is not None:
+            from bench.evaluate.restore import METHODS
+
+            if restore not in METHODS:
+                raise ConfigError(f"`{path}.restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
         timeout_s = value.get("timeout_s")
         if timeout_s is not None and (not isinstance(timeout_s, numbers.Real) or isinstance(timeout_s, bool)
                                       or not 0 < timeout_s <= 86400):
@@ -140,7 +155,8 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
         isolate = value.get("isolate", False)
         if not isinstance(isolate, bool):
             raise ConfigError(f"`{path}.isolate` must be true or false, got {isolate!r}")
-        spec = TrackerSpec(label, name, dict(params), None if timeout_s is None else float(timeout_s), isolate)
+        spec = TrackerSpec(label, name, dict(params), restore, None if timeout_s is None else float(timeout_s),
+                           isolate)
     else:
         raise ConfigError(f"`{path}` must be a tracker name or a table {{label, name, params}}, got {value!r}")
     if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= _LABEL_CHARS:
@@ -277,6 +293,18 @@ class Config:
         """label -> a new tracker of each setting, in configuration order (plain trackers:
         :func:`bench.run.track.build_trackers` adds ``timeout_s`` and ``isolate``)."""
         return {s.label: s.make() for s in self.tracker_specs}
+
+    def restore_by_label(self) -> dict[str, str]:
+        """label -> how that setting's missed rows are restored: its own ``restore``, else the run's.
+
+        Examples
+        --------
+        >>> cfg = parse({"trackers": ["threshold", {"label": "gaps", "name": "threshold", "restore": "none"}],
+        ...              "baselines": [], "dp": [], "experiments": [{"scene": "plane", "n_angles": 2}]})
+        >>> cfg.restore_by_label()
+        {'threshold': 'rows', 'gaps': 'none'}
+        """
+        return {s.label: s.restore or self.restore for s in self.tracker_specs}
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON/TOML-friendly dict that :func:`parse` reads back unchanged.

@@ -14,7 +14,7 @@ from bench.evaluate.restore import restore_depth_map
 from bench.evaluate.stats import GROSS_MM, STATISTICS, WITHIN_MM, bootstrap_improvement, robust_summary
 from bench.evaluate.triangulation import depth_cm
 
-__all__ = ["true_depth_cm", "tracker_depth_cm", "restored_points", "scan_records", "draw_samples", "sample_table", "sample_columns",
+__all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "draw_samples", "sample_table", "sample_columns",
            "improvements", "robust_table", "verdicts", "worst_frames"]
 
 
@@ -27,6 +27,17 @@ def true_depth_cm(scan) -> np.ndarray:
 def tracker_depth_cm(scan, name: str, rig) -> np.ndarray:
     """``R`` (cm) triangulated from a tracker's columns, (F, H)."""
     return depth_cm(scan.columns[name], rig)
+
+
+def restore_of(restore, label: str) -> str:
+    """The restoration of tracker ``label``: ``restore`` itself when it is one method
+    for every tracker, else its entry for ``label`` (a mapping label -> method, as
+    :meth:`bench.config.Config.restore_by_label` gives; a label it lacks is a ``KeyError``).
+
+    >>> restore_of("rows", "dp4"), restore_of({"threshold_gaps": "none"}, "threshold_gaps")
+    ('rows', 'none')
+    """
+    return restore if isinstance(restore, str) else restore[label]
 
 
 def restored_points(scan, name: str | None, rig, restore: str = "rows"):
@@ -72,8 +83,11 @@ def restored_points(scan, name: str | None, rig, restore: str = "rows"):
     return pts, err
 
 
-def scan_records(scan, rig, experiment, *, object_only: bool = False, restore: str = "rows") -> list[dict]:
+def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="rows") -> list[dict]:
     """One metric record per tracker for one scan (see :func:`bench.evaluate.metrics.frame_record`).
+
+    ``restore`` is one method of :data:`bench.evaluate.restore.METHODS` for every
+    tracker or a mapping label -> method (:func:`restore_of`).
 
     Adds ``scene``, ``material``, ``experiment``, ``tracker``, ``ms_per_frame``
     (mean over frames of the tracker's own time), ``failed_frames``,
@@ -95,7 +109,7 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore: s
             depth_true_mm=10.0 * np.where(lit, r_true, np.nan),
             false_cols=scan.false_columns,
         )
-        _, filled = restore_depth_map(r_pred, restore)
+        _, filled = restore_depth_map(r_pred, restore_of(restore, name))
         rec.update(
             experiment=experiment.key, scene=experiment.scene, material=experiment.material, tracker=name,
             region="object" if object_only else "all", condition=getattr(experiment, "condition", "") or "",
@@ -132,17 +146,18 @@ def sample_columns(tracker_names) -> list[str]:
     return list(SAMPLE_COLUMNS) + [c for n in sorted(tracker_names) for c in (f"error_mm_{n}", f"filled_{n}")]
 
 
-def sample_table(scan, rig, experiment, n: int, seed, restore: str = "rows") -> list[dict]:
+def sample_table(scan, rig, experiment, n: int, seed, restore="rows") -> list[dict]:
     """The sample points of one scan with each tracker's depth error (mm) on
-    its restored surface (:func:`bench.evaluate.restore.restore_depth_map` by ``restore``;
-    NaN where the restoration leaves no value)."""
+    its restored surface (:func:`bench.evaluate.restore.restore_depth_map` by ``restore``,
+    one method or a mapping label -> method, :func:`restore_of`; NaN where the
+    restoration leaves no value)."""
     f, r = draw_samples(scan, n, seed)
     r_true = true_depth_cm(scan)
     rows = [{"experiment": experiment.key, "scene": experiment.scene, "material": experiment.material,
              "sample": k, "frame": int(fi), "row": int(ri), "mirror_angle_deg": float(scan.angles[fi]),
              "true_depth_cm": float(r_true[fi, ri])} for k, (fi, ri) in enumerate(zip(f, r))]
     for name in sorted(scan.columns):
-        filled, was_filled = restore_depth_map(tracker_depth_cm(scan, name, rig), restore)
+        filled, was_filled = restore_depth_map(tracker_depth_cm(scan, name, rig), restore_of(restore, name))
         for row, fi, ri in zip(rows, f, r):
             row[f"error_mm_{name}"] = float(10.0 * (filled[fi, ri] - r_true[fi, ri]))
             row[f"filled_{name}"] = bool(was_filled[fi, ri])
@@ -164,8 +179,20 @@ def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group
 
     Returns
     -------
-    list of dict: ``group, dp, baseline, statistic, value, low, high, n``.
-    Pairs where either error is NaN are dropped (``n`` says how many remain).
+    list of dict: ``group, dp, baseline, statistic, value, low, high, n,
+    n_samples, n_missing_dp, n_missing_baseline``.
+    The ratio is over the pairs where both errors have a value (``n`` of the
+    group's ``n_samples``); ``n_missing_dp`` and ``n_missing_baseline`` count the
+    samples each side could not restore (NaN errors, e.g. with ``restore =
+    "none"``), so a ratio over fewer pairs says why. Fewer than 2 pairs: NaN.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> s = pd.DataFrame({"error_mm_d": [1.0, -1.0, 2.0, np.nan], "error_mm_b": [2.0, np.nan, -4.0, 8.0]})
+    >>> r = improvements(s, ["d"], ["b"], n_boot=10, seed=0, group_by=None)[0]
+    >>> r["statistic"], round(r["value"], 4), r["n"], r["n_samples"], r["n_missing_dp"], r["n_missing_baseline"]
+    ('rmse', 0.5, 2, 4, 1, 1)
     """
     groups = [("all", samples)]
     if group_by is not None and len(samples):
@@ -180,6 +207,8 @@ def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group
                     a = g[f"error_mm_{dp}"].to_numpy(float)
                     b = g[f"error_mm_{base}"].to_numpy(float)
                 ok = ~np.isnan(a) & ~np.isnan(b)
+                counts = {"n_samples": int(a.size), "n_missing_dp": int(np.isnan(a).sum()),
+                          "n_missing_baseline": int(np.isnan(b).sum())}
                 for si, stat in enumerate(STATISTICS):
                     if ok.sum() < 2:
                         res = {"value": np.nan, "low": np.nan, "high": np.nan, "n": int(ok.sum())}
@@ -187,7 +216,7 @@ def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group
                         res = bootstrap_improvement(a[ok], b[ok], stat, n_boot=n_boot,
                                                     seed=int(np.random.SeedSequence([seed, gi, si]).generate_state(1)[0]))
                     out.append({"group": label, "dp": dp, "baseline": base, "statistic": stat, "value": res["value"],
-                                "low": res["low"], "high": res["high"], "n": res["n"]})
+                                "low": res["low"], "high": res["high"], "n": res["n"], **counts})
     return out
 
 

@@ -17,6 +17,8 @@ TRACKER_COLOURS = {
     "threshold": "#000000", "centroid": "#7f7f7f", "dp4": "#2ca02c", "dp8": "#17becf", "dp4_iso": "#98df8a",
     "dp8_iso": "#9edae5", "gauss3": "#ff7f0e", "parabolic": "#ffbb78", "blais_rioux": "#9467bd",
     "steger": "#8c564b", "com_bg": "#e377c2", "dp8_subpixel": "#1f77b4",
+    # the paper profile's other readings of the method without DP (bench/evaluate/readings.py)
+    "threshold_gaps": "#595959", "argmax": "#d62728",
 }
 _PALETTE = ["#d62728", "#bcbd22", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd", "#e6550d",
             "#31a354", "#756bb1", "#636363"]
@@ -129,53 +131,87 @@ def clip_for_plot(errors, cap: float = SAMPLE_CAP_MM):
     return y, clipped, missing
 
 
-def fig_samples(samples, dp: str, baseline: str, path, title: str = "", stat: dict | None = None,
-                robust: dict | None = None, within_mm: float = 5.0) -> Path:
+def fig_samples(samples, dp: str, baseline, path, title: str = "", stat=None, robust: dict | None = None,
+                within_mm: float = 5.0, undetectable=None, readings: dict | None = None) -> Path:
     """The paper's Fig. 10 with every sample shown: depth error (mm) of each sample
     point with DP (green diamonds) and without (black circles), the ±5 mm band.
 
     The axis is linear within ±10 mm and logarithmic beyond (symlog) up to
     :data:`SAMPLE_CAP_MM`; errors beyond are drawn at the edge as triangles and
     counted in the legend; samples with no value (nothing restored there) are
-    drawn as crosses on the zero line and counted. ``robust`` maps a label to
-    its :func:`bench.evaluate.stats.robust_summary` figures, shown in the title.
+    drawn as crosses on the zero line and counted.
+
+    Parameters
+    ----------
+    samples : pandas.DataFrame
+        The experiment's sample rows (``error_mm_<label>`` columns, mm).
+    dp : str
+        The DP label.
+    baseline : str or sequence of str
+        The label(s) without DP: one panel each, side by side (e.g. two readings of the paper's method).
+    stat : dict, or dict of baseline -> dict, optional
+        The RMSE ratio entry of each pair (a single dict for a single baseline), shown in the title.
+    robust : dict, optional
+        label -> its :func:`bench.evaluate.stats.robust_summary` figures, shown in the title.
+    undetectable : array_like of bool, shape (n_samples,), optional
+        Samples where the threshold detects no stripe: a baseline's circles there are drawn filled
+        and counted (the paper: "those black points with big errors are points with laser light
+        undetectable").
+    readings : dict, optional
+        baseline -> a short description shown in its panel's title.
     """
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(9.0, 4.8), constrained_layout=True)
+    bases = [baseline] if isinstance(baseline, str) else list(baseline)
+    stats = {baseline: stat} if isinstance(baseline, str) else dict(stat or {})
+    fig, axes = plt.subplots(1, len(bases), figsize=(9.0 if len(bases) == 1 else 7.0 * len(bases), 4.8),
+                             constrained_layout=True, sharey=True, squeeze=False)
     x = np.arange(len(samples))
-    ax.axhspan(-within_mm, within_mm, color="#cfe8cf", alpha=0.7, label=f"±{within_mm:g} mm")
-    ax.axhline(0, color="0.3", lw=0.8)
-    for name, style in ((baseline, dict(marker="o", mfc="none", mec="black", ms=5, color="black")),
-                        (dp, dict(marker="D", color="#2ca02c", ms=4))):
-        y, clipped, missing = clip_for_plot(samples[f"error_mm_{name}"].to_numpy(float))
-        who = "without DP" if name == baseline else "with DP"
-        ax.plot(x[~clipped], y[~clipped], ls="none", label=f"{who} ({name})", **style)
-        if clipped.any():
-            ax.plot(x[clipped], y[clipped], ls="none", marker="^" if name == dp else "v", ms=7,
-                    color=style.get("color", "black"), mfc="none" if name == baseline else None,
-                    label=f"{name}: {int(clipped.sum())} beyond ±{SAMPLE_CAP_MM:g} mm (at the edge)")
-        if missing.any():
-            ax.plot(x[missing], np.zeros(int(missing.sum())), ls="none", marker="x", ms=6,
-                    color=style.get("color", "black"), label=f"{name}: {int(missing.sum())} with no value")
-    ax.set_yscale("symlog", linthresh=10.0, linscale=1.0)
-    ax.set_ylim(-SAMPLE_CAP_MM * 1.3, SAMPLE_CAP_MM * 1.3)
-    ax.set_xlabel("sample")
-    ax.set_ylabel("depth error (mm), symlog beyond ±10")
-    lines = [title] if title else []
-    if robust:
-        parts = []
-        for name in (dp, baseline):
-            r = robust.get(name)
-            if r is not None and r["n"]:
-                parts.append(f"{name}: {100 * r['within']:.0f} % within ±{within_mm:g} mm "
-                             f"[{100 * r['within_low']:.0f}, {100 * r['within_high']:.0f}], median "
-                             f"{r['median_abs_mm']:.2g} mm, {r['n_gross']} gross")
-        lines.append("; ".join(parts))
-    if stat is not None and np.isfinite(stat.get("value", np.nan)):
-        lines.append(f"1 - RMSE_DP/RMSE_noDP = {100 * stat['value']:.0f} % "
-                     f"[{100 * stat['low']:.0f}, {100 * stat['high']:.0f}] (95 % CI); paper: 30 %")
-    ax.set_title("\n".join(lines), fontsize=8)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7)
+    und = None if undetectable is None else np.asarray(undetectable, bool)
+    for ax, base in zip(axes[0], bases):
+        ax.axhspan(-within_mm, within_mm, color="#cfe8cf", alpha=0.7, label=f"±{within_mm:g} mm")
+        ax.axhline(0, color="0.3", lw=0.8)
+        for name, style in ((base, dict(marker="o", mfc="none", mec="black", ms=5, color="black")),
+                            (dp, dict(marker="D", color="#2ca02c", ms=4))):
+            y, clipped, missing = clip_for_plot(samples[f"error_mm_{name}"].to_numpy(float))
+            who = "without DP" if name == base else "with DP"
+            ax.plot(x[~clipped], y[~clipped], ls="none", label=f"{who} ({name})", **style)
+            if name == base and und is not None and (und & ~missing).any():
+                sel = und & ~missing
+                far = sel & ~(np.abs(samples[f"error_mm_{name}"].to_numpy(float)) <= within_mm)
+                ax.plot(x[sel], y[sel], ls="none", marker="o", ms=5, color="black",
+                        label=f"{name} where the threshold detects no stripe: {int(sel.sum())}, "
+                              f"{int(far.sum())} outside ±{within_mm:g} mm")
+            if clipped.any():
+                ax.plot(x[clipped], y[clipped], ls="none", marker="^" if name == dp else "v", ms=7,
+                        color=style.get("color", "black"), mfc="none" if name == base else None,
+                        label=f"{name}: {int(clipped.sum())} beyond ±{SAMPLE_CAP_MM:g} mm (at the edge)")
+            if missing.any():
+                ax.plot(x[missing], np.zeros(int(missing.sum())), ls="none", marker="x", ms=6,
+                        color=style.get("color", "black"), label=f"{name}: {int(missing.sum())} with no value")
+        ax.set_yscale("symlog", linthresh=10.0, linscale=1.0)
+        ax.set_ylim(-SAMPLE_CAP_MM * 1.3, SAMPLE_CAP_MM * 1.3)
+        ax.set_xlabel("sample")
+        lines = [title] if title else []
+        if readings and readings.get(base):
+            lines.append(f"without DP: {base} ({readings[base]})")
+        if robust:
+            parts = []
+            for name in (dp, base):
+                r = robust.get(name)
+                if r is not None and r["n"]:
+                    parts.append(f"{name}: {100 * r['within']:.0f} % within ±{within_mm:g} mm "
+                                 f"[{100 * r['within_low']:.0f}, {100 * r['within_high']:.0f}], median "
+                                 f"{r['median_abs_mm']:.2g} mm, {r['n_gross']} gross")
+            lines += parts if len(bases) > 1 else ["; ".join(parts)]
+        st = stats.get(base)
+        if st is not None and np.isfinite(st.get("value", np.nan)):
+            pairs = "" if st.get("n", 0) == st.get("n_samples", st.get("n", 0)) else f", {st['n']} pairs"
+            lines.append(f"1 - RMSE_DP/RMSE_noDP = {100 * st['value']:.0f} % "
+                         f"[{100 * st['low']:.0f}, {100 * st['high']:.0f}] (95 % CI{pairs}); paper: 30 %")
+        ax.set_title("\n".join(lines), fontsize=8)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0) if len(bases) == 1 else (0.0, -0.13), fontsize=7,
+                  ncol=1 if len(bases) == 1 else 2)
+    axes[0][0].set_ylabel("depth error (mm), symlog beyond ±10")
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return Path(path)

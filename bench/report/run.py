@@ -21,12 +21,24 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.evaluate import readings
 from bench.evaluate.metrics import hit_rate
 from bench.evaluate.tables import restored_points
 from bench.store.runfolder import load_run
 from bench.store.files import atomic_write_text
 
-__all__ = ["build_report", "make_figures", "verdict_sentence", "glance_table"]
+__all__ = ["build_report", "make_figures", "verdict_sentence", "glance_table", "claims_html"]
+
+
+def _readings(cfg: dict) -> dict[str, str | None]:
+    """label -> its reading of the paper's method without DP (:func:`bench.evaluate.readings.reading_of`)."""
+    return {(t if isinstance(t, str) else t["label"]): readings.reading_of(t, cfg.get("restore", "rows"))
+            for t in cfg.get("trackers", [])}
+
+
+def _restore_of(summary, label: str) -> str:
+    """How ``label``'s missed rows were restored in this run (its setting's own ``restore``, else the run's)."""
+    return summary.get("restore_by_tracker", {}).get(label, summary.get("restore", "rows"))
 
 
 def _groups(summary) -> list[tuple[str, str, list[str]]]:
@@ -43,6 +55,17 @@ def _groups(summary) -> list[tuple[str, str, list[str]]]:
 
 def _pct(v) -> str:
     return "–" if v is None or not np.isfinite(v) else f"{100 * v:.0f} %"
+
+
+def _iv(low, high) -> str:
+    """``[96, 99]``: an interval of fractions in per cent, ``[–]`` when missing."""
+    ok = low is not None and high is not None and np.isfinite(low) and np.isfinite(high)
+    return f"[{100 * low:.0f}, {100 * high:.0f}]" if ok else "[–]"
+
+
+def _esc(text) -> str:
+    """``text`` escaped for HTML text and attribute values alike."""
+    return html.escape(str(text), quote=True)
 
 
 def _warn(msg: str) -> None:
@@ -70,15 +93,18 @@ def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
     ...                   "dp_figures": f, "baseline_figures": g, "ratio": r}).split(" (")[0]
     'dp4 is more precise than threshold by both the ±5 mm fraction and the RMSE ratio'
     """
-    d, b = v["dp"], v["baseline"]
+    d, b = _esc(v["dp"]), _esc(v["baseline"])
     fd, fb, r = v["dp_figures"], v["baseline_figures"], v["ratio"]
     within = (f"{_pct(fd['within'])} [{_pct(fd['within_low'])}, {_pct(fd['within_high'])}] of the samples within "
               f"±{within_mm:g} mm against {_pct(fb['within'])} [{_pct(fb['within_low'])}, {_pct(fb['within_high'])}]")
     ratio = ("RMSE ratio 1 - S_DP/S_noDP " + (f"{_pct(r['value'])} [{_pct(r['low'])}, {_pct(r['high'])}]"
                                                if r is not None else "–"))
+    if r is not None and (r.get("n_missing_dp") or r.get("n_missing_baseline")):
+        ratio += (f" over the {r['n']} of {r['n_samples']} pairs where both have a depth ({b} has none at "
+                  f"{r['n_missing_baseline']}, {d} at {r['n_missing_dp']})")
     extra = (f"median |error| {_num(fd['median_abs_mm'], ' mm')} against {_num(fb['median_abs_mm'], ' mm')}; "
              f"gross errors (&gt; 50 mm) {fd['n_gross']} against {fb['n_gross']}")
-    w, m = v["within"], v["rmse"]
+    w, m = _esc(v["within"]), _esc(v["rmse"])
     if w == m and w != "tie":
         other = b if w == d else d
         head = f"{w} is more precise than {other} by both the ±{within_mm:g} mm fraction and the RMSE ratio"
@@ -93,11 +119,69 @@ def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
     return f"{head} ({d}: {within}; {ratio}; {extra})."
 
 
-def _headline(summary) -> str:
+_CLAIM_MARK = {"reproduced": "✔ reproduced", "exceeded": "▲ exceeded", "not reproduced": "✘ not reproduced",
+               "contradicted": "✘ contradicted", "mixed": "± mixed", "not shown": "– not shown",
+               "undecided": "– undecided", "undefined": "– undefined"}
+
+
+def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
+    """One headline sentence (HTML, escaped) on a :func:`bench.evaluate.readings.paper_claims` entry."""
+    f, k = c["figures"], c["claims"]
+    d, b = _esc(c["dp"]), _esc(c["baseline"])
+    pairs = ""
+    if f.get("n_missing_dp") or f.get("n_missing_baseline"):
+        pairs = (f" over the {f['ratio_n']} of {f['n_samples']} pairs where both have a depth ({b}: none at "
+                 f"{f['n_missing_baseline']})")
+    who = f"<b><code>{b}</code></b>" + (f" ({_esc(c['description'])})" if c["reading"] else "")
+    if c["paper_reading"]:
+        who += ", <i>the reading the paper's text supports</i>"
+    return (f"{who}: most samples within ±{within_mm:g} mm with DP <b>{_CLAIM_MARK[k['most_within']]}</b> "
+            f"({d} {_pct(f['dp_within'])} {_iv(f['dp_within_low'], f['dp_within_high'])} against "
+            f"{_pct(f['baseline_within'])} {_iv(f['baseline_within_low'], f['baseline_within_high'])}); "
+            f"DP more precise <b>{_CLAIM_MARK[k['more_precise']]}</b>; the {_pct(paper_improvement)} improvement "
+            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {_pct(f['ratio_value'])} "
+            f"{_iv(f['ratio_low'], f['ratio_high'])}{pairs}).")
+
+
+def claims_html(summary) -> str:
+    """The report's headline: the paper's claim in its own condition, one sentence per
+    reading of its method without DP (``summary["paper_claims"]``,
+    :func:`bench.evaluate.readings.paper_claims`), and which reading the paper's text supports.
+
+    Examples
+    --------
+    >>> claims_html({}) == ""
+    True
+    """
+    from bench.evaluate.readings import PAPER_WHY
+
+    claims = summary.get("paper_claims") or []
+    if not claims:
+        return ""
+    c0 = claims[0]
+    within, imp = summary.get("within_mm", 5.0), summary.get("paper_improvement", 0.30)
+    title = next((c["condition"] for c in summary.get("conditions", [])), c0["group"])
+    items = "".join(f"<li>{_claim_line(c, within, imp)}</li>" for c in claims)
+    why = ""
+    paper = next((c for c in claims if c["paper_reading"]), None)
+    if paper is not None:
+        why = (f"<details class='why'><summary>Why <code>{_esc(paper['baseline'])}</code> is the reading the "
+               f"paper's text supports</summary><p>{_esc(PAPER_WHY[:1].upper() + PAPER_WHY[1:])}.</p>"
+               "<ul>" + "".join(f"<li>{_esc(c['sentence'])}</li>" for c in claims) + "</ul></details>")
+    if title.lower().startswith("the paper's condition: "):
+        title = title[len("the paper's condition: "):]
+    return (f"<h2>Is the paper's claim reproduced?</h2><p class='lead'>In the paper's condition ({_esc(title)}; "
+            f"{_esc(', '.join(c0['experiments']))}; {c0['figures']['n']} sample points; DP = "
+            f"<code>{_esc(c0['dp'])}</code>), per reading of its \"method without DP\", with 95 % intervals:</p>"
+            f"<ul class='claims'>{items}</ul>" + why)
+
+
+def _verdicts_folded(summary) -> str:
+    """The verdicts in words, folded per condition (``<details>``), the other baselines folded inside."""
     verdicts = summary.get("verdicts", [])
     if not verdicts:
         return ("<p>No DP tracker or no baseline was chosen (<code>dp</code>, <code>baselines</code>), so the "
-                "report compares no pair; see the table below.</p>")
+                "report compares no pair; see the table above.</p>")
     within = summary.get("within_mm", 5.0)
     base0 = summary["config"]["baselines"][0] if summary["config"].get("baselines") else None
     by_group: dict[str, list[dict]] = {}
@@ -122,12 +206,12 @@ def _headline(summary) -> str:
         lead = "" if title.lower().startswith("the paper's condition") else (
             "The paper's condition: " if k == 0 else "Condition: ")
         shown = title if lead else title[:1].upper() + title[1:]
-        parts.append(f"<h3>{lead}{html.escape(shown)} <small>({', '.join(map(html.escape, keys))}; {n} sample "
-                     f"points)</small></h3>" + items(vs))
+        parts.append(f"<details><summary><b>{lead}{_esc(shown)}</b> <small>({_esc(', '.join(keys))}; {n} sample "
+                     f"points)</small></summary>" + items(vs) + "</details>")
     pooled = by_group.get("all", [])
     if pooled and len(_groups(summary)) > 1:
-        parts.append("<h3>Pooled over unlike conditions <small>(an average of different effects, not a "
-                     "condition)</small></h3>" + items(pooled))
+        parts.append("<details><summary><b>Pooled over unlike conditions</b> <small>(an average of different "
+                     "effects, not a condition)</small></summary>" + items(pooled) + "</details>")
     return "".join(parts)
 
 
@@ -161,7 +245,9 @@ def glance_table(summary) -> str:
         if cand:
             top = max(cand, key=lambda c: (c[0], np.nan_to_num(c[1], nan=-np.inf)))
             best[g] = top[2]
-    head = "".join(f"<th>{html.escape(t)}</th>" for t, _, _ in groups)
+    head = "".join(f"<th>{_esc(t)}</th>" for t, _, _ in groups)
+    cfg = summary.get("config", {})
+    kinds = _readings(cfg) if cfg else {}
     rows = []
     for rank, lab in enumerate(labels, 1):
         cells = []
@@ -171,19 +257,26 @@ def glance_table(summary) -> str:
                 cells.append("<td>–</td>")
                 continue
             star = " ★" if best.get(g) == lab else ""
-            txt = (f"<b>{_pct(r['within'])}{star}</b><br><small>[{_pct(r['within_low'])}, {_pct(r['within_high'])}]"
-                   f" · med {_num(r['median_abs_mm'])} mm · bias {_signed(r.get('median_mm'))} mm"
-                   f" · {r['n_gross']} gross</small>")
+            txt = (f"<span class='w'><b>{_pct(r['within'])}{star}</b> <small>{_iv(r['within_low'], r['within_high'])}"
+                   f"</small></span><br><small>{_num(r['median_abs_mm'])} mm · {_signed(r.get('median_mm'))} · "
+                   f"{r['n_gross']} gross</small>")
             cells.append(f"<td style='background:{_cell_colour(r['within'])}'>{txt}</td>")
-        rows.append(f"<tr><td>{rank}</td><th>{html.escape(lab)}</th>{''.join(cells)}</tr>")
+        note = readings.READINGS.get(kinds.get(lab) or "", "")
+        restore = _restore_of(summary, lab)
+        tip = f"{note}; restoration {restore}" if note else f"restoration {restore}"
+        rows.append(f"<tr><td>{rank}</td><th title=\"{_esc(tip)}\">{_esc(lab)}</th>{''.join(cells)}</tr>")
     within = summary.get("within_mm", 5.0)
-    return (f"<h2>At a glance: samples within ±{within:g} mm, per tracker and condition</h2><p>Fraction of the "
-            f"sample points whose depth error on the restored surface (restoration <code>"
-            f"{html.escape(summary.get('restore', 'rows'))}</code>) is within ±{within:g} mm (the paper's Fig. 10 "
-            f"band), Wilson 95 % interval, median |error|, the signed median error (bias: positive is "
-            f"farther from the rig, e.g. under a translucent surface) and the count of gross errors (&gt; "
-            f"{summary.get('gross_mm', 50.0):g} mm). ★ best of the condition; rows ranked by the mean fraction.</p>"
-            f"<table><tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
+    own = [lab for lab in labels if _restore_of(summary, lab) != summary.get("restore", "rows")]
+    restored = (f"restoration <code>{_esc(summary.get('restore', 'rows'))}</code>"
+                + "".join(f", <code>{_esc(_restore_of(summary, x))}</code> for <code>{_esc(x)}</code>" for x in own))
+    return (f"<h2>At a glance: samples within ±{within:g} mm, per tracker and condition</h2><p class='note'>"
+            f"Per cell: the fraction of the sample points whose depth error on the restored surface ({restored}) "
+            f"is within ±{within:g} mm (the paper's Fig. 10 band; no depth counts as outside) with its Wilson 95 % "
+            f"interval; below, the median |error|, the signed median error (bias: positive is farther from the "
+            f"rig) and the gross errors (&gt; {summary.get('gross_mm', 50.0):g} mm). ★ best of the condition; "
+            f"rows ranked by the mean fraction.</p>"
+            f"<table class='glance'><colgroup><col style='width:3.2em'><col style='width:9.5em'></colgroup>"
+            f"<tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
 
 
 def _improvement_tables(summary) -> str:
@@ -285,12 +378,21 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
     dp0 = cfg["dp"][0] if cfg["dp"] else None
     base0 = cfg["baselines"][0] if cfg["baselines"] else None
     if dp0 and base0 and len(samples):
+        kinds = _readings(cfg)
+        paper = next((b for b in cfg["baselines"] if kinds.get(b) == readings.PAPER_READING), None)
+        filled = next((b for b in cfg["baselines"] if kinds.get(b) == "filled"), None)
+        first = set(summary["conditions"][0]["experiments"]) if summary.get("conditions") else set()
         for key, g in samples.groupby("experiment", sort=False):
-            st = stats.get((key, dp0, base0, "rmse"))
-            r = {n: rob[(key, n)] for n in (dp0, base0) if (key, n) in rob}
-            out["samples"].append(figures.fig_samples(g.reset_index(drop=True), dp0, base0,
-                                                      figdir / f"fig10_{key}.png", title=f"{key}: {len(g)} samples",
-                                                      stat=st, robust=r, within_mm=summary.get("within_mm", 5.0)))
+            g = g.reset_index(drop=True)
+            # the paper's condition: the reading the paper describes beside the filled one
+            bases = [paper, base0] if key in first and paper is not None and paper != base0 else [base0]
+            st = {b: stats.get((key, dp0, b, "rmse")) for b in bases}
+            r = {n: rob[(key, n)] for n in (dp0, *bases) if (key, n) in rob}
+            und = g[f"filled_{filled}"].to_numpy(bool) if filled is not None and len(bases) > 1 else None
+            out["samples"].append(figures.fig_samples(
+                g, dp0, bases, figdir / f"fig10_{key}.png", title=f"{key}: {len(g)} samples", stat=st, robust=r,
+                within_mm=summary.get("within_mm", 5.0), undetectable=und,
+                readings={b: readings.READINGS[kinds[b]] for b in bases if kinds.get(b)}))
     gal = data.get("gallery")
     if gal is not None:
         for k, g in enumerate(gal):
@@ -324,7 +426,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
         surf = {"ground truth": restored_points(scan, None, rig)[0]}
         errs = {}
         for n in names:
-            surf[n], errs[n] = restored_points(scan, n, rig, summary.get("restore", "rows"))
+            surf[n], errs[n] = restored_points(scan, n, rig, _restore_of(summary, n))
         try:
             out["shapes"].append(figures.fig_shapes(surf, figdir / f"shape_{exp.key}.png", title=exp.key,
                                                     errors_mm=errs))
@@ -346,16 +448,17 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
     figs = make_figures(run_dir, quiet=quiet, data=data)
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]
-    parts = [f"<h1>stripebench run <code>{html.escape(run_dir.name)}</code></h1>",
-             f"<p>Configuration <code>{html.escape(cfg['name'])}</code> ({html.escape(s.get('config_source', ''))}), "
-             f"seed {s['seed']}, git {html.escape(s['git_revision'])}, Mitsuba variant(s) "
-             f"{html.escape(', '.join(s['variants']))}, wall time {s['wall_s']:.0f} s, restoration "
-             f"<code>{html.escape(s.get('restore', 'rows'))}</code>. "
-             f"Versions: {html.escape(', '.join(f'{k} {v}' for k, v in s['versions'].items()))}.</p>"]
+    own = {k: v for k, v in s.get("restore_by_tracker", {}).items() if v != s.get("restore", "rows")}
+    parts = [f"<h1>stripebench run <code>{_esc(run_dir.name)}</code></h1>", claims_html(s), glance_table(s)]
     parts.append("<h2>Which tracker is more precise, per condition</h2><p>A statistic decides only when its 95 % "
                  "intervals do: the ±5 mm fractions' Wilson intervals must not overlap; the RMSE ratio's bootstrap "
-                 "interval must exclude 0.</p>" + _headline(s))
-    parts.append(glance_table(s))
+                 "interval must exclude 0. Open a condition to read its verdicts.</p>" + _verdicts_folded(s))
+    parts.append(f"<h2>This run</h2><p>Configuration <code>{_esc(cfg['name'])}</code> "
+                 f"({_esc(s.get('config_source', ''))}), seed {s['seed']}, git {_esc(s['git_revision'])}, Mitsuba "
+                 f"variant(s) {_esc(', '.join(s['variants']))}, wall time {s['wall_s']:.0f} s, restoration "
+                 f"<code>{_esc(s.get('restore', 'rows'))}</code>"
+                 + "".join(f", <code>{_esc(k)}</code>: <code>{_esc(v)}</code>" for k, v in own.items())
+                 + f". Versions: {_esc(', '.join(f'{k} {v}' for k, v in s['versions'].items()))}.</p>")
     if figs["samples"]:
         parts.append("<h2>Every sample (Fig. 10)</h2><p>Depth error of each sample point with and without DP; the "
                      "axis is linear within ±10 mm and logarithmic beyond, so no error is hidden (beyond "
@@ -403,9 +506,14 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             f"{html.escape('; '.join(m))}</li>" for e, n, c, m in fails) + "</ul>")
     parts.append("<h2>Configuration</h2><pre>" + html.escape(json.dumps(cfg, indent=2)) + "</pre>")
     page = ("<!doctype html><html><head><meta charset='utf-8'><title>stripebench report</title><style>"
-            "body{font-family:system-ui,sans-serif;max-width:1250px;margin:2em auto;padding:0 1em;color:#222}"
-            "table{border-collapse:collapse;font-size:12px;margin:1em 0}td,th{border:1px solid #ccc;padding:3px 6px;"
-            "text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}</style></head><body>"
+            "body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
+            "h1{font-size:1.4em;margin:0.3em 0}h2{font-size:1.15em;margin:0.9em 0 0.3em}"
+            "table{border-collapse:collapse;font-size:12px;margin:0.5em 0}td,th{border:1px solid #ccc;padding:3px 6px;"
+            "text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}"
+            "ul.claims{font-size:14px;margin:0.3em 0;padding-left:1.2em}p.why,p.note{font-size:12px;color:#444;"
+            "margin:0.3em 0}p.lead{margin:0.2em 0}table.glance{width:100%;table-layout:fixed}table.glance td{line-height:1.2;padding:2px 4px}table.glance span.w{white-space:nowrap}"
+            "table.glance small{font-size:10px}details{margin:0.3em 0}summary{cursor:pointer}"
+            "</style></head><body>"
             + "\n".join(p for p in parts if p) + "</body></html>")
     path = run_dir / "report.html"
     atomic_write_text(path, page)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.evaluate import tables as analysis
+from bench.evaluate import readings, tables as analysis
 from bench.run import renderahead
 from bench.config import Config
 from bench.store.checkpoint import STATUS
@@ -28,7 +28,7 @@ from bench.run.track import build_trackers
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.evaluate.stats import GROSS_MM, WITHIN_MM
 
-__all__ = ["run", "default_run_dir", "load_run", "PAPER_IMPROVEMENT"]
+__all__ = ["run", "default_run_dir", "load_run", "distinct_trackers", "PAPER_IMPROVEMENT"]
 
 PAPER_IMPROVEMENT = 0.30  # "a 30 % improvement in the precision" (sec. 4.3)
 GALLERY_FRAMES = 2  # frames per experiment in the report's failure gallery
@@ -121,10 +121,11 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
             if fig7 is None:
                 fig7 = FigData(exp.key, float(angles[i]), frame.image, frame.background, frame.truth.columns, cols)
         rig = scene.rig
+        restore = config.restore_by_label()  # a setting's own `restore`, else the run's
         for region in (False, True):
-            records += analysis.scan_records(res, rig, exp, object_only=region, restore=config.restore)
+            records += analysis.scan_records(res, rig, exp, object_only=region, restore=restore)
         seed = int(np.random.SeedSequence([config.seed, k]).generate_state(1)[0])
-        samples += analysis.sample_table(res, rig, exp, config.n_samples, seed, restore=config.restore)
+        samples += analysis.sample_table(res, rig, exp, config.n_samples, seed, restore=restore)
         failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
         scan_info.append({"experiment": exp.key, "frames": int(len(angles)), "wall_s": wall,
                           "render_s": res.render_seconds, "variant": res.variant, "failures": failures,
@@ -178,13 +179,17 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
     if fig7 is not None:
         write_figdata(out, fig7)
     extra = {"sim_to_real": _sim_to_real(config, out, metrics, quiet)} if config.real_set else {}
+    verdicts = analysis.verdicts(robust, stats, config.dp, config.baselines)
+    claims = readings.paper_claims(config.to_dict(), robust, stats, verdicts, conditions, samples_df,
+                                   paper_improvement=PAPER_IMPROVEMENT, within_mm=WITHIN_MM)
     summary = build_summary(
         "run", config=config.to_dict(), config_source=config.source, seed=config.seed,
         versions=versions(), git_revision=git_revision(), run_dir=str(out),
         variants=sorted({s["variant"] for s in scan_info}), scans=scan_info,
         improvement=stats, paper_improvement=PAPER_IMPROVEMENT, restore=config.restore,
+        restore_by_tracker=config.restore_by_label(),
         robust=robust, within_mm=WITHIN_MM, gross_mm=GROSS_MM, conditions=conditions,
-        verdicts=analysis.verdicts(robust, stats, config.dp, config.baselines),
+        verdicts=verdicts, paper_claims=claims,
         coverage=_coverage_table(metrics), status_codes=STATUS,
         wall_s=time.perf_counter() - t_start,
         render_ahead=helper.stop() if helper is not None else {"off": off}, **extra)
@@ -202,8 +207,9 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     from bench.run.real import run_real
 
     dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
-    _say(f"real set {dataset}: {len(config.tracker_specs)} trackers", quiet)
-    rdir = run_real(dataset, out / "real", config.tracker_specs, seed=config.seed, n_boot=min(config.n_boot, 2000),
+    specs = distinct_trackers(config.tracker_specs)
+    _say(f"real set {dataset}: {len(specs)} trackers", quiet)
+    rdir = run_real(dataset, out / "real", specs, seed=config.seed, n_boot=min(config.n_boot, 2000),
                     quiet=True, force=True)  # a folder inside this run's, which this process holds
     rm = real_run_means(rdir)
     obj = metrics[metrics["region"] == "object"]
@@ -212,6 +218,28 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     result["dataset"] = str(config.real_set)
     result["sentences"] = simreal.sim_to_real_sentences(result)
     return result
+
+
+def distinct_trackers(specs) -> list:
+    """The tracker settings that are distinct trackers: the first of each (name, params),
+    in order. Settings that differ only in ``restore`` track alike (restoration acts on
+    the depth map afterwards), so the photographs, which have no restoration, and the
+    sim-to-real rank correlation count each tracker once.
+
+    Examples
+    --------
+    >>> from bench.config import TrackerSpec
+    >>> [s.label for s in distinct_trackers([TrackerSpec("threshold", "threshold"),
+    ...     TrackerSpec("threshold_gaps", "threshold", {}, "none"), TrackerSpec("argmax", "threshold", {"threshold": -1.0})])]
+    ['threshold', 'argmax']
+    """
+    seen, out = set(), []
+    for s in specs:
+        key = (s.name, repr(sorted(s.params.items())))
+        if key not in seen:
+            seen.add(key)
+            out.append(s)
+    return out
 
 
 def _coverage_table(metrics) -> list[dict]:

@@ -292,7 +292,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
                     res.columns[n][i], res.scores[n][i] = tr.columns, tr.score
                     res.seconds[n][i], res.status[n][i], res.messages[n][i] = tr.seconds, tr.status, tr.message
             res.done[:] = True
-            restore = spec["restore"]
+            restore = {s.label: s.restore or spec["restore"] for s in specs}  # a setting's own, else the run's
             obj = {d["tracker"]: d for d in analysis.scan_records(res, scene.rig, exp, object_only=True,
                                                                   restore=restore)}
             allr = {d["tracker"]: d for d in analysis.scan_records(res, scene.rig, exp, object_only=False,

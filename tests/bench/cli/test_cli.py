@@ -338,3 +338,13 @@ def test_no_render_ahead_turns_the_helper_off_and_resumes_the_same_run_folder(cl
     assert main(["run", str(cfg), "--out", str(out), "--quiet", "--no-report"]) == 0
     ra = json.loads((out / "summary.json").read_text())["render_ahead"]
     assert ra["started"] is False and ra["frames"] == 4  # resumed: every frame was done, no helper needed
+
+
+@pytest.mark.parametrize("setting, message", [
+    ('{label="g",name="threshold",restore="fill"}', "`--trackers[0].restore` must be one of 'rows', 'none', got 'fill'"),
+    ('{label="g",name="nope",restore="none"}', "`--trackers[0]` names unknown tracker 'nope'"),
+])
+def test_a_bad_setting_restore_is_one_line_and_status_2(setting, message, capsys):
+    assert main(["reproduce", "--trackers", setting]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0] and err[0].startswith("stripebench: error:")

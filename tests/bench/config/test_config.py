@@ -173,3 +173,79 @@ def test_render_ahead_round_trips_but_is_not_part_of_the_runs_identity():
     assert parse(off.to_dict()).render_ahead is False and off.to_dict()["render_ahead"] is False
     assert on.identity() == off.identity() and default_run_dir(on) == default_run_dir(off)
     assert with_overrides(on, render_ahead=False).render_ahead is False
+
+
+# -- a tracker setting's own `restore` ---------------------------------------------------------
+
+GAPS = {"label": "threshold_gaps", "name": "threshold", "restore": "none"}
+
+
+def test_a_setting_carries_its_own_restore_over_the_runs():
+    cfg = parse({**GOOD, "trackers": ["threshold", "dp4", GAPS], "baselines": ["threshold", "threshold_gaps"]})
+    spec = cfg.tracker_specs[2]
+    assert (spec.label, spec.name, spec.params, spec.restore) == ("threshold_gaps", "threshold", {}, "none")
+    assert cfg.restore_by_label() == {"threshold": "rows", "dp4": "rows", "threshold_gaps": "none"}
+    assert cfg.to_dict()["trackers"] == ["threshold", "dp4", {**GAPS, "params": {}}]
+    again = parse(cfg.to_dict())
+    assert again.tracker_specs == cfg.tracker_specs and again.to_dict() == cfg.to_dict()
+    # the run's own restore applies to every setting without one; the setting's wins over it
+    none_run = parse({**GOOD, "restore": "none", "trackers": ["threshold", {**GAPS, "restore": "rows"}], "dp": []})
+    assert none_run.restore_by_label() == {"threshold": "none", "threshold_gaps": "rows"}
+    # a setting without its own restore is written as before (its run folder's name does not change)
+    assert parse(GOOD).to_dict()["trackers"] == ["threshold", "dp4"]
+
+
+def test_a_settings_restore_is_part_of_the_runs_identity():
+    from bench.store.runfolder import default_run_dir
+
+    gaps = parse({**GOOD, "trackers": ["threshold", "dp4", GAPS]})
+    rows = parse({**GOOD, "trackers": ["threshold", "dp4", {**GAPS, "restore": "rows"}]})
+    plain = parse({**GOOD, "trackers": ["threshold", "dp4", {k: v for k, v in GAPS.items() if k != "restore"}]})
+    assert gaps.identity() != rows.identity() != plain.identity() != gaps.identity()
+    assert len({default_run_dir(c) for c in (gaps, rows, plain)}) == 3
+
+
+@pytest.mark.parametrize(
+    "setting, message",
+    [
+        ({**GAPS, "restore": "fill"}, r"^`trackers\[2\].restore` must be one of 'rows', 'none', got 'fill'$"),
+        ({**GAPS, "restore": 1}, r"^`trackers\[2\].restore` must be one of 'rows', 'none', got 1$"),
+        ({**GAPS, "name": "nope"}, r"^`trackers\[2\]` names unknown tracker 'nope'; available: "),
+        ({**GAPS, "fill": "none"}, r"^unknown key `trackers\[2\].fill` \(valid: label, name, params, restore, "
+                                     r"timeout_s, isolate\)$"),
+    ],
+)
+def test_a_bad_setting_restore_is_one_line(setting, message):
+    with pytest.raises(ConfigError, match=message) as err:
+        parse({**GOOD, "trackers": ["threshold", "dp4", setting]})
+    assert "\n" not in str(err.value)
+
+
+def test_a_setting_restore_on_the_command_line():
+    from bench.config import parse_trackers_arg
+
+    specs = parse_trackers_arg('threshold, {label = "g", name = "threshold", restore = "none"}')
+    assert [(s.label, s.restore) for s in specs] == [("threshold", None), ("g", "none")]
+    with pytest.raises(ConfigError, match=r"`--trackers\[1\].restore` must be one of 'rows', 'none', got 'x'"):
+        parse_trackers_arg('threshold, {label = "g", name = "threshold", restore = "x"}')
+
+
+def test_the_paper_profile_reads_without_dp_three_ways():
+    from bench.evaluate.readings import PAPER_READING, reading_of
+
+    cfg = profile("paper")
+    values = {s.label: s.to_value() for s in cfg.tracker_specs}
+    kinds = {lab: reading_of(v, cfg.restore) for lab, v in values.items()}
+    assert {lab: k for lab, k in kinds.items() if k} == {"threshold": "filled", "threshold_gaps": "gaps",
+                                                         "argmax": "argmax"}
+    assert PAPER_READING in kinds.values()
+    assert set(cfg.baselines) >= {"threshold", "threshold_gaps", "argmax"} and cfg.baselines[0] == "threshold"
+    assert cfg.restore_by_label()["threshold_gaps"] == "none" and cfg.restore == "rows"
+    # argmax is exactly the brightest pixel of every row of an 8-bit frame
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    img = rng.integers(0, 3, size=(40, 30)).astype(np.uint8)
+    img[5] = 0  # an all-black row: its brightest pixel (the leftmost 0) is still reported
+    cols = cfg.make_trackers()["argmax"].track(img).columns
+    np.testing.assert_array_equal(cols, np.argmax(img, axis=1).astype(float))

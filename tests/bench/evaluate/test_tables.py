@@ -53,3 +53,68 @@ def test_worst_frames_are_those_the_trackers_miss_most():
                       done=np.ones(F, bool), variant="", width=64, render_seconds=0.0)
     assert worst_frames(scan, 2) == [1, 2]
     assert worst_frames(scan, 10) == [1, 2, 0]
+
+
+# -- restoration per tracker setting, and the paper's ratio where one side has no value ----------
+
+def _scan_with_a_missed_row():
+    from bench.evaluate.triangulation import depth_cm
+    from scenes import Rig
+
+    rig = Rig().with_size(64, 60)
+    F, H = 1, 60
+    truth = np.linspace(20.0, 40.0, H)[None, :]
+    pts = np.zeros((F, H, 3))
+    pts[..., 0] = depth_cm(truth, rig)  # the true R of each row is that of its true column
+    seen = truth.copy()
+    seen[0, 30] = np.nan  # the tracker misses row 30
+    scan = ScanResult(key="k", angles=np.zeros(F), truth_columns=truth, truth_points_cm=pts,
+                      on_object=np.ones((F, H), bool), columns={"gaps": seen, "filled": seen.copy()},
+                      scores={}, seconds={n: np.full(F, 1e-3) for n in ("gaps", "filled")},
+                      status={n: np.zeros(F, np.int64) for n in ("gaps", "filled")}, messages={}, done=np.ones(F, bool),
+                      variant="", width=64, render_seconds=0.0)
+    return scan, rig
+
+
+def test_each_setting_is_restored_by_its_own_method():
+    from types import SimpleNamespace
+
+    from bench.evaluate.tables import sample_table, scan_records
+    from bench.evaluate.triangulation import depth_cm
+
+    scan, rig = _scan_with_a_missed_row()
+    exp = SimpleNamespace(key="k", scene="cone", material="patchy", condition="")
+    how = {"gaps": "none", "filled": "rows"}
+    rows = {r["row"]: r for r in sample_table(scan, rig, exp, 60, seed=0, restore=how)}
+    assert len(rows) == 60 and rows[30]["filled_filled"] and not rows[30]["filled_gaps"]
+    assert np.isnan(rows[30]["error_mm_gaps"])
+    r = depth_cm(scan.truth_columns[0], rig)
+    assert rows[30]["error_mm_filled"] == pytest.approx(10.0 * ((r[29] + r[31]) / 2 - r[30]))  # linear along the row
+    assert all(rows[k]["error_mm_gaps"] == pytest.approx(0.0, abs=1e-9) for k in rows if k != 30)
+    rec = {d["tracker"]: d for d in scan_records(scan, rig, exp, restore=how)}
+    assert rec["filled"]["filled_fraction"] == pytest.approx(1 / 60) and rec["gaps"]["filled_fraction"] == 0.0
+    # one method for every setting: both filled
+    same = {r["row"]: r for r in sample_table(scan, rig, exp, 60, seed=0, restore="rows")}
+    assert same[30]["error_mm_gaps"] == same[30]["error_mm_filled"]
+    with pytest.raises(KeyError):
+        sample_table(scan, rig, exp, 60, seed=0, restore={"gaps": "none"})
+
+
+def test_the_ratio_over_both_valued_pairs_counts_what_each_side_could_not_restore():
+    from bench.evaluate.tables import improvements
+
+    s = pd.DataFrame({"experiment": ["a"] * 6,
+                      "error_mm_dp": [1.0, -2.0, np.nan, 0.5, 3.0, np.nan],
+                      "error_mm_gaps": [4.0, np.nan, np.nan, -1.0, 6.0, 2.0]})
+    got = {r["statistic"]: r for r in improvements(s, ["dp"], ["gaps"], n_boot=200, seed=0, group_by=None)}
+    # by hand: the pairs with both values are rows 0, 3, 4
+    a, b = np.array([1.0, 0.5, 3.0]), np.array([4.0, -1.0, 6.0])
+    rmse = 1 - np.sqrt(np.mean(a ** 2)) / np.sqrt(np.mean(b ** 2))
+    mae = 1 - np.mean(np.abs(a)) / np.mean(np.abs(b))
+    std = 1 - np.std(a, ddof=1) / np.std(b, ddof=1)
+    for stat, want in (("rmse", rmse), ("mae", mae), ("std", std)):
+        r = got[stat]
+        assert r["value"] == pytest.approx(want, rel=1e-12)
+        assert (r["n"], r["n_samples"], r["n_missing_dp"], r["n_missing_baseline"]) == (3, 6, 2, 2)
+    one = improvements(s.iloc[[1, 2, 5]], ["dp"], ["gaps"], n_boot=50, seed=0, group_by=None)[0]
+    assert one["n"] == 0 and np.isnan(one["value"]) and (one["n_missing_dp"], one["n_missing_baseline"]) == (2, 2)

@@ -42,3 +42,27 @@ def test_bars_of_two_experiments_of_one_scene_and_material(tmp_path):
                       "scene": "cone", "material": "patchy", "tracker": ["a", "a", "b", "b"], "region": "object",
                       "hit_rate": [0.9, 0.5, 0.8, np.nan]})
     assert figures.fig_bars(m, tmp_path / "b.png").is_file()
+
+
+def test_fig10_of_two_readings_side_by_side_marks_where_the_threshold_sees_nothing(tmp_path, monkeypatch):
+    import matplotlib.axes
+
+    s = pd.DataFrame({"error_mm_dp": [0.1, 0.2, -0.3, 0.4], "error_mm_argmax": [0.2, 80.0, -300.0, 1.0],
+                      "error_mm_threshold": [0.2, 1.0, -2.0, 1.0]})
+    labels, titles = [], []
+    real_legend = matplotlib.axes.Axes.legend
+
+    def spy(self, *a, **k):
+        labels.append([h.get_label() for h in self.get_legend_handles_labels()[0]])
+        titles.append(self.get_title())
+        return real_legend(self, *a, **k)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "legend", spy)
+    stat = {"argmax": {"value": 0.9, "low": 0.8, "high": 0.95, "n": 4, "n_samples": 4}, "threshold": None}
+    p = figures.fig_samples(s, "dp", ["argmax", "threshold"], tmp_path / "f.png", title="t", stat=stat,
+                            undetectable=[False, True, True, False],
+                            readings={"argmax": "the brightest pixel of every row"})
+    assert p.is_file() and len(labels) == 2  # one panel per reading
+    assert "argmax where the threshold detects no stripe: 2, 2 outside ±5 mm" in labels[0]
+    assert "threshold where the threshold detects no stripe: 2, 0 outside ±5 mm" in labels[1]
+    assert "without DP: argmax (the brightest pixel of every row)" in titles[0] and "= 90 %" in titles[0]

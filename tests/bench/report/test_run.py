@@ -35,7 +35,7 @@ def test_glance_table_marks_the_best_of_each_condition_and_ranks_by_the_mean():
     summary = {"robust": robust, "conditions": [{"condition": "a", "experiments": ["a-x", "a-y"]},
                                                 {"condition": "b-x", "experiments": ["b-x"]}]}
     page = glance_table(summary)
-    rows = re.findall(r"<tr><td>(\d)</td><th>(\w+)</th>(.*?)</tr>", page)
+    rows = re.findall(r"<tr><td>(\d)</td><th[^>]*>(\w+)</th>(.*?)</tr>", page)
     assert [(r[0], r[1]) for r in rows] == [("1", "t3"), ("2", "t1"), ("3", "t2")]  # means 0.85, 0.745, 0.55
     stars = {name: cells.count("★") for _, name, cells in rows}
     assert stars == {"t3": 1, "t1": 1, "t2": 0}  # a: t3 (ties t2 on the fraction, lower median); b: t1
@@ -68,3 +68,61 @@ def test_a_report_reads_only_what_the_run_saved(tiny_run, tmp_path, monkeypatch)
     with pytest.raises(config_mod.ConfigError):  # the live checks would refuse this configuration here
         config_mod.parse(summary["config"])
     assert build_report(copy, quiet=True).is_file()
+
+
+EVIL = "<script>alert('x')</script> \"q\""
+
+
+def _claim(baseline, reading, paper):
+    from bench.evaluate.readings import READINGS
+
+    figs = {"dp_within": 0.98, "dp_within_low": 0.96, "dp_within_high": 0.99, "baseline_within": 0.65,
+            "baseline_within_low": 0.59, "baseline_within_high": 0.7, "n": 300, "ratio_value": 0.1,
+            "ratio_low": -0.2, "ratio_high": 0.3, "ratio_n": 195, "n_samples": 300, "n_missing_dp": 0,
+            "n_missing_baseline": 105 if reading == "gaps" else 0}
+    return {"baseline": baseline, "reading": reading, "description": READINGS[reading], "paper_reading": paper,
+            "dp": "dp4", "group": f"condition:{EVIL}", "experiments": ["cone-paper", "hand-paper"],
+            "claims": {"most_within": "reproduced", "more_precise": "reproduced", "improvement": "reproduced"},
+            "figures": figs, "outside": 105, "outside_undetectable": 105, "sentence": f"plain {EVIL}"}
+
+
+def test_the_headline_is_one_sentence_per_reading_and_escapes_what_it_shows():
+    from bench.report.run import claims_html
+
+    summary = {"paper_claims": [_claim("threshold", "filled", False), _claim("threshold_gaps", "gaps", False),
+                                _claim("argmax", "argmax", True)],
+               "conditions": [{"condition": EVIL, "experiments": ["cone-paper", "hand-paper"]}],
+               "within_mm": 5.0, "paper_improvement": 0.30}
+    page = claims_html(summary)
+    assert "<script>" not in page and "&lt;script&gt;alert(&#x27;x&#x27;)&lt;/script&gt; &quot;q&quot;" in page
+    first = page.split("<details")[0]  # the sentences before the folded explanation
+    assert first.count("<li>") == 3 and "over the 195 of 300 pairs where both have a depth" in first
+    assert first.count("the reading the paper's text supports") == 1
+    assert "<b><code>argmax</code></b> (the brightest pixel of every row), <i>the reading" in first
+    assert claims_html({"paper_claims": []}) == ""
+
+
+def test_verdicts_are_folded_per_condition_and_escaped():
+    from bench.report.run import _verdicts_folded
+
+    v = _verdict("dp4", "tie") | {"group": f"condition:{EVIL}"}
+    w = dict(v, baseline="argmax")
+    summary = {"verdicts": [v, w], "config": {"baselines": ["threshold", "argmax"]},
+               "robust": [{"group": f"condition:{EVIL}", "tracker": "dp4"}],
+               "conditions": [{"condition": EVIL, "experiments": ["a", "b"]}]}
+    page = _verdicts_folded(summary)
+    assert "<script>" not in page and "&lt;script&gt;" in page
+    assert page.startswith("<details><summary>") and "against the other baselines" in page
+    assert page.count("<details>") == 2  # the condition, and the other baselines inside it
+
+
+def test_glance_table_escapes_condition_titles_and_says_each_settings_restoration():
+    robust = [{"group": EVIL, "tracker": t, **_fig(0.9, 0.8, 0.95, 0.3, 0)} for t in ("threshold", "threshold_gaps")]
+    summary = {"robust": robust, "conditions": [{"condition": EVIL, "experiments": [EVIL]}], "restore": "rows",
+               "restore_by_tracker": {"threshold": "rows", "threshold_gaps": "none"},
+               "config": {"restore": "rows", "trackers": [
+                   "threshold", {"label": "threshold_gaps", "name": "threshold", "params": {}, "restore": "none"}]}}
+    page = glance_table(summary)
+    assert "<script>" not in page and "&lt;script&gt;" in page
+    assert "<code>none</code> for <code>threshold_gaps</code>" in page
+    assert 'title="threshold, missed rows have no depth; restoration none"' in page

@@ -128,3 +128,51 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
         assert rows[name]["real"] == pytest.approx(means[name]) and rows[name]["synthetic"] == pytest.approx(synth[name])
     assert "Too few trackers" in s["sentences"][0]  # two trackers: no rank correlation is claimed
     assert "Renders vs photographs" in build_report(out, quiet=True).read_text()
+
+
+@pytest.mark.slow
+def test_a_settings_own_restore_in_the_run_its_checkpoints_and_its_identity(gate_dict, tmp_path):
+    from bench.store.files import load_npz
+    from bench.store.runfolder import RunFolderError
+
+    gaps = {"label": "threshold_gaps", "name": "threshold", "restore": "none"}
+    gate_dict.update(trackers=["threshold", "dp4", gaps, {"label": "argmax", "name": "threshold",
+                                                          "params": {"threshold": -1.0}}],
+                     baselines=["threshold", "threshold_gaps", "argmax"], n_samples=60)
+    gate_dict["experiments"][0]["ambient_lux"] = 3000.0  # a dim stripe: the threshold misses rows
+    cfg = parse(gate_dict)
+    out = run(cfg, tmp_path / "r", progress=False, quiet=True)
+    key = cfg.experiments[0].key
+    ck = load_npz(out / "scans" / f"{key}.npz")
+    # the checkpoint keeps the setting's own columns under its label: the same tracker, the same columns
+    np.testing.assert_array_equal(ck["columns/threshold_gaps"], ck["columns/threshold"])
+    s = pd.read_csv(out / "samples.csv")
+    missed = s["filled_threshold"].to_numpy(bool)
+    assert missed.any() and not missed.all()
+    assert s["error_mm_threshold_gaps"].isna().to_numpy().tolist() == missed.tolist()
+    np.testing.assert_array_equal(s.loc[~missed, "error_mm_threshold_gaps"], s.loc[~missed, "error_mm_threshold"])
+    assert not s["filled_threshold_gaps"].any() and s["error_mm_argmax"].notna().all()
+    m = pd.read_parquet(out / "metrics.parquet")
+    fill = m[m.region == "all"].set_index("tracker")["filled_fraction"]
+    assert fill["threshold_gaps"] == 0.0 and fill["threshold"] > 0.0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["restore_by_tracker"] == {"threshold": "rows", "dp4": "rows", "threshold_gaps": "none",
+                                             "argmax": "rows"}
+    r = next(i for i in summary["improvement"] if (i["group"], i["dp"], i["baseline"], i["statistic"])
+             == ("all", "dp4", "threshold_gaps", "rmse"))
+    assert (r["n_samples"], r["n_missing_baseline"], r["n"]) == (len(s), int(missed.sum()), int((~missed).sum()))
+    assert [c["baseline"] for c in summary["paper_claims"]] == ["threshold", "threshold_gaps", "argmax"]
+    rob = {x["tracker"]: x for x in summary["robust"] if x["group"] == "all"}
+    assert rob["threshold_gaps"]["n_missing"] == int(missed.sum())
+    # the same configuration resumes from the checkpoints; another restore of the setting is another run
+    before = dict(load_npz(out / "scans" / f"{key}.npz"))
+    run(cfg, out, progress=False, quiet=True)
+    after = load_npz(out / "scans" / f"{key}.npz")
+    assert sorted(after) == sorted(before) and any(k.startswith("seconds/threshold_gaps") for k in before)
+    for k in before:  # the per-frame tracker times too: nothing was tracked again
+        np.testing.assert_array_equal(after[k], before[k])
+    other = parse({**gate_dict, "trackers": [{**gaps, "restore": "rows"} if t == gaps else t
+                                             for t in gate_dict["trackers"]]})
+    assert other.restore_by_label()["threshold_gaps"] == "rows"
+    with pytest.raises(RunFolderError, match="holds a run of another configuration"):
+        run(other, out, progress=False, quiet=True)

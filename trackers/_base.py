@@ -74,10 +74,12 @@ class Tracker(abc.ABC):
     Subclasses declare their parameters as keyword arguments of ``__init__``
     and store them unchanged under the same attribute names (scikit-learn's
     rule: no validation and no work in the constructor; parameters are
-    validated when :meth:`track` is called), and override
+    validated when :meth:`track` is called), declare each parameter's
+    constraint in :attr:`parameter_constraints`, and override
     :meth:`find_stripe` (the public hook; older trackers override ``_track``,
-    which :meth:`find_stripe` calls by default) and, if they have parameters,
-    :meth:`validate_params`. See ``docs/plugins.md``.
+    which :meth:`find_stripe` calls by default). Rules that tie parameters
+    together go in an override of :meth:`validate_params` that calls
+    ``super().validate_params()``. See ``docs/plugins.md``.
 
     Class attributes
     ----------------
@@ -91,6 +93,11 @@ class Tracker(abc.ABC):
 
     name: ClassVar[str] = ""
     subpixel: ClassVar[bool] = False
+    #: parameter name -> its constraint (:class:`trackers._params.Real`, ``Int``, ``Choice``,
+    #: ``Bool``): checked by :meth:`validate_params`, and by the conformance suite for every
+    #: tracker that declares it (each parameter must have one; each constraint's invalid values
+    #: must be refused, naming the parameter)
+    parameter_constraints: ClassVar[dict] = {}
 
     def __new__(cls, *args, **kwargs):
         if cls.find_stripe is Tracker.find_stripe and cls._track is Tracker._track:
@@ -145,11 +152,17 @@ class Tracker(abc.ABC):
         return track
 
     def validate_params(self) -> None:
-        """Raise ``ValueError`` naming a bad parameter and echoing its value (override;
-        called by :meth:`track` before :meth:`find_stripe`). The default calls
-        ``_validate_params``, the older name of this hook."""
+        """Raise ``ValueError`` naming a bad parameter and echoing its value; called by
+        :meth:`track` before :meth:`find_stripe`.
+
+        The default checks every parameter against :attr:`parameter_constraints`.
+        Override it (calling ``super().validate_params()``) for rules that tie
+        parameters together."""
+        for name, constraint in type(self).parameter_constraints.items():
+            constraint.check(name, getattr(self, name))
 
     def _validate_params(self) -> None:
+        """The older name of :meth:`validate_params` (trackers written before it override this)."""
         self.validate_params()
 
     def find_stripe(self, image: np.ndarray, background: np.ndarray | None) -> Track:

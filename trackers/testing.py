@@ -28,7 +28,8 @@ from scipy.special import erf
 
 from ._base import Track, Tracker
 
-__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "stripe_profile"]
+__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "stripe_profile",
+           "check_parameter_constraints"]
 
 
 def stripe_profile(centre, width: int, sigma_px: float, peak: float) -> np.ndarray:
@@ -253,6 +254,32 @@ def check_vertical_flip(tracker: Tracker) -> None:
     )
 
 
+def check_parameter_constraints(tracker: Tracker) -> None:
+    """Every parameter has a constraint in ``parameter_constraints``, the tracker's own
+    values satisfy it, and each value the constraint calls invalid is refused by
+    :meth:`~trackers.Tracker.track` with a ``ValueError`` naming the parameter (for
+    trackers that declare constraints)."""
+    table = type(tracker).parameter_constraints
+    params = tracker.get_params()
+    missing = sorted(set(params) - set(table))
+    assert not missing, f"{_name(tracker)}: parameter(s) {missing} have no entry in parameter_constraints"
+    extra = sorted(set(table) - set(params))
+    assert not extra, f"{_name(tracker)}: parameter_constraints names {extra}, which are not parameters"
+    img, _ = make_stripe_image(20, 30, seed=3)
+    tracker.track(img)  # its own values pass
+    for name, constraint in table.items():
+        for bad in constraint.invalid():
+            t = copy.deepcopy(tracker)
+            setattr(t, name, bad)
+            try:
+                t.track(img)
+            except ValueError as exc:
+                assert f"`{name}`" in str(exc), (
+                    f"{_name(tracker)}: {name}={bad!r} was refused, but the message does not name `{name}`: {exc}")
+            else:
+                raise AssertionError(f"{_name(tracker)}: {name}={bad!r} violates its constraint but was accepted")
+
+
 _CHECKS: tuple[Callable[[Tracker], None], ...] = (
     check_output_types,
     check_blank_image,
@@ -266,14 +293,23 @@ _CHECKS: tuple[Callable[[Tracker], None], ...] = (
 )
 
 
+#: Checks that apply only to trackers with a property, chosen by it (scikit-learn's tags).
+_TAGGED: tuple[tuple[Callable[[Tracker], bool], Callable[[Tracker], None]], ...] = (
+    (lambda t: bool(type(t).parameter_constraints), check_parameter_constraints),
+)
+
+
 def all_checks() -> tuple[Callable[[Tracker], None], ...]:
-    """Every conformance check, in the order they run."""
-    return _CHECKS
+    """Every conformance check, in the order they run (the tagged ones last)."""
+    return _CHECKS + tuple(check for _, check in _TAGGED)
 
 
 def _checks_for(tracker: Tracker) -> Iterator[Callable[[Tracker], None]]:
-    for check in _CHECKS:
-        yield check
+    """The checks for ``tracker``: every general one, then those its properties call for."""
+    yield from _CHECKS
+    for applies, check in _TAGGED:
+        if applies(tracker):
+            yield check
 
 
 def check_tracker(tracker: Tracker) -> None:

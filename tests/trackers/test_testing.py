@@ -119,3 +119,37 @@ def test_check_catches_missing_validation_and_flip_asymmetry():
 def test_check_tracker_refuses_non_trackers():
     with pytest.raises(TypeError, match="`tracker` must be a trackers.Tracker instance, got int"):
         check_tracker(3)
+
+
+def test_the_constraint_check_finds_a_missing_entry_and_an_accepted_bad_value():
+    import numpy as np
+
+    from trackers import Track, Tracker
+    from trackers._params import Int, Real
+    from trackers.testing import all_checks, check_parameter_constraints
+
+    class Good(Tracker):
+        name = "good"
+        parameter_constraints = {"k": Real(low=0), "n": Int(low=1)}
+
+        def __init__(self, k=1.0, n=2):
+            self.k, self.n = k, n
+
+        def find_stripe(self, image, background):
+            return Track(np.argmax(image, axis=1).astype(float), np.ones(image.shape[0]))
+
+    class Missing(Good):
+        parameter_constraints = {"k": Real(low=0)}
+
+    class Lax(Good):
+        parameter_constraints = {"k": Real(low=0), "n": Int(low=1)}
+
+        def validate_params(self):  # forgets the table
+            pass
+
+    check_parameter_constraints(Good())
+    with pytest.raises(AssertionError, match=r"parameter\(s\) \['n'\] have no entry"):
+        check_parameter_constraints(Missing())
+    with pytest.raises(AssertionError, match="violates its constraint but was accepted"):
+        check_parameter_constraints(Lax())
+    assert check_parameter_constraints in all_checks()

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import analysis, renderahead
+from .camera_view import tracker_images
 from .config import Config
 from .runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
                         write_tables)
@@ -144,9 +145,10 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
         worst = analysis.worst_frames(res, GALLERY_FRAMES)
         for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
             frame = scene.render(float(angles[i]), spp=scene.params["spp"], seed=config.seed)
-            gallery[f"{exp.key}/{i}"] = (frame.image, frame.truth.columns, {n: res.columns[n][i] for n in res.columns})
+            image, background = tracker_images(frame, scene.params["laser_wavelength_nm"])
+            gallery[f"{exp.key}/{i}"] = (image, frame.truth.columns, {n: res.columns[n][i] for n in res.columns})
             if fig7 is None:
-                fig7 = (exp.key, float(angles[i]), (frame.image, frame.background, frame.truth.columns),
+                fig7 = (exp.key, float(angles[i]), (image, background, frame.truth.columns),
                         {n: res.columns[n][i] for n in res.columns})
         rig = scene.rig
         for region in (False, True):

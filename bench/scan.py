@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .camera_view import tracker_images
 from .runio import save_npz
 
 __all__ = ["TrackResult", "track_frame", "ScanResult", "run_scan", "pending_frames", "scan_fingerprint",
@@ -329,8 +330,9 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                 on_frame(i)
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
+            image, background = tracker_images(frame, scene.params["laser_wavelength_nm"])
             if i == keep_frame:
-                kept = (frame.image, frame.background, frame.truth.columns)
+                kept = (image, background, frame.truth.columns)
                 if res.done[i]:
                     continue
             res.render_seconds += time.perf_counter() - t0
@@ -344,7 +346,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                     res.false_columns = np.full((len(angles), scene.rig.height, FALSE_K), np.nan)
                 res.false_columns[i] = _pad_false(frame.truth.false_columns)
             for n in names:
-                r = track_frame(trackers_[n], frame.image, frame.background)
+                r = track_frame(trackers_[n], image, background)
                 res.columns[n][i] = r.columns
                 res.scores[n][i] = r.score
                 res.seconds[n][i] = r.seconds

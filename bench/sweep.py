@@ -238,6 +238,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
 
     from . import analysis
     from .config import Experiment, parse_trackers
+    from .camera_view import tracker_images
     from .scan import _empty, source_fingerprint, track_frame
     from .stats import robust_summary
 
@@ -279,8 +280,9 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
                 res.truth_columns[i] = frame.truth.columns
                 res.truth_points_cm[i] = frame.truth.points_cm
                 res.on_object[i] = frame.truth.on_object
+                image, background = tracker_images(frame, scene.params["laser_wavelength_nm"])
                 for n in names:
-                    tr = track_frame(trackers_[n], frame.image, frame.background)
+                    tr = track_frame(trackers_[n], image, background)
                     res.columns[n][i], res.scores[n][i] = tr.columns, tr.score
                     res.seconds[n][i], res.status[n][i], res.messages[n][i] = tr.seconds, tr.status, tr.message
             res.done[:] = True

@@ -1,0 +1,54 @@
+"""What a tracker sees of a rendered frame: the mono image, or one channel of a colour photograph.
+
+A mono-camera frame (``scenes`` parameter ``camera = "mono"``) goes to the trackers as it is.
+A colour-camera frame (``camera = "rgb"``) carries ``frame.rgb`` (and ``frame.rgb_background``);
+the trackers get the 2-D image that ``stripebench track`` would make of the same photograph:
+:func:`bench.real.select_channel` with the same ``channel`` rule (default ``"auto"``) and the laser's
+colour named from its wavelength (:func:`laser_colour`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["laser_colour", "tracker_images"]
+
+
+def laser_colour(wavelength_nm: float) -> str:
+    """``"blue"`` below 490 nm, ``"green"`` below 580 nm, else ``"red"`` (the name :func:`bench.real.select_channel`
+    takes).
+
+    Examples
+    --------
+    >>> laser_colour(650.0), laser_colour(532.0), laser_colour(450.0)
+    ('red', 'green', 'blue')
+    """
+    w = float(wavelength_nm)
+    return "blue" if w < 490.0 else "green" if w < 580.0 else "red"
+
+
+def tracker_images(frame, laser_wavelength_nm: float = 650.0, channel: str = "auto") -> tuple[np.ndarray, np.ndarray]:
+    """The (image, background) pair a tracker gets from a :class:`scenes.Frame`.
+
+    Parameters
+    ----------
+    frame : scenes.Frame
+    laser_wavelength_nm : float
+        The scene's ``laser_wavelength_nm`` (names the laser's colour for ``channel``).
+    channel : str
+        One of :data:`bench.real.CHANNELS` (``"auto"``: the laser's channel minus the mean of the
+        others on a colour photograph).
+
+    Returns
+    -------
+    image, background : ndarray (H, W)
+        ``frame.image`` and ``frame.background`` for a mono frame; for a colour frame
+        :func:`bench.real.select_channel` of ``frame.rgb`` and ``frame.rgb_background``
+        (float64 for ``excess``/``gray``, uint8 for a plain channel).
+    """
+    from .real import select_channel
+
+    if getattr(frame, "rgb", None) is None:
+        return frame.image, frame.background
+    laser = laser_colour(laser_wavelength_nm)
+    return select_channel(frame.rgb, channel, laser), select_channel(frame.rgb_background, channel, laser)

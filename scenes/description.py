@@ -96,7 +96,8 @@ class LaserPass(NamedTuple):
     """One render of the laser scene: integrator, depth and the pixels it contributes to.
 
     ``pixels`` is ``"all"``, ``"object"`` (pixels that see the object, see
-    :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest).
+    :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest); or ``"support"`` (pixels that
+    see a polished table, :meth:`scenes.Scene.support_pixels`) and ``"rest"`` (the others).
     """
 
     kind: str

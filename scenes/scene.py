@@ -60,6 +60,17 @@ def _angle_words(theta: float):
     return [bits & 0xFFFFFFFF, bits >> 32]
 
 
+def _grow(mask: np.ndarray) -> np.ndarray:
+    """``mask`` grown by one pixel (8-neighbourhood)."""
+    grown = mask.copy()
+    grown[1:] |= mask[:-1]
+    grown[:-1] |= mask[1:]
+    rows = grown.copy()
+    grown[:, 1:] |= rows[:, :-1]
+    grown[:, :-1] |= rows[:, 1:]
+    return grown
+
+
 class Scene:
     """An object in front of its background, on its support, with material, light and sensor parameters.
 
@@ -227,7 +238,7 @@ class Scene:
         return out
 
     def _cache_fields(self, theta: float, spp: int, seed: int, variant: str) -> Dict[str, Any]:
-        passes = description.laser_passes(self.params["material"])
+        passes = self.laser_passes()
         extra = {}
         if passes != (description.LaserPass("path", description.MAX_DEPTH, "all"),):
             # keys of plain path-traced materials stay as they were (warm caches survive)
@@ -276,16 +287,20 @@ class Scene:
         laser_scene, *ambient_scenes = self._load(spp)
         pose = description.pose_updates(self.rig, theta)
         laser_seed = int(seeds[0].generate_state(1)[0])
-        passes = description.laser_passes(self.params["material"])
+        passes = self.laser_passes()
         if len(passes) == 1 and passes[0].pixels == "all":
             laser = laser_scene.render(pose, spp, laser_seed)
         else:
-            on_object = self.split_pixels(theta)
-            acc = np.zeros(on_object.shape, np.float64)
+            if passes[0].pixels == "support":
+                on_support = self.support_pixels(theta)
+                masks = {"support": on_support, "rest": ~on_support}
+            else:
+                on_object = self.split_pixels(theta)
+                masks = {"object": on_object, "other": ~on_object}
+            acc = np.zeros(next(iter(masks.values())).shape, np.float64)
             for p in passes:
                 img = laser_scene.render(pose, spp, laser_seed, integrator=(p.kind, p.max_depth))
-                where = {"all": True, "object": on_object, "other": ~on_object}[p.pixels]
-                acc += np.where(where, img, 0.0)
+                acc += np.where(masks[p.pixels], img, 0.0)
             laser = acc.astype(np.float32)
         ambient_seed = int(seeds[1].generate_state(1)[0])
         bands = [a.render(pose, self.params["ambient_spp"], ambient_seed) for a in ambient_scenes]
@@ -334,6 +349,11 @@ class Scene:
             NaN where the ray hits nothing.
         on_object : ndarray (H, W), bool
         """
+        points, part = self._visible(mirror_angle_deg)
+        return points, part == _PARTS.index("object")
+
+    def _visible(self, mirror_angle_deg: float):
+        """First hits through every pixel centre: points (H, W, 3) cm and the index into ``_PARTS`` (H, W)."""
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
         rig = self.rig
         laser_scene = self._load(self.params["spp"])[0]
@@ -343,7 +363,28 @@ class Scene:
         o, d = rig.pixel_rays(cols, rows, theta)
         t, part = laser_scene.cast(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
         t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
-        return o + t[..., None] * d, part.reshape(rig.height, rig.width) == _PARTS.index("object")
+        return o + t[..., None] * d, part.reshape(rig.height, rig.width)
+
+    def laser_passes(self) -> tuple:
+        """The laser pass(es) of this scene (:class:`scenes.description.LaserPass`).
+
+        Those of the material (:func:`scenes.description.laser_passes`), except for a path-traced
+        material on a ``support_finish="polished"`` table: ``path`` on the pixels that see the table
+        (:meth:`support_pixels`: the stripe and the object mirrored in the coat), ``ptracer`` on the
+        others (the sheet the coat reflects onto the object, which a path tracer finds only as
+        fireflies through the narrow lobe). Unbiased for the same reason as the shiny materials' split.
+        """
+        passes = description.laser_passes(self.params["material"])
+        plain = (description.LaserPass("path", description.MAX_DEPTH, "all"),)
+        if passes == plain and self.params["support"] == "table" and self.params["support_finish"] == "polished":
+            return (description.LaserPass("path", description.MAX_DEPTH, "support"),
+                    description.LaserPass("ptracer", description.MAX_DEPTH, "rest"))
+        return passes
+
+    def support_pixels(self, mirror_angle_deg: float) -> np.ndarray:
+        """Pixels whose centre ray hits the table, grown by one pixel (8-neighbourhood), (H, W) bool."""
+        _, part = self._visible(mirror_angle_deg)
+        return _grow(part == _PARTS.index("support"))
 
     def split_pixels(self, mirror_angle_deg: float) -> np.ndarray:
         """Pixels a ``"split"`` laser pass renders with ``path`` (the others with ``ptracer``).
@@ -357,13 +398,7 @@ class Scene:
         ndarray (H, W), bool
         """
         _, on_object = self.visible_points(mirror_angle_deg)
-        grown = on_object.copy()
-        grown[1:] |= on_object[:-1]
-        grown[:-1] |= on_object[1:]
-        rows = grown.copy()
-        grown[:, 1:] |= rows[:, :-1]
-        grown[:, :-1] |= rows[:, 1:]
-        return grown
+        return _grow(on_object)
 
     def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None,
                noise_draw: int = 0) -> Frame:

@@ -8,7 +8,7 @@ enforces it, so a new module must be added to :data:`LAYERS`):
    ``restore``, ``metrics``, ``stats``, ``analysis``, ``sweep_stats``
 1. running (configurations, scans, the run folder and its readers, the gate on
    saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
-   ``scan``, ``experiment``, ``renderahead``, ``gate``, ``real``, ``real_run``, ``sweep``
+   ``scan``, ``experiment``, ``renderahead``, ``gate``, ``real``, ``real_run``, ``sweep``, ``camera_view``
 2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
 3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
    ``translucency``
@@ -21,7 +21,7 @@ of them imports ``bench``.
 LAYERS = {
     "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats"),
     "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real",
-                "real_run", "sweep"),
+                "real_run", "sweep", "camera_view"),
     "reporting": ("figures", "report", "sweep_report"),
     "studies": ("estimators", "perf", "tune", "translucency"),
     "cli": ("cli",),

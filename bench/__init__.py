@@ -11,7 +11,7 @@ enforces it, so a new module must be added to :data:`LAYERS`):
    ``scan``, ``experiment``, ``renderahead``, ``gate``, ``real``, ``real_run``, ``sweep``, ``camera_view``
 2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
 3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
-   ``translucency``
+   ``translucency``, ``field_sheet``
 4. the command line: ``cli``
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
@@ -23,6 +23,6 @@ LAYERS = {
     "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real",
                 "real_run", "sweep", "camera_view"),
     "reporting": ("figures", "report", "sweep_report"),
-    "studies": ("estimators", "perf", "tune", "translucency"),
+    "studies": ("estimators", "perf", "tune", "translucency", "field_sheet"),
     "cli": ("cli",),
 }

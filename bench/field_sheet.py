@@ -72,7 +72,7 @@ def contact_sheet(items, path, columns: int = 4) -> Path:
         ax.set_title(f"{e.condition or e.key}\n{e.scene}/{e.material}, {img.shape[1]}x{img.shape[0]}", fontsize=8)
     fig.tight_layout()
     path = Path(path)
-    fig.savefig(path, dpi=80)
+    fig.savefig(path, dpi=64)
     plt.close(fig)
     return path
 

@@ -27,14 +27,15 @@ def laser_colour(wavelength_nm: float) -> str:
     return "blue" if w < 490.0 else "green" if w < 580.0 else "red"
 
 
-def tracker_images(frame, laser_wavelength_nm: float = 650.0, channel: str = "auto") -> tuple[np.ndarray, np.ndarray]:
+def tracker_images(frame, params=None, channel: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """The (image, background) pair a tracker gets from a :class:`scenes.Frame`.
 
     Parameters
     ----------
     frame : scenes.Frame
-    laser_wavelength_nm : float
-        The scene's ``laser_wavelength_nm`` (names the laser's colour for ``channel``).
+    params : mapping, optional
+        The scene's parameters (``scene.params``); a colour frame needs its ``laser_wavelength_nm``
+        (which names the laser's colour for ``channel``), a mono frame nothing.
     channel : str
         One of :data:`bench.real.CHANNELS` (``"auto"``: the laser's channel minus the mean of the
         others on a colour photograph).
@@ -45,10 +46,18 @@ def tracker_images(frame, laser_wavelength_nm: float = 650.0, channel: str = "au
         ``frame.image`` and ``frame.background`` for a mono frame; for a colour frame
         :func:`bench.real.select_channel` of ``frame.rgb`` and ``frame.rgb_background``
         (float64 for ``excess``/``gray``, uint8 for a plain channel).
+
+    Raises
+    ------
+    ValueError
+        A colour frame without ``params`` holding ``laser_wavelength_nm``; an unknown ``channel``.
     """
     from .real import select_channel
 
     if getattr(frame, "rgb", None) is None:
         return frame.image, frame.background
-    laser = laser_colour(laser_wavelength_nm)
+    if params is None or "laser_wavelength_nm" not in params:
+        raise ValueError("a colour frame needs the scene's `params` with `laser_wavelength_nm`, got "
+                         f"{None if params is None else sorted(params)!r}")
+    laser = laser_colour(params["laser_wavelength_nm"])
     return select_channel(frame.rgb, channel, laser), select_channel(frame.rgb_background, channel, laser)

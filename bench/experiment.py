@@ -145,7 +145,7 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
         worst = analysis.worst_frames(res, GALLERY_FRAMES)
         for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
             frame = scene.render(float(angles[i]), spp=scene.params["spp"], seed=config.seed)
-            image, background = tracker_images(frame, scene.params["laser_wavelength_nm"])
+            image, background = tracker_images(frame, scene.params)
             gallery[f"{exp.key}/{i}"] = (image, frame.truth.columns, {n: res.columns[n][i] for n in res.columns})
             if fig7 is None:
                 fig7 = (exp.key, float(angles[i]), (image, background, frame.truth.columns),

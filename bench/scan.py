@@ -330,7 +330,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                 on_frame(i)
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
-            image, background = tracker_images(frame, scene.params["laser_wavelength_nm"])
+            image, background = tracker_images(frame, scene.params)
             if i == keep_frame:
                 kept = (image, background, frame.truth.columns)
                 if res.done[i]:

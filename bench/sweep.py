@@ -280,7 +280,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
                 res.truth_columns[i] = frame.truth.columns
                 res.truth_points_cm[i] = frame.truth.points_cm
                 res.on_object[i] = frame.truth.on_object
-                image, background = tracker_images(frame, scene.params["laser_wavelength_nm"])
+                image, background = tracker_images(frame, scene.params)
                 for n in names:
                     tr = track_frame(trackers_[n], image, background)
                     res.columns[n][i], res.scores[n][i] = tr.columns, tr.score

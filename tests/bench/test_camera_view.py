@@ -20,13 +20,15 @@ def test_mono_frames_pass_through_and_colour_frames_use_the_channel_rule():
     assert a is img and b is bg
     rgb, rgb_bg = (rng.integers(0, 255, (6, 8, 3), dtype=np.uint8) for _ in range(2))
     colour = types.SimpleNamespace(image=img, background=bg, rgb=rgb, rgb_background=rgb_bg)
-    a, b = tracker_images(colour)
+    a, b = tracker_images(colour, {"laser_wavelength_nm": 650.0})
     assert np.array_equal(a, select_channel(rgb, "auto", "red"))
     assert np.array_equal(b, select_channel(rgb_bg, "auto", "red"))
-    g, _ = tracker_images(colour, 532.0, "excess")
+    g, _ = tracker_images(colour, {"laser_wavelength_nm": 532.0}, "excess")
     assert np.array_equal(g, select_channel(rgb, "excess", "green"))
     with pytest.raises(ValueError, match="`channel` must be one of"):
-        tracker_images(colour, 650.0, "infrared")
+        tracker_images(colour, {"laser_wavelength_nm": 650.0}, "infrared")
+    with pytest.raises(ValueError, match="a colour frame needs the scene's `params`"):
+        tracker_images(colour)
 
 
 @pytest.mark.slow

@@ -73,7 +73,7 @@ def _mesh(mi, name: str, mesh, bsdf, interior=None):
 def materialise(d, mi, *, mono: bool, name: str = "shape"):
     """Turn a :mod:`scenes.description` dict into what ``mi.load_dict`` accepts.
 
-    4x4 ``to_world`` arrays become ``ScalarTransform4f``, ``bitmap`` arrays ``mi.Bitmap``,
+    4x4 ``to_world`` (and a texture's ``to_uv``) arrays become ``ScalarTransform4f``, ``bitmap`` arrays ``mi.Bitmap``,
     ``numpy_mesh`` entries ``mi.Mesh`` objects with their BSDF (and ``interior`` medium); RGB variants get an
     ``rgb`` film.
     """
@@ -84,7 +84,7 @@ def materialise(d, mi, *, mono: bool, name: str = "shape"):
             return _mesh(mi, name, d["mesh"], bsdf, interior)
         out = {}
         for k, v in d.items():
-            if k == "to_world" and isinstance(v, np.ndarray):
+            if k in ("to_world", "to_uv") and isinstance(v, np.ndarray):
                 out[k] = mi.ScalarTransform4f(v.tolist())
             elif k == "bitmap" and isinstance(v, np.ndarray):
                 out[k] = mi.Bitmap(np.array(v, dtype=np.float32, order="C", copy=True))

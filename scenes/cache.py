@@ -1,7 +1,8 @@
 """Disk cache of rendered passes and ground truth (the sensor runs afterwards).
 
 One ``.npz`` file per frame holds the *unit* renders (laser pass per in-band
-watt, ambient pass per unit in-band sky radiance) and the truth arrays.  Laser
+watt, ambient pass per unit in-band sky radiance: (H, W), or (H, W, 3) for the three
+colour bands of a textured colour-camera frame) and the truth arrays.  Laser
 power, ambient lux, illuminant, filter and sensor only scale or post-process
 these, so they are not part of the key and changing them never re-renders.
 
@@ -119,7 +120,10 @@ def _problem(arrays: Dict[str, np.ndarray], k: str) -> Optional[str]:
     if laser.ndim != 2:
         return f"`laser` has shape {laser.shape}, not (H, W)"
     H = laser.shape[0]
-    expect = {"ambient": laser.shape, "columns": (H,), "points_cm": (H, 3), "on_object": (H,)}
+    ambient = arrays.get("ambient")
+    if ambient is not None and ambient.shape not in (laser.shape, laser.shape + (3,)):
+        return f"`ambient` has shape {ambient.shape}, expected {laser.shape} or {laser.shape + (3,)}"
+    expect = {"columns": (H,), "points_cm": (H, 3), "on_object": (H,)}
     for name, shape in expect.items():
         if name in arrays and arrays[name].shape != shape:
             return f"`{name}` has shape {arrays[name].shape}, expected {shape}"

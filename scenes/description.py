@@ -35,7 +35,7 @@ pixel) and the ``multijitter`` sampler; units are metres.
 
 from __future__ import annotations
 
-from typing import Dict, NamedTuple, Tuple
+from typing import Dict, NamedTuple, Optional, Tuple
 
 import numpy as np
 
@@ -96,7 +96,8 @@ class LaserPass(NamedTuple):
     """One render of the laser scene: integrator, depth and the pixels it contributes to.
 
     ``pixels`` is ``"all"``, ``"object"`` (pixels that see the object, see
-    :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest).
+    :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest); or ``"support"`` (pixels that
+    see a polished table, :meth:`scenes.Scene.support_pixels`) and ``"rest"`` (the others).
     """
 
     kind: str
@@ -146,7 +147,8 @@ def mesh_shape(mesh, bsdf: dict, interior: dict = None) -> dict:
     return d
 
 
-def _geometry(obj: SceneObject, material: str, background_albedo: float, support_albedo: float) -> Dict[str, dict]:
+def _geometry(obj: SceneObject, material: str, background_albedo: float, support_albedo: float,
+              albedo_maps: Optional[Dict[str, dict]] = None, support_finish: str = "matte") -> Dict[str, dict]:
     """Shapes keyed by their ids: ``backdrop`` (if any), ``object``, ``support`` (if any).
 
     A translucent material's object carries its medium as ``interior`` inside
@@ -154,45 +156,57 @@ def _geometry(obj: SceneObject, material: str, background_albedo: float, support
     :data:`SLAB_THICKNESS_CM` deep behind its front face (the front triangles, which the ground truth
     hits, are unchanged), a mesh of overlapping closed parts (the ``hand``) is replaced by their
     union (the same outer surface, hence the same truth).
+
+    ``albedo_maps`` (shape id -> a texture dict) replaces the albedo of those surfaces (the object's
+    only for :data:`scenes.materials.TEXTURABLE` materials); ``support_finish`` is the table's
+    (:data:`scenes.materials.SUPPORT_FINISHES`).
     """
+    maps = albedo_maps or {}
     medium = materials.medium(material)
     mesh = obj.mesh if medium is None else shapes.medium_boundary(obj.mesh, SLAB_THICKNESS_CM)
     out = {}
     if obj.backdrop is not None:
-        out["backdrop"] = mesh_shape(obj.backdrop, materials.backdrop_bsdf(background_albedo))
-    out["object"] = mesh_shape(mesh, materials.bsdf(material), medium)
+        out["backdrop"] = mesh_shape(obj.backdrop, materials.backdrop_bsdf(background_albedo, maps.get("backdrop")))
+    obj_bsdf = materials.bsdf(material) if "object" not in maps else materials.with_albedo(material, maps["object"])
+    out["object"] = mesh_shape(mesh, obj_bsdf, medium)
     if obj.support is not None:
-        out["support"] = mesh_shape(obj.support, materials.support_bsdf(support_albedo))
+        out["support"] = mesh_shape(obj.support, materials.support_bsdf(support_albedo, maps.get("support"),
+                                                                        support_finish))
     return out
 
 
 def laser_scene(rig: _rig.Rig, obj: SceneObject, material: str, laser: LaserProfile, theta_deg: float,
                 spp: int, *, background_albedo: float = materials.BACKDROP_ALBEDO,
-                support_albedo: float = materials.SUPPORT_ALBEDO) -> dict:
+                support_albedo: float = materials.SUPPORT_ALBEDO, albedo_maps: Optional[Dict[str, dict]] = None,
+                support_finish: str = "matte") -> dict:
     """Laser-only scene (unit in-band power) at mirror angle ``theta_deg``.
 
     ``background_albedo`` and ``support_albedo`` are the wall's and the table's Lambertian
-    albedos (used only when ``obj`` has them). The scene's integrator is the first of
+    albedos (used only when ``obj`` has them); ``albedo_maps`` and ``support_finish`` as in
+    :func:`_geometry` (textures at the laser's wavelength). The scene's integrator is the first of
     :func:`laser_passes` (a split pass renders each of its integrators by pixel).
     """
     first = laser_passes(material)[0]
     return {"type": "scene", "integrator": integrator(first.kind, first.max_depth),
             "sensor": sensor(rig, theta_deg, spp),
-            **_geometry(obj, material, background_albedo, support_albedo),
+            **_geometry(obj, material, background_albedo, support_albedo, albedo_maps, support_finish),
             "laser": projector(rig, theta_deg, laser)}
 
 
 def ambient_scene(rig: _rig.Rig, obj: SceneObject, material: str, theta_deg: float, spp: int, *,
                   background_albedo: float = materials.BACKDROP_ALBEDO,
-                  support_albedo: float = materials.SUPPORT_ALBEDO) -> dict:
+                  support_albedo: float = materials.SUPPORT_ALBEDO, albedo_maps: Optional[Dict[str, dict]] = None,
+                  support_finish: str = "matte") -> dict:
     """Ambient-only scene (unit in-band sky radiance) at mirror angle ``theta_deg``.
 
     Without a wall the camera sees the sky itself where nothing is in front of it: radiance 1
     (unit), what a white Lambertian surface under the same sky would send (about 2 DN at 400 lux).
-    The integrator is :func:`ambient_integrator`.
+    The integrator is :func:`ambient_integrator`; ``albedo_maps`` and ``support_finish`` as in
+    :func:`_geometry` (textures weighted by one band of the ambient, see :mod:`scenes.textures`).
     """
     return {"type": "scene", "integrator": ambient_integrator(material), "sensor": sensor(rig, theta_deg, spp),
-            **_geometry(obj, material, background_albedo, support_albedo), "sky": sky(1.0)}
+            **_geometry(obj, material, background_albedo, support_albedo, albedo_maps, support_finish),
+            "sky": sky(1.0)}
 
 
 def pose_updates(rig: _rig.Rig, theta_deg: float) -> Dict[str, np.ndarray]:

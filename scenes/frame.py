@@ -76,14 +76,26 @@ class Frame:
         Laser-on frame: sensor(ambient + laser), its own noise draw.
     background : ndarray (H, W), uint8
         Laser-off frame: sensor(ambient), an independent noise draw.
-    radiance : ndarray (H, W), float32
-        Noise-free in-band radiance (W m⁻² sr⁻¹), ambient + laser.
-    laser_radiance : ndarray (H, W), float32
-        Noise-free in-band radiance of the laser alone.
+        With ``camera="rgb"``: the Rec. 709 luma of :attr:`rgb` (the harness gives trackers one
+        channel of :attr:`rgb` instead, by ``bench``'s channel rule).
+    background : ndarray (H, W), uint8
+        Laser-off frame: sensor(ambient), an independent noise draw (``camera="rgb"``: the luma of
+        :attr:`rgb_background`).
+    radiance : ndarray (H, W) or (H, W, 3), float32
+        Noise-free in-band radiance (W m⁻² sr⁻¹), ambient + laser, before any defocus; with
+        ``camera="rgb"`` the effective radiance of each colour channel (R, G, B; see
+        :mod:`scenes.colour_camera`).
+    laser_radiance : ndarray (H, W) or (H, W, 3), float32
+        Noise-free in-band radiance of the laser alone (per channel likewise).
     truth : Truth
     mirror_angle_deg : float
     variant : str
         Mitsuba variant that rendered it.
+    rgb : ndarray (H, W, 3), uint8, or None
+        ``camera="rgb"``: the laser-on photograph (demosaiced, white-balanced, sRGB, JPEG if asked);
+        None for the mono camera.
+    rgb_background : ndarray (H, W, 3), uint8, or None
+        ``camera="rgb"``: the laser-off photograph; None for the mono camera.
     """
 
     image: np.ndarray
@@ -93,6 +105,8 @@ class Frame:
     truth: Truth
     mirror_angle_deg: float
     variant: str
+    rgb: Optional[np.ndarray] = None
+    rgb_background: Optional[np.ndarray] = None
 
 
 def false_columns(mask: np.ndarray) -> np.ndarray:

@@ -44,6 +44,7 @@ import math
 import numpy as np
 
 __all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "support_bsdf", "patchy_texture", "uses_delta_bsdf",
+           "TEXTURABLE", "SUPPORT_FINISHES", "POLISHED_FLOOR_ALPHA", "with_albedo",
            "integrator_for", "SHINY", "Translucent", "TRANSLUCENT", "medium", "is_translucent", "MEDIUM_MAX_DEPTH"]
 
 MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed", "skin", "marble", "wax")
@@ -106,14 +107,42 @@ def bsdf(material: str) -> dict:
     raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
 
 
-def backdrop_bsdf(albedo: float = BACKDROP_ALBEDO) -> dict:
-    """The grey Lambertian backdrop (scene parameter ``background_albedo``)."""
-    return {"type": "diffuse", "reflectance": float(albedo)}
+#: Materials whose diffuse albedo an ``object_texture`` can replace (the key it replaces).
+TEXTURABLE = {"matte": "reflectance", "glossy": "diffuse_reflectance", "glazed": "diffuse_reflectance"}
+#: Table finishes: ``matte`` (Lambertian) or ``polished`` (a clear coat over the albedo: a polished
+#: stone or lacquered floor that mirrors the object and its stripe).
+SUPPORT_FINISHES = ("matte", "polished")
+#: GGX roughness of the ``polished`` finish's coat (IOR :data:`GLAZE_IOR`): a sharp but not perfect
+#: reflection (a perfect mirror would need light tracing for the laser's reflection, see ``specular``).
+POLISHED_FLOOR_ALPHA = 0.03
 
 
-def support_bsdf(albedo: float = SUPPORT_ALBEDO) -> dict:
-    """The grey Lambertian table top (scene parameter ``support_albedo``)."""
-    return {"type": "diffuse", "reflectance": float(albedo)}
+def with_albedo(material: str, reflectance: dict) -> dict:
+    """:func:`bsdf` of a :data:`TEXTURABLE` material with its diffuse albedo replaced by ``reflectance``
+    (a texture dict, e.g. :func:`scenes.textures.bitmap`)."""
+    if material not in TEXTURABLE:
+        raise ValueError(f"an `object_texture` needs one of the materials {', '.join(map(repr, TEXTURABLE))}, "
+                         f"got material {material!r}")
+    return {**bsdf(material), TEXTURABLE[material]: reflectance}
+
+
+def backdrop_bsdf(albedo: float = BACKDROP_ALBEDO, reflectance: dict = None) -> dict:
+    """The grey Lambertian backdrop (scene parameter ``background_albedo``), or with a texture
+    ``reflectance`` dict instead of the albedo."""
+    return {"type": "diffuse", "reflectance": float(albedo) if reflectance is None else reflectance}
+
+
+def support_bsdf(albedo: float = SUPPORT_ALBEDO, reflectance: dict = None, finish: str = "matte") -> dict:
+    """The grey Lambertian table top (scene parameter ``support_albedo``), or with a texture
+    ``reflectance`` dict instead of the albedo; ``finish="polished"`` puts a clear coat over it
+    (``roughplastic``, GGX :data:`POLISHED_FLOOR_ALPHA`, IOR :data:`GLAZE_IOR`)."""
+    value = float(albedo) if reflectance is None else reflectance
+    if finish == "matte":
+        return {"type": "diffuse", "reflectance": value}
+    if finish == "polished":
+        return {"type": "roughplastic", "distribution": "ggx", "alpha": POLISHED_FLOOR_ALPHA, "int_ior": GLAZE_IOR,
+                "diffuse_reflectance": value}
+    raise ValueError(f"`support_finish` must be one of {', '.join(map(repr, SUPPORT_FINISHES))}, got {finish!r}")
 
 
 def uses_delta_bsdf(material: str) -> bool:

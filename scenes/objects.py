@@ -105,6 +105,12 @@ class SceneObject:
         Azimuth range (clockwise from +Y) the object covers, seen from the mirror axis.
     support : shapes.Mesh or None
         The table it stands on (None: it floats).
+    uv_to_cm : dict, optional
+        Shape id (``"backdrop"``, ``"object"``, ``"support"``) -> (3, 3) affine map from homogeneous
+        texture coordinates ``(u, v, 1)`` to cm along the surface, for textures of a given size in
+        cm: the wall's and the table's own sides; the ``plane`` board's own coordinates (its planar
+        projection undone); for the curved objects the planar projection's extent (the texture is
+        front-projected, like a slide).
     """
 
     name: str
@@ -112,6 +118,7 @@ class SceneObject:
     backdrop: Optional[shapes.Mesh]
     phi_range_deg: Tuple[float, float]
     support: Optional[shapes.Mesh] = None
+    uv_to_cm: Optional[dict] = None
 
     def default_angles(self, zeta_deg: float, n_angles: int) -> np.ndarray:
         """``n_angles`` mirror angles (deg) sweeping the laser over the whole object plus a margin."""
@@ -121,6 +128,30 @@ class SceneObject:
         return np.linspace(th_lo, th_hi, int(n_angles))
 
 
+def _uv_to_cm(name: str, local: shapes.Mesh) -> np.ndarray:
+    """(3, 3) map from the object's planar texture coordinates (:func:`shapes.planar_uv` of ``local``)
+    to cm: the board's own (x, -z) for the ``plane``, else the projection's extent."""
+    uv = shapes.planar_uv(local).uv
+    if name == "plane":
+        board = shapes.rectangle(*_PLANE_SIZE_CM).vertices_cm  # same vertex order, before the tilt
+        target = np.stack([board[:, 0], -board[:, 2]], axis=1)
+        A = np.c_[uv, np.ones(len(uv))]
+        sol, *_ = np.linalg.lstsq(A, target, rcond=None)  # exact: the projection of a plane is affine
+        m = np.eye(3)
+        m[:2, :] = sol.T
+        return m
+    v = local.vertices_cm
+    span = v.max(axis=0) - v.min(axis=0)
+    return np.diag([span[0], span[2], 1.0])
+
+
+def _size_map(width_cm: float, height_cm: float) -> np.ndarray:
+    return np.diag([float(width_cm), float(height_cm), 1.0])
+
+
+_PLANE_SIZE_CM = (14.0, 12.0)
+
+
 def _local(name: str) -> Tuple[shapes.Mesh, float]:
     """Object-local mesh and its distance from the mirror axis (cm)."""
     if name == "cone":
@@ -128,7 +159,7 @@ def _local(name: str) -> Tuple[shapes.Mesh, float]:
     if name == "hand":
         return shapes.hand(), 36.0
     if name == "plane":
-        m = shapes.rectangle(14.0, 12.0).transformed(_rig.rotation_z(25.0) @ _rig.rotation_x(-20.0))
+        m = shapes.rectangle(*_PLANE_SIZE_CM).transformed(_rig.rotation_z(25.0) @ _rig.rotation_x(-20.0))
         return m, 36.0
     if name == "sphere":
         return shapes.uv_sphere(4.3), 38.0
@@ -141,10 +172,17 @@ def _placement(distance_cm: float, zeta_deg: float) -> np.ndarray:
             @ _rig.rotation_z(-zeta_deg))
 
 
-def _wall(distance_cm: float, zeta_deg: float) -> shapes.Mesh:
+def _wall_size_cm(distance_cm: float) -> Tuple[float, float]:
     scale = distance_cm / BACKDROP_DISTANCE_CM
-    size = (BACKDROP_SIZE_CM[0] * scale, BACKDROP_SIZE_CM[1] * scale)
-    return shapes.rectangle(*size).transformed(_placement(distance_cm, zeta_deg))
+    return (BACKDROP_SIZE_CM[0] * scale, BACKDROP_SIZE_CM[1] * scale)
+
+
+def _wall(distance_cm: float, zeta_deg: float) -> shapes.Mesh:
+    return shapes.rectangle(*_wall_size_cm(distance_cm)).transformed(_placement(distance_cm, zeta_deg))
+
+
+def _table_half_width_cm(far_cm: float) -> float:
+    return 1.5 * far_cm + 20.0
 
 
 def _table(top_z_cm: float, far_cm: float, zeta_deg: float) -> shapes.Mesh:
@@ -155,7 +193,7 @@ def _table(top_z_cm: float, far_cm: float, zeta_deg: float) -> shapes.Mesh:
     up to :data:`TABLE_MAX_MIRROR_ANGLE_DEG` (``tests/scenes/test_objects.py`` checks that the bottom
     rows see only the table).
     """
-    half_width = 1.5 * far_cm + 20.0
+    half_width = _table_half_width_cm(far_cm)
     m = shapes.rectangle(2.0 * half_width, far_cm)  # local XZ plane, facing -Y
     to_floor = _rig.translation([0.0, 0.5 * far_cm, top_z_cm]) @ _rig.rotation_x(-90.0)  # facing +Z
     return m.transformed(_placement(0.0, zeta_deg) @ to_floor)
@@ -191,6 +229,7 @@ def build(name: str, zeta_deg: float, background: str = "wall",
     if support not in SUPPORTS:
         raise ValueError(f"`support` must be one of {', '.join(map(repr, SUPPORTS))}, got {support!r}")
     local, distance = _local(name)
+    uv_to_cm = {"object": _uv_to_cm(name, local)}
     local = shapes.planar_uv(local)
     mesh = local.transformed(_placement(distance, zeta_deg))
     v = mesh.vertices_cm
@@ -202,10 +241,14 @@ def build(name: str, zeta_deg: float, background: str = "wall",
             raise ValueError(f"`background_distance_cm` must put the wall behind the {name} (farther than "
                              f"{depth:.2f} cm from the mirror axis), got {background_distance_cm!r}")
         backdrop = _wall(float(background_distance_cm), zeta_deg)
+        uv_to_cm["backdrop"] = _size_map(*_wall_size_cm(float(background_distance_cm)))
     table = None
     if support == "table":
         far = (float(background_distance_cm) if background == "wall"
                else out_of_range_distance_cm(_rig.Rig(zeta_deg=zeta_deg)))
         table = _table(float(v[:, 2].min()), far, zeta_deg)
+        uv_to_cm["support"] = _size_map(2.0 * _table_half_width_cm(far), far)
+    for m in uv_to_cm.values():
+        m.setflags(write=False)
     phi = np.degrees(np.arctan2(v[:, 0], v[:, 1]))
-    return SceneObject(name, mesh, backdrop, (float(phi.min()), float(phi.max())), table)
+    return SceneObject(name, mesh, backdrop, (float(phi.min()), float(phi.max())), table, uv_to_cm)

@@ -21,6 +21,32 @@ Background and support (:mod:`scenes.objects`; all in :data:`RENDER_KEYS`):
 * ``support``: ``"none"`` (default: the object floats) or ``"table"``;
 * ``support_albedo``: the table's Lambertian albedo in [0, 1], default 0.5.
 
+Textures (:mod:`scenes.textures`; :data:`TEXTURE_KEYS`, in the render cache key only when a
+texture is not ``"none"``, so untextured keys stay what they were):
+
+* ``support_texture``, ``background_texture``, ``object_texture``: one of
+  :data:`scenes.textures.TEXTURES`, default ``"none"``; a texture replaces that surface's albedo
+  (``support_albedo``, ``background_albedo`` or the material's diffuse albedo: ``object_texture``
+  needs a material of :data:`scenes.materials.TEXTURABLE`);
+* ``texture_scale_cm``: the textures' feature size (checker square, ...), in (0, 100] cm, default 2;
+* ``texture_seed``: seed of the procedural patterns, integer >= 0, default 0 (independent of ``seed``);
+* ``support_finish``: ``"matte"`` (default) or ``"polished"`` (a clear coat: the table mirrors the
+  object and its stripe).
+
+A textured surface's albedo depends on the spectrum each pass sees, so with a texture the laser
+wavelength, the illuminant, the filter and the camera also enter the render cache key (through the
+texture's band weights).
+
+Camera (:mod:`scenes.colour_camera`; :data:`CAMERA_KEYS`, applied after rendering):
+
+* ``camera``: ``"mono"`` (default: the band-pass-filtered monochrome camera) or ``"rgb"`` (Bayer colour
+  camera; the frame then carries ``rgb`` images);
+* ``filter``: ``"bandpass"`` (default: the ``filter_*`` Gaussian) or ``"none"`` (``"rgb"`` only);
+* ``jpeg_quality``: None (default: lossless) or an integer 1-95;
+* ``defocus_px``: pillbox defocus radius in [0, 20] px, default 0.
+
+``ambient_illuminant`` also accepts ``"daylight"`` (CIE D75, :data:`scenes.radiometry.ALIASES`).
+
 ``width`` x ``height`` must keep the default 16:15 square-pixel aspect (64x60,
 128x120, 256x240, 512x480, ...): Mitsuba's pinhole camera has square pixels.
 """
@@ -32,12 +58,15 @@ import numbers
 from typing import Any, Dict
 
 from . import _checks, radiometry
-from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO
+from .colour_camera import CAMERAS, FILTERS
+from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO, SUPPORT_FINISHES, TEXTURABLE
+from .textures import TEXTURES
 from .objects import BACKDROP_DISTANCE_CM, BACKGROUNDS, SUPPORTS
 from .rig import Rig
 from .sensor import SensorModel
 
-__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "MAX_SIZE", "MAX_SAMPLES", "validate"]
+__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "TEXTURE_KEYS", "CAMERA_KEYS", "MAX_SIZE",
+           "MAX_SAMPLES", "MAX_DEFOCUS_PX", "MAX_TEXTURE_SCALE_CM", "validate", "textured"]
 
 # upper bounds that keep Mitsuba and memory sane: image sides, spp, and the
 # samples of one pass (Mitsuba's wavefront counts them in 32 bits)
@@ -50,6 +79,13 @@ RENDER_KEYS = ("material", "line_fwhm_mrad", "laser_fan_deg", "width", "height",
                "background", "background_distance_cm", "background_albedo", "support", "support_albedo")
 SCALE_KEYS = ("ambient_lux", "ambient_illuminant", "laser_power_mw", "laser_wavelength_nm",
               "filter_center_nm", "filter_fwhm_nm", "filter_peak")
+
+TEXTURE_KEYS = ("support_texture", "background_texture", "object_texture", "texture_scale_cm", "texture_seed",
+                "support_finish")
+CAMERA_KEYS = ("camera", "filter", "jpeg_quality", "defocus_px")
+TEXTURED = ("support_texture", "background_texture", "object_texture")
+MAX_DEFOCUS_PX = 20.0
+MAX_TEXTURE_SCALE_CM = 100.0
 
 _SENSOR_DEFAULTS = SensorModel()
 MAX_BACKGROUND_DISTANCE_CM = 1000.0  # 10 m; the camera's far clip is 100 m
@@ -77,6 +113,16 @@ DEFAULTS: Dict[str, Any] = {
     "support": "none",
     "support_albedo": SUPPORT_ALBEDO,
     **{k: getattr(_SENSOR_DEFAULTS, k) for k in SENSOR_KEYS},
+    "support_texture": "none",
+    "background_texture": "none",
+    "object_texture": "none",
+    "texture_scale_cm": 2.0,
+    "texture_seed": 0,
+    "support_finish": "matte",
+    "camera": "mono",
+    "filter": "bandpass",
+    "jpeg_quality": None,
+    "defocus_px": 0.0,
     "cache": True,
     "cache_dir": None,
 }
@@ -88,10 +134,15 @@ def _choice(name: str, value, valid) -> str:
     return value
 
 
-def _seed(value) -> int:
+def _seed(value, name: str = "seed") -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 0:
-        raise ValueError(f"`seed` must be an integer >= 0, got {value!r}")
+        raise ValueError(f"`{name}` must be an integer >= 0, got {value!r}")
     return int(value)
+
+
+def textured(params: Dict[str, Any]) -> bool:
+    """True when a validated parameter set has a texture on some surface."""
+    return any(params[k] != "none" for k in TEXTURED)
 
 
 def validate(params: Dict[str, Any]) -> Dict[str, Any]:
@@ -144,6 +195,28 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
     if p["ambient_illuminant"] not in radiometry.illuminant_names():
         raise KeyError(f"unknown `ambient_illuminant` {p['ambient_illuminant']!r}; "
                        f"valid: {', '.join(radiometry.illuminant_names())}")
+    for k in TEXTURED:
+        p[k] = _choice(k, p[k], TEXTURES)
+    if p["object_texture"] != "none" and p["material"] not in TEXTURABLE:
+        raise ValueError(f"`object_texture` needs one of the materials {', '.join(map(repr, TEXTURABLE))}, "
+                         f"got material {p['material']!r} with object_texture {p['object_texture']!r}")
+    p["texture_scale_cm"] = _checks.in_range("texture_scale_cm", p["texture_scale_cm"], 0.0, MAX_TEXTURE_SCALE_CM,
+                                             lo_open=True)
+    p["texture_seed"] = _seed(p["texture_seed"], "texture_seed")
+    p["support_finish"] = _choice("support_finish", p["support_finish"], SUPPORT_FINISHES)
+    p["camera"] = _choice("camera", p["camera"], CAMERAS)
+    p["filter"] = _choice("filter", p["filter"], FILTERS)
+    if p["filter"] == "none" and p["camera"] != "rgb":
+        raise ValueError(f"`filter` \"none\" needs `camera` \"rgb\" (the mono camera's response is defined "
+                         f"through its band-pass filter), got camera {p['camera']!r}")
+    q = p["jpeg_quality"]
+    if q is not None and (isinstance(q, bool) or not isinstance(q, numbers.Integral) or not 1 <= q <= 95):
+        raise ValueError(f"`jpeg_quality` must be None (lossless) or an integer in [1, 95], got {q!r}")
+    p["jpeg_quality"] = None if q is None else int(q)
+    p["defocus_px"] = _checks.in_range("defocus_px", p["defocus_px"], 0.0, MAX_DEFOCUS_PX)
+    if p["camera"] == "rgb" and (p["width"] % 2 or p["height"] % 2):
+        raise ValueError(f"`camera` \"rgb\" needs an even `width` and `height` (a whole Bayer pattern), "
+                         f"got {p['width']}x{p['height']}")
     SensorModel(**{k: p[k] for k in SENSOR_KEYS})  # validates
     for k in SENSOR_KEYS:
         p[k] = float(p[k])

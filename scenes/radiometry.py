@@ -35,6 +35,7 @@ import numpy as np
 
 __all__ = [
     "LUMINOUS_EFFICACY_LM_PER_W",
+    "ALIASES",
     "WAVELENGTHS_NM",
     "illuminant_names",
     "illuminant_spd",
@@ -65,10 +66,16 @@ def _colour():
     return sys.modules["colour"]
 
 
+#: Illuminant aliases: ``daylight`` is daylight through a window, bluer than D65: CIE D75
+#: (the 7500 K daylight phase, north-sky light; CIE 15:2004).
+ALIASES = {"daylight": "D75"}
+
+
 @functools.lru_cache(maxsize=None)
 def illuminant_names() -> tuple:
-    """Sorted names of the CIE illuminants colour-science provides (``'D65'``, ``'A'``, ...)."""
-    return tuple(sorted(_colour().SDS_ILLUMINANTS.keys()))
+    """Sorted names of the CIE illuminants colour-science provides (``'D65'``, ``'A'``, ...) and
+    :data:`ALIASES` (``'daylight'``)."""
+    return tuple(sorted(set(_colour().SDS_ILLUMINANTS.keys()) | set(ALIASES)))
 
 
 @functools.lru_cache(maxsize=None)
@@ -76,7 +83,7 @@ def _spd(name: str) -> np.ndarray:
     names = illuminant_names()
     if name not in names:
         raise KeyError(f"unknown `ambient_illuminant` {name!r}; valid: {', '.join(names)}")
-    sd = _colour().SDS_ILLUMINANTS[name]
+    sd = _colour().SDS_ILLUMINANTS[ALIASES.get(name, name)]
     vals = np.interp(WAVELENGTHS_NM, np.asarray(sd.wavelengths, float), np.asarray(sd.values, float),
                      left=0.0, right=0.0)
     vals.setflags(write=False)

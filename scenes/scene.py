@@ -13,6 +13,14 @@ A frame is a pure function of (parameters, mirror angle, spp, seed):
 ``frame.image = sensor(ambient + laser)`` and ``frame.background = sensor(ambient)``
 with independent noise draws; both share the ambient render (its Monte Carlo
 noise is therefore common to both, like a fixed pattern).
+
+Textures and the colour camera (``*_texture``, ``camera="rgb"``): the laser pass sees each
+textured surface's albedo at the laser's wavelength; the ambient pass is rendered once per
+*band*: one band (the filter's, or, without textures, the one render every channel shares,
+scaled per channel) or, for a textured frame of the colour camera, three (one per channel, each
+with the texture's albedo averaged over illuminant x filter x that channel's sensitivity; the
+three use the same Mitsuba seed). The colour camera then turns the (H, W, 3) channel radiances into
+8-bit photographs (:class:`scenes.colour_camera.ColourCamera`).
 """
 
 from __future__ import annotations
@@ -24,10 +32,11 @@ from typing import Any, Dict, Iterable, Iterator, Optional
 
 import numpy as np
 
-from . import _checks, cache as _cache, description, materials, objects, radiometry, variant as _variant
+from . import _checks, cache as _cache, colour_camera, description, materials, objects, radiometry, textures
+from . import variant as _variant
 from .frame import Frame, Truth
 from .laser import profile as _laser_profile
-from .params import RENDER_KEYS, SENSOR_KEYS
+from .params import RENDER_KEYS, SENSOR_KEYS, textured
 from .rig import Rig
 from .sensor import SensorModel
 from .truth import false_stripe_mask, ground_truth
@@ -49,6 +58,17 @@ def _mitsuba_versions():
 def _angle_words(theta: float):
     bits = struct.unpack("<Q", struct.pack("<d", theta + 0.0))[0]  # +0.0 folds -0.0 into 0.0
     return [bits & 0xFFFFFFFF, bits >> 32]
+
+
+def _grow(mask: np.ndarray) -> np.ndarray:
+    """``mask`` grown by one pixel (8-neighbourhood)."""
+    grown = mask.copy()
+    grown[1:] |= mask[:-1]
+    grown[:-1] |= mask[1:]
+    rows = grown.copy()
+    grown[:, 1:] |= rows[:, :-1]
+    grown[:, :-1] |= rows[:, 1:]
+    return grown
 
 
 class Scene:
@@ -115,6 +135,64 @@ class Scene:
                                               filter_center_nm=p["filter_center_nm"],
                                               filter_fwhm_nm=p["filter_fwhm_nm"], filter_peak=p["filter_peak"])
 
+    def channel_laser_power_w(self) -> np.ndarray:
+        """``camera="rgb"``: effective laser power per colour channel (W), (3,)
+        (:func:`scenes.colour_camera.channel_laser_power_w`)."""
+        p = self.params
+        return colour_camera.channel_laser_power_w(p["laser_power_mw"], p["laser_wavelength_nm"], p["filter"],
+                                                   **self._filter_kwargs())
+
+    def channel_sky_radiance(self) -> np.ndarray:
+        """``camera="rgb"``: effective ambient sky radiance per colour channel (W m⁻² sr⁻¹), (3,)."""
+        p = self.params
+        return colour_camera.channel_sky_radiance(p["ambient_lux"], p["ambient_illuminant"], p["filter"],
+                                                  **self._filter_kwargs())
+
+    def _filter_kwargs(self) -> Dict[str, float]:
+        p = self.params
+        return {"filter_center_nm": p["filter_center_nm"], "filter_fwhm_nm": p["filter_fwhm_nm"],
+                "filter_peak": p["filter_peak"]}
+
+    @property
+    def colour_camera(self) -> Optional[colour_camera.ColourCamera]:
+        """The colour camera (``camera="rgb"``), else None."""
+        p = self.params
+        if p["camera"] != "rgb":
+            return None
+        return colour_camera.ColourCamera(self.sensor, p["ambient_illuminant"], p["defocus_px"], p["jpeg_quality"])
+
+    # -- textures -------------------------------------------------------------------------
+    _SURFACES = (("backdrop", "background_texture"), ("object", "object_texture"), ("support", "support_texture"))
+
+    def band_weights(self) -> Dict[str, Any]:
+        """The (3,) basis weights of the textured surfaces' albedo (:mod:`scenes.textures`) in each pass:
+        ``{"laser": w, "ambient": [w, ...]}`` (one ambient band for the mono camera, three for the colour
+        camera); empty without textures."""
+        p = self.params
+        if not textured(p):
+            return {}
+        if p["camera"] == "rgb":
+            W = colour_camera.channel_weighting(p["ambient_illuminant"], p["filter"], **self._filter_kwargs())
+            ambient = [textures.band_weights(W[:, c]) for c in range(3)]
+        else:
+            t = radiometry.filter_transmission(radiometry.WAVELENGTHS_NM, p["filter_center_nm"], p["filter_fwhm_nm"],
+                                               p["filter_peak"])
+            ambient = [textures.band_weights(radiometry.illuminant_spd(p["ambient_illuminant"]) * t)]
+        return {"laser": textures.band_weights(wavelength_nm=p["laser_wavelength_nm"]), "ambient": ambient}
+
+    def _albedo_maps(self, weights) -> Dict[str, dict]:
+        """Shape id -> Mitsuba texture dict of each textured surface for one pass's basis ``weights``."""
+        p, obj = self.params, self.object
+        out = {}
+        for part, key in self._SURFACES:
+            name = p[key]
+            if name == "none" or part not in (obj.uv_to_cm or {}):
+                continue
+            rgb = textures.tile(name, p["texture_seed"], part)
+            out[part] = textures.bitmap(textures.albedo_map(rgb, weights), obj.uv_to_cm[part],
+                                        textures.tile_cm(name, p["texture_scale_cm"]))
+        return out
+
     # -- rendering ----------------------------------------------------------------------
     def _load(self, spp: int):
         from .backend import LoadedScene
@@ -124,18 +202,48 @@ class Scene:
             laser = _laser_profile(self.params["line_fwhm_mrad"], self.params["laser_fan_deg"])
             albedos = {"background_albedo": self.params["background_albedo"],
                        "support_albedo": self.params["support_albedo"]}
-            self._loaded = (
-                LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp, **albedos)),
-                LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"], **albedos)),
-            )
+            if self.params["support_finish"] != "matte":
+                albedos["support_finish"] = self.params["support_finish"]
+            weights = self.band_weights()
+            if not weights:
+                self._loaded = (
+                    LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp, **albedos)),
+                    LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"],
+                                                          **albedos)),
+                )
+            else:
+                self._loaded = (
+                    LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp, **albedos,
+                                                        albedo_maps=self._albedo_maps(weights["laser"]))),
+                    *[LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"], **albedos,
+                                                            albedo_maps=self._albedo_maps(w)))
+                      for w in weights["ambient"]],
+                )
         return self._loaded
 
+    def _texture_fields(self) -> Dict[str, Any]:
+        """Cache-key fields of the textures and the table's finish; empty for an untextured matte
+        scene (its key stays what it was)."""
+        p = self.params
+        out = {}
+        if p["support_finish"] != "matte":
+            out["support_finish"] = p["support_finish"]
+        weights = self.band_weights()
+        if weights:
+            out["textures"] = {
+                "names": {part: p[key] for part, key in self._SURFACES},
+                "scale_cm": p["texture_scale_cm"], "seed": p["texture_seed"], "version": textures.TEXTURE_VERSION,
+                "weights": {"laser": [float(f"{v:.12g}") for v in weights["laser"]],
+                            "ambient": [[float(f"{v:.12g}") for v in w] for w in weights["ambient"]]}}
+        return out
+
     def _cache_fields(self, theta: float, spp: int, seed: int, variant: str) -> Dict[str, Any]:
-        passes = description.laser_passes(self.params["material"])
+        passes = self.laser_passes()
         extra = {}
         if passes != (description.LaserPass("path", description.MAX_DEPTH, "all"),):
             # keys of plain path-traced materials stay as they were (warm caches survive)
             extra["laser_passes"] = [list(p) for p in passes]
+        extra.update(self._texture_fields())
         return {
             **extra,
             "scene": self.name,
@@ -176,21 +284,27 @@ class Scene:
             hit = _cache.load(root, k)
             if hit is not None and required <= set(hit):
                 return hit
-        laser_scene, ambient_scene = self._load(spp)
+        laser_scene, *ambient_scenes = self._load(spp)
         pose = description.pose_updates(self.rig, theta)
         laser_seed = int(seeds[0].generate_state(1)[0])
-        passes = description.laser_passes(self.params["material"])
+        passes = self.laser_passes()
         if len(passes) == 1 and passes[0].pixels == "all":
             laser = laser_scene.render(pose, spp, laser_seed)
         else:
-            on_object = self.split_pixels(theta)
-            acc = np.zeros(on_object.shape, np.float64)
+            if passes[0].pixels == "support":
+                on_support = self.support_pixels(theta)
+                masks = {"support": on_support, "rest": ~on_support}
+            else:
+                on_object = self.split_pixels(theta)
+                masks = {"object": on_object, "other": ~on_object}
+            acc = np.zeros(next(iter(masks.values())).shape, np.float64)
             for p in passes:
                 img = laser_scene.render(pose, spp, laser_seed, integrator=(p.kind, p.max_depth))
-                where = {"all": True, "object": on_object, "other": ~on_object}[p.pixels]
-                acc += np.where(where, img, 0.0)
+                acc += np.where(masks[p.pixels], img, 0.0)
             laser = acc.astype(np.float32)
-        ambient = ambient_scene.render(pose, self.params["ambient_spp"], int(seeds[1].generate_state(1)[0]))
+        ambient_seed = int(seeds[1].generate_state(1)[0])
+        bands = [a.render(pose, self.params["ambient_spp"], ambient_seed) for a in ambient_scenes]
+        ambient = bands[0] if len(bands) == 1 else np.stack(bands, axis=-1)
 
         truth = self._truth(laser_scene, theta)
         out = {"laser": laser, "ambient": ambient, "columns": truth.columns, "points_cm": truth.points_cm,
@@ -218,7 +332,7 @@ class Scene:
         The same arrays as ``render(mirror_angle_deg).truth`` (not cached; about 0.05 s at 512x480).
         """
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
-        laser_scene, _ = self._load(self.params["spp"])
+        laser_scene = self._load(self.params["spp"])[0]
         laser_scene.set_pose(description.pose_updates(self.rig, theta))
         truth = self._truth(laser_scene, theta)
         shape = (self.params["height"], self.params["width"])
@@ -235,16 +349,42 @@ class Scene:
             NaN where the ray hits nothing.
         on_object : ndarray (H, W), bool
         """
+        points, part = self._visible(mirror_angle_deg)
+        return points, part == _PARTS.index("object")
+
+    def _visible(self, mirror_angle_deg: float):
+        """First hits through every pixel centre: points (H, W, 3) cm and the index into ``_PARTS`` (H, W)."""
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
         rig = self.rig
-        laser_scene, _ = self._load(self.params["spp"])
+        laser_scene = self._load(self.params["spp"])[0]
         laser_scene.set_pose(description.pose_updates(rig, theta))
         rows, cols = np.meshgrid(np.arange(rig.height, dtype=float), np.arange(rig.width, dtype=float),
                                  indexing="ij")
         o, d = rig.pixel_rays(cols, rows, theta)
         t, part = laser_scene.cast(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
         t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
-        return o + t[..., None] * d, part.reshape(rig.height, rig.width) == _PARTS.index("object")
+        return o + t[..., None] * d, part.reshape(rig.height, rig.width)
+
+    def laser_passes(self) -> tuple:
+        """The laser pass(es) of this scene (:class:`scenes.description.LaserPass`).
+
+        Those of the material (:func:`scenes.description.laser_passes`), except for a path-traced
+        material on a ``support_finish="polished"`` table: ``path`` on the pixels that see the table
+        (:meth:`support_pixels`: the stripe and the object mirrored in the coat), ``ptracer`` on the
+        others (the sheet the coat reflects onto the object, which a path tracer finds only as
+        fireflies through the narrow lobe). Unbiased for the same reason as the shiny materials' split.
+        """
+        passes = description.laser_passes(self.params["material"])
+        plain = (description.LaserPass("path", description.MAX_DEPTH, "all"),)
+        if passes == plain and self.params["support"] == "table" and self.params["support_finish"] == "polished":
+            return (description.LaserPass("path", description.MAX_DEPTH, "support"),
+                    description.LaserPass("ptracer", description.MAX_DEPTH, "rest"))
+        return passes
+
+    def support_pixels(self, mirror_angle_deg: float) -> np.ndarray:
+        """Pixels whose centre ray hits the table, grown by one pixel (8-neighbourhood), (H, W) bool."""
+        _, part = self._visible(mirror_angle_deg)
+        return _grow(part == _PARTS.index("support"))
 
     def split_pixels(self, mirror_angle_deg: float) -> np.ndarray:
         """Pixels a ``"split"`` laser pass renders with ``path`` (the others with ``ptracer``).
@@ -258,13 +398,7 @@ class Scene:
         ndarray (H, W), bool
         """
         _, on_object = self.visible_points(mirror_angle_deg)
-        grown = on_object.copy()
-        grown[1:] |= on_object[:-1]
-        grown[:-1] |= on_object[1:]
-        rows = grown.copy()
-        grown[:, 1:] |= rows[:, :-1]
-        grown[:, :-1] |= rows[:, 1:]
-        return grown
+        return _grow(on_object)
 
     def render(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None,
                noise_draw: int = 0) -> Frame:
@@ -301,18 +435,43 @@ class Scene:
         unit = self._unit_passes(theta, spp, int(seed), seeds)
         if noise_draw:
             seeds = seeds[:2] + np.random.SeedSequence([int(seed), *_angle_words(theta), int(noise_draw)]).spawn(4)[2:]
-        laser = (unit["laser"].astype(np.float64) * self.laser_power_inband_w()).astype(np.float32)
-        ambient = (unit["ambient"].astype(np.float64) * self.sky_radiance_inband()).astype(np.float32)
-        radiance = (ambient.astype(np.float64) + laser).astype(np.float32)
-        sensor = self.sensor
-        image = sensor.capture(radiance, np.random.Generator(np.random.PCG64(seeds[2])))
-        background = sensor.capture(ambient, np.random.Generator(np.random.PCG64(seeds[3])))
         false_mask = (np.asarray(unit["false_mask"], bool) if "false_mask" in unit
                       else np.zeros(unit["laser"].shape, bool))
         truth = Truth(np.asarray(unit["columns"], float), np.asarray(unit["points_cm"], float),
                       np.asarray(unit["on_object"], bool), np.asarray(unit["part"], np.int8), false_mask)
+        rng_image = np.random.Generator(np.random.PCG64(seeds[2]))
+        rng_background = np.random.Generator(np.random.PCG64(seeds[3]))
+        camera = self.colour_camera
+        if camera is not None:
+            return self._colour_frame(unit, camera, rng_image, rng_background, truth, theta)
+        laser = (unit["laser"].astype(np.float64) * self.laser_power_inband_w()).astype(np.float32)
+        ambient = (unit["ambient"].astype(np.float64) * self.sky_radiance_inband()).astype(np.float32)
+        radiance = (ambient.astype(np.float64) + laser).astype(np.float32)
+        sensor = self.sensor
+        blur, q = self.params["defocus_px"], self.params["jpeg_quality"]
+        seen, seen_ambient = ((radiance, ambient) if blur == 0 else
+                              (colour_camera.defocus(radiance, blur), colour_camera.defocus(ambient, blur)))
+        image = sensor.capture(seen, rng_image)
+        background = sensor.capture(seen_ambient, rng_background)
+        if q is not None:
+            image, background = colour_camera.jpeg_round_trip(image, q), colour_camera.jpeg_round_trip(background, q)
         return Frame(image=image, background=background, radiance=radiance, laser_radiance=laser, truth=truth,
                      mirror_angle_deg=theta, variant=_variant.active_variant())
+
+    def _colour_frame(self, unit, camera, rng_image, rng_background, truth, theta) -> Frame:
+        """The colour camera's frame from the unit renders (one ambient band shared by the channels,
+        or three)."""
+        laser = (unit["laser"].astype(np.float64)[..., None] * self.channel_laser_power_w()).astype(np.float32)
+        amb = unit["ambient"].astype(np.float64)
+        if amb.ndim == 2:
+            amb = amb[..., None]
+        ambient = (amb * self.channel_sky_radiance()).astype(np.float32)
+        radiance = (ambient.astype(np.float64) + laser).astype(np.float32)
+        rgb = camera.capture(radiance, rng_image)
+        rgb_background = camera.capture(ambient, rng_background)
+        return Frame(image=colour_camera.luma(rgb), background=colour_camera.luma(rgb_background), radiance=radiance,
+                     laser_radiance=laser, truth=truth, mirror_angle_deg=theta, variant=_variant.active_variant(),
+                     rgb=rgb, rgb_background=rgb_background)
 
     def is_cached(self, mirror_angle_deg: float, *, spp: Optional[int] = None, seed: Optional[int] = None) -> bool:
         """Whether the render cache holds a file for :meth:`render`'s frame at these arguments.

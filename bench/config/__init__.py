@@ -58,7 +58,7 @@ __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers
            "read_toml", "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
            "SCENE_UPPER_BOUNDS", "EXECUTION_KEYS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
 
-PROFILES = ("paper", "quick", "ci", "marble")
+PROFILES = ("paper", "quick", "ci", "marble", "field")
 RENDER_KEYS = ("width", "height", "spp", "ambient_spp")  # the `[render]` table, shared by every experiment
 # scene parameters the harness sets itself (not per-experiment overrides)
 HARNESS_KEYS = ("material", *RENDER_KEYS, "seed", "n_angles", "cache", "cache_dir")

@@ -17,6 +17,7 @@ import numpy as np
 
 from bench.evaluate import readings, tables as analysis
 from bench.run import renderahead
+from bench.run.camera_view import tracker_images
 from bench.config import Config
 from bench.store.checkpoint import STATUS
 from bench.store.figdata import FigData, GalleryFrame
@@ -117,9 +118,10 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
         for i in worst:  # re-rendered from the render cache: the same pixels the trackers saw
             frame = scene.render(float(angles[i]), spp=scene.params["spp"], seed=config.seed)
             cols = {n: res.columns[n][i] for n in res.columns}
-            gallery.append(GalleryFrame(exp.key, int(i), frame.image, frame.truth.columns, cols))
+            image, background = tracker_images(frame, scene.params)
+            gallery.append(GalleryFrame(exp.key, int(i), image, frame.truth.columns, cols))
             if fig7 is None:
-                fig7 = FigData(exp.key, float(angles[i]), frame.image, frame.background, frame.truth.columns, cols)
+                fig7 = FigData(exp.key, float(angles[i]), image, background, frame.truth.columns, cols)
         rig = scene.rig
         restore = config.restore_by_label()  # a setting's own `restore`, else the run's
         for region in (False, True):

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.run.camera_view import tracker_images
 from bench.run.track import track_frame
 from bench.store.checkpoint import FALSE_K, ScanResult, read_checkpoint, write_checkpoint
 
@@ -126,6 +127,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                 on_frame(i)
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
+            image, background = tracker_images(frame, scene.params)
             res.render_seconds += time.perf_counter() - t0
             res.variant = frame.variant
             res.width = frame.image.shape[1]
@@ -137,7 +139,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                     res.false_columns = np.full((len(angles), scene.rig.height, FALSE_K), np.nan)
                 res.false_columns[i] = _pad_false(frame.truth.false_columns)
             for n in names:
-                r = track_frame(trackers_[n], frame.image, frame.background)
+                r = track_frame(trackers_[n], image, background)
                 res.columns[n][i] = r.columns
                 res.scores[n][i] = r.score
                 res.seconds[n][i] = r.seconds

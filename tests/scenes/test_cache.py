@@ -134,3 +134,12 @@ def test_a_full_disk_while_storing_names_the_entry(tmp_path, monkeypatch):
         C.store(tmp_path, k, _entry())
     assert exc.value.filename == str(C._path(tmp_path, k)) and exc.value.errno == errno.ENOSPC
     assert os.listdir(C._path(tmp_path, k).parent) == []
+
+
+def test_three_ambient_bands_are_a_valid_entry(tmp_path, capsys):
+    good = {"laser": np.zeros((4, 5), np.float32), "ambient": np.zeros((4, 5, 3), np.float32),
+            "columns": np.zeros(4), "points_cm": np.zeros((4, 3)), "on_object": np.zeros(4, bool)}
+    C.store(tmp_path, "k1", good)
+    assert C.load(tmp_path, "k1")["ambient"].shape == (4, 5, 3)
+    C.store(tmp_path, "k2", {**good, "ambient": np.zeros((4, 5, 2), np.float32)})
+    assert C.load(tmp_path, "k2") is None and "`ambient` has shape (4, 5, 2)" in capsys.readouterr().err

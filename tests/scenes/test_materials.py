@@ -108,3 +108,17 @@ def test_docstring_examples_run():
     with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
         result = doctest.testmod(module, extraglobs={"np": np})
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_textured_albedos_and_the_polished_table():
+    tex = {"type": "bitmap"}
+    assert M.with_albedo("matte", tex) == {"type": "diffuse", "reflectance": tex}
+    assert M.with_albedo("glazed", tex)["diffuse_reflectance"] is tex and M.with_albedo("glazed", tex)["alpha"] == 0.02
+    with pytest.raises(ValueError, match="an `object_texture` needs one of the materials 'matte', 'glossy', 'glazed'"):
+        M.with_albedo("polished", tex)
+    assert M.backdrop_bsdf(0.3) == {"type": "diffuse", "reflectance": 0.3}
+    assert M.backdrop_bsdf(0.3, tex)["reflectance"] is tex
+    coat = M.support_bsdf(0.4, None, "polished")
+    assert coat["type"] == "roughplastic" and coat["diffuse_reflectance"] == 0.4 and coat["alpha"] == M.POLISHED_FLOOR_ALPHA
+    with pytest.raises(ValueError, match="`support_finish` must be one of 'matte', 'polished', got 'wet'"):
+        M.support_bsdf(0.4, None, "wet")

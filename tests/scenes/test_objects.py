@@ -135,3 +135,18 @@ def test_objects_docstring_examples_run():
 
     result = doctest.testmod(O)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_texture_maps_measure_each_surface_in_cm():
+    o = O.build("plane", Rig().zeta_deg, "wall", 55.0, "table")
+    m = o.uv_to_cm["object"]
+    uv = o.mesh.uv
+    cm = (np.c_[uv, np.ones(len(uv))] @ m.T)[:, :2]
+    # the board's corners land on its own 14 x 12 cm (its planar projection undone)
+    assert np.allclose(np.sort(np.abs(cm), axis=0), [[7, 6]] * 4, atol=1e-9)
+    assert np.allclose(o.uv_to_cm["backdrop"], np.diag([90.0, 40.0, 1.0]))
+    assert np.allclose(o.uv_to_cm["support"][1, 1], 55.0)
+    far = O.build("cone", Rig().zeta_deg, "wall", 110.0)
+    assert np.allclose(far.uv_to_cm["backdrop"], np.diag([180.0, 80.0, 1.0])) and "support" not in far.uv_to_cm
+    cone = O.build("cone", Rig().zeta_deg)
+    assert np.allclose(np.diag(cone.uv_to_cm["object"]), [8.0, 8.6, 1.0], atol=0.05)

@@ -67,3 +67,32 @@ def test_background_and_support_defaults_keep_todays_scene():
     ok = P.validate({"background": "none", "background_distance_cm": 80, "background_albedo": 0,
                      "support": "table", "support_albedo": 1})
     assert ok["background_distance_cm"] == 80.0 and isinstance(ok["background_distance_cm"], float)
+
+
+@pytest.mark.parametrize("change,pattern", [
+    ({"support_texture": "marble"}, r"`support_texture` must be one of 'none', 'wood'"),
+    ({"object_texture": "wood", "material": "specular"}, r"`object_texture` needs one of the materials"),
+    ({"texture_scale_cm": 0}, r"`texture_scale_cm` must be in \(0.0, 100.0\], got 0"),
+    ({"texture_seed": -2}, r"`texture_seed` must be an integer >= 0, got -2"),
+    ({"support_finish": "glossy"}, r"`support_finish` must be one of 'matte', 'polished', got 'glossy'"),
+    ({"camera": "bw"}, r"`camera` must be one of 'mono', 'rgb', got 'bw'"),
+    ({"filter": "none"}, r"`filter` \"none\" needs `camera` \"rgb\""),
+    ({"jpeg_quality": 0}, r"`jpeg_quality` must be None \(lossless\) or an integer in \[1, 95\], got 0"),
+    ({"jpeg_quality": 90.0}, r"`jpeg_quality` must be None"),
+    ({"defocus_px": 25}, r"`defocus_px` must be in \[0.0, 20.0\], got 25"),
+])
+def test_texture_and_camera_parameters_are_checked(change, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        P.validate(change)
+
+
+def test_texture_and_camera_defaults():
+    d = P.validate({})
+    assert {k: d[k] for k in P.TEXTURE_KEYS + P.CAMERA_KEYS} == {
+        "support_texture": "none", "background_texture": "none", "object_texture": "none", "texture_scale_cm": 2.0,
+        "texture_seed": 0, "support_finish": "matte", "camera": "mono", "filter": "bandpass", "jpeg_quality": None,
+        "defocus_px": 0.0}
+    assert not P.textured(d) and P.textured(P.validate({"background_texture": "paper"}))
+    ok = P.validate({"camera": "rgb", "filter": "none", "jpeg_quality": 80, "ambient_illuminant": "daylight"})
+    assert ok["jpeg_quality"] == 80 and ok["ambient_illuminant"] == "daylight"
+    assert not set(P.TEXTURE_KEYS + P.CAMERA_KEYS) & set(P.RENDER_KEYS + P.SCALE_KEYS + P.SENSOR_KEYS)

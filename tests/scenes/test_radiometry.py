@@ -87,3 +87,12 @@ def test_importing_colour_science_leaves_numpy_print_options_alone():
             "radiometry.illuminant_names(); print(np.get_printoptions() == before)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "True"
+
+
+def test_daylight_is_the_cie_d75_alias():
+    assert "daylight" in rad.illuminant_names() and rad.ALIASES["daylight"] == "D75"
+    assert np.array_equal(rad.illuminant_spd("daylight"), rad.illuminant_spd("D75"))
+    # bluer than D65 at the same illuminance
+    d65, day = rad.sky_spectral_radiance(400.0, "D65"), rad.sky_spectral_radiance(400.0, "daylight")
+    i450, i650 = 450 - 360, 650 - 360
+    assert day[i450] / day[i650] > d65[i450] / d65[i650]

@@ -384,3 +384,113 @@ def test_translucent_hand_is_one_medium_with_the_opaque_hands_truth(tmp_path):
     rows = np.nonzero(f.truth.on_object)[0]
     lit = f.laser_radiance[rows].sum(axis=1)
     assert np.all(np.isfinite(f.laser_radiance)) and np.median(lit) > 0  # the sheet reaches the medium
+
+
+# -- textures and the colour camera -------------------------------------------------------------------------------
+
+TINY = dict(width=64, height=60, spp=4, ambient_spp=2)
+
+
+def _default_key_fields(s):
+    return set(s._cache_fields(0.0, 4, 0, "llvm_ad_mono"))
+
+
+def test_new_parameters_at_their_defaults_keep_the_mono_scene_and_its_key(tmp_path):
+    s = scenes.make("cone", cache=False, **TINY)
+    old_fields = ({"scene", "spp", "seed", "mirror_angle_deg", "rig", "variant", "mitsuba", "drjit"}
+                  | set(scenes.params.RENDER_KEYS) - {"spp", "seed"})
+    assert _default_key_fields(s) == old_fields  # nothing new in an untextured key
+    explicit = scenes.make("cone", cache=False, support_texture="none", background_texture="none",
+                           object_texture="none", texture_scale_cm=2.0, texture_seed=0, support_finish="matte",
+                           camera="mono", filter="bandpass", jpeg_quality=None, defocus_px=0.0, **TINY)
+    k = C.key(s._cache_fields(0.0, 4, 0, "v"))
+    assert C.key(explicit._cache_fields(0.0, 4, 0, "v")) == k
+    # a colour camera without textures reuses the mono unit renders; textures, scale, seed re-render
+    assert C.key(scenes.make("cone", camera="rgb", filter="none", **TINY)._cache_fields(0.0, 4, 0, "v")) == k
+    tex = scenes.make("cone", background_texture="wood", **TINY)
+    assert C.key(tex._cache_fields(0.0, 4, 0, "v")) != k
+    for change in (dict(texture_scale_cm=3.0), dict(texture_seed=1), dict(camera="rgb"),
+                   dict(ambient_illuminant="A"), dict(laser_wavelength_nm=640.0)):
+        other = scenes.make("cone", background_texture="wood", **{**TINY, **change})
+        assert C.key(other._cache_fields(0.0, 4, 0, "v")) != C.key(tex._cache_fields(0.0, 4, 0, "v")), change
+    a, b = s.render(0.2), explicit.render(0.2)
+    assert np.array_equal(a.image, b.image) and np.array_equal(a.radiance, b.radiance) and a.rgb is None
+
+
+@pytest.fixture(scope="module")
+def untextured(tmp_path_factory):
+    d = str(tmp_path_factory.mktemp("untextured"))
+    cone = scenes.make("cone", support="table", cache_dir=d, **TINY)
+    _, part = cone._visible(0.0)
+    return cone.render(0.0), part, scenes.make("plane", cache_dir=d, **TINY).render(0.0)
+
+
+@pytest.mark.parametrize("texture", scenes.textures.TEXTURES[1:])
+def test_each_texture_renders_changes_the_image_and_not_the_truth(texture, untextured, tmp_path):
+    plain, part, board0 = untextured
+    f = scenes.make("cone", support="table", background_texture=texture, support_texture=texture,
+                    cache_dir=str(tmp_path), **TINY).render(0.0)
+    for name, k in (("wall", 0), ("table", 2)):
+        seen = part == k
+        assert seen.sum() > 20 and not np.array_equal(f.radiance[seen], plain.radiance[seen]), name
+    assert np.array_equal(f.truth.columns, plain.truth.columns, equal_nan=True)
+    assert np.array_equal(f.truth.points_cm, plain.truth.points_cm, equal_nan=True)
+    assert np.array_equal(f.truth.part, plain.truth.part)
+    g = scenes.make("plane", object_texture=texture, cache_dir=str(tmp_path), **TINY).render(0.0)
+    assert not np.array_equal(g.radiance, board0.radiance)
+    assert np.array_equal(g.truth.columns, board0.truth.columns, equal_nan=True)
+
+
+def test_rgb_camera_frames(tmp_path):
+    s = scenes.make("plane", object_texture="print", camera="rgb", filter="none", cache_dir=str(tmp_path), **TINY)
+    f = s.render(0.0)
+    assert f.rgb.shape == f.rgb_background.shape == (60, 64, 3) and f.rgb.dtype == np.uint8
+    assert f.image.shape == (60, 64) and f.image.dtype == np.uint8
+    assert f.radiance.shape == f.laser_radiance.shape == (60, 64, 3)
+    assert np.array_equal(f.image, scenes.colour_camera.luma(f.rgb))
+    # three ambient bands (a textured colour frame); the laser is red: the red channel carries it
+    assert C.load(C.cache_root(str(tmp_path)), C.key(s._cache_fields(0.0, 4, 0, f.variant)))["ambient"].shape == (60, 64, 3)
+    rows = np.nonzero(f.truth.valid)[0]
+    cols = np.rint(f.truth.columns[rows]).astype(int)
+    lit = f.rgb[rows, cols].astype(float) - f.rgb_background[rows, cols]
+    assert np.median(lit[:, 0]) > 5 * max(1.0, np.median(np.abs(lit[:, 2])))
+    again = s.render(0.0)
+    assert np.array_equal(again.rgb, f.rgb)
+    jpeg = scenes.make("plane", object_texture="print", camera="rgb", filter="none", jpeg_quality=75,
+                       cache_dir=str(tmp_path), **TINY).render(0.0)
+    assert not np.array_equal(jpeg.rgb, f.rgb) and np.abs(jpeg.rgb.astype(int) - f.rgb).mean() < 12
+
+
+def test_a_white_paper_wall_white_balances_to_grey(tmp_path):
+    for illuminant in ("A", "D65"):
+        s = scenes.make("cone", background_texture="paper", camera="rgb", filter="none", laser_power_mw=0.0,
+                        ambient_illuminant=illuminant, ambient_lux=400.0, exposure_ms=10.0,
+                        cache_dir=str(tmp_path), width=64, height=60, spp=4, ambient_spp=16)
+        f = s.render(0.0)
+        _, on_object = s.visible_points(0.0)
+        wall = f.rgb[~on_object].reshape(-1, 3).astype(float).mean(axis=0)
+        assert wall.max() - wall.min() < 4.0, (illuminant, wall)
+
+
+def test_mono_defocus_and_jpeg_act_on_the_image_only(tmp_path):
+    base = dict(cache_dir=str(tmp_path), **TINY)
+    a = scenes.make("cone", **base).render(0.0)
+    b = scenes.make("cone", defocus_px=2.0, jpeg_quality=60, **base).render(0.0)
+    assert np.array_equal(a.radiance, b.radiance) and np.array_equal(a.truth.columns, b.truth.columns,
+                                                                     equal_nan=True)
+    assert not np.array_equal(a.image, b.image)
+    rows = np.nonzero(a.truth.on_object)[0]
+    assert a.image[rows].max(axis=1).mean() > b.image[rows].max(axis=1).mean()  # the blur spreads the peak
+
+
+def test_polished_table_splits_the_laser_pass_by_the_tables_pixels(tmp_path):
+    s = scenes.make("sphere", support="table", background="none", support_finish="polished", cache=False, **TINY)
+    fields = s._cache_fields(0.0, 4, 0, "v")
+    assert fields["laser_passes"] == [["path", 3, "support"], ["ptracer", 3, "rest"]]
+    assert fields["support_finish"] == "polished"
+    mask = s.support_pixels(0.0)
+    assert mask[-1].all() and not mask[0].any()  # the bottom row sees the table, the top row the sky
+    f = s.render(0.0)
+    matte = scenes.make("sphere", support="table", background="none", cache=False, **TINY).render(0.0)
+    assert np.array_equal(f.truth.columns, matte.truth.columns, equal_nan=True)
+    assert np.isfinite(f.laser_radiance).all() and not np.array_equal(f.radiance, matte.radiance)

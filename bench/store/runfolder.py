@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from bench.errors import StripebenchError
 from bench.store.files import atomic_write_bytes, atomic_write_text, config_hash, save_npz, runs_root
 
 __all__ = ["FORMAT", "LAYOUT", "RunFolderError", "RunFolder", "default_run_dir", "safe_dir_name", "read_npz",
@@ -57,11 +58,15 @@ LAYOUT = {
     "samples": "samples.csv", "summary": "summary.json", "figures": "figures", "report": "report.html",
 }
 METRIC_KEYS = ("experiment", "tracker", "region")
+REQUIRED_METRICS = ("hit_rate", "coverage")  # read by every report (runs and real runs)
 TIMING_COLUMNS = ("ms_per_frame",)
-_SUMMARY_KEYS = {"config": dict, "seed": int, "improvement": list, "scans": list}
+_SUMMARY_KEYS = {"config": dict, "seed": int, "improvement": list, "scans": list,
+                 # read by the report's header and provenance
+                 "git_revision": str, "paper_improvement": (int, float), "variants": list, "versions": dict,
+                 "wall_s": (int, float)}
 
 
-class RunFolderError(ValueError):
+class RunFolderError(StripebenchError, ValueError):
     """A run folder that cannot be used as asked; ``str(err)`` is one line."""
 
 
@@ -356,13 +361,10 @@ def load_summary(run_dir) -> dict:
         raise RunFolderError(f"RUN must be a finished run folder, got {str(run_dir)!r} (not a folder)")
     if not path.exists():
         raise RunFolderError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise _os_error("read", path, exc) from None
-    except ValueError as exc:
-        raise RunFolderError(f"{str(path)!r} is not valid JSON ({str(exc).splitlines()[0]}); "
-                             "rerun the run to rewrite it") from None
+    from bench.store.textfiles import loads_json, read_text
+
+    text = read_text(path, "run summary", error=RunFolderError)  # a regular UTF-8 file
+    doc = loads_json(text, repr(str(path)), error=RunFolderError)  # bounded nesting and integers
     if not isinstance(doc, dict):
         raise RunFolderError(f"{str(path)!r} is not a run summary (a JSON object)")
     if doc.get("kind") == "real":  # a real-photograph run (bench.run.real): its own summary
@@ -371,7 +373,8 @@ def load_summary(run_dir) -> dict:
         return doc
     for key, typ in _SUMMARY_KEYS.items():
         if not isinstance(doc.get(key), typ):
-            raise RunFolderError(f"{str(path)!r} is not a run summary: `{key}` missing or not a {typ.__name__}")
+            what = "number" if isinstance(typ, tuple) else typ.__name__
+            raise RunFolderError(f"{str(path)!r} is not a run summary: `{key}` missing or not a {what}")
     cfg = doc["config"]
     if not isinstance(cfg.get("render"), dict) or not isinstance(cfg.get("experiments"), list):
         raise RunFolderError(f"{str(path)!r} is not a run summary: `config` lacks `render` or `experiments`")
@@ -397,7 +400,7 @@ def load_metrics(run_dir, *, timings: bool = False):
     except Exception as exc:  # pyarrow raises its own types for corrupt files
         raise RunFolderError(f"cannot read {str(path)!r}: {type(exc).__name__}: "
                              f"{str(exc).splitlines()[0][:160] if str(exc) else ''}; rerun the run to rewrite it") from None
-    missing = [c for c in METRIC_KEYS if c not in m.columns]
+    missing = [c for c in (*METRIC_KEYS, *REQUIRED_METRICS) if c not in m.columns]
     if missing:
         raise RunFolderError(f"{str(path)!r} is not a metrics table: no column {missing[0]!r}")
     for c in m.columns:

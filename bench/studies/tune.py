@@ -1,4 +1,4 @@
-"""Choose the DP trackers' default ``h_weight`` by a fixed procedure (``python -m bench.studies.tune``).
+"""Choose the DP trackers' default ``h_weight`` by a fixed procedure (``stripebench tune dp``).
 
 The profile (default ``bench/config/profiles/tune_dp.toml``) lists the experiments
 (scene, material, optional scene-parameter overrides), the render settings,

@@ -307,13 +307,6 @@ def test_bad_engine_arguments(tmp_path):
     assert not (tmp_path / "config.json").exists()  # refused before anything was written
 
 
-def test_docstring_examples():
-    import doctest
-
-    result = doctest.testmod(sw, extraglobs={"np": np})
-    assert result.attempted > 0 and result.failed == 0
-
-
 @pytest.mark.slow
 def test_a_worker_with_other_code_stops_the_sweep(tmp_path, monkeypatch):
     real_unit = sw.run_unit

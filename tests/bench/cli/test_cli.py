@@ -39,3 +39,45 @@ def test_help_is_plain_text(argv, capsys):
         main(argv)
     out = capsys.readouterr().out
     assert "``" not in out and ":func:" not in out and "python -m" not in out
+
+
+def test_every_command_and_sub_command_has_plain_help():
+    from bench.cli import command_groups
+
+    names = [[c.name] for _, cs in command_groups() for c in cs]
+    names += [["perf", c.name] for c in dict((c.name, c) for _, cs in command_groups() for c in cs)["perf"].subcommands]
+    for argv in names:
+        parser = build_parser()
+        with pytest.raises(SystemExit) as exc:
+            parser.parse_args([*argv, "-h"])
+        assert exc.value.code == 0
+
+
+def test_docs_errors_names_tests_that_exist():
+    """Every ``test_module.py::test_name`` (or a prefix ending in ``...``) in docs/errors.md is a test."""
+    doc = (REPO / "docs" / "errors.md").read_text()
+    refs = re.findall(r"`(?:[a-z]+/)?(test_\w+\.py)::(test_\w+?)(?:_?\.\.\.)?`", doc)
+    assert len(refs) > 20
+    sources = {p.name: [] for p in (REPO / "tests").rglob("test_*.py")}
+    for p in (REPO / "tests").rglob("test_*.py"):
+        sources[p.name].append(p.read_text())
+    for module, name in refs:
+        assert module in sources, module
+        assert any(re.search(rf"^def {name}", s, re.M) for s in sources[module]), f"{module}::{name}"
+
+
+def test_docs_config_names_every_key_of_the_schema():
+    from dataclasses import fields
+
+    from bench import config
+    from bench.config.tune import TOP_KEYS, TUNE_RENDER_KEYS
+
+    doc = (REPO / "docs" / "config.md").read_text()
+    keys = {f.name for f in fields(config.Config)} - {"source", "tracker_specs"}
+    keys |= {f"render.{k}" for k in ("width", "height")} | {"render.spp", "render.ambient_spp"}
+    keys |= {f"experiments[i].{f.name}" for f in fields(config.Experiment)} - {"experiments[i].overrides",
+                                                                               "experiments[i].angles"}
+    for k in sorted(keys):
+        assert f"`{k}`" in doc or f"`{k.split('.')[-1]}`" in doc, k
+    for k in (*TOP_KEYS, *TUNE_RENDER_KEYS, "repeats"):
+        assert f"`{k}`" in doc or k in doc, k

@@ -9,7 +9,7 @@ track, real; ``sweep``; ``studies``: estimators, translucency, tune, perf
 in :mod:`bench.config.options`.
 
 Exit status: 0 success, 1 a failed check (``stripebench check``/``compare``,
-``perf --strict``, a file ``track`` could not read), 2 a usage, configuration,
+``perf trackers --strict``, a file ``track`` could not read), 2 a usage, configuration,
 input or file-system error (one line on stderr, ``stripebench: error: ...``,
 see ``docs/errors.md``), 130 interrupted. Every expected failure is a
 :class:`bench.errors.StripebenchError` (or an ``OSError``), caught once in

@@ -4,12 +4,12 @@ every documented bad input with its test."""
 import re
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
 from bench.cli import build_parser, main
-from cli_helpers import REPO, cli, one_line, one_line_err, status  # noqa: F401
+from cli_helpers import REPO, one_line_err
+
 
 def test_bad_seed_is_a_usage_error():
     out = subprocess.run([sys.executable, "-m", "bench.cli", "reproduce", "--seed", "-1"], capture_output=True,

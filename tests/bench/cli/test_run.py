@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 
 from bench.cli import main
-from cli_helpers import TOML, cli, one_line, one_line_err, status  # noqa: F401
+from cli_helpers import TOML, cli, one_line, one_line_err
+
 
 @pytest.mark.parametrize(
     "argv, message",

@@ -5,7 +5,8 @@ import time
 import pytest
 
 from bench.cli import main
-from cli_helpers import cli, one_line, one_line_err, status  # noqa: F401
+from cli_helpers import cli, one_line, one_line_err, status
+
 
 SWEEP = ('name = "s"\ntrackers = ["threshold"]\nbaselines = []\ndp = []\n[render]\nwidth = 64\nheight = 60\n'
          '[[experiments]]\nscene = "cone"\nn_angles = 2\n[sweep]\n')

@@ -24,7 +24,8 @@ import subprocess
 import sys
 from typing import Optional
 
-__all__ = ["CANDIDATES", "find_libllvm", "probe", "choose", "mitsuba", "active_variant", "is_mono"]
+__all__ = ["CANDIDATES", "VariantError", "find_libllvm", "probe", "choose", "check_forced", "mitsuba", "active_variant",
+           "is_mono"]
 
 CANDIDATES = ("cuda_ad_mono", "llvm_ad_mono", "scalar_rgb")
 ENV_VARIANT = "STRIPEBENCH_VARIANT"
@@ -48,6 +49,10 @@ img = np.array(mi.render(s))
 assert np.isfinite(img).all() and img.max() > 0
 print('ok')
 """
+
+
+class VariantError(ValueError):
+    """``$STRIPEBENCH_VARIANT`` names a variant that cannot render here; ``str(err)`` is one line."""
 
 
 def find_libllvm() -> Optional[str]:
@@ -96,6 +101,42 @@ def choose() -> str:
         how = "probed"
     print(f"stripebench.scenes: Mitsuba variant {_chosen} ({how})", file=sys.stderr)
     return _chosen
+
+
+def check_forced() -> Optional[str]:
+    """Check ``$STRIPEBENCH_VARIANT`` before any work: None when it is unset, else the variant.
+
+    The name must be a ``*_mono`` or ``*_rgb`` variant of the installed Mitsuba, and a
+    ``cuda_*`` (``llvm_*``) one needs Dr.Jit's CUDA (LLVM) backend on this machine (a GPU
+    and its driver; a loadable libLLVM). Cheap: Mitsuba and Dr.Jit are imported, nothing
+    is compiled or rendered.
+
+    Raises
+    ------
+    VariantError
+        One line naming the value and the variants that can work here.
+    """
+    forced = os.environ.get(ENV_VARIANT, "").strip()
+    if not forced:
+        return None
+    if "drjit" not in sys.modules and "DRJIT_LIBLLVM_PATH" not in os.environ:
+        lib = find_libllvm()
+        if lib:
+            os.environ["DRJIT_LIBLLVM_PATH"] = lib
+    import drjit as dr
+    import mitsuba as mi
+
+    backends = {"cuda": dr.has_backend(dr.JitBackend.CUDA), "llvm": dr.has_backend(dr.JitBackend.LLVM),
+                "scalar": True}
+    usable = [v for v in mi.variants() if v.endswith(("_mono", "_rgb")) and backends.get(v.split("_")[0], False)]
+    if forced not in mi.variants() or not forced.endswith(("_mono", "_rgb")):
+        raise VariantError(f"${ENV_VARIANT} must name a mono or RGB Mitsuba variant, got {forced!r}; "
+                           f"usable here: {', '.join(usable)}")
+    if forced not in usable:
+        need = {"cuda": "a CUDA GPU and driver", "llvm": "a loadable libLLVM"}[forced.split("_")[0]]
+        raise VariantError(f"${ENV_VARIANT} = {forced!r} needs {need}, which this machine lacks; "
+                           f"usable here: {', '.join(usable)}")
+    return forced
 
 
 def mitsuba():

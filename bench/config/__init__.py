@@ -54,9 +54,13 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from bench.errors import ConfigError, StripebenchError
+
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
            "read_toml", "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
-           "SCENE_UPPER_BOUNDS", "EXECUTION_KEYS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes"]
+           "SCENE_UPPER_BOUNDS", "EXECUTION_KEYS", "SCENE_LOWER_BOUNDS", "MAX_ANGLE_DEG", "estimate_memory_bytes",
+           "scene_value_problem", "check_scene", "check_real_set", "memory_limit_bytes", "StripebenchError",
+           "MAX_N_SAMPLES", "MAX_N_BOOT", "MIN_N_BOOT"]
 
 PROFILES = ("paper", "quick", "ci", "marble", "field")
 RENDER_KEYS = ("width", "height", "spp", "ambient_spp")  # the `[render]` table, shared by every experiment
@@ -68,6 +72,83 @@ SCENE_UPPER_BOUNDS = {"laser_power_mw": 1e5, "ambient_lux": 1e6, "exposure_ms": 
 # and lower bounds (a faster lens also overflows it; a thinner sheet needs a laser-profile table beyond memory)
 SCENE_LOWER_BOUNDS = {"f_number": 0.5, "line_fwhm_mrad": 1e-3}
 MAX_ANGLE_DEG = 45.0  # |mirror angle|: beyond it the camera turns more than 90 deg
+MAX_N_SAMPLES = 10**6  # `n_samples`: 1 .. this
+MIN_N_BOOT, MAX_N_BOOT = 10, 10**6  # `n_boot` (runs and real runs)
+
+
+def scene_value_problem(key: str, value) -> str | None:
+    """What is wrong with a scene override beyond the scene's own checks
+    (:data:`SCENE_UPPER_BOUNDS`, :data:`SCENE_LOWER_BOUNDS`), or None. The one
+    check that experiments and ``[sweep]`` values share.
+
+    Examples
+    --------
+    >>> scene_value_problem("ambient_lux", 1e7)
+    'must be at most 1e+06'
+    >>> scene_value_problem("ambient_lux", 400.0) is None
+    True
+    """
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
+        return None  # the scene names a wrong type
+    top = SCENE_UPPER_BOUNDS.get(key)
+    if top is not None and value > top:
+        return f"must be at most {top:g}"
+    low = SCENE_LOWER_BOUNDS.get(key)
+    if low is not None and value < low:
+        return f"must be at least {low:g}"
+    return None
+
+
+def check_scene(path: str, scene: str, material: str, render: dict, overrides: dict) -> None:
+    """Validate one experiment's scene (or one ``[sweep]`` value applied to it): the bounds of
+    :func:`scene_value_problem` on every override, then the scene's own checks (:func:`scenes.make`).
+
+    Raises
+    ------
+    ConfigError
+        ``PATH.KEY must be at most ...`` or ``PATH: <the scene's message>``.
+    """
+    import scenes
+
+    for k in sorted(overrides):
+        problem = scene_value_problem(k, overrides[k])
+        if problem:
+            raise ConfigError(f"`{path}.{k}` {problem}, got {overrides[k]!r}")
+    try:  # let the scene validate its own parameters
+        scenes.make(scene, material=material, **render, **overrides)
+    except (TypeError, KeyError, ValueError) as exc:
+        msg = exc.args[0] if exc.args else str(exc)
+        raise ConfigError(f"`{path}`: {msg}") from None
+
+
+def check_real_set(value, path: str = "real_set", *, full: bool = False) -> str:
+    """Validate a ``real_set`` value: ``""``, ``"shipped"`` or a folder holding a
+    ``manifest.csv``; with ``full`` the whole set (:func:`bench.store.realset.validate_dataset`:
+    every image and reference read), so that a broken set is found before any scan.
+
+    Raises
+    ------
+    ConfigError
+        One line naming ``path``, the value and the first problem (with the count of others).
+    """
+    if not isinstance(value, str):
+        raise ConfigError(f"`{path}` must be \"\", \"shipped\" or a folder, got {value!r}")
+    if not value:
+        return value
+    from bench.store import realset
+
+    folder = realset.SHIPPED if value == "shipped" else Path(value)
+    if value != "shipped" and not folder.is_dir():
+        raise ConfigError(f"`{path}` must be \"\", \"shipped\" or a folder, got {value!r} (no such folder)")
+    if not (folder / "manifest.csv").is_file():
+        raise ConfigError(f"`{path}` names {value!r}, which is not a real set (no manifest.csv; see docs/real.md)")
+    if full:
+        _, problems = realset.validate_dataset(folder)
+        if problems:
+            more = f" (and {len(problems) - 1} more problem(s); `stripebench real {value} --check` lists them)" \
+                if len(problems) > 1 else ""
+            raise ConfigError(f"`{path}` {value!r} is not a valid real set: {problems[0]}{more}")
+    return value
 
 
 def scene_override_keys() -> tuple[str, ...]:
@@ -75,10 +156,6 @@ def scene_override_keys() -> tuple[str, ...]:
     from scenes.params import DEFAULTS
 
     return tuple(sorted(set(DEFAULTS) - set(HARNESS_KEYS)))
-
-
-class ConfigError(ValueError):
-    """A configuration problem; ``str(err)`` is one line for the user."""
 
 
 @dataclass(frozen=True)
@@ -236,10 +313,14 @@ def parse_trackers_arg(text: str, path: str = "--trackers") -> tuple[TrackerSpec
     items = []
     for part in _split_top(text):
         if part.startswith("{"):
+            from bench.store.textfiles import check_structure
+
             try:
-                items.append(tomllib.loads(f"x = {part}")["x"])
+                items.append(check_structure(tomllib.loads(f"x = {part}")["x"], path, error=ConfigError))
             except tomllib.TOMLDecodeError as exc:
                 raise ConfigError(f"{path}: {part!r} is not a TOML inline table: {exc}") from None
+            except (RecursionError, ValueError):
+                raise ConfigError(f"{path}: {part[:40]!r}... is nested too deeply or holds a huge integer") from None
         else:
             items.append(part)
     if not items:
@@ -366,7 +447,9 @@ def estimate_memory_bytes(n_frames: int, width: int, height: int, n_trackers: in
     return int(3 * n_frames * height * per_row + 40 * 8 * width * height)
 
 
-def _memory_limit_bytes() -> int:
+def memory_limit_bytes() -> int:
+    """Half of this machine's physical memory, bytes (8 GiB when it cannot be read): the most
+    a run's or a sweep's estimate may ask for."""
     try:
         return int(0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):
@@ -429,8 +512,8 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
             if m not in names:
                 raise ConfigError(f"`{group}` names {m!r}, which is not among `trackers` {list(names)}")
     n_samples = _int("n_samples", data.get("n_samples", _default("n_samples")), 1)
-    n_boot = _int("n_boot", data.get("n_boot", _default("n_boot")), 10)
-    for key, value, top in (("n_samples", n_samples, 10**6), ("n_boot", n_boot, 10**6)):
+    n_boot = _int("n_boot", data.get("n_boot", _default("n_boot")), MIN_N_BOOT)
+    for key, value, top in (("n_samples", n_samples, MAX_N_SAMPLES), ("n_boot", n_boot, MAX_N_BOOT)):
         if value > top:
             raise ConfigError(f"`{key}` must be at most {top}, got {value!r}")
     from bench.evaluate.restore import METHODS
@@ -439,10 +522,10 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
     if restore not in METHODS:
         raise ConfigError(f"`restore` must be one of {', '.join(map(repr, METHODS))}, got {restore!r}")
     real_set = data.get("real_set", _default("real_set"))
-    if not isinstance(real_set, str):
+    if machine:
+        real_set = check_real_set(real_set)
+    elif not isinstance(real_set, str):  # a saved configuration: its set was checked where it ran
         raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r}")
-    if machine and real_set and real_set != "shipped" and not Path(real_set).is_dir():
-        raise ConfigError(f"`real_set` must be \"\", \"shipped\" or a folder, got {real_set!r} (no such folder)")
     render_ahead = data.get("render_ahead", _default("render_ahead"))
     if not isinstance(render_ahead, bool):
         raise ConfigError(f"`render_ahead` must be true or false, got {render_ahead!r}")
@@ -493,19 +576,7 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
             if n_angles is not None:
                 raise ConfigError(f"`{path}` gives both `n_angles` and `angles`; give one")
         overrides = {k: e[k] for k in sorted(overridable & set(e))}
-        for k, top in SCENE_UPPER_BOUNDS.items():
-            v = overrides.get(k)
-            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v > top:
-                raise ConfigError(f"`{path}.{k}` must be at most {top:g}, got {v!r}")
-        for k, low in SCENE_LOWER_BOUNDS.items():
-            v = overrides.get(k)
-            if isinstance(v, numbers.Real) and not isinstance(v, bool) and v < low:
-                raise ConfigError(f"`{path}.{k}` must be at least {low:g}, got {v!r}")
-        try:  # let the scene validate its own parameters
-            scenes.make(scene, material=material, **render, **overrides)
-        except (TypeError, KeyError, ValueError) as exc:
-            msg = exc.args[0] if exc.args else str(exc)
-            raise ConfigError(f"`{path}`: {msg}") from None
+        check_scene(path, scene, material, render, overrides)
         exp_name = e.get("name")
         if exp_name is not None and (not isinstance(exp_name, str) or not exp_name
                                      or not set(exp_name) <= _LABEL_CHARS):
@@ -523,25 +594,30 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
     for i, e in enumerate(exps):
         frames = len(e.angles) if e.angles is not None else (e.n_angles or SCENE_DEFAULTS["n_angles"])
         need = estimate_memory_bytes(frames, width, height, len(specs))
-        if machine and need > _memory_limit_bytes():
+        if machine and need > memory_limit_bytes():
             raise ConfigError(f"`experiments[{i}]` needs about {need / 2**30:.1f} GiB of memory "
                               f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
-                              f"this machine's {2 * _memory_limit_bytes() / 2**30:.0f} GiB")
+                              f"this machine's {2 * memory_limit_bytes() / 2**30:.0f} GiB")
     return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source,
                   restore=restore, real_set=real_set, tracker_specs=specs, render_ahead=render_ahead)
 
 
-def read_toml(path) -> dict[str, Any]:
-    """The TOML document at ``path`` as a dict (:class:`ConfigError` if unreadable or invalid)."""
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"cannot read configuration {str(p)!r}: {exc.strerror}") from None
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
+def read_toml(path, what: str = "configuration") -> dict[str, Any]:
+    """The TOML document at ``path`` as a dict.
+
+    Only a regular file is read, as UTF-8, at most
+    :data:`bench.store.textfiles.MAX_DEPTH` levels deep with 64-bit integers
+    (:mod:`bench.store.textfiles`).
+
+    Raises
+    ------
+    ConfigError
+        Missing, unreadable, not a regular file (a FIFO is refused without
+        waiting), not UTF-8, invalid TOML, nested too deeply, a huge integer.
+    """
+    from bench.store.textfiles import read_toml_file
+
+    return read_toml_file(path, what, error=ConfigError)
 
 
 def load(path) -> Config:

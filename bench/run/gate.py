@@ -23,6 +23,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from bench.errors import InputError
+
 __all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline",
            "validate_baseline", "comparability", "COMPARED_KEYS", "rows_to_json"]
 
@@ -133,7 +135,7 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
 
     Raises
     ------
-    ValueError
+    bench.errors.InputError (a ValueError)
         One line naming the first bad entry (``where`` names the file).
 
     Examples
@@ -141,36 +143,36 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
     >>> validate_baseline({"format": 1, "metrics": {"e/t/all": {"px_mae": "x"}}})
     Traceback (most recent call last):
     ...
-    ValueError: baseline: `metrics.e/t/all.px_mae` must be a number or null, got 'x'
+    bench.errors.InputError: baseline: `metrics.e/t/all.px_mae` must be a number or null, got 'x'
     """
     if not isinstance(doc, dict) or doc.get("format") != _FORMAT or "metrics" not in doc:
-        raise ValueError(f"{where} is not a stripebench baseline (format {_FORMAT})")
+        raise InputError(f"{where} is not a stripebench baseline (format {_FORMAT})")
     metrics = doc["metrics"]
     if not isinstance(metrics, dict):
-        raise ValueError(f"{where}: `metrics` must be an object, got {metrics!r:.60}")
+        raise InputError(f"{where}: `metrics` must be an object, got {metrics!r:.60}")
     for key, entry in metrics.items():
         if not isinstance(entry, dict):
-            raise ValueError(f"{where}: `metrics.{key}` must be an object of metric values, got {entry!r:.60}")
+            raise InputError(f"{where}: `metrics.{key}` must be an object of metric values, got {entry!r:.60}")
         for m, v in entry.items():
             if not _number_or_none(v):
-                raise ValueError(f"{where}: `metrics.{key}.{m}` must be a number or null, got {v!r:.60}")
+                raise InputError(f"{where}: `metrics.{key}.{m}` must be a number or null, got {v!r:.60}")
     tols = doc.get("tolerances")
     if tols is not None:
         if not isinstance(tols, dict):
-            raise ValueError(f"{where}: `tolerances` must be an object, got {tols!r:.60}")
+            raise InputError(f"{where}: `tolerances` must be an object, got {tols!r:.60}")
         for m, t in tols.items():
             if not isinstance(t, dict) or set(t) != {"direction", "abs", "rel"}:
-                raise ValueError(f"{where}: `tolerances.{m}` must have exactly `direction`, `abs` and `rel`, "
+                raise InputError(f"{where}: `tolerances.{m}` must have exactly `direction`, `abs` and `rel`, "
                                  f"got {t!r:.80}")
             if t["direction"] not in ("lower", "higher"):
-                raise ValueError(f"{where}: `tolerances.{m}.direction` must be 'lower' or 'higher', "
+                raise InputError(f"{where}: `tolerances.{m}.direction` must be 'lower' or 'higher', "
                                  f"got {t['direction']!r}")
             for k in ("abs", "rel"):
                 if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
-                    raise ValueError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
+                    raise InputError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
     cfg = doc.get("config")
     if cfg is not None and not isinstance(cfg, dict):
-        raise ValueError(f"{where}: `config` must be an object, got {cfg!r:.60}")
+        raise InputError(f"{where}: `config` must be an object, got {cfg!r:.60}")
     return doc
 
 
@@ -179,17 +181,13 @@ def load_baseline(path) -> dict:
 
     Raises
     ------
-    FileNotFoundError
-        Unreadable file.
-    ValueError
-        Not JSON, or not a valid baseline.
+    bench.errors.InputError
+        Unreadable, not a regular UTF-8 file, not JSON (nested too deeply, a huge
+        integer), or not a valid baseline.
     """
-    try:
-        doc = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise FileNotFoundError(f"cannot read baseline {str(path)!r}: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"baseline {str(path)!r} is not valid JSON: {str(exc).splitlines()[0]}") from None
+    from bench.store.textfiles import read_json
+
+    doc = read_json(path, "baseline")  # a regular UTF-8 file, bounded nesting and integers
     return validate_baseline(doc, f"baseline {str(path)!r}")
 
 

@@ -1,7 +1,7 @@
 """Robustness sweeps: every experiment over a grid of scene parameters, on Dask.
 
 A sweep configuration is an ordinary configuration (:mod:`bench.config`) with a
-``[sweep]`` table::
+``[sweep]`` table (its schema, limits and validation: :mod:`bench.config.sweep`)::
 
     [sweep]
     ambient_lux = [0, 100, 400, 1000, 2000]   # any scene override key, a list of values
@@ -46,124 +46,29 @@ skips them: resume; a damaged or edited one is said in one line and recomputed).
 
 from __future__ import annotations
 
-import itertools
 import json
-import numbers
 import os
 import socket
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
-from bench.config import Config, ConfigError, parse, read_toml, scene_override_keys
+from bench.config import Config, StripebenchError
+from bench.config.sweep import Sweep, load, parse_sweep, sweep_keys  # noqa: F401  (the [sweep] table's schema)
 from bench.store.files import config_hash
 from bench.evaluate.curves import PAPER_POINT  # noqa: F401  (re-exported: the paper's operating point)
 
 __all__ = ["Sweep", "SweepError", "parse_sweep", "load", "plan", "run_unit", "run_sweep", "default_sweep_dir",
            "load_sweep", "sweep_keys", "TABLE_METRICS", "PAPER_POINT"]
 
-def sweep_keys() -> frozenset:
-    """The keys a ``[sweep]`` table may list: every per-experiment scene override and ``material``."""
-    return frozenset(set(scene_override_keys()) | {"material"})
 TABLE_METRICS = ("hit_rate", "depth_mae_mm", "depth_rmse_mm", "within_5mm", "coverage", "outlier_rate")
 
 
-class SweepError(RuntimeError):
+class SweepError(StripebenchError, RuntimeError):
     """A sweep could not run (scheduler unreachable, workers with other code, timeout): one line."""
-
-
-@dataclass(frozen=True)
-class Sweep:
-    """A validated ``[sweep]`` table: the swept keys with their values, and the repeats.
-
-    Examples
-    --------
-    >>> s = Sweep((("ambient_lux", (0.0, 400.0)), ("laser_power_mw", (1.0, 3.0, 10.0))), repeats=2)
-    >>> len(s.points()), s.points()[1]
-    (6, {'ambient_lux': 0.0, 'laser_power_mw': 3.0})
-    """
-
-    axes: tuple[tuple[str, tuple], ...]
-    repeats: int = 1
-
-    @property
-    def keys(self) -> tuple[str, ...]:
-        return tuple(k for k, _ in self.axes)
-
-    def points(self) -> list[dict[str, Any]]:
-        """The grid: every combination of the values, the last key varying fastest."""
-        return [dict(zip(self.keys, combo)) for combo in itertools.product(*(v for _, v in self.axes))]
-
-    def to_dict(self) -> dict[str, Any]:
-        return {**{k: list(v) for k, v in self.axes}, "repeats": self.repeats}
-
-
-def _render_keys() -> frozenset:
-    from scenes.params import RENDER_KEYS
-
-    return frozenset(RENDER_KEYS)
-
-
-def parse_sweep(table, config: Config) -> Sweep:
-    """Validate a ``[sweep]`` table against a parsed configuration.
-
-    Every value is checked by building each experiment's scene with it.
-
-    Raises
-    ------
-    ConfigError
-        Not a table, an unknown key, an empty or non-list value, a repeated value,
-        a value the scene rejects, a bad ``repeats``; one line naming ``sweep.<key>``.
-    """
-    import scenes
-
-    if not isinstance(table, dict):
-        raise ConfigError(f"`sweep` must be a table, got {table!r}")
-    repeats = table.get("repeats", 1)
-    if isinstance(repeats, bool) or not isinstance(repeats, numbers.Integral) or repeats < 1:
-        raise ConfigError(f"`sweep.repeats` must be an integer >= 1, got {repeats!r}")
-    axes = []
-    for key, values in table.items():
-        if key == "repeats":
-            continue
-        if key not in sweep_keys():
-            raise ConfigError(f"unknown key `sweep.{key}` (valid: {', '.join(sorted(sweep_keys() | {'repeats'}))})")
-        if not isinstance(values, list) or not values:
-            raise ConfigError(f"`sweep.{key}` must be a non-empty list of values, got {values!r}")
-        vals = []
-        for v in values:
-            if isinstance(v, bool) or not isinstance(v, (str, numbers.Real)):
-                raise ConfigError(f"`sweep.{key}` must hold numbers or names, got {v!r}")
-            vals.append(float(v) if isinstance(v, numbers.Real) else v)
-        if len(set(vals)) != len(vals):
-            raise ConfigError(f"`sweep.{key}` repeats a value: {values!r}")
-        for i, e in enumerate(config.experiments):
-            for v in vals:
-                params = {**config.render, **e.overrides, "material": e.material, key: v}
-                try:
-                    scenes.make(e.scene, **params)
-                except (TypeError, KeyError, ValueError) as exc:
-                    msg = exc.args[0] if exc.args else str(exc)
-                    raise ConfigError(f"`sweep.{key}` = {v!r} (experiment {i}, {e.key}): {msg}") from None
-        axes.append((key, tuple(vals)))
-    if not axes:
-        raise ConfigError(f"`sweep` must sweep at least one key (valid: {', '.join(sorted(sweep_keys()))})")
-    return Sweep(tuple(axes), int(repeats))
-
-
-def load(path) -> tuple[Config, Sweep]:
-    """Read a sweep configuration file: the configuration and its ``[sweep]`` table."""
-    data = read_toml(path)
-    if not isinstance(data, dict) or "sweep" not in data:
-        raise ConfigError(f"{path}: a sweep configuration needs a `[sweep]` table (see bench/run/sweep.py)")
-    data = dict(data)
-    table = data.pop("sweep")
-    config = parse(data, source=str(path))
-    return config, parse_sweep(table, config)
 
 
 def default_sweep_dir(config: Config, sweep: Sweep) -> Path:
@@ -175,6 +80,14 @@ def default_sweep_dir(config: Config, sweep: Sweep) -> Path:
 
 
 # -- planning ------------------------------------------------------------------------------------------------------
+
+def _rerender_keys() -> frozenset:
+    """Scene keys that change the cached unit renders (:data:`scenes.params.RENDER_KEYS`, a scene notion:
+    not the ``[render]`` table's :data:`bench.config.RENDER_KEYS`)."""
+    from scenes.params import RENDER_KEYS as RERENDER_KEYS
+
+    return frozenset(RERENDER_KEYS)
+
 
 def plan(config: Config, sweep: Sweep, *, chunk: int | None = None) -> list[dict[str, Any]]:
     """The units of a sweep: JSON-friendly specifications for :func:`run_unit`.
@@ -188,7 +101,7 @@ def plan(config: Config, sweep: Sweep, *, chunk: int | None = None) -> list[dict
 
     if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
         raise ValueError(f"`chunk` must be an integer >= 1, got {chunk!r}")
-    render_keys = _render_keys()
+    render_keys = _rerender_keys()
     points = sweep.points()
     units = []
     for k, e in enumerate(config.experiments):
@@ -431,10 +344,11 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
     out_dir : path, optional
         Default :func:`default_sweep_dir`.
     scheduler : str, optional
-        ``"sync"`` (sequential, in this process), ``tcp://HOST:PORT`` (an existing
-        Dask scheduler) or None (an in-process ``LocalCluster``).
+        ``"sync"`` (sequential, in this process), ``tcp://HOST:PORT`` or ``tls://HOST:PORT``
+        (an existing Dask scheduler; Dask's protocol uses pickle, so only a scheduler you
+        trust) or None (an in-process ``LocalCluster``).
     workers : int, optional
-        Size of the ``LocalCluster`` (default: the CPUs this process may use); 0 = sequential.
+        Size of the ``LocalCluster``, 0 .. the CPUs this process may use (the default); 0 = sequential.
     chunk : int, optional
         Grid points per unit (default: all the points of a render batch in one unit).
     timeout_s : float, optional
@@ -456,10 +370,14 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
     from bench.store.runfolder import RunFolder
 
     t_start = time.perf_counter()
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
-        raise ValueError(f"`workers` must be an integer >= 0, got {workers!r}")
-    if scheduler not in (None, "sync") and not str(scheduler).startswith(("tcp://", "tls://", "inproc://")):
-        raise ValueError(f"`scheduler` must be 'sync' or an address like tcp://HOST:PORT, got {scheduler!r}")
+    from bench.config.options import finite_float, scheduler_address, workers_value
+
+    if workers is not None:
+        workers_value("`workers`", workers)  # 0 .. this machine's CPUs
+    if scheduler is not None:
+        scheduler_address(scheduler, "`scheduler`")  # 'sync' or tcp://HOST:PORT, parsed before connecting
+    if timeout_s is not None:
+        finite_float("`timeout_s`", timeout_s, low=0, low_open=True)
 
     def say(msg):
         if not quiet:

@@ -19,12 +19,14 @@ from typing import Any
 
 import numpy as np
 
+from bench.errors import StripebenchError
+
 __all__ = ["RunFolderError", "os_error", "atomic_write_bytes", "atomic_write_text", "save_npz", "load_npz",
            "read_npz", "array_checksum", "json_checksum", "clear_non_file", "non_file_kind", "check_format",
            "config_hash", "runs_root"]
 
 
-class RunFolderError(ValueError):
+class RunFolderError(StripebenchError, ValueError):
     """A run folder or one of its files that cannot be used as asked; ``str(err)`` is one line."""
 
 

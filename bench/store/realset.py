@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.errors import StripebenchError
+
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
            "load_dataset", "validate_dataset", "read_reference", "synthetic_hit_rates"]
@@ -45,11 +47,11 @@ MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
 MANIFEST_OPTIONAL = ("rotate", "channel", "source_repo", "source_commit", "source_path", "license", "notes")
 
 
-class ImageError(ValueError):
+class ImageError(StripebenchError, ValueError):
     """A file that cannot be read as a photograph; ``str(err)`` is one line."""
 
 
-class DatasetError(ValueError):
+class DatasetError(StripebenchError, ValueError):
     """A real set that breaks the layout; ``problems`` holds one line per problem."""
 
     def __init__(self, problems: list[str]):
@@ -280,6 +282,8 @@ def read_reference(path, shape) -> np.ndarray:
         text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise DatasetError([f"{p.name}: cannot read reference ({exc.strerror})"]) from None
+    except UnicodeDecodeError as exc:
+        raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
     rows = list(csv.reader(text.splitlines()))
     if not rows or [h.strip() for h in rows[0]] != ["row", "col"]:
         raise DatasetError([f"{p.name}: header must be 'row,col', got {','.join(rows[0]) if rows else ''!r}"])
@@ -345,7 +349,7 @@ def _check_row(root: Path, line: int, row: dict) -> tuple[RealImage | None, list
     if laser not in LASERS:
         probs.append(f"{where} ({name}): laser_colour must be one of {', '.join(LASERS)}, got {laser!r}")
     rot_s = (row.get("rotate") or "0").strip() or "0"
-    rot = int(rot_s) if rot_s.lstrip("-").isdigit() else None
+    rot = int(rot_s) if rot_s in {str(r) for r in ROTATIONS} else None  # ASCII only: '²'.isdigit() but int('²') fails
     if rot not in ROTATIONS:
         probs.append(f"{where} ({name}): rotate must be one of 0, 90, 180, 270, got {rot_s!r}")
     channel = (row.get("channel") or "auto").strip() or "auto"

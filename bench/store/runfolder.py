@@ -72,6 +72,7 @@ LAYOUT = {
     "samples": "samples.csv", "summary": "summary.json", "figures": "figures", "report": "report.html",
 }
 METRIC_KEYS = ("experiment", "tracker", "region")
+REQUIRED_METRICS = ("hit_rate", "coverage")  # read by every report (runs and real runs)
 TIMING_COLUMNS = ("ms_per_frame",)
 
 
@@ -450,7 +451,7 @@ def load_metrics(run_dir, *, timings: bool = False):
     except Exception as exc:  # pyarrow raises its own types for corrupt files
         raise RunFolderError(f"cannot read {str(path)!r}: {type(exc).__name__}: "
                              f"{str(exc).splitlines()[0][:160] if str(exc) else ''}; rerun the run to rewrite it") from None
-    missing = [c for c in METRIC_KEYS if c not in m.columns]
+    missing = [c for c in (*METRIC_KEYS, *REQUIRED_METRICS) if c not in m.columns]
     if missing:
         raise RunFolderError(f"{str(path)!r} is not a metrics table: no column {missing[0]!r}")
     for c in m.columns:

@@ -26,7 +26,10 @@ FORMAT = 2
 _READS = (1, 2)
 #: The fields each kind of summary must have, with their types.
 REQUIRED: dict[str, dict[str, type | tuple]] = {
-    "run": {"config": dict, "seed": int, "improvement": list, "scans": list},
+    "run": {"config": dict, "seed": int, "improvement": list, "scans": list,
+            # read by the report's header and provenance
+            "git_revision": str, "paper_improvement": (int, float), "variants": list, "versions": dict,
+            "wall_s": (int, float)},
     "real": {"config": dict, "seed": int, "trackers": dict, "n_images": int, "tol_px": (int, float)},
     "sweep": {"config": dict, "sweep": dict, "seed": int, "units": list, "curves": list, "engine": dict},
 }
@@ -129,15 +132,8 @@ def read_summary(path, kind: str | tuple[str, ...] | None = None) -> dict:
     path = Path(path)
     if not path.exists():
         raise RunFolderError(f"RUN must be a finished run folder (with {path.name}), got {str(path.parent)!r}")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise os_error("read", path, exc) from None
-    except UnicodeDecodeError:
-        raise RunFolderError(f"{str(path)!r} is not UTF-8 text; rerun the run to rewrite it") from None
-    try:
-        doc = json.loads(text)
-    except (ValueError, RecursionError) as exc:
-        raise RunFolderError(f"{str(path)!r} is not valid JSON ({str(exc).splitlines()[0][:160]}); "
-                             "rerun the run to rewrite it") from None
+    from bench.store.textfiles import loads_json, read_text
+
+    text = read_text(path, "run summary", error=RunFolderError)  # a regular UTF-8 file, bounded in size
+    doc = loads_json(text, repr(str(path)), error=RunFolderError)  # bounded nesting and integers
     return check_summary(doc, path, kind)

@@ -20,13 +20,12 @@ absolute error against sigma, one line per tracker, one panel per noise level.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import pathlib
 
 import numpy as np
 
-__all__ = ["stripe_frame", "run_study", "write_csv", "plot", "main", "FIELDS"]
+__all__ = ["stripe_frame", "run_study", "write_csv", "plot", "add_arguments", "command", "main", "FIELDS", "DEFAULTS"]
 
 #: Columns of the table, in order.
 FIELDS = ("tracker", "sigma_px", "peak_dn", "noise_dn", "rows", "reported", "mean_abs_px", "rmse_px", "bias_px",
@@ -184,16 +183,6 @@ def plot(results: list[dict], path, peak: float) -> None:
     plt.close(fig)
 
 
-def _floats(text: str) -> list[float]:
-    try:
-        values = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
-    if not values:
-        raise argparse.ArgumentTypeError("expected at least one number")
-    return values
-
-
 def _summary(results, peak, noise, sigmas) -> str:
     names = list(dict.fromkeys(r["tracker"] for r in results))
     head = f"mean |error| px at peak {peak:g} DN, noise {noise:g} DN:"
@@ -205,41 +194,52 @@ def _summary(results, peak, noise, sigmas) -> str:
     return "\n".join(lines)
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="stripebench estimators",
-                                     description=__doc__.split("\n\n")[0].replace("``", ""))
-    parser.add_argument("--out", default="results/runs/estimators", help="output folder (default %(default)s)")
-    parser.add_argument("--sigmas", type=_floats, default=[0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0],
-                        help="stripe sigmas in px, comma-separated")
-    parser.add_argument("--peaks", type=_floats, default=[30.0, 100.0, 200.0], help="peak levels in DN above 10 DN")
-    parser.add_argument("--noises", type=_floats, default=[0.0, 1.0, 2.0, 4.0], help="noise sigmas in DN")
-    parser.add_argument("--frames", type=int, default=8, help="64-row frames per cell (default %(default)s)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--trackers", help="comma-separated tracker names (default: every sub-pixel tracker)")
-    parser.add_argument("--plot-peak", type=float, help="peak level plotted (default: the middle one)")
-    parser.add_argument("--no-plot", action="store_true", help="write the table only")
-    args = parser.parse_args(argv)
-    if args.frames < 1:
-        parser.error("--frames must be >= 1")
-    from bench.config import ConfigError, parse_trackers_arg
+#: The study's grid by default: stripe sigmas (px), peak levels (DN above the background), noise sigmas (DN).
+DEFAULTS = {"sigmas": [0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0], "peaks": [30.0, 100.0, 200.0],
+            "noises": [0.0, 1.0, 2.0, 4.0], "frames": 8, "seed": 0, "out": "results/runs/estimators"}
+MAX_FRAMES = 10_000  # 64-row frames per cell
 
-    names = None
-    if args.trackers:
-        try:
-            specs = parse_trackers_arg(args.trackers)
-        except ConfigError as exc:
-            parser.error(str(exc))
-        if any(s.params or s.label != s.name for s in specs):
-            parser.error("--trackers: the study runs each tracker with its defaults; give plain names")
-        names = [s.name for s in specs]
+
+def add_arguments(parser) -> None:
+    """The study's options (``stripebench estimators``, ``python -m bench.studies.estimators``)."""
+    from bench.config.options import (add_out, add_seed, add_trackers, arg_type, finite_float, finite_floats,
+                                      positive_int)
+
+    def floats(low_open):
+        return lambda name, text: finite_floats(name, text, low=0, low_open=low_open)
+
+    add_out(parser, "output folder", default=DEFAULTS["out"])
+    parser.add_argument("--sigmas", type=arg_type(floats(True), "--sigmas"), default=DEFAULTS["sigmas"],
+                        metavar="LIST", help="stripe sigmas in px, comma-separated, finite and > 0")
+    parser.add_argument("--peaks", type=arg_type(floats(True), "--peaks"), default=DEFAULTS["peaks"], metavar="LIST",
+                        help=f"peak levels in DN above {_BACKGROUND:g} DN, finite and > 0")
+    parser.add_argument("--noises", type=arg_type(floats(False), "--noises"), default=DEFAULTS["noises"],
+                        metavar="LIST", help="noise sigmas in DN, finite and >= 0")
+    parser.add_argument("--frames", type=arg_type(lambda n, v: positive_int(n, v, MAX_FRAMES), "--frames"),
+                        default=DEFAULTS["frames"], metavar="N",
+                        help=f"64-row frames per cell (1 .. {MAX_FRAMES}; default {DEFAULTS['frames']})")
+    add_seed(parser, "seed of the frames", default=DEFAULTS["seed"])
+    add_trackers(parser, "comma-separated tracker names (default: every sub-pixel tracker)")
+    parser.add_argument("--plot-peak", type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True),
+                                                     "--plot-peak"),
+                        metavar="DN", help="peak level plotted (default: the middle one)")
+    parser.add_argument("--no-plot", action="store_true", help="write the table only")
+
+
+def command(args) -> int:
+    """Run the study with parsed options (see :func:`add_arguments`); every bad value raises
+    :class:`bench.config.ConfigError` before any work."""
+    from bench.config import ConfigError
+    from bench.config.options import plain_tracker_names
+
+    names = plain_tracker_names(args.trackers) if args.trackers else None
+    if not _subpixel_trackers(names):
+        raise ConfigError("--trackers: none of the selected trackers is a sub-pixel tracker")
     peaks = args.peaks
     plot_peak = args.plot_peak if args.plot_peak is not None else sorted(peaks)[len(peaks) // 2]
     if plot_peak not in peaks:
-        parser.error(f"--plot-peak {plot_peak:g} is not one of --peaks")
-
+        raise ConfigError(f"--plot-peak {plot_peak:g} is not one of --peaks")
     results = run_study(args.sigmas, peaks, args.noises, frames=args.frames, seed=args.seed, tracker_names=names)
-    if not results:
-        parser.error("none of the selected trackers is a sub-pixel tracker")
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(results, out / "estimators.csv")
@@ -250,6 +250,13 @@ def main(argv=None) -> int:
     for noise in args.noises:
         print(_summary(results, plot_peak, noise, args.sigmas))
     return 0
+
+
+def main(argv=None) -> int:
+    """``python -m bench.studies.estimators``: the same options as ``stripebench estimators``."""
+    from bench.config.options import study_main
+
+    return study_main("stripebench estimators", __doc__, add_arguments, command, argv)
 
 
 if __name__ == "__main__":

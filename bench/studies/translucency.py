@@ -25,7 +25,6 @@ against spp beside the sensor's own noise.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import pathlib
 import sys
@@ -35,7 +34,7 @@ import numpy as np
 
 from bench.evaluate.stats import mad_scale
 
-__all__ = ["FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "stripe_widths_px", "run_study",
+__all__ = ["add_arguments", "command", "DEFAULTS", "FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "stripe_widths_px", "run_study",
            "summarise", "render_noise", "write_csv", "plot", "main"]
 
 #: Columns of ``translucency.csv``.
@@ -383,59 +382,108 @@ def plot(summary: list[dict], path, tracker: str = "com_bg") -> None:
     plt.close(fig)
 
 
-def _names(text: str) -> list[str]:
-    return [n.strip() for n in text.split(",") if n.strip()]
+#: The study's defaults.
+DEFAULTS = {"out": "results/runs/translucency", "objects": ["plane", "sphere"],
+            "materials": ["matte", "skin", "marble", "wax"], "angles": 5, "size": 256, "spp": 64, "seed": 0,
+            "plot_tracker": "com_bg"}
+MAX_ANGLES = 1000
 
 
-def _ints(text: str) -> list[int]:
-    try:
-        v = [int(x) for x in _names(text)]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated integers, got {text!r}") from None
-    if not v or min(v) < 1:
-        raise argparse.ArgumentTypeError(f"expected positive integers, got {text!r}")
-    return v
+def _choices(what: str, valid):
+    def check(name, text):
+        from bench.config import ConfigError
+
+        values = [n.strip() for n in str(text).split(",") if n.strip()]
+        bad = [v for v in values if v not in valid()]
+        if not values or bad:
+            raise ConfigError(f"{name} must name some of {', '.join(valid())}, got unknown {what} "
+                              f"{(bad or [text])[0]!r}")
+        return values
+
+    return check
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="stripebench translucency", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default="results/runs/translucency", help="output folder (default %(default)s)")
-    parser.add_argument("--objects", type=_names, default=["plane", "sphere"])
-    parser.add_argument("--materials", type=_names, default=["matte", "skin", "marble", "wax"])
-    parser.add_argument("--angles", type=int, default=5, help="mirror angles per object (default %(default)s)")
-    parser.add_argument("--size", type=int, default=256, help="image width, px (height = 15/16 of it; default %(default)s)")
-    parser.add_argument("--spp", type=int, default=64, help="laser-pass samples per pixel (default %(default)s)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--trackers", type=_names, help="comma-separated tracker names (default: every sub-pixel tracker)")
-    parser.add_argument("--plot-tracker", default="com_bg", help="tracker of the bias panel (default %(default)s)")
-    parser.add_argument("--spp-study", type=_ints, metavar="SPPS",
+def _size(name, text):
+    from scenes.params import MAX_SIZE
+
+    from bench.config import ConfigError
+    from bench.config.options import positive_int
+
+    w = positive_int(name, text, MAX_SIZE["width"])
+    if w < 16 or w % 16:
+        raise ConfigError(f"{name} must be a multiple of 16 (square pixels at 16:15), got {text!r}")
+    return w
+
+
+def _spps(name, text):
+    from bench.config import ConfigError
+
+    parts = [v.strip() for v in str(text).split(",") if v.strip()]
+    if not parts:
+        raise ConfigError(f"{name} must list positive integers, got {text!r}")
+    return [_spp(name, v) for v in parts]
+
+
+def _objects():
+    import scenes
+
+    return scenes.available()
+
+
+def _materials():
+    import scenes
+
+    return scenes.MATERIALS
+
+
+def _spp(name, text):
+    from scenes.params import MAX_SIZE
+
+    from bench.config.options import positive_int
+
+    return positive_int(name, text, MAX_SIZE["spp"])
+
+
+def add_arguments(parser) -> None:
+    """The study's options (``stripebench translucency``, ``python -m bench.studies.translucency``)."""
+    from bench.config.options import add_out, add_quiet, add_seed, add_trackers, arg_type, positive_int
+
+    add_out(parser, "output folder", default=DEFAULTS["out"])
+    parser.add_argument("--objects", type=arg_type(_choices("object", _objects), "--objects"),
+                        default=DEFAULTS["objects"], metavar="LIST",
+                        help=f"comma-separated objects (default {','.join(DEFAULTS['objects'])})")
+    parser.add_argument("--materials", type=arg_type(_choices("material", _materials), "--materials"),
+                        default=DEFAULTS["materials"], metavar="LIST",
+                        help=f"comma-separated materials (default {','.join(DEFAULTS['materials'])})")
+    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, MAX_ANGLES), "--angles"),
+                        default=DEFAULTS["angles"], metavar="N",
+                        help=f"mirror angles per object (1 .. {MAX_ANGLES}; default {DEFAULTS['angles']})")
+    parser.add_argument("--size", type=arg_type(_size, "--size"), default=DEFAULTS["size"], metavar="PX",
+                        help=f"image width, px, a multiple of 16 (height = 15/16 of it; default {DEFAULTS['size']})")
+    parser.add_argument("--spp", type=arg_type(_spp, "--spp"),
+                        default=DEFAULTS["spp"], metavar="N",
+                        help=f"laser-pass samples per pixel (default {DEFAULTS['spp']})")
+    add_seed(parser, "seed of the renders and the noise", default=DEFAULTS["seed"])
+    add_trackers(parser, "comma-separated tracker names (default: every sub-pixel tracker)")
+    parser.add_argument("--plot-tracker", default=DEFAULTS["plot_tracker"], metavar="NAME",
+                        help=f"tracker of the bias panel (default {DEFAULTS['plot_tracker']})")
+    parser.add_argument("--spp-study", type=arg_type(_spps, "--spp-study"), metavar="SPPS",
                         help="also measure render noise vs these spp (e.g. 16,64,256) on the first object, every material")
     parser.add_argument("--skip-study", action="store_true", help="with --spp-study: only the render-noise study")
-    parser.add_argument("--quiet", action="store_true")
-    args = parser.parse_args(argv)
-    if args.skip_study and not args.spp_study:
-        parser.error("--skip-study needs --spp-study")
-    import scenes
-    import trackers
+    add_quiet(parser)
 
-    if args.angles < 1:
-        parser.error(f"--angles must be >= 1, got {args.angles}")
-    if args.spp < 1:
-        parser.error(f"--spp must be >= 1, got {args.spp}")
-    if args.size < 16 or args.size % 16:
-        parser.error(f"--size must be a multiple of 16 (square pixels at 16:15), got {args.size}")
-    for o in args.objects:
-        if o not in scenes.available():
-            parser.error(f"unknown object {o!r}; valid: {', '.join(scenes.available())}")
-    for m in args.materials:
-        if m not in scenes.MATERIALS:
-            parser.error(f"unknown material {m!r}; valid: {', '.join(scenes.MATERIALS)}")
-    names = args.trackers
-    for n in names or []:
-        if n not in trackers.available():
-            parser.error(f"unknown tracker {n!r}; available: {', '.join(trackers.available())}")
+
+def command(args) -> int:
+    """Run the study with parsed options (see :func:`add_arguments`); every bad value raises
+    :class:`bench.config.ConfigError` before any work."""
+    from bench.config import ConfigError
+    from bench.config.options import plain_tracker_names
+
+    if args.skip_study and not args.spp_study:
+        raise ConfigError("--skip-study needs --spp-study")
+    names = plain_tracker_names(args.trackers) if args.trackers else None
     if not _subpixel_trackers(names):
-        parser.error("none of the selected trackers is a sub-pixel tracker")
+        raise ConfigError("--trackers: none of the selected trackers is a sub-pixel tracker")
     plot_tracker = args.plot_tracker if names is None or args.plot_tracker in names else _subpixel_trackers(names)[0].name
     width = args.size
     out = pathlib.Path(args.out)
@@ -468,6 +516,13 @@ def main(argv=None) -> int:
                   f"(robust {r['sensor_noise_mad_px']:.4f}), {r['s_per_frame']:.2f} s/frame "
                   f"({r['cpu_s_per_frame']:.2f} CPU s)")
     return 0
+
+
+def main(argv=None) -> int:
+    """``python -m bench.studies.translucency``: the same options as ``stripebench translucency``."""
+    from bench.config.options import study_main
+
+    return study_main("stripebench translucency", __doc__, add_arguments, command, argv)
 
 
 if __name__ == "__main__":

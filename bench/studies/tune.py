@@ -1,4 +1,4 @@
-"""Choose the DP trackers' default ``h_weight`` by a fixed procedure (``python -m bench.studies.tune``).
+"""Choose the DP trackers' default ``h_weight`` by a fixed procedure (``stripebench tune dp``).
 
 The profile (default ``bench/config/profiles/tune_dp.toml``) lists the experiments
 (scene, material, optional scene-parameter overrides), the render settings,
@@ -23,95 +23,20 @@ and one printed line with the chosen value.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import pathlib
 import sys
-import tomllib
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from bench.evaluate.metrics import hits
+from bench.config.tune import DEFAULT_PROFILE, TuneProfile, load_profile  # noqa: F401  (the profile's schema)
 
-__all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "main"]
+__all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "add_arguments", "command", "main",
+           "DEFAULT_PROFILE"]
 
-DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_dp.toml"
-_TOP_KEYS = {"name", "seed", "trackers", "h_weights", "hit_px", "tie", "render", "experiments"}
-_RENDER_KEYS = {"width", "height", "spp", "n_angles"}
-
-
-@dataclass
-class TuneProfile:
-    """A validated tuning profile (see ``bench/config/profiles/tune_dp.toml``)."""
-
-    name: str
-    seed: int
-    trackers: list[str]
-    h_weights: list[float]
-    hit_px: float
-    tie: float
-    render: dict
-    experiments: list[dict] = field(default_factory=list)
-
-
-def _fail(msg: str):
-    raise ValueError(msg)
-
-
-def load_profile(path) -> TuneProfile:
-    """Read and validate a tuning profile.
-
-    Raises
-    ------
-    ValueError
-        A missing or unknown key or a bad value, named in the message.
-    """
-    path = pathlib.Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        _fail(f"`profile` cannot be read: {path} ({exc.strerror})")
-    except tomllib.TOMLDecodeError as exc:
-        _fail(f"`profile` is not valid TOML: {path} ({exc})")
-    unknown = set(data) - _TOP_KEYS
-    if unknown:
-        _fail(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(_TOP_KEYS)}")
-    for key in _TOP_KEYS:
-        if key not in data:
-            _fail(f"`profile` lacks the key {key!r}")
-    seed = data["seed"]
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        _fail(f"`seed` must be an integer >= 0, got {seed!r}")
-    import trackers
-
-    names = data["trackers"]
-    if not isinstance(names, list) or not names:
-        _fail(f"`trackers` must be a non-empty list, got {names!r}")
-    for n in names:
-        if n not in trackers.available() or "h_weight" not in trackers.make(n).get_params():
-            _fail(f"`trackers` must name trackers with an h_weight parameter, got {n!r}")
-    hws = data["h_weights"]
-    if (not isinstance(hws, list) or not hws or any(isinstance(h, bool) or not isinstance(h, (int, float))
-                                                      or not np.isfinite(h) or h <= 0 for h in hws)):
-        _fail(f"`h_weights` must be a non-empty list of finite numbers > 0, got {hws!r}")
-    if len(set(hws)) != len(hws):
-        _fail(f"`h_weights` must not repeat a value, got {hws!r}")
-    for key in ("hit_px", "tie"):
-        v = data[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
-            _fail(f"`{key}` must be a number >= 0, got {v!r}")
-    render = data["render"]
-    if not isinstance(render, dict) or set(render) != _RENDER_KEYS:
-        _fail(f"`render` must have exactly the keys {sorted(_RENDER_KEYS)}, got {render!r}")
-    exps = data["experiments"]
-    if not isinstance(exps, list) or not exps:
-        _fail("`experiments` must be a non-empty list of tables")
-    for e in exps:
-        if not isinstance(e, dict) or "scene" not in e or "material" not in e:
-            _fail(f"`experiments` entries need `scene` and `material`, got {e!r}")
-    return TuneProfile(str(data["name"]), seed, list(names), [float(h) for h in hws], float(data["hit_px"]),
-                       float(data["tie"]), dict(render), [dict(e) for e in exps])
+DEFAULT_OUT = "results/runs/tune_dp"
+WHAT = ("dp",)  # what can be tuned: `dp`, the DP trackers' h_weight
 
 
 def _key(e: dict) -> str:
@@ -210,7 +135,9 @@ def run(profile: TuneProfile, out: pathlib.Path, *, progress: bool = True) -> tu
         scores[h] = float(np.mean(vals)) if vals else float("nan")
     finite = {h: s for h, s in scores.items() if np.isfinite(s)}
     if not finite:
-        raise ValueError("`profile` gives no lit object row in any experiment: nothing to score")
+        from bench.config import ConfigError
+
+        raise ConfigError("`profile` gives no lit object row in any experiment: nothing to score")
     chosen = choose(finite, profile.tie)
     with open(out / "tune.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=["h_weight", "tracker", "experiment", "hit_fraction", "rows"])
@@ -252,22 +179,36 @@ def _plot(profile, records, scores, chosen, path):
     plt.close(fig)
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m bench.studies.tune", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--profile", default=str(DEFAULT_PROFILE), help="tuning profile (TOML)")
-    parser.add_argument("--out", default="results/runs/tune_dp", help="output folder")
-    parser.add_argument("--quiet", action="store_true", help="no progress bars")
-    args = parser.parse_args(argv)
-    try:
-        profile = load_profile(args.profile)
-        chosen, scores, _ = run(profile, pathlib.Path(args.out), progress=not args.quiet)
-    except (ValueError, KeyError, TypeError) as exc:
-        print(f"python -m bench.studies.tune: {exc}", file=sys.stderr)
-        return 2
+def add_arguments(parser, *, what: bool = True) -> None:
+    """The procedure's options (``stripebench tune dp``; ``python -m bench.studies.tune`` without ``what``)."""
+    from bench.config.options import add_out, add_quiet
+
+    if what:
+        parser.add_argument("what", choices=WHAT, help="what to tune: dp (the DP trackers' h_weight)")
+    parser.add_argument("--profile", type=pathlib.Path, default=DEFAULT_PROFILE, metavar="TOML",
+                        help="tuning profile (default: bench/config/profiles/tune_dp.toml)")
+    add_out(parser, "output folder", default=DEFAULT_OUT)
+    add_quiet(parser, "no progress bars")
+
+
+def command(args) -> int:
+    """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
+    (one line) before any scan."""
+    profile = load_profile(args.profile)
+    out = pathlib.Path(args.out)
+    chosen, scores, _ = run(profile, out, progress=not args.quiet)
     curve = ", ".join(f"{h:g}: {scores[h]:.3f}" for h in sorted(scores, reverse=True))
     print(f"chosen h_weight = {chosen:g} (mean hit fraction {scores[chosen]:.3f}; by h_weight {curve}); "
-          f"{pathlib.Path(args.out) / 'tune.csv'}")
+          f"{out / 'tune.csv'}")
     return 0
+
+
+def main(argv=None) -> int:
+    """``python -m bench.studies.tune``: ``stripebench tune dp`` with the same options."""
+    from bench.config.options import study_main
+
+    return study_main("python -m bench.studies.tune", __doc__, lambda p: add_arguments(p, what=False), command,
+                      argv)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Rendering speed of ``scenes`` at 512x480 on this machine.
 
-Usage: ``stripebench perf --scenes [--object hand] [--frames 100] [--per-material 6]
+Usage: ``stripebench perf scenes [--object hand] [--frames 100] [--per-material 6]
 [--materials matte,glossy] [--background wall|none] [--support none|table]``
 
 Prints, for each material at the default spp, the frames per second of
@@ -13,7 +13,6 @@ the same cache); ``--frames 0`` skips the scan.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import tempfile
 import time
@@ -25,7 +24,7 @@ import scenes
 from scenes import description
 from scenes.truth import ground_truth
 
-__all__ = ["main"]
+__all__ = ["add_arguments", "command", "main"]
 
 
 def _per_material(obj: str, material: str, n: int, geometry: dict):
@@ -54,22 +53,43 @@ def _per_material(obj: str, material: str, n: int, geometry: dict):
     return fps, split / n
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    ap = argparse.ArgumentParser(prog="stripebench perf --scenes", description=__doc__.splitlines()[0].replace("``", ""))
-    ap.add_argument("--object", default="hand", choices=scenes.available())
-    ap.add_argument("--frames", type=int, default=100)
-    ap.add_argument("--per-material", type=int, default=6, help="frames timed per material")
-    ap.add_argument("--materials", default=",".join(scenes.MATERIALS),
-                    help="comma-separated materials (default: all; the translucent ones cost ~15x matte)")
-    ap.add_argument("--background", default="wall", choices=("wall", "none"))
-    ap.add_argument("--support", default="none", choices=("none", "table"))
-    args = ap.parse_args(argv)
-    materials = [m for m in args.materials.split(",") if m]
+def _object(name, text):
+    from bench.config import ConfigError
+
+    if text not in scenes.available():
+        raise ConfigError(f"{name} must be one of {', '.join(scenes.available())}, got {text!r}")
+    return text
+
+
+def _materials(name, text):
+    from bench.config import ConfigError
+
+    materials = [m for m in str(text).split(",") if m]
     bad = [m for m in materials if m not in scenes.MATERIALS]
     if bad or not materials:
-        ap.error(f"--materials must name some of {', '.join(scenes.MATERIALS)}, got {args.materials!r}")
-    if args.frames < 0 or args.per_material < 1:
-        ap.error(f"--frames must be >= 0 and --per-material >= 1, got {args.frames!r}, {args.per_material!r}")
+        raise ConfigError(f"{name} must name some of {', '.join(scenes.MATERIALS)}, got {text!r}")
+    return materials
+
+
+def add_arguments(parser) -> None:
+    """The benchmark's options (``stripebench perf scenes``)."""
+    from bench.config.options import arg_type, int_in_range, positive_int
+
+    parser.add_argument("--object", type=arg_type(_object, "--object"), default="hand",
+                        help="the scanned object (default hand)")
+    parser.add_argument("--frames", type=arg_type(lambda n, v: int_in_range(n, v, 0, 100000), "--frames"),
+                        default=100, metavar="N", help="frames of the timed scan; 0 skips it (default 100)")
+    parser.add_argument("--per-material", type=arg_type(lambda n, v: positive_int(n, v, 1000), "--per-material"),
+                        default=6, metavar="N", help="frames timed per material (default 6)")
+    parser.add_argument("--materials", type=arg_type(_materials, "--materials"), default=list(scenes.MATERIALS),
+                        metavar="LIST", help="comma-separated materials (default: all; the translucent ones cost ~15x matte)")
+    parser.add_argument("--background", default="wall", choices=("wall", "none"))
+    parser.add_argument("--support", default="none", choices=("none", "table"))
+
+
+def command(args) -> int:
+    """Run the benchmark with parsed options."""
+    materials = args.materials
     geometry = {"background": args.background, "support": args.support}
     d = scenes.DEFAULTS
     print(f"512x480, laser spp {d['spp']}, ambient spp {d['ambient_spp']}, object {args.object}, "
@@ -90,6 +110,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"{args.frames}-frame scan of {args.object}/matte, {label}: {time.perf_counter() - t0:.1f} s",
                   flush=True)
     return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m bench.studies.perf.scenes``: the same options as ``stripebench perf scenes``."""
+    from bench.config.options import study_main
+
+    return study_main("stripebench perf scenes", __doc__, add_arguments, command, argv)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Which laser-pass integrator renders shiny materials within the sensor noise, and at what cost.
 
-Usage: ``python -m bench.studies.perf.shiny [--size 128x120] [--spp 4 16] [--ref-spp 4096] [--cost]``
+Usage: ``stripebench perf shiny [--size 128x120] [--spp 4 16] [--ref-spp 4096] [--cost]``
 
 For each case (object, material, mirror angle) it renders the laser pass (unit power, scaled to the
 default 3 mW and converted to DN by the default sensor, noise-free) with
@@ -37,7 +37,6 @@ frame that loads the scene and compiles the kernels) for ``matte``, ``specular``
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from typing import Optional, Sequence
@@ -48,7 +47,7 @@ from scipy import ndimage
 import scenes
 from scenes import description
 
-__all__ = ["main", "CASES"]
+__all__ = ["add_arguments", "command", "main", "CASES"]
 
 CASES = (("cone", "polished", 2.3), ("cone", "glazed", 2.3), ("sphere", "polished", 0.0),
          ("sphere", "glazed", 0.0), ("hand", "polished", 0.0))
@@ -144,19 +143,33 @@ def _cost(spp: Optional[int]):
         print(f"  {material:<9} {(time.perf_counter() - t0) / 3:6.2f} s/frame", flush=True)
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench.studies.perf.shiny", description=__doc__.splitlines()[0])
-    ap.add_argument("--size", default="128x120")
-    ap.add_argument("--spp", type=int, nargs="+", default=[4, 16])
-    ap.add_argument("--ref-spp", type=int, default=4096)
-    ap.add_argument("--cases", type=int, default=len(CASES), help="the first N of CASES")
-    ap.add_argument("--mask", action="store_true")
-    ap.add_argument("--sweep", type=int, default=0, metavar="N")
-    ap.add_argument("--support", default="none", choices=["none", "table"], help="for --mask and --sweep")
-    ap.add_argument("--cost", action="store_true")
-    ap.add_argument("--cost-spp", type=int, default=None)
-    args = ap.parse_args(argv)
-    width, height = (int(v) for v in args.size.split("x"))
+def add_arguments(parser) -> None:
+    """The study's options (``stripebench perf shiny``)."""
+    from bench.config.options import arg_type, int_in_range, positive_int, size_value
+
+    def spp(name):
+        return arg_type(lambda n, v: positive_int(n, v, 65536), name)
+
+    parser.add_argument("--size", type=arg_type(size_value, "--size"), default=(128, 120), metavar="WxH",
+                        help="WIDTHxHEIGHT (default 128x120)")
+    parser.add_argument("--spp", type=spp("--spp"), nargs="+", default=[4, 16], metavar="N",
+                        help="spp of the compared renders (default 4 16)")
+    parser.add_argument("--ref-spp", type=spp("--ref-spp"), default=4096, metavar="N",
+                        help="spp of the reference (default 4096)")
+    parser.add_argument("--cases", type=arg_type(lambda n, v: int_in_range(n, v, 0, len(CASES)), "--cases"),
+                        default=len(CASES), metavar="N", help=f"the first N of CASES (0 .. {len(CASES)})")
+    parser.add_argument("--mask", action="store_true", help="the false stripe's energy near the truth's mask")
+    parser.add_argument("--sweep", type=arg_type(lambda n, v: int_in_range(n, v, 0, 10000), "--sweep"), default=0,
+                        metavar="N", help="scan N default angles per shiny material")
+    parser.add_argument("--support", default="none", choices=["none", "table"], help="for --mask and --sweep")
+    parser.add_argument("--cost", action="store_true", help="also time Scene.render per frame at 512x480")
+    parser.add_argument("--cost-spp", type=spp("--cost-spp"), default=None, metavar="N",
+                        help="spp of --cost (default: the scene's)")
+
+
+def command(args) -> int:
+    """Run the study with parsed options."""
+    width, height = args.size
     for name, material, theta in CASES[:args.cases]:
         s, out, regions = _renders(name, material, theta, width, height, args.spp, args.ref_spp)
         ref = out["ref"]
@@ -180,6 +193,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.cost:
         _cost(args.cost_spp)
     return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m bench.studies.perf.shiny``: the same options as ``stripebench perf shiny``."""
+    from bench.config.options import study_main
+
+    return study_main("stripebench perf shiny", __doc__, add_arguments, command, argv)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Cost of a scale-only sweep grid against its single point, cold render cache.
 
-Usage: ``python -m bench.studies.perf.sweep [--scene cone] [--material patchy] [--size 256x240] [--angles 10]
+Usage: ``stripebench perf sweep [--scene cone] [--material patchy] [--size 256x240] [--angles 10]
 [--spp 16] [--trackers threshold,centroid,dp4,dp8] [--lux 0,100,400,1000,2000] [--power 1,3,10]
 [--repeats 1] [--trials 2] [--out DIR]``
 
@@ -15,7 +15,6 @@ frame x grid point x repeat) that ``docs/sweeps.md`` uses for sizing.
 
 from __future__ import annotations
 
-import argparse
 import os
 import subprocess
 import sys
@@ -26,13 +25,13 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["main", "TARGET_RATIO"]
+__all__ = ["add_arguments", "command", "main", "TARGET_RATIO"]
 
 TARGET_RATIO = 1.3
 
 
 def _config(args, lux: list[float], power: list[float]) -> str:
-    w, h = args.size.split("x")
+    w, h = args.size
     trackers = ", ".join(f'"{t}"' for t in args.trackers.split(","))
     return (f'name = "perf-sweep"\nseed = 0\ntrackers = [{trackers}]\nbaselines = []\ndp = []\nn_samples = 150\n'
             f'[render]\nwidth = {int(w)}\nheight = {int(h)}\nspp = {args.spp}\n'
@@ -59,22 +58,48 @@ def _timed_sweep(config_text: str, out: Path, tmp: Path, label: str) -> tuple[fl
     return wall, summary
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bench.studies.perf.sweep", description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default="cone")
-    ap.add_argument("--material", default="patchy")
-    ap.add_argument("--size", default="256x240", help="WIDTHxHEIGHT (16:15)")
-    ap.add_argument("--angles", type=int, default=10)
-    ap.add_argument("--spp", type=int, default=16)
-    ap.add_argument("--trackers", default="threshold,centroid,dp4,dp8")
-    ap.add_argument("--lux", default="0,100,400,1000,2000")
-    ap.add_argument("--power", default="1,3,10")
-    ap.add_argument("--repeats", type=int, default=1)
-    ap.add_argument("--trials", type=int, default=2, help="cold runs of each, alternated; the medians are compared")
-    ap.add_argument("--out", type=Path, default=None, help="where the sweeps go (default: a temporary folder)")
-    args = ap.parse_args(argv)
-    lux = [float(x) for x in args.lux.split(",")]
-    power = [float(x) for x in args.power.split(",")]
+def add_arguments(parser) -> None:
+    """The benchmark's options (``stripebench perf sweep``)."""
+    from bench.config.options import add_trackers, arg_type, finite_floats, positive_int, size_value
+
+    def nonneg(name):
+        return arg_type(lambda n, v: finite_floats(n, v, low=0), name)
+
+    parser.add_argument("--scene", default="cone", help="the object (default cone)")
+    parser.add_argument("--material", default="patchy", help="its material (default patchy)")
+    parser.add_argument("--size", type=arg_type(size_value, "--size"), default=(256, 240), metavar="WxH",
+                        help="WIDTHxHEIGHT (16:15; default 256x240)")
+    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, 10000), "--angles"), default=10,
+                        metavar="N", help="mirror angles (default 10)")
+    parser.add_argument("--spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--spp"), default=16,
+                        metavar="N", help="laser-pass samples per pixel (default 16)")
+    add_trackers(parser, "comma-separated tracker names (default threshold,centroid,dp4,dp8)")
+    parser.add_argument("--lux", type=nonneg("--lux"), default=[0.0, 100.0, 400.0, 1000.0, 2000.0], metavar="LIST",
+                        help="ambient lux of the grid (default 0,100,400,1000,2000)")
+    parser.add_argument("--power", type=nonneg("--power"), default=[1.0, 3.0, 10.0], metavar="LIST",
+                        help="laser powers, mW, of the grid (default 1,3,10)")
+    parser.add_argument("--repeats", type=arg_type(lambda n, v: positive_int(n, v, 1000), "--repeats"), default=1,
+                        metavar="N", help="repeats per grid point (default 1)")
+    parser.add_argument("--trials", type=arg_type(lambda n, v: positive_int(n, v, 100), "--trials"), default=2,
+                        metavar="N", help="cold runs of each, alternated; the medians are compared (default 2)")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help="where the sweeps go (default: a temporary folder)")
+
+
+def command(args) -> int:
+    """Run the benchmark with parsed options (the sweep configurations it writes are checked first)."""
+    from bench.config import parse
+    from bench.config.options import plain_tracker_names
+    from bench.config.sweep import parse_sweep
+
+    args.trackers = ",".join(plain_tracker_names(args.trackers)) if args.trackers else "threshold,centroid,dp4,dp8"
+    lux, power = args.lux, args.power
+    import tomllib
+
+    for grid in ((lux, power), ([400.0], [3.0])):  # both configurations, checked before any sweep runs
+        doc = tomllib.loads(_config(args, *grid))
+        table = doc.pop("sweep")
+        parse_sweep(table, parse(doc))
     singles, grids = [], []
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-sweep-") as tmp_s:
         tmp = Path(tmp_s)
@@ -86,7 +111,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     w1 = float(np.median([w for w, _ in singles]))
     wg = float(np.median([w for w, _ in grids]))
     ratio = wg / w1
-    print(f"sweep cost, {args.scene}/{args.material} {args.size}, {args.angles} angles, spp {args.spp}, "
+    print(f"sweep cost, {args.scene}/{args.material} {args.size[0]}x{args.size[1]}, {args.angles} angles, spp {args.spp}, "
           f"trackers {args.trackers}, {args.repeats} repeat(s), cold render cache, sequential, fresh processes:")
     print(f"  single point (400 lux, 3 mW): {w1:7.1f} s wall (median of {', '.join(f'{w:.1f}' for w, _ in singles)})")
     print(f"  grid: median of {', '.join(f'{w:.1f}' for w, _ in grids)} s")
@@ -101,6 +126,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                       f"evaluation {1e3 * c['eval_s_per_evaluation']:.1f} ms per frame x point x repeat "
                       f"({c['evaluations']}); sweep inside the process {s['wall_s']:.1f} s")
     return 0 if ratio <= TARGET_RATIO else 1
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m bench.studies.perf.sweep``: the same options as ``stripebench perf sweep``."""
+    from bench.config.options import study_main
+
+    return study_main("stripebench perf sweep", __doc__, add_arguments, command, argv)
 
 
 if __name__ == "__main__":

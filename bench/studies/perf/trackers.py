@@ -36,7 +36,6 @@ Instead of the synthetic set: your own frames with ``--frames`` (``.npy`` or
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import pathlib
@@ -49,7 +48,7 @@ import numpy as np
 
 from trackers.dp import DEFAULT_H_WEIGHT
 
-__all__ = ["frame_ms", "time_trackers", "time_solver", "time_mcp", "first_call_seconds", "main",
+__all__ = ["add_arguments", "command", "frame_ms", "time_trackers", "time_solver", "time_mcp", "first_call_seconds", "main",
            "CLOCKS", "TARGET_H_WEIGHT", "SOLVER_VS_MCP", "H_WEIGHT_SLOWDOWN", "MS_TARGETS", "RATIO_TARGETS"]
 
 #: The h_weight whose speed is checked against the isotropic solve: the DP
@@ -139,16 +138,26 @@ def first_call_seconds(name: str, cache_dir: str | None) -> float:
 
 
 def _load_frames(paths) -> list[tuple[str, np.ndarray]]:
+    """``(name, 2-D frame)`` of each ``.npy`` or image file (:class:`bench.config.ConfigError` if one is unreadable)."""
+    from bench.config import ConfigError
+    from bench.store import realset
+
     frames = []
     for p in paths:
         p = pathlib.Path(p)
         if p.suffix == ".npy":
-            img = np.load(p)
+            try:
+                img = np.load(p, allow_pickle=False)
+            except (OSError, ValueError) as exc:
+                raise ConfigError(f"--frames: cannot read {str(p)!r} as a .npy array ({exc})") from None
         else:
-            from skimage.io import imread
-
-            img = imread(p)
+            try:
+                img = realset.read_image(p)
+            except realset.ImageError as exc:
+                raise ConfigError(f"--frames: {exc}") from None
             img = img if img.ndim == 2 else img[..., 0]
+        if img.ndim != 2 or min(img.shape, default=0) < 2 or not np.issubdtype(img.dtype, np.number):
+            raise ConfigError(f"--frames: {str(p)!r} must hold a 2-D numeric frame, got shape {img.shape}")
         frames.append((p.name, img))
     return frames
 
@@ -157,41 +166,54 @@ def _fmt(v, spec):
     return format(v, spec) if v is not None else "-"
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="stripebench perf", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--trackers", help="comma-separated tracker names (default: all registered)")
+MAX_REPEATS = 1000  # --per-kind, --repeats, --mcp-every
+
+
+def add_arguments(parser) -> None:
+    """The benchmark's options (``stripebench perf trackers``; ``stripebench perf`` alone runs it with these defaults)."""
+    from bench.config.options import add_seed, add_trackers, arg_type, positive_int
+
+    def count(name):
+        return arg_type(lambda n, v: positive_int(n, v, MAX_REPEATS), name)
+
+    add_trackers(parser, "comma-separated tracker names (default: all registered)")
     parser.add_argument("--frames", nargs="+", metavar="FILE", help="time on these frames (.npy or PNG)")
-    parser.add_argument("--per-kind", type=int, default=2, help="synthetic frames per kind and size (default 2)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the synthetic frames (default 0)")
-    parser.add_argument("--repeats", type=int, default=3, help="calls per frame, the least counts (default 3)")
-    parser.add_argument("--mcp-every", type=int, default=4, help="time MCP on every n-th frame (default 4)")
+    parser.add_argument("--per-kind", type=count("--per-kind"), default=2, metavar="N",
+                        help="synthetic frames per kind and size (default 2)")
+    add_seed(parser, "seed of the synthetic frames", default=0)
+    parser.add_argument("--repeats", type=count("--repeats"), default=3, metavar="N",
+                        help="calls per frame, the least counts (default 3)")
+    parser.add_argument("--mcp-every", type=count("--mcp-every"), default=4, metavar="N",
+                        help="time MCP on every n-th frame (default 4)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu",
                         help="cpu: this thread's CPU time (default; robust on a shared machine), or wall")
     parser.add_argument("--real", nargs="?", const="", metavar="DIR",
                         help="time on the frames of a real set (default: the shipped bench/data/real)")
     parser.add_argument("--no-jit", action="store_true", help="skip the first-call (JIT) measurements")
     parser.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
-    parser.add_argument("--json", metavar="FILE", help="also write the figures as JSON")
-    args = parser.parse_args(argv)
+    parser.add_argument("--json", type=pathlib.Path, metavar="FILE", help="also write the figures as JSON")
 
+
+def command(args) -> int:
+    """Run the benchmark with parsed options; bad inputs raise :class:`bench.config.ConfigError` first."""
     import trackers
+
+    from bench.config import ConfigError
+    from bench.config.options import plain_tracker_names
     from bench.studies.perf.frames import varied_frames
 
-    names = trackers.available() if not args.trackers else [n.strip() for n in args.trackers.split(",") if n.strip()]
-    for n in names:
-        if n not in trackers.available():
-            parser.error(f"unknown tracker {n!r}; available: {', '.join(trackers.available())}")
-    if args.per_kind < 1 or args.repeats < 1 or args.mcp_every < 1:
-        parser.error("--per-kind, --repeats and --mcp-every must be >= 1")
+    names = trackers.available() if not args.trackers else plain_tracker_names(args.trackers)
     if args.frames and args.real is not None:
-        parser.error("give --frames or --real, not both")
+        raise ConfigError("give --frames or --real, not both")
+    if args.json is not None and args.json.exists() and not args.json.is_file():
+        raise ConfigError(f"--json must name a file, got {str(args.json)!r}")
     if args.real is not None:
         from bench.store import realset as real
 
         try:
             labelled = [(im.name, im.load()[0]) for im in real.load_dataset(args.real or real.SHIPPED)]
         except real.DatasetError as exc:
-            parser.error(f"--real: {exc}")
+            raise ConfigError(f"--real: {exc}") from None
     else:
         labelled = _load_frames(args.frames) if args.frames else varied_frames(args.per_kind, seed=args.seed)
     frames = [f for _, f in labelled]
@@ -268,7 +290,7 @@ def main(argv=None) -> int:
     for text, ok in verdicts:
         print(f"  {text}: {'met' if ok else 'MISSED'}")
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(
+        args.json.write_text(json.dumps(
             {"frames": [label for label, _ in labelled], "mcp_frames": sub.tolist(), "trackers": rows,
              "solver": solver_rows, "solver_ms_per_frame": per_kind,
              "verdicts": [{"text": t, "met": ok} for t, ok in verdicts]}, indent=2))
@@ -277,6 +299,13 @@ def main(argv=None) -> int:
         print(f"stripebench perf: {missed} target(s) missed", file=sys.stderr)
         return 1
     return 0
+
+
+def main(argv=None) -> int:
+    """``python -m bench.studies.perf.trackers``: the same options as ``stripebench perf trackers``."""
+    from bench.config.options import study_main
+
+    return study_main("stripebench perf trackers", __doc__, add_arguments, command, argv)
 
 
 if __name__ == "__main__":

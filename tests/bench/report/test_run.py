@@ -64,7 +64,7 @@ def test_a_report_reads_only_what_the_run_saved(tiny_run, tmp_path, monkeypatch)
     summary = json.loads((copy / "summary.json").read_text())
     summary["config"]["real_set"] = str(tmp_path / "a-real-set-that-was-moved")
     (copy / "summary.json").write_text(json.dumps(summary))
-    monkeypatch.setattr(config_mod, "_memory_limit_bytes", lambda: 1)
+    monkeypatch.setattr(config_mod, "memory_limit_bytes", lambda: 1)
     with pytest.raises(config_mod.ConfigError):  # the live checks would refuse this configuration here
         config_mod.parse(summary["config"])
     assert build_report(copy, quiet=True).is_file()

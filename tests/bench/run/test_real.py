@@ -49,8 +49,9 @@ def test_track_writes_csv_and_overlay_and_goes_on_past_a_broken_file(tmp_path, c
 
 def test_track_usage_errors_exit_2(tmp_path, capsys):
     iio.imwrite(tmp_path / "a.png", _frame())
-    assert main(["track", str(tmp_path / "a.png"), "--out", str(tmp_path / "o"), "--trackers", "nope"]) == 2
-    assert "unknown tracker 'nope'" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as e:  # a typed option: argparse's one line
+        main(["track", str(tmp_path / "a.png"), "--out", str(tmp_path / "o"), "--trackers", "nope"])
+    assert e.value.code == 2 and "unknown tracker 'nope'" in capsys.readouterr().err
     assert main(["track", str(tmp_path / "a.png"), "--out", str(tmp_path / "o"),
                  "--background", str(tmp_path / "missing.png")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
@@ -155,14 +156,18 @@ def test_real_on_a_broken_set_lists_every_problem_and_exits_2(tmp_path, capsys):
     root = _tiny_set(tmp_path / "set")
     (root / "a_ref.csv").unlink()
     (root / "b_off.png").unlink()
-    for argv in (["real", str(root), "--check"], ["real", str(root), "--out", str(tmp_path / "run")]):
-        assert main(argv) == 2
-        err = capsys.readouterr().err.strip().splitlines()
-        assert err == ["stripebench real: a: missing reference a_ref.csv",
-                       "stripebench real: b: has_background is 1 but b_off.png is missing"]
+    assert main(["real", str(root), "--check"]) == 2  # --check: one line per problem
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["stripebench real: a: missing reference a_ref.csv",
+                   "stripebench real: b: has_background is 1 but b_off.png is missing"]
+    assert main(["real", str(root), "--out", str(tmp_path / "run")]) == 2  # a run: one line, the first problem
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"stripebench: error: DATASET {str(root)!r} is not a valid real set: a: missing reference "
+                   "a_ref.csv (and 1 more; `--check` lists them)"]
     assert not (tmp_path / "run").exists()
-    assert main(["real", str(tmp_path / "set"), "--tol", "0"]) == 2
-    assert "--tol must be a number > 0" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["real", str(tmp_path / "set"), "--tol", "0"])
+    assert "argument --tol: must be a finite number > 0" in capsys.readouterr().err
 
 
 @pytest.mark.slow

@@ -72,7 +72,14 @@ def test_repeats_default_to_one(tmp_path):
     ("laser_power_mw = [1.0, true]", "`sweep.laser_power_mw` must hold numbers or names, got True"),
     ("material = [\"matte\", \"velvet\"]", "`sweep.material` = 'velvet'"),
     ("ambient_lux = [0, 0]", "`sweep.ambient_lux` repeats a value"),
-    ("ambient_lux = [0]\nrepeats = 0", "`sweep.repeats` must be an integer >= 1, got 0"),
+    ("ambient_lux = [0]\nrepeats = 0", "`sweep.repeats` must be an integer 1 .. 1000, got 0"),
+    ("ambient_lux = [0]\nrepeats = 1000000000", "`sweep.repeats` must be an integer 1 .. 1000, got 1000000000"),
+    ("ambient_lux = [0, 1e7]", "`sweep.ambient_lux` = 10000000.0 .*must be at most 1e\\+06"),
+    ("laser_power_mw = [3, 1e6]", "`sweep.laser_power_mw` = 1000000.0 .*must be at most 100000"),
+    ("exposure_ms = [5, 1e5]", "`sweep.exposure_ms` = 100000.0 .*must be at most 10000"),
+    ("f_number = [2.8, 0.01]", "`sweep.f_number` = 0.01 .*must be at least 0.5"),
+    ("ambient_lux = [" + ", ".join(str(i) for i in range(3000)) + "]\nlaser_power_mw = ["
+     + ", ".join(str(i) for i in range(3000)) + "]", "`sweep` has 9000000 grid points .*; at most 100000"),
     ("repeats = 2", "`sweep` must sweep at least one key"),
 ])
 def test_bad_sweeps_raise_one_line(tmp_path, lines, message):
@@ -286,17 +293,18 @@ def test_an_interrupted_sweep_resumes_without_redoing_finished_units(sequential,
 
 def test_bad_engine_arguments(tmp_path):
     cfg, s = _cfg_sweep()
-    with pytest.raises(ValueError, match="`workers` must be an integer >= 0, got -1"):
+    with pytest.raises(ConfigError, match=r"`workers` must be an integer 0 \.\. \d+, got -1"):
         run_sweep(cfg, s, tmp_path, workers=-1)
-    with pytest.raises(ValueError, match="`scheduler` must be 'sync' or an address like tcp://HOST:PORT, got 'x'"):
+    with pytest.raises(ConfigError, match=r"`workers` must be an integer 0 \.\. \d+, got 100000"):
+        run_sweep(cfg, s, tmp_path, workers=100000)
+    with pytest.raises(ConfigError, match="`scheduler` must be 'sync' or an address like tcp://HOST:PORT"):
         run_sweep(cfg, s, tmp_path, scheduler="x")
-
-
-def test_docstring_examples():
-    import doctest
-
-    result = doctest.testmod(sw, extraglobs={"np": np})
-    assert result.attempted > 0 and result.failed == 0
+    for bad in ("tcp://", "tcp://127.0.0.1:notaport", "tcp://127.0.0.1:0", "http://127.0.0.1:8786"):
+        with pytest.raises(ConfigError, match="`scheduler` must be 'sync' or an address"):
+            run_sweep(cfg, s, tmp_path, scheduler=bad)
+    with pytest.raises(ConfigError, match=r"`timeout_s` must be a finite number > 0, got nan"):
+        run_sweep(cfg, s, tmp_path, timeout_s=float("nan"))
+    assert not (tmp_path / "config.json").exists()  # refused before anything was written
 
 
 @pytest.mark.slow

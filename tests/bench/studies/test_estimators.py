@@ -53,5 +53,6 @@ def test_bad_arguments(tmp_path):
         estimators.main(["--out", str(tmp_path), "--trackers", "nope"])
     with pytest.raises(SystemExit):
         estimators.main(["--out", str(tmp_path), "--sigmas", "one"])
+    assert estimators.main(["--out", str(tmp_path), "--peaks", "50,100", "--plot-peak", "70"]) == 2
     with pytest.raises(SystemExit):
-        estimators.main(["--out", str(tmp_path), "--peaks", "50,100", "--plot-peak", "70"])
+        estimators.main(["--out", str(tmp_path), "--sigmas", "nan"])

@@ -84,11 +84,14 @@ def test_render_noise_falls_with_spp_beside_a_positive_sensor_noise(tmp_path, mo
 
 
 def test_bad_arguments_exit_2(tmp_path, capsys):
-    for argv in (["--materials", "velvet"], ["--size", "100"], ["--trackers", "threshold"], ["--angles", "0"]):
+    for argv in (["--materials", "velvet"], ["--size", "100"], ["--angles", "0"]):
         with pytest.raises(SystemExit) as exc:
             T.main(["--out", str(tmp_path)] + argv)
         assert exc.value.code == 2
     assert "unknown material 'velvet'" in capsys.readouterr().err
+    assert T.main(["--out", str(tmp_path), "--trackers", "threshold"]) == 2  # checked after parsing, one line
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "none of the selected trackers is a sub-pixel tracker" in err[0]
 
 
 def test_docstring_examples():

@@ -56,14 +56,16 @@ def test_the_committed_profile_follows_the_rules():
 def test_bad_profiles_name_the_key(tmp_path, edit, message):
     path = tmp_path / "p.toml"
     path.write_text(TINY.replace(*edit))
-    with pytest.raises(ValueError, match=message):
+    from bench.config import ConfigError
+
+    with pytest.raises(ConfigError, match=message):
         tune.load_profile(path)
 
 
 def test_a_missing_profile_is_one_line_and_status_2(tmp_path, capsys):
     assert tune.main(["--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "`profile` cannot be read" in err[0]
+    assert len(err) == 1 and "cannot read tuning profile" in err[0] and "no such file" in err[0]
 
 
 def test_hit_fraction_counts_missed_rows_as_misses():

@@ -1,0 +1,109 @@
+"""``stripebench track`` and ``stripebench real``: trackers on photographs, and on a real set with references."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from bench.cli.common import Command, UsageError, check_out_folder
+from bench.config.options import REAL_DEFAULTS, add_force, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
+
+__all__ = ["COMMANDS"]
+
+
+def _specs(args):
+    if args.trackers is not None:
+        return args.trackers
+    from bench.config import parse_trackers
+
+    return parse_trackers([])
+
+
+def _add_track(p) -> None:
+    from bench.store.realset import CHANNELS, LASERS, ROTATIONS
+
+    p.add_argument("images", nargs="+", type=Path, metavar="IMAGE", help="image files (8/16-bit, grey or colour)")
+    add_out(p, "output folder", required=True)
+    add_force(p, "; replace outputs written for another input")
+    add_trackers(p, "tracker names or settings as for `run` (default: every registered tracker)")
+    p.add_argument("--background", type=Path, metavar="OFF_IMAGE", help="a laser-off frame used for every image")
+    p.add_argument("--no-pair", action="store_true", help="do not use NAME_off.EXT beside NAME.EXT as background")
+    p.add_argument("--channel", default="auto", choices=CHANNELS,
+                   help="what the trackers see of a colour image (auto: excess of the laser's colour)")
+    p.add_argument("--laser", default="red", choices=LASERS, help="laser colour (default red)")
+    p.add_argument("--rotate", type=int, default=0, choices=ROTATIONS,
+                   help="turn the image counter-clockwise first (for horizontal stripes)")
+
+
+def _track(args) -> int:
+    """Trackers on photographs (exit 1 if a file failed)."""
+    from bench.run.real import track_images
+    from bench.store import realset as real
+
+    specs = _specs(args)
+    check_out_folder(args.out)
+    if args.background is not None:
+        try:
+            real.read_image(args.background)
+        except real.ImageError as exc:
+            raise UsageError(f"--background: {exc}") from None
+    failed = track_images(args.images, args.out, specs, background=args.background, pair=not args.no_pair,
+                          channel=args.channel, laser=args.laser, rotate_deg=args.rotate, force=args.force)
+    return 1 if failed else 0
+
+
+def _add_real(p) -> None:
+    p.add_argument("dataset", type=Path, help="real-set folder (e.g. bench/data/real)")
+    add_out(p, "run folder (default: results/runs/real-<dataset name>)")
+    add_force(p)
+    add_trackers(p, "tracker names or settings as for `run` (default: every registered tracker)")
+    add_tol(p)
+    add_n_boot(p)
+    add_seed(p, "bootstrap seed", default=REAL_DEFAULTS["seed"])
+    p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
+    add_quiet(p)
+
+
+def _real(args) -> int:
+    """Trackers evaluated on a real set: every value and the whole set checked before tracking."""
+    from bench.run.real import run_real
+    from bench.store import realset as real
+
+    specs = _specs(args)
+    dataset = args.dataset
+    _, problems = real.validate_dataset(dataset)
+    if args.check:  # one line per problem
+        for line in problems:
+            print(f"stripebench real: {line}", file=sys.stderr)
+        if problems:
+            return 2
+        print(f"stripebench real: {dataset} is a valid real set")
+        return 0
+    if problems:
+        more = f" (and {len(problems) - 1} more; `--check` lists them)" if len(problems) > 1 else ""
+        raise UsageError(f"DATASET {str(dataset)!r} is not a valid real set: {problems[0]}{more}")
+    if args.out is None:
+        from bench.store.files import runs_root
+
+        args.out = runs_root() / f"real-{dataset.resolve().name}"
+    check_out_folder(args.out)
+    out = run_real(dataset, args.out, specs, tol_px=args.tol, n_boot=args.n_boot, seed=args.seed, quiet=args.quiet,
+                   force=args.force)
+    if not args.quiet:
+        from bench.store.realrun import load_real_run
+
+        summary = load_real_run(out)["summary"]
+        print(f"{'tracker':<16}{'hit rate':>10}{'95 % CI':>18}{'MAE px':>9}{'coverage':>10}")
+        for lab, s in summary["trackers"].items():
+            h = s["hit_rate"]
+            ci = f"[{h['lo']:.3f}, {h['hi']:.3f}]"
+            print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
+    print(f"stripebench: report at {out / 'report.html'}")
+    return 0
+
+
+COMMANDS = (
+    Command("track", "run trackers on photographs (PNG/JPEG/TIFF): a CSV and an overlay per image", _add_track,
+            _track),
+    Command("real", "evaluate trackers on a real set (manifest.csv, NAME.png, NAME_ref.csv)", _add_real, _real),
+)

@@ -1,0 +1,142 @@
+"""The schema of a tuning profile (``stripebench tune dp``; ``bench/config/profiles/tune_dp.toml``).
+
+A tuning profile is a TOML document with exactly these keys (all required)::
+
+    name = "tune_dp"            # free text
+    seed = 1                    # integer >= 0 (never the evaluation's seed 0)
+    trackers = ["dp4", "dp8"]   # registered trackers with an `h_weight` parameter
+    h_weights = [1.0, 0.5]      # finite numbers > 0, none repeated
+    hit_px = 3.0                # a row is a hit within this many pixels (finite, >= 0)
+    tie = 0.005                 # scores within this of the best tie (finite, >= 0)
+
+    [render]                    # the run's [render] keys without ambient_spp, plus n_angles
+    width = 512
+    height = 480
+    spp = 16
+    n_angles = 12
+
+    [[experiments]]             # scene and material required; any other key is a scene override
+    scene = "sphere"
+    material = "matte"
+
+Every value is checked with the limits of a run configuration (the same
+:data:`bench.config.RENDER_KEYS` bounds, :func:`bench.config.check_scene` on each
+experiment); every problem raises :class:`bench.config.ConfigError` with one line.
+The procedure itself is :mod:`bench.studies.tune`.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import pathlib
+from dataclasses import dataclass, field
+
+from bench.config import RENDER_KEYS, ConfigError, check_scene, read_toml, scene_override_keys
+
+__all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_RENDER_KEYS", "DEFAULT_PROFILE"]
+
+#: The committed profile of ``stripebench tune dp``.
+DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp.toml"
+TOP_KEYS = ("name", "seed", "trackers", "h_weights", "hit_px", "tie", "render", "experiments")
+#: A tuning profile's ``[render]`` table: the run's :data:`bench.config.RENDER_KEYS` but ``ambient_spp``
+#: (the scans use the scene's), plus ``n_angles`` (frames per scan).
+TUNE_RENDER_KEYS = tuple(k for k in RENDER_KEYS if k != "ambient_spp") + ("n_angles",)
+
+
+@dataclass
+class TuneProfile:
+    """A validated tuning profile (see the module docstring)."""
+
+    name: str
+    seed: int
+    trackers: list[str]
+    h_weights: list[float]
+    hit_px: float
+    tie: float
+    render: dict
+    experiments: list[dict] = field(default_factory=list)
+
+
+def _finite(x) -> bool:
+    return isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def parse_profile(data) -> TuneProfile:
+    """Validate a tuning profile dict (as read from TOML).
+
+    Raises
+    ------
+    ConfigError
+        A missing or unknown key or a bad value, named in the message.
+    """
+    from scenes.params import MAX_SIZE
+
+    if not isinstance(data, dict):
+        raise ConfigError(f"`profile` must be a table, got {type(data).__name__}")
+    unknown = set(data) - set(TOP_KEYS)
+    if unknown:
+        raise ConfigError(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(TOP_KEYS)}")
+    for key in TOP_KEYS:
+        if key not in data:
+            raise ConfigError(f"`profile` lacks the key {key!r}")
+    if not isinstance(data["name"], str) or not data["name"]:
+        raise ConfigError(f"`name` must be a non-empty string, got {data['name']!r}")
+    seed = data["seed"]
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ConfigError(f"`seed` must be an integer >= 0, got {seed!r}")
+    import trackers
+
+    names = data["trackers"]
+    if not isinstance(names, list) or not names:
+        raise ConfigError(f"`trackers` must be a non-empty list, got {names!r}")
+    for n in names:
+        if not isinstance(n, str) or n not in trackers.available() or "h_weight" not in trackers.make(n).get_params():
+            raise ConfigError(f"`trackers` must name trackers with an h_weight parameter, got {n!r}")
+    hws = data["h_weights"]
+    if not isinstance(hws, list) or not hws or any(not _finite(h) or h <= 0 for h in hws):
+        raise ConfigError(f"`h_weights` must be a non-empty list of finite numbers > 0, got {hws!r}")
+    if len(set(hws)) != len(hws):
+        raise ConfigError(f"`h_weights` must not repeat a value, got {hws!r}")
+    for key in ("hit_px", "tie"):
+        v = data[key]
+        if not _finite(v) or not v >= 0:
+            raise ConfigError(f"`{key}` must be a finite number >= 0, got {v!r}")
+    render = data["render"]
+    if not isinstance(render, dict) or set(render) != set(TUNE_RENDER_KEYS):
+        raise ConfigError(f"`render` must have exactly the keys {sorted(TUNE_RENDER_KEYS)}, got {render!r}")
+    for k, v in render.items():
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_SIZE[k]:
+            raise ConfigError(f"`render.{k}` must be an integer 1 .. {MAX_SIZE[k]}, got {v!r}")
+    exps = data["experiments"]
+    if not isinstance(exps, list) or not exps:
+        raise ConfigError("`experiments` must be a non-empty list of tables")
+    overridable = set(scene_override_keys())
+    size = {k: render[k] for k in ("width", "height", "spp")}
+    for i, e in enumerate(exps):
+        if not isinstance(e, dict) or "scene" not in e or "material" not in e:
+            raise ConfigError(f"`experiments` entries need `scene` and `material`, got {e!r}")
+        extra = sorted(set(e) - overridable - {"scene", "material"})
+        if extra:
+            raise ConfigError(f"unknown key `experiments[{i}].{extra[0]}` (valid: scene, material and the scene "
+                              f"overrides {', '.join(sorted(overridable))})")
+        import scenes
+
+        if e["scene"] not in scenes.available():
+            raise ConfigError(f"`experiments[{i}].scene` must be one of {', '.join(scenes.available())}, "
+                              f"got {e['scene']!r}")
+        overrides = {k: v for k, v in e.items() if k not in ("scene", "material")}
+        check_scene(f"experiments[{i}]", e["scene"], e["material"], size, overrides)
+    return TuneProfile(data["name"], seed, list(names), [float(h) for h in hws], float(data["hit_px"]),
+                       float(data["tie"]), dict(render), [dict(e) for e in exps])
+
+
+def load_profile(path) -> TuneProfile:
+    """Read (:func:`bench.config.read_toml`: a regular UTF-8 file) and validate a tuning profile.
+
+    Raises
+    ------
+    ConfigError
+        Unreadable, invalid TOML, or a missing or unknown key or a bad value, named in the message.
+    """
+    return parse_profile(read_toml(path, "tuning profile"))

@@ -499,23 +499,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     _add_sweep_parser(sub)
-    p = sub.add_parser("tune", help="choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
+    p = sub.add_parser("tune", help="choose a default by its committed procedure: `tune dp` (the DP's h_weight), "
+                                    "`tune dp_gap` (dp_gap's off level and switch cost)",
                        description="Run a committed tuning procedure. `dp`: the DP trackers' h_weight on "
                                    "bench/profiles/tune_dp.toml (sphere and plane, seed 1; never the paper's "
-                                   "objects or seed); writes tune.csv and tune_dp.png and prints the chosen value.")
-    p.add_argument("what", choices=["dp"], help="what to tune")
-    p.add_argument("--profile", help="tuning profile (TOML; default: bench/profiles/tune_dp.toml)")
-    p.add_argument("--out", type=Path, help="output folder (default: results/runs/tune_dp)")
+                                   "objects or seed); writes tune.csv and tune_dp.png and prints the chosen value. "
+                                   "`dp_gap`: dp_gap's off_rel and switch_rows on bench/profiles/tune_dp_gap.toml "
+                                   "(same scenes and seed, mirror and polished materials too); writes tune_gap.csv "
+                                   "and tune_dp_gap.png.")
+    p.add_argument("what", choices=["dp", "dp_gap"], help="what to tune")
+    p.add_argument("--profile", help="tuning profile (TOML; default: bench/profiles/tune_<what>.toml)")
+    p.add_argument("--out", type=Path, help="output folder (default: results/runs/tune_<what>)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_cmd_tune)
     return parser
 
 
 def _cmd_tune(args) -> int:
-    from . import tune
+    from . import tune, tune_gap
 
     argv = (["--profile", args.profile] if args.profile else []) + (["--out", str(args.out)] if args.out else [])
-    return tune.main(argv + (["--quiet"] if args.quiet else []))
+    return (tune_gap if args.what == "dp_gap" else tune).main(argv + (["--quiet"] if args.quiet else []))
 
 
 _PASSTHROUGH = {"perf": _cmd_perf, "estimators": _cmd_estimators, "translucency": _cmd_translucency}

@@ -21,13 +21,14 @@ argument are in ``trackers._dp_gap``.
 
 from __future__ import annotations
 
+from math import gcd
+
 import numpy as np
 
 from . import _dp_gap as G
 from . import _dp_rows as R
 from ._base import Track
 from ._params import check_real
-from ._stats import robust_level
 from ._validation import check_image
 from .dp import _TIE_TOL, DEFAULT_H_WEIGHT, DPTracker, _check_connectivity, _check_cost, _check_h_weight, _half_cost
 
@@ -39,6 +40,16 @@ DEFAULT_OFF_REL = 0.2
 #: ``dp_gap``'s default switch cost, in rows of the off cost (chosen by
 #: ``stripebench tune dp_gap``).
 DEFAULT_SWITCH_ROWS = 10.0
+
+
+def _background(image: np.ndarray, samples: int = 2048) -> float:
+    """Median of a deterministic sample of about ``samples`` pixels (stride coprime
+    with the width, all pixels of small frames), in float64 image units."""
+    flat = image.reshape(-1)
+    step = max(1, flat.size // samples)
+    while image.shape[1] > 1 and gcd(step, image.shape[1]) != 1:
+        step += 1
+    return float(np.median(flat[::step].astype(np.float64)))
 
 
 def _check_off(off_cost, H: int) -> np.ndarray:
@@ -59,17 +70,24 @@ def _check_switch(switch_cost) -> float:
     return float(switch_cost)
 
 
-def _fields(hc, ho, switch, conn8, hw, backward=True):
+def _fields(hc, ho, switch, conn8, hw):
     H, W = hc.shape
     F = np.empty((H, W))
     Foff = np.empty(H)
-    G.sweep(hc, ho, switch, conn8, hw, True, F, Foff)
-    if not backward:
-        return F, Foff, None, None
-    Gb = np.empty((H, W))
-    Goff = np.empty(H)
-    G.sweep(hc, ho, switch, conn8, hw, False, Gb, Goff)
-    return F, Foff, Gb, Goff
+    G.sweep(hc, ho, switch, conn8, hw, F, Foff)
+    return F, Foff
+
+
+def _labels(hc, ho, switch, conn8, hw):
+    """The sweep and the labelling: ``(mark, off_opt, rows, cols, F, Foff)``."""
+    H, W = hc.shape
+    F, Foff = _fields(hc, ho, switch, conn8, hw)
+    mark = np.zeros((H, W), np.uint8)
+    off_opt = np.empty(H, np.bool_)
+    rows = np.empty(H * W, np.int64)
+    cols = np.empty(H * W, np.int64)
+    n = G.label(hc, ho, switch, conn8, hw, F, Foff, _TIE_TOL, mark, off_opt, rows, cols)
+    return mark, off_opt, rows[:n], cols[:n], F, Foff
 
 
 def _args(cost, off_cost, switch_cost, connectivity, h_weight):
@@ -122,7 +140,7 @@ def gap_path(cost, off_cost, switch_cost=0.0, connectivity: int = 8, h_weight: f
     """
     hc, ho, s, conn8, hw = _args(cost, off_cost, switch_cost, connectivity, h_weight)
     H, W = hc.shape
-    F, Foff, _, _ = _fields(hc, ho, s, conn8, hw, backward=False)
+    F, Foff = _fields(hc, ho, s, conn8, hw)
     rows = np.empty(H * W, np.int64)
     cols = np.empty(H * W, np.int64)
     off = np.empty(H, np.bool_)
@@ -148,13 +166,7 @@ def gap_nodes(cost, off_cost, switch_cost=0.0, connectivity: int = 8, h_weight: 
         The optimum.
     """
     hc, ho, s, conn8, hw = _args(cost, off_cost, switch_cost, connectivity, h_weight)
-    H, W = hc.shape
-    F, Foff, Gb, Goff = _fields(hc, ho, s, conn8, hw)
-    mark = np.empty((H, W), np.uint8)
-    off = np.empty(H, np.bool_)
-    rows = np.empty(H * W, np.int64)
-    cols = np.empty(H * W, np.int64)
-    G.label(hc, ho, s, conn8, hw, F, Foff, Gb, Goff, _TIE_TOL, mark, off, rows, cols)
+    mark, off, _, _, F, Foff = _labels(hc, ho, s, conn8, hw)
     return (mark & 1).astype(bool), (mark & 2).astype(bool), off, float(G.optimum(F, Foff))
 
 
@@ -167,7 +179,7 @@ class DPGapTracker(DPTracker):
     (the frame, or ``image - background``, see :class:`~trackers.dp.DPTracker`):
 
     * the *off level* ``L_off = b + off_rel * (m - b)``, with ``b`` the
-      frame's robust background (median of a fixed sample) and ``m`` the
+      frame's background (median of a fixed sample of about 2048 pixels) and ``m`` the
       median over rows of each row's brightest pixel (the stripe's typical
       brightness where most rows hold the stripe); the off node costs what a
       pixel of that brightness costs, ``1 / (max(L_off, 0) + eps)``: a row
@@ -241,7 +253,7 @@ class DPGapTracker(DPTracker):
             In node-cost units (1 / image units).
         """
         eps = float(self.eps)
-        b = robust_level(image)[0]
+        b = _background(image)
         m = float(np.median(0.5 / rowmin - eps))
         level = b + float(self.off_rel) * (m - b)
         off = 1.0 / (max(level, 0.0) + eps)
@@ -264,15 +276,8 @@ class DPGapTracker(DPTracker):
         hc, rowmin, _ = _half_cost(image, self.eps)
         off, s = self.off_costs(image, rowmin)
         ho = np.full(H, 0.5 * off)
-        conn8 = self.connectivity == 8
-        hw = float(self.h_weight)
-        F, Foff, Gb, Goff = _fields(hc, ho, s, conn8, hw)
-        mark = np.empty((H, W), np.uint8)
-        off_opt = np.empty(H, np.bool_)
-        rows = np.empty(H * W, np.int64)
-        cols = np.empty(H * W, np.int64)
-        n = G.label(hc, ho, s, conn8, hw, F, Foff, Gb, Goff, _TIE_TOL, mark, off_opt, rows, cols)
-        return _report(self, image, mark, rows[:n], cols[:n])
+        mark, _, rows, cols, _, _ = _labels(hc, ho, s, self.connectivity == 8, float(self.h_weight))
+        return _report(self, image, mark, rows, cols)
 
 
 def _report(tracker, image, mark, rows, cols):

@@ -12,7 +12,7 @@ import trackers
 from trackers.dp_gap import DPGapTracker, gap_nodes, gap_path
 from trackers.testing import stripe_profile
 
-SHAPES = [(1, 1), (1, 6), (6, 1), (2, 2), (3, 3), (2, 7), (7, 2), (12, 9), (9, 12), (25, 17)]
+SHAPES = [(1, 1), (1, 6), (6, 1), (2, 2), (3, 3), (2, 7), (7, 2), (12, 9), (9, 12), (25, 17), (6, 35), (4, 64)]
 
 
 def random_costs(shape, kind, rng):

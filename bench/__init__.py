@@ -10,7 +10,7 @@ enforces it, so a new module must be added to :data:`LAYERS`):
    saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
    ``scan``, ``experiment``, ``renderahead``, ``gate``, ``real``, ``real_run``, ``sweep``
 2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
-3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
+3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``, ``tune_gap``,
    ``translucency``
 4. the command line: ``cli``
 
@@ -23,6 +23,6 @@ LAYERS = {
     "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real",
                 "real_run", "sweep"),
     "reporting": ("figures", "report", "sweep_report"),
-    "studies": ("estimators", "perf", "tune", "translucency"),
+    "studies": ("estimators", "perf", "tune", "tune_gap", "translucency"),
     "cli": ("cli",),
 }

@@ -1,7 +1,7 @@
 """Laser-stripe trackers: one interface, a registry and the built-in trackers.
 
 >>> import trackers
->>> {"threshold", "centroid", "dp4", "dp8", "dp8_subpixel", "steger"} <= set(trackers.available())
+>>> {"threshold", "centroid", "dp4", "dp8", "dp8_subpixel", "dp_gap", "steger"} <= set(trackers.available())
 True
 >>> t = trackers.make("dp8")
 >>> t.name
@@ -29,6 +29,7 @@ for _name, _target in {
     "com_bg": "trackers.com_bg:ComBgTracker",
     "steger": "trackers.steger:StegerTracker",
     "dp8_subpixel": "trackers.dp_subpixel:DP8SubpixelTracker",
+    "dp_gap": "trackers.dp_gap:DPGapTracker",
 }.items():
     _REGISTRY.register(_name, _target)
 del _name, _target

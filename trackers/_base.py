@@ -89,10 +89,16 @@ class Tracker(abc.ABC):
         Whether the tracker claims sub-pixel precision (the conformance suite
         holds sub-pixel trackers to 0.1 px and the others to 0.6 px mean
         absolute error on a synthetic stripe).
+    uses_background : bool
+        Whether the tracker uses the laser-off frame when one is given (the
+        conformance suite then also checks it with one: an ambient
+        distractor present in both frames must not be tracked, and a
+        laser-off frame equal to the laser-on frame leaves nothing to find).
     """
 
     name: ClassVar[str] = ""
     subpixel: ClassVar[bool] = False
+    uses_background: ClassVar[bool] = False
     #: parameter name -> its constraint (:class:`trackers._params.Real`, ``Int``, ``Choice``,
     #: ``Bool``): checked by :meth:`validate_params`, and by the conformance suite for every
     #: tracker that declares it (each parameter must have one; each constraint's invalid values

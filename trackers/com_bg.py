@@ -72,6 +72,7 @@ class ComBgTracker(ThresholdTracker):
 
     name = "com_bg"
     subpixel = True
+    uses_background = True
 
     def __init__(self, threshold=None, k_sigma=5.0, rel=0.25, half_window=5):
         super().__init__(threshold=threshold, k_sigma=k_sigma, rel=rel)

@@ -38,7 +38,7 @@ from . import _dp_kernels as K
 from . import _dp_rows as R
 from ._base import Track, Tracker
 from ._params import check_int, check_real
-from ._validation import check_image
+from ._validation import check_background, check_image
 
 __all__ = [
     "DEFAULT_H_WEIGHT",
@@ -335,7 +335,19 @@ class DPTracker(Tracker):
     ``score`` is the contrast ``(I_p - b_r) / s`` in noise units (low or
     negative in bridged rows).
 
-    The ``background`` frame is ignored (the paper's method uses one frame).
+    *Background*: given a laser-off frame (``background``) and with
+    ``use_background`` (the default), the tracker works on the difference
+    ``image - background`` (float64, signed) instead of the frame: node
+    costs, the reporting rule's contrast and noise, everything. The laser
+    adds its light to the ambient light, so the difference is the laser's
+    light plus noise, and the ambient structure (lamps, windows, bright
+    objects: what the paper's Fig. 2 calls bright illumination) cancels. The
+    node cost clips the difference at 0 (``1 / (max(D, 0) + eps)``) as it
+    clips any frame; the reporting rule sees the signed difference, so the
+    side pixels' mean and spread are those of the difference's noise, not of
+    its positive half. Without a background (or with
+    ``use_background=False``: the paper's one-frame method) the frame itself
+    is used, exactly as before the background was supported.
 
     Parameters
     ----------
@@ -353,9 +365,13 @@ class DPTracker(Tracker):
         > 0 (see :func:`shortest_path`); 1 is the isotropic reading. The
         default was chosen by ``stripebench tune dp``, a fixed procedure on
         scenes and a seed the paper experiment does not use.
+    use_background : bool, default True
+        Track the difference ``image - background`` when a laser-off frame
+        is given (see *Background* above); False ignores it.
     """
 
     connectivity = 4
+    uses_background = True
 
     #: The row rule (``R.RULE_*``) and the longest walk, in columns, a row may
     #: hold and still be reported (None: any); class attributes so that the
@@ -364,7 +380,7 @@ class DPTracker(Tracker):
     _max_walk = None
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 h_weight=DEFAULT_H_WEIGHT):
+                 h_weight=DEFAULT_H_WEIGHT, use_background=True):
         self.eps = eps
         self.h_weight = h_weight
         self.k_sigma = k_sigma
@@ -372,6 +388,7 @@ class DPTracker(Tracker):
         self.max_gap = max_gap
         self.side_inner = side_inner
         self.side_outer = side_outer
+        self.use_background = use_background
 
     def _validate_params(self):
         check_real("eps", self.eps, low=0, low_open=True)
@@ -384,12 +401,25 @@ class DPTracker(Tracker):
         check_int("side_outer", self.side_outer, low=1)
         if self.side_outer < self.side_inner:
             raise ValueError(f"`side_outer` must be >= `side_inner` ({self.side_inner}), got {self.side_outer!r}")
+        if not isinstance(self.use_background, bool):
+            raise ValueError(f"`use_background` must be True or False, got {self.use_background!r}")
 
-    def path(self, image):
-        """The minimum-cost path of a frame: ``(rows, cols, total_cost)`` (see
-        :func:`shortest_path`)."""
+    def seen_frame(self, image: np.ndarray, background: np.ndarray | None) -> np.ndarray:
+        """The frame the DP works on: ``image`` itself, or ``image - background``
+        (float64, signed, (H, W), image units) when a laser-off frame is given
+        and ``use_background`` is True. Both arguments already validated."""
+        if background is None or not self.use_background:
+            return image
+        return np.subtract(image, background, dtype=np.float64)
+
+    def path(self, image, background=None):
+        """The minimum-cost path of a frame (of ``image - background`` when a
+        laser-off frame is given, see :meth:`seen_frame`): ``(rows, cols,
+        total_cost)`` (see :func:`shortest_path`)."""
         img = check_image(image)
+        bg = check_background(background, img.shape)
         self._validate_params()
+        img = self.seen_frame(img, bg)
         rows, cols, D = _solve(*_half_cost(img, self.eps), self.connectivity == 8, float(self.h_weight))
         return rows, cols, float(D[-1, cols[-1]])
 
@@ -446,7 +476,7 @@ class DPTracker(Tracker):
         return col, z, support, report
 
     def _track(self, image, background):
-        rows = self._path_rows(image)
+        rows = self._path_rows(self.seen_frame(image, background))
         if rows is None:
             return Track.empty(image.shape[0])
         mean_col, z, _, report = rows

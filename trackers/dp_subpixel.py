@@ -40,7 +40,7 @@ class DPSubpixelTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight
+    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background
         As for :class:`~trackers.dp.DPTracker`.
     estimator : {'gauss3', 'parabolic', 'blais_rioux', 'centroid'}, default 'blais_rioux'
         The sub-pixel estimator (see ``docs/estimators.png``).
@@ -54,13 +54,18 @@ class DPSubpixelTracker(DPTracker):
 
     Notes
     -----
-    The ``background`` frame is ignored.
+    With a laser-off frame (and ``use_background``) every step, the
+    refinement included, works on ``image - background`` (see
+    :meth:`~trackers.dp.DPTracker.seen_frame`); its robust level is then
+    close to 0.
     """
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=DEFAULT_H_WEIGHT):
+                 estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=DEFAULT_H_WEIGHT,
+                 use_background=True):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
-                         side_inner=side_inner, side_outer=side_outer, h_weight=h_weight)
+                         side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
+                         use_background=use_background)
         self.estimator = estimator
         self.search = search
         self.frac = frac
@@ -74,6 +79,7 @@ class DPSubpixelTracker(DPTracker):
         check_int("half_window", self.half_window, low=0)
 
     def _track(self, image, background):
+        image = self.seen_frame(image, background)
         H = image.shape[0]
         rows = self._path_rows(image)
         if rows is None:

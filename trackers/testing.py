@@ -28,8 +28,8 @@ from scipy.special import erf
 
 from ._base import Track, Tracker
 
-__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "stripe_profile",
-           "check_parameter_constraints"]
+__all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "make_ambient_pair",
+           "stripe_profile", "check_background_use", "check_parameter_constraints"]
 
 
 def stripe_profile(centre, width: int, sigma_px: float, peak: float) -> np.ndarray:
@@ -280,6 +280,83 @@ def check_parameter_constraints(tracker: Tracker) -> None:
                 raise AssertionError(f"{_name(tracker)}: {name}={bad!r} violates its constraint but was accepted")
 
 
+def make_ambient_pair(
+    height: int = 96, width: int = 128, *, peak: float = 120.0, ambient: float = 230.0, noise: float = 2.0, seed: int = 0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A laser-on / laser-off pair of 8-bit frames with an ambient distractor, and the true columns.
+
+    Both frames hold the same ambient light: a constant level of 10, a
+    bright vertical bar (Gaussian, sigma 2 px, ``ambient`` above the level,
+    at 12 % of the width, brighter than the stripe) and a bright blob
+    (``ambient`` high, radius about 6 px, at 85 % of the width); each frame
+    has its own Gaussian noise. Only the laser-on frame holds the stripe of
+    :func:`make_stripe_image` (peak ``peak``, sigma 1.5 px; same seed, same
+    columns), between 35 % and 65 % of the width.
+
+    Returns
+    -------
+    image, background : ndarray of uint8, shape (height, width)
+        Laser-on and laser-off frames (0..255, rounded and clipped).
+    columns : ndarray of float64, shape (height,)
+        True stripe centre per row (pixel-centre convention, px).
+
+    Examples
+    --------
+    >>> on, off, truth = make_ambient_pair(seed=1)
+    >>> bool(on.max(axis=1).mean() > 200), int(np.argmax(on[0])) < 0.2 * on.shape[1]  # the bar is the brightest
+    (True, True)
+    """
+    rng = np.random.default_rng(seed)
+    _, truth = make_stripe_image(height, width, noise=0.0, seed=seed)
+    jj = np.arange(width)[None, :]
+    rr = np.arange(height)[:, None]
+    amb = 10.0 + ambient * np.exp(-0.5 * ((jj - 0.12 * width) / 2.0) ** 2)
+    amb = amb + ambient * np.exp(-0.5 * ((jj - 0.85 * width) ** 2 + (rr - 0.5 * height) ** 2) / 6.0 ** 2)
+    stripe = stripe_profile(truth, width, 1.5, peak)
+    on = amb + stripe + rng.normal(0.0, noise, (height, width))
+    off = amb + rng.normal(0.0, noise, (height, width))
+    to8 = lambda a: np.clip(np.rint(a), 0, 255).astype(np.uint8)  # noqa: E731
+    return to8(on), to8(off), truth
+
+
+def check_background_use(tracker: Tracker) -> None:
+    """With a laser-off frame (trackers whose ``uses_background`` is True):
+    an ambient bar and blob brighter than the stripe, present in both
+    frames, are not tracked (at least 95 % of the rows reported, mean
+    absolute error within the synthetic-accuracy limit); a laser-off frame
+    equal to the laser-on frame gives all-NaN; uint8 and float64 copies of
+    the pair give the same columns; flipping both frames flips the result."""
+    errors = []
+    reported = total = 0
+    for seed in range(3):
+        on, off, truth = make_ambient_pair(seed=200 + seed)
+        cols = tracker.track(on, background=off).columns
+        ok = ~np.isnan(cols)
+        reported += int(ok.sum())
+        total += cols.size
+        errors.append(np.abs(cols[ok] - truth[ok]))
+    err = np.concatenate(errors)
+    limit = 0.1 if tracker.subpixel else 0.6
+    assert reported >= 0.95 * total, (
+        f"{_name(tracker)} reported only {reported} of {total} rows of a clear stripe given its laser-off frame"
+    )
+    mae = float(err.mean())
+    assert mae <= limit, (
+        f"{_name(tracker)}: mean absolute error {mae:.3f} px > {limit} px given the laser-off frame "
+        "(an ambient distractor present in both frames was tracked?)"
+    )
+    on, off, _ = make_ambient_pair(seed=210)
+    same = tracker.track(on, background=on).columns
+    assert np.all(np.isnan(same)), f"{_name(tracker)} reported a stripe with a laser-off frame equal to the image"
+    a = tracker.track(on, background=off).columns
+    b = tracker.track(on.astype(np.float64), background=off.astype(np.float64)).columns
+    assert _same(a, b), f"{_name(tracker)}: uint8 and float64 copies of a frame pair give different columns"
+    c = tracker.track(on[::-1], background=off[::-1]).columns
+    assert np.allclose(a[::-1], c, rtol=0, atol=1e-9, equal_nan=True), (
+        f"{_name(tracker)}: the track of the flipped frame pair is not the flipped track"
+    )
+
+
 _CHECKS: tuple[Callable[[Tracker], None], ...] = (
     check_output_types,
     check_blank_image,
@@ -295,6 +372,7 @@ _CHECKS: tuple[Callable[[Tracker], None], ...] = (
 
 #: Checks that apply only to trackers with a property, chosen by it (scikit-learn's tags).
 _TAGGED: tuple[tuple[Callable[[Tracker], bool], Callable[[Tracker], None]], ...] = (
+    (lambda t: bool(getattr(t, "uses_background", False)), check_background_use),
     (lambda t: bool(type(t).parameter_constraints), check_parameter_constraints),
 )
 

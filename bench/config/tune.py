@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 
 from bench.config import RENDER_KEYS, ConfigError, check_scene, read_toml, scene_override_keys
 
-__all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_RENDER_KEYS", "DEFAULT_PROFILE"]
+__all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_RENDER_KEYS", "DEFAULT_PROFILE",
+           "GapProfile", "load_gap_profile", "GAP_TOP_KEYS", "GAP_DEFAULT_PROFILE"]
 
 #: The committed profile of ``stripebench tune dp``.
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp.toml"
@@ -140,3 +141,92 @@ def load_profile(path) -> TuneProfile:
         Unreadable, invalid TOML, or a missing or unknown key or a bad value, named in the message.
     """
     return parse_profile(read_toml(path, "tuning profile"))
+
+
+# ---------------------------------------------------------------------------------------------------- dp_gap
+
+#: The committed profile of ``stripebench tune dp_gap``.
+GAP_DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp_gap.toml"
+GAP_TOP_KEYS = {"name", "seed", "tracker", "references", "off_rel", "switch_rows", "hit_px", "tie", "render",
+             "experiments"}
+GAP_RENDER_KEYS = {"width", "height", "spp", "n_angles"}
+
+
+@dataclass
+class GapProfile:
+    """A validated ``dp_gap`` tuning profile (see ``bench/config/profiles/tune_dp_gap.toml``)."""
+
+    name: str
+    seed: int
+    tracker: str
+    references: list[str]
+    off_rel: list[float]
+    switch_rows: list[float]
+    hit_px: float
+    tie: float
+    render: dict
+    experiments: list[dict] = field(default_factory=list)
+
+
+def _fail(msg: str):
+    raise ConfigError(msg)
+
+
+def _grid(data, key, low, high=None):
+    vals = data[key]
+    if (not isinstance(vals, list) or not vals
+            or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < low
+                   or (high is not None and v > high) for v in vals)):
+        bound = f"in [{low}, {high}]" if high is not None else f">= {low}"
+        _fail(f"`{key}` must be a non-empty list of finite numbers {bound}, got {vals!r}")
+    if len(set(vals)) != len(vals):
+        _fail(f"`{key}` must not repeat a value, got {vals!r}")
+    return [float(v) for v in vals]
+
+
+def load_gap_profile(path) -> GapProfile:
+    """Read and validate a ``dp_gap`` tuning profile.
+
+    Raises
+    ------
+    bench.config.ConfigError
+        A missing or unknown key or a bad value, named in the message (one line).
+    """
+    data = read_toml(pathlib.Path(path), "tuning profile")  # a regular UTF-8 file, bounded nesting
+    unknown = set(data) - GAP_TOP_KEYS
+    if unknown:
+        _fail(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(GAP_TOP_KEYS)}")
+    for key in GAP_TOP_KEYS:
+        if key not in data:
+            _fail(f"`profile` lacks the key {key!r}")
+    seed = data["seed"]
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        _fail(f"`seed` must be an integer >= 0, got {seed!r}")
+    import trackers
+
+    name = data["tracker"]
+    if name not in trackers.available() or not {"off_rel", "switch_rows"} <= set(trackers.make(name).get_params()):
+        _fail(f"`tracker` must name a tracker with off_rel and switch_rows parameters, got {name!r}")
+    refs = data["references"]
+    if not isinstance(refs, list) or any(r not in trackers.available() for r in refs):
+        _fail(f"`references` must be a list of registered tracker names, got {refs!r}")
+    off = _grid(data, "off_rel", 0.0, 1.0)
+    sw = _grid(data, "switch_rows", 0.0)
+    for key in ("hit_px", "tie"):
+        v = data[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
+            _fail(f"`{key}` must be a number >= 0, got {v!r}")
+    render = data["render"]
+    if not isinstance(render, dict) or set(render) != GAP_RENDER_KEYS:
+        _fail(f"`render` must have exactly the keys {sorted(GAP_RENDER_KEYS)}, got {render!r}")
+    exps = data["experiments"]
+    if not isinstance(exps, list) or not exps:
+        _fail("`experiments` must be a non-empty list of tables")
+    size = {k: render[k] for k in ("width", "height")}
+    for i, e in enumerate(exps):
+        if not isinstance(e, dict) or "scene" not in e or "material" not in e:
+            _fail(f"`experiments` entries need `scene` and `material`, got {e!r}")
+        check_scene(f"experiments[{i}]", e["scene"], e["material"], size,
+                    {k: v for k, v in e.items() if k not in ("scene", "material")})
+    return GapProfile(str(data["name"]), seed, name, list(refs), off, sw, float(data["hit_px"]), float(data["tie"]),
+                      dict(render), [dict(e) for e in exps])

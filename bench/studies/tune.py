@@ -36,7 +36,7 @@ __all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "add_
            "DEFAULT_PROFILE"]
 
 DEFAULT_OUT = "results/runs/tune_dp"
-WHAT = ("dp",)  # what can be tuned: `dp`, the DP trackers' h_weight
+WHAT = ("dp", "dp_gap")  # what can be tuned: `dp`, the DP trackers' h_weight; `dp_gap`, its off level and switch cost
 
 
 def _key(e: dict) -> str:
@@ -184,18 +184,25 @@ def add_arguments(parser, *, what: bool = True) -> None:
     from bench.config.options import add_out, add_quiet
 
     if what:
-        parser.add_argument("what", choices=WHAT, help="what to tune: dp (the DP trackers' h_weight)")
-    parser.add_argument("--profile", type=pathlib.Path, default=DEFAULT_PROFILE, metavar="TOML",
-                        help="tuning profile (default: bench/config/profiles/tune_dp.toml)")
-    add_out(parser, "output folder", default=DEFAULT_OUT)
+        parser.add_argument("what", choices=WHAT, help="what to tune: dp (the DP trackers' h_weight), dp_gap "
+                                                        "(dp_gap's off_rel and switch_rows)")
+    parser.add_argument("--profile", type=pathlib.Path, default=None if what else DEFAULT_PROFILE, metavar="TOML",
+                        help="tuning profile (default: bench/config/profiles/tune_<what>.toml)")
+    add_out(parser, "output folder (default: results/runs/tune_<what>)", default=None if what else DEFAULT_OUT)
     add_quiet(parser, "no progress bars")
 
 
 def command(args) -> int:
     """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
     (one line) before any scan."""
-    profile = load_profile(args.profile)
-    out = pathlib.Path(args.out)
+    if getattr(args, "what", "dp") == "dp_gap":
+        from bench.studies import tune_gap
+
+        args.profile = tune_gap.DEFAULT_PROFILE if args.profile is None else args.profile
+        args.out = tune_gap.DEFAULT_OUT if args.out is None else args.out
+        return tune_gap.command(args)
+    profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
+    out = pathlib.Path(DEFAULT_OUT if args.out is None else args.out)
     chosen, scores, _ = run(profile, out, progress=not args.quiet)
     curve = ", ".join(f"{h:g}: {scores[h]:.3f}" for h in sorted(scores, reverse=True))
     print(f"chosen h_weight = {chosen:g} (mean hit fraction {scores[chosen]:.3f}; by h_weight {curve}); "

@@ -435,3 +435,54 @@ def test_a_row_where_the_path_walks_reports_a_place_the_stripe_is(tracker_cls):
         assert np.abs(cols - truth).max() <= 0.5, (hw, np.flatnonzero(np.abs(cols - truth) > 0.5))
         t._row_rule = R.RULE_MEAN  # the old rule: the walk's mean column, a place with no stripe
         assert np.abs(t.track(img).columns - truth).max() > 5
+
+
+# --- the laser-off frame ----------------------------------------------------------------------------
+
+BG_TRACKERS = ["dp4", "dp8", "dp8_subpixel", "dp_gap"]
+
+
+@pytest.mark.parametrize("name", BG_TRACKERS)
+def test_without_a_background_nothing_changes(name):
+    import trackers
+
+    from trackers.testing import make_ambient_pair
+
+    on, off, _ = make_ambient_pair(seed=3)
+    plain = trackers.make(name).track(on)
+    # a black laser-off frame, and a background ignored by use_background=False: byte-identical results
+    for out in (trackers.make(name).track(on, background=np.zeros(on.shape)),
+                trackers.make(name, use_background=False).track(on, background=off)):
+        assert out.columns.tobytes() == plain.columns.tobytes() and out.score.tobytes() == plain.score.tobytes()
+
+
+@pytest.mark.parametrize("name", BG_TRACKERS)
+def test_with_a_background_the_tracker_sees_the_signed_difference(name):
+    import trackers
+
+    from trackers.testing import make_ambient_pair
+
+    on, off, truth = make_ambient_pair(seed=4)
+    t = trackers.make(name)
+    got = t.track(on, background=off)
+    diff = on.astype(np.float64) - off.astype(np.float64)
+    same = t.track(diff)
+    assert got.columns.tobytes() == same.columns.tobytes() and got.score.tobytes() == same.score.tobytes()
+    assert np.nanmax(np.abs(got.columns - truth)) < 1.5 and np.isfinite(got.columns).all()
+    # without it the ambient bar, brighter than the stripe, takes the path
+    alone = t.track(on).columns
+    assert np.nanmedian(np.abs(alone - truth)) > 10.0
+
+
+def test_the_path_of_a_pair_is_the_path_of_the_difference():
+    from trackers.testing import make_ambient_pair
+
+    on, off, _ = make_ambient_pair(seed=5)
+    t = DP8Tracker()
+    r1, c1, total1 = t.path(on, background=off)
+    r2, c2, total2 = t.path(on.astype(np.float64) - off)
+    assert np.array_equal(r1, r2) and np.array_equal(c1, c2) and total1 == total2
+    with pytest.raises(ValueError, match="`background`"):
+        t.path(on, background=off[:-1])
+    with pytest.raises(ValueError, match="`use_background`"):
+        DP8Tracker(use_background="yes").track(on)

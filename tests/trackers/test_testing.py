@@ -153,3 +153,42 @@ def test_the_constraint_check_finds_a_missing_entry_and_an_accepted_bad_value():
     with pytest.raises(AssertionError, match="violates its constraint but was accepted"):
         check_parameter_constraints(Lax())
     assert check_parameter_constraints in all_checks()
+
+
+class _GoodWithBackground(_Good):
+    """_Good on the laser-on minus laser-off difference."""
+
+    uses_background = True
+
+    def _track(self, image, background):
+        if background is not None:
+            diff = image.astype(float) - background
+            if not (diff > 20).any():
+                return Track.empty(image.shape[0])
+            image = diff
+        return super()._track(image, None)
+
+
+def test_the_background_check_runs_only_on_trackers_that_use_it():
+    from trackers.testing import _checks_for, check_background_use
+
+    assert check_background_use in all_checks()
+    assert check_background_use not in list(_checks_for(_Good()))
+    assert check_background_use in list(_checks_for(_GoodWithBackground()))
+    check_tracker(_GoodWithBackground())
+    assert all(check_background_use in list(_checks_for(trackers.make(n))) for n in ("com_bg", "dp4", "dp8",
+                                                                                 "dp8_subpixel", "dp_gap"))
+
+
+def test_the_background_check_catches_a_tracker_that_ignores_its_background():
+    from trackers.testing import check_background_use
+
+    liar = type("Liar", (_Good,), {"uses_background": True})()
+    with pytest.raises(AssertionError, match="given the laser-off frame"):
+        check_background_use(liar)
+    # one that subtracts but then reports noise where laser-on equals laser-off
+    noisy = type("Noisy", (_GoodWithBackground,), {"_track": lambda self, image, background: _Good._track(
+        self, image.astype(float) - background + np.arange(image.shape[1]) if background is not None else image,
+        None)})()
+    with pytest.raises(AssertionError, match="laser-off frame equal to the image|mean absolute error"):
+        check_background_use(noisy)

@@ -400,6 +400,97 @@ def _add_sweep_parser(sub) -> None:
 _FORCE_HELP = "clear --out first if it holds another configuration's or kind's run (or other files)"
 
 
+# -- stripebench export / score / leaderboard (trackers from any language; bench/run/export.py, score.py) -----------
+
+def _cmd_export(args) -> int:
+    from bench.config import load, profile
+    from bench.run.export import export
+
+    if (args.config is None) == (args.profile is None):
+        raise UsageError("give a CONFIG.toml or --profile (one of them)")
+    if not 0.0 <= args.test_fraction <= 1.0:
+        raise UsageError(f"--test-fraction must be a number in [0, 1], got {args.test_fraction!r}")
+    config = load(args.config) if args.config is not None else profile(args.profile)
+    if args.seed is not None:
+        from bench.config import with_overrides
+
+        config = with_overrides(config, seed=args.seed)
+    _check_env()
+    out = export(config, args.out, test_fraction=args.test_fraction, quiet=args.quiet, force=args.force)
+    print(f"stripebench: frame set at {out}")
+    return 0
+
+
+def _cmd_score(args) -> int:
+    from bench.run.score import SubmissionError, score
+
+    _check_env()
+    try:
+        out = score(args.dataset, args.submission, args.out, label=args.label, trackers=_trackers_arg(args.trackers),
+                    split=args.split, quiet=args.quiet, force=args.force)
+    except SubmissionError as exc:
+        for line in exc.problems:
+            print(f"stripebench score: {line}", file=sys.stderr)
+        return 2
+    if args.no_report:
+        print(f"stripebench: results in {out}")
+        return 0
+    from bench.report.run import build_report
+    from bench.store.runfolder import RunFolder
+
+    with RunFolder(out, kind="score") as folder:
+        folder.lock()
+        path = build_report(out, quiet=args.quiet)
+    print(f"stripebench: report at {path}")
+    return 0
+
+
+def _cmd_leaderboard(args) -> int:
+    from bench.report.leaderboard import LeaderboardError, build_leaderboard
+
+    try:
+        page = build_leaderboard(args.runs, args.out)
+    except LeaderboardError as exc:
+        raise UsageError(str(exc)) from None
+    print(f"stripebench: leaderboard at {page} (and {page.with_suffix('.csv').name})")
+    return 0
+
+
+def _add_submit_parsers(sub) -> None:
+    from bench.config import PROFILES
+
+    p = sub.add_parser("export", help="write a configuration's frames as a frame set (PNGs, truth CSVs) for any "
+                                      "program to track")
+    p.add_argument("config", nargs="?", type=Path, help=f"configuration file (format: {CONFIG_DOC})")
+    p.add_argument("--profile", choices=PROFILES, help="an embedded configuration instead")
+    p.add_argument("--out", type=Path, required=True, help="the frame set's folder")
+    p.add_argument("--test-fraction", type=float, default=0.3,
+                   help="share of frames in the test split (truth in truth_test/; default 0.3)")
+    p.add_argument("--seed", type=_seed_arg, help="seed for renders and the split")
+    p.add_argument("--force", action="store_true", help=_FORCE_HELP)
+    p.add_argument("--quiet", action="store_true", help="no progress notes")
+    p.set_defaults(func=_cmd_export)
+    p = sub.add_parser("score", help="score a submission (submission.csv, times.csv) on an exported frame set "
+                                     "as a run")
+    p.add_argument("dataset", type=Path, help="frame set folder (stripebench export)")
+    p.add_argument("submission", type=Path, help="folder with submission.csv (frame,row,col[,score]) and "
+                                                 "optionally times.csv (frame,ms)")
+    p.add_argument("--out", type=Path, required=True, help="the scored run's folder")
+    p.add_argument("--label", help="the submission's label (default: the submission folder's name)")
+    p.add_argument("--trackers", help="built-in trackers to run beside it, as for `run` "
+                                      "(default: the frame set's configuration's)")
+    p.add_argument("--split", default="all", choices=["all", "dev", "test"], help="which frames to score")
+    p.add_argument("--force", action="store_true", help=_FORCE_HELP)
+    p.add_argument("--quiet", action="store_true", help="no progress notes")
+    p.add_argument("--no-report", action="store_true", help="write the results only, not figures and report.html")
+    p.set_defaults(func=_cmd_score)
+    p = sub.add_parser("leaderboard", help="rank the trackers of comparable runs per condition: one HTML page "
+                                           "and a CSV")
+    p.add_argument("runs", nargs="+", type=Path, metavar="RUN", help="finished run or scored-submission folders")
+    p.add_argument("--out", type=Path, required=True, help="output folder (leaderboard.html, leaderboard.csv)")
+    p.set_defaults(func=_cmd_leaderboard)
+
+
 def _cmd_translucency(args) -> int:
     from bench.studies import translucency
 
@@ -505,6 +596,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     _add_sweep_parser(sub)
+    _add_submit_parsers(sub)
     p = sub.add_parser("tune", help="choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
                        description="Run a committed tuning procedure. `dp`: the DP trackers' h_weight on "
                                    "bench/config/profiles/tune_dp.toml (sphere and plane, seed 1; never the paper's "

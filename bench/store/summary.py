@@ -1,7 +1,7 @@
 """``summary.json`` of every kind of run: one builder, one validator, one reader.
 
-A summary is a JSON object with ``format`` (2), ``kind`` (``run``, ``real`` or
-``sweep``) and the kind's fields; :func:`build_summary` checks that the fields
+A summary is a JSON object with ``format`` (2), ``kind`` (``run``, ``real``,
+``sweep`` or ``score``) and the kind's fields; :func:`build_summary` checks that the fields
 each kind must have are there with the right types (and that everything is
 JSON), :func:`check_summary` checks a document read back. A summary without
 ``format`` is format 1 (written before formats were numbered: the same fields,
@@ -27,6 +27,8 @@ _READS = (1, 2)
 #: The fields each kind of summary must have, with their types.
 REQUIRED: dict[str, dict[str, type | tuple]] = {
     "run": {"config": dict, "seed": int, "improvement": list, "scans": list},
+    # a scored submission (bench.run.score): a run's fields and the submission's
+    "score": {"config": dict, "seed": int, "improvement": list, "scans": list, "submission": dict},
     "real": {"config": dict, "seed": int, "trackers": dict, "n_images": int, "tol_px": (int, float)},
     "sweep": {"config": dict, "sweep": dict, "seed": int, "units": list, "curves": list, "engine": dict},
 }
@@ -63,7 +65,7 @@ def _problem(doc: dict, kind: str) -> str | None:
         v = doc.get(key)
         if not isinstance(v, typ) or isinstance(v, bool):
             return f"`{key}` missing or not {_type_name(typ)}"
-    if kind == "run":
+    if kind in ("run", "score"):
         cfg = doc["config"]
         if not isinstance(cfg.get("render"), dict) or not isinstance(cfg.get("experiments"), list):
             return "`config` lacks `render` or `experiments`"

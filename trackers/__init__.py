@@ -33,11 +33,14 @@ for _name, _target in {
 }.items():
     _REGISTRY.register(_name, _target)
 del _name, _target
+# another program as a tracker: it needs its `command`, so it is not in the default list
+_REGISTRY.register("external", "trackers.external:ExternalTracker", listed=False)
 
 
-def available() -> list[str]:
-    """Sorted names of all registered trackers (built-in and plugins)."""
-    return _REGISTRY.available()
+def available(*, unlisted: bool = False) -> list[str]:
+    """Sorted names of the registered trackers (built-in and plugins) that run with their defaults;
+    ``unlisted=True`` adds those that need parameters first (``external``: another program)."""
+    return _REGISTRY.available(unlisted=unlisted)
 
 
 def make(name: str, **params) -> Tracker:

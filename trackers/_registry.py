@@ -40,11 +40,14 @@ class Registry:
         self.group = group
         self._factories: dict[str, Callable[..., Tracker]] = {}
         self._plugins_loaded = False
+        self._unlisted: set[str] = set()
 
-    def register(self, name: str, factory=None):
+    def register(self, name: str, factory=None, *, listed: bool = True):
         """Register ``factory`` (a class, callable or ``'module:attr'``) under ``name``.
 
-        Usable as a decorator: ``@registry.register("mine")``.
+        Usable as a decorator: ``@registry.register("mine")``. ``listed=False``:
+        made by :meth:`make` but left out of :meth:`available`'s default list (a
+        tracker that cannot run without parameters, such as ``external``).
 
         Raises
         ------
@@ -58,6 +61,8 @@ class Registry:
             if name in self._factories:
                 raise ValueError(f"a tracker named {name!r} is already registered")
             self._factories[name] = _lazy(f) if isinstance(f, str) else f
+            if not listed:
+                self._unlisted.add(name)
             return f
 
         return add if factory is None else add(factory)
@@ -72,9 +77,11 @@ class Registry:
         """
         self._load_plugins()
         try:
-            return self._factories.pop(name)
+            factory = self._factories.pop(name)
         except (KeyError, TypeError):
             raise KeyError(f"no tracker named {name!r} is registered") from None
+        self._unlisted.discard(name)
+        return factory
 
     def _load_plugins(self) -> None:
         if self._plugins_loaded:
@@ -102,10 +109,10 @@ class Registry:
                 continue
             self._factories[ep.name] = obj
 
-    def available(self) -> list[str]:
-        """Sorted names of every registered tracker."""
+    def available(self, *, unlisted: bool = False) -> list[str]:
+        """Sorted names of every registered tracker (with ``unlisted``, also those registered ``listed=False``)."""
         self._load_plugins()
-        return sorted(self._factories)
+        return sorted(n for n in self._factories if unlisted or n not in self._unlisted)
 
     def make(self, name: str, **params) -> Tracker:
         """A new tracker ``name`` built with ``params``.

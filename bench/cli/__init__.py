@@ -55,9 +55,9 @@ def tracker_table() -> list[dict]:
 
 def command_groups():
     """The command groups in the order ``stripebench -h`` lists them: (module name, commands)."""
-    from bench.cli import info, real, run, studies, sweep
+    from bench.cli import info, real, run, studies, submit, sweep
 
-    return (("run", run.COMMANDS), ("real", real.COMMANDS), ("sweep", sweep.COMMANDS),
+    return (("run", run.COMMANDS), ("real", real.COMMANDS), ("submit", submit.COMMANDS), ("sweep", sweep.COMMANDS),
             ("studies", studies.COMMANDS), ("info", info.COMMANDS))
 
 

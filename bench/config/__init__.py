@@ -272,11 +272,11 @@ def parse_trackers(value, path: str = "trackers") -> tuple[TrackerSpec, ...]:
     """
     import trackers
 
-    registered = trackers.available()
+    registered = trackers.available(unlisted=True)  # `external` too, which needs its `command`
     if not isinstance(value, list):
         raise ConfigError(f"`{path}` must be a list of tracker names or settings, got {value!r}")
     if not value:
-        return tuple(TrackerSpec(n, n, {}) for n in registered)
+        return tuple(TrackerSpec(n, n, {}) for n in trackers.available())
     specs = tuple(_tracker_spec(f"{path}[{i}]", v, registered) for i, v in enumerate(value))
     labels = [s.label for s in specs]
     dup = sorted({lab for lab in labels if labels.count(lab) > 1})

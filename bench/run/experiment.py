@@ -29,7 +29,7 @@ from bench.run.track import build_trackers
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.evaluate.stats import GROSS_MM, WITHIN_MM
 
-__all__ = ["run", "default_run_dir", "load_run", "distinct_trackers", "PAPER_IMPROVEMENT"]
+__all__ = ["run", "scan_tables", "finish_run", "default_run_dir", "load_run", "distinct_trackers", "PAPER_IMPROVEMENT"]
 
 PAPER_IMPROVEMENT = 0.30  # "a 30 % improvement in the precision" (sec. 4.3)
 GALLERY_FRAMES = 2  # frames per experiment in the report's failure gallery
@@ -99,6 +99,35 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
         folder.unlock()
 
 
+def scan_tables(config: Config, index: int, experiment, rig, res, restore=None) -> tuple[list[dict], list[dict]]:
+    """The metric records (both regions) and sample points of one experiment's scan.
+
+    Parameters
+    ----------
+    config : Config
+        Gives the seed, ``n_samples`` and each setting's restoration.
+    index : int
+        The experiment's position in ``config.experiments`` (it seeds the sample draw).
+    experiment : bench.config.Experiment
+    rig : scenes.rig.Rig
+    res : bench.store.checkpoint.ScanResult
+    restore : dict, optional
+        label -> restoration; default :meth:`Config.restore_by_label` (a scored
+        run adds its submission's label).
+
+    Returns
+    -------
+    (records, samples) : lists of dict, as :func:`bench.evaluate.tables.scan_records`
+    and :func:`bench.evaluate.tables.sample_table` give them.
+    """
+    restore = config.restore_by_label() if restore is None else restore  # a setting's own, else the run's
+    records = []
+    for region in (False, True):
+        records += analysis.scan_records(res, rig, experiment, object_only=region, restore=restore)
+    seed = int(np.random.SeedSequence([config.seed, index]).generate_state(1)[0])
+    return records, analysis.sample_table(res, rig, experiment, config.n_samples, seed, restore=restore)
+
+
 def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, records, samples, scan_info,
               gallery):
     """Every experiment's scan in order, appending to ``records``, ``samples``, ``scan_info`` and
@@ -122,12 +151,9 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
             gallery.append(GalleryFrame(exp.key, int(i), image, frame.truth.columns, cols))
             if fig7 is None:
                 fig7 = FigData(exp.key, float(angles[i]), image, background, frame.truth.columns, cols)
-        rig = scene.rig
-        restore = config.restore_by_label()  # a setting's own `restore`, else the run's
-        for region in (False, True):
-            records += analysis.scan_records(res, rig, exp, object_only=region, restore=restore)
-        seed = int(np.random.SeedSequence([config.seed, k]).generate_state(1)[0])
-        samples += analysis.sample_table(res, rig, exp, config.n_samples, seed, restore=restore)
+        recs, samps = scan_tables(config, k, exp, scene.rig, res)
+        records += recs
+        samples += samps
         failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
         scan_info.append({"experiment": exp.key, "frames": int(len(angles)), "wall_s": wall,
                           "render_s": res.render_seconds, "variant": res.variant, "failures": failures,
@@ -139,8 +165,6 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
 
 
 def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
-    import pandas as pd
-
     out = folder.path
     records, samples, scan_info, gallery = [], [], [], []
     plan = [(exp, scene, _angles(exp, scene)) for exp, scene in
@@ -160,41 +184,81 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
             helper.stop()  # the loop ended, failed or was interrupted: the helper stops now
     if helper is not None:
         _say(helper.summary_line(), quiet)
+    render_ahead = helper.stop() if helper is not None else {"off": off}
+    return finish_run(config, out, records, samples, scan_info, gallery, fig7, t_start=t_start, quiet=quiet,
+                      render_ahead=render_ahead)
+
+
+def finish_run(config: Config, out: Path, records: list[dict], samples: list[dict], scan_info: list[dict],
+               gallery: list, fig7, *, t_start: float, quiet: bool, render_ahead: dict, kind: str = "run",
+               submissions: tuple[str, ...] = (), extra: dict | None = None) -> Path:
+    """Everything a run writes after its scans: tables, gallery, Fig. 7's data, statistics, summary.
+
+    Parameters
+    ----------
+    config : Config
+    out : Path
+        The (locked) run folder.
+    records, samples, scan_info : list of dict
+        :func:`scan_tables`' records and samples of every experiment, and one
+        entry per experiment (frames, wall and render seconds, failures).
+    gallery : list of bench.store.figdata.GalleryFrame
+    fig7 : bench.store.figdata.FigData or None
+    t_start : float
+        ``time.perf_counter()`` at the start (the summary's wall time).
+    quiet : bool
+    render_ahead : dict
+        What the render-ahead helper did (or why it was off).
+    kind : str
+        The summary's kind: ``"run"``, or ``"score"`` for a scored submission
+        (:mod:`bench.run.score`; no sim-to-real step).
+    submissions : tuple of str
+        Labels of scored submissions: tracked beside ``config.trackers``, restored
+        with the run's ``restore`` and compared with the baselines as the DP trackers are.
+    extra : dict, optional
+        More summary fields.
+    """
+    import pandas as pd
+
+    labels = (*config.trackers, *submissions)
+    dp = (*config.dp, *submissions)
     metrics = pd.DataFrame.from_records(records)
-    samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(config.trackers))
+    samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(labels))
     if samples_df.empty:
         _say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
-    stats = analysis.improvements(samples_df, config.dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
-    robust = analysis.robust_table(samples_df, config.trackers)
+    stats = analysis.improvements(samples_df, dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
+    robust = analysis.robust_table(samples_df, labels)
     conditions = _conditions(config)
     if len(samples_df):
         cond_of = {e.key: (e.condition or e.key) for e in config.experiments}
         by_cond = samples_df.assign(condition=samples_df["experiment"].map(cond_of))
         if by_cond["condition"].nunique() < by_cond["experiment"].nunique():  # conditions group experiments
             stats += [dict(s, group=f"condition:{s['group']}") for s in analysis.improvements(
-                by_cond, config.dp, config.baselines, n_boot=config.n_boot, seed=config.seed, group_by="condition")
+                by_cond, dp, config.baselines, n_boot=config.n_boot, seed=config.seed, group_by="condition")
                 if s["group"] != "all"]
             robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
-                by_cond, config.trackers, group_by="condition") if r["group"] != "all"]
+                by_cond, labels, group_by="condition") if r["group"] != "all"]
     write_tables(out, metrics, samples_df)
     write_gallery(out, gallery)
     if fig7 is not None:
         write_figdata(out, fig7)
-    extra = {"sim_to_real": _sim_to_real(config, out, metrics, quiet)} if config.real_set else {}
-    verdicts = analysis.verdicts(robust, stats, config.dp, config.baselines)
+    extra = dict(extra or {})
+    if config.real_set and kind == "run":
+        extra["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)
+    verdicts = analysis.verdicts(robust, stats, dp, config.baselines)
     claims = readings.paper_claims(config.to_dict(), robust, stats, verdicts, conditions, samples_df,
                                    paper_improvement=PAPER_IMPROVEMENT, within_mm=WITHIN_MM)
     summary = build_summary(
-        "run", config=config.to_dict(), config_source=config.source, seed=config.seed,
+        kind, config=config.to_dict(), config_source=config.source, seed=config.seed,
         versions=versions(), git_revision=git_revision(), run_dir=str(out),
         variants=sorted({s["variant"] for s in scan_info}), scans=scan_info,
         improvement=stats, paper_improvement=PAPER_IMPROVEMENT, restore=config.restore,
-        restore_by_tracker=config.restore_by_label(),
+        restore_by_tracker={**config.restore_by_label(), **{n: config.restore for n in submissions}},
         robust=robust, within_mm=WITHIN_MM, gross_mm=GROSS_MM, conditions=conditions,
         verdicts=verdicts, paper_claims=claims,
         coverage=_coverage_table(metrics), status_codes=STATUS,
         wall_s=time.perf_counter() - t_start,
-        render_ahead=helper.stop() if helper is not None else {"off": off}, **extra)
+        render_ahead=render_ahead, **extra)
     write_summary(out, summary)
     return out
 

@@ -23,7 +23,7 @@ synthetic run folder (``<runs root>/<name>-<config hash>/`` by default)::
     report.html        self-contained report
 
 **One guard for every kind of run** (:data:`KINDS`: ``run``, ``real``,
-``sweep``, ``track``, ``score``): :meth:`RunFolder.open` locks the folder (a
+``sweep``, ``track``, ``score``, ``export``): :meth:`RunFolder.open` locks the folder (a
 second process is refused at once) and claims it for one kind and
 configuration. A folder of another kind or configuration, a non-empty folder
 that is not a run, or a ``run.json`` of a newer format is refused in one line
@@ -58,7 +58,8 @@ __all__ = ["FORMAT", "KINDS", "LAYOUT", "RunFolderError", "RunFolder", "default_
 FORMAT = 2  # run.json: 1 had no `kind` (every such folder is a synthetic run)
 _READS = (1, 2)
 #: The kinds of run folder, and what each is called in messages.
-KINDS = {"run": "run", "real": "real run", "sweep": "sweep", "track": "track output", "score": "score"}
+KINDS = {"run": "run", "real": "real run", "sweep": "sweep", "track": "track output", "score": "score",
+         "export": "exported frame set"}
 #: Per kind, the folder of resumable files kept when the code changes (each checks its own fingerprint).
 RESUMABLE = {"run": "scans", "sweep": "units"}
 #: Kinds whose folder gathers outputs over several commands: not cleared when the code changes.
@@ -428,7 +429,7 @@ def load_summary(run_dir) -> dict:
     path = Path(run_dir) / LAYOUT["summary"]
     if not path.exists():
         raise RunFolderError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
-    return read_summary(path, kind=("run", "real"))
+    return read_summary(path, kind=("run", "real", "score"))
 
 
 def load_metrics(run_dir, *, timings: bool = False):

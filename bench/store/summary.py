@@ -1,7 +1,7 @@
 """``summary.json`` of every kind of run: one builder, one validator, one reader.
 
-A summary is a JSON object with ``format`` (2), ``kind`` (``run``, ``real`` or
-``sweep``) and the kind's fields; :func:`build_summary` checks that the fields
+A summary is a JSON object with ``format`` (2), ``kind`` (``run``, ``real``,
+``sweep`` or ``score``) and the kind's fields; :func:`build_summary` checks that the fields
 each kind must have are there with the right types (and that everything is
 JSON), :func:`check_summary` checks a document read back. A summary without
 ``format`` is format 1 (written before formats were numbered: the same fields,
@@ -30,6 +30,10 @@ REQUIRED: dict[str, dict[str, type | tuple]] = {
             # read by the report's header and provenance
             "git_revision": str, "paper_improvement": (int, float), "variants": list, "versions": dict,
             "wall_s": (int, float)},
+    # a scored submission (bench.run.score): a run's fields and the submission's
+    "score": {"config": dict, "seed": int, "improvement": list, "scans": list, "submission": dict,
+              "git_revision": str, "paper_improvement": (int, float), "variants": list, "versions": dict,
+              "wall_s": (int, float)},
     "real": {"config": dict, "seed": int, "trackers": dict, "n_images": int, "tol_px": (int, float)},
     "sweep": {"config": dict, "sweep": dict, "seed": int, "units": list, "curves": list, "engine": dict},
 }
@@ -66,7 +70,7 @@ def _problem(doc: dict, kind: str) -> str | None:
         v = doc.get(key)
         if not isinstance(v, typ) or isinstance(v, bool):
             return f"`{key}` missing or not {_type_name(typ)}"
-    if kind == "run":
+    if kind in ("run", "score"):
         cfg = doc["config"]
         if not isinstance(cfg.get("render"), dict) or not isinstance(cfg.get("experiments"), list):
             return "`config` lacks `render` or `experiments`"

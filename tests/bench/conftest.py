@@ -69,3 +69,12 @@ def gate_run(tmp_path_factory):
     base = tmp_path_factory.mktemp("gate-baseline") / "baseline.json"
     gate.write_baseline(out, base)
     return out, base
+
+
+@pytest.fixture(scope="session")
+def tiny_export(tmp_path_factory):
+    """The frame set of :data:`TINY` (``stripebench export``), written once per session."""
+    from bench.config import parse
+    from bench.run.export import export
+
+    return export(parse(copy.deepcopy(TINY)), tmp_path_factory.mktemp("tiny-export") / "frames", quiet=True)

@@ -1,0 +1,133 @@
+"""``stripebench export``: a configuration's frames as a versioned frame set any program can track.
+
+Every experiment of the configuration is rendered exactly as :func:`bench.run.scan.run_scan`
+renders it (the same scene, angles, ``spp`` and seed, so the render cache is
+shared with runs), and each frame is written as the 8-bit PNGs a tracker gets
+in a run (``frame.image`` and ``frame.background`` are uint8 arrays: the PNGs
+hold them losslessly) with its per-row truth. The files and their readers are
+:mod:`bench.store.frameset`. The folder is a run folder of kind ``export``
+(locked while written, refused if it holds another run unless ``force``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from bench.config import Config
+from bench.errors import InputError
+from bench.run.camera_view import tracker_images
+from bench.store import frameset as fs
+from bench.store.files import atomic_write_bytes, atomic_write_text, config_hash
+from bench.store.provenance import code_fingerprint, git_revision, versions
+from bench.store.runfolder import RunFolder
+
+__all__ = ["export", "TEST_FRACTION", "UNITS"]
+
+TEST_FRACTION = 0.3  # share of frames held out as `test` (their truth in truth_test/)
+UNITS = {"angle_deg": "deg (mirror angle theta)", "row": "px (image row, 0 at the top)",
+         "col": "px (continuous column, pixel centre at integer values)",
+         "x_cm, y_cm, z_cm": "cm (world point of the true stripe)", "rig": "cm, mm and deg as the field names say",
+         "ms": "milliseconds per frame (times.csv)"}
+
+
+def _say(msg: str, quiet: bool) -> None:
+    if not quiet:
+        print(msg, file=sys.stderr, flush=True)
+
+
+def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, quiet: bool = False,
+           force: bool = False) -> Path:
+    """Render ``config``'s frames into the frame set ``out_dir``; returns the folder.
+
+    Parameters
+    ----------
+    config : Config
+        Its experiments, render settings and seed decide the frames; its
+        trackers are kept in ``dataset.json`` (``stripebench score`` runs them beside a submission).
+    out_dir : path-like
+    test_fraction : float
+        Share of frames in the ``test`` split (:func:`bench.store.frameset.split_of`, seeded by ``config.seed``).
+    quiet : bool
+        No progress notes on stderr.
+    force : bool
+        Clear a folder holding another run or files first.
+
+    Raises
+    ------
+    ValueError
+        ``test_fraction`` outside [0, 1].
+    bench.store.runfolder.RunFolderError
+        The folder is locked, holds another run (without ``force``) or cannot be written.
+    """
+    from bench.run.experiment import _angles, _scene_for
+
+    fs.split_of("x", 0, test_fraction)  # validates test_fraction
+    t0 = time.perf_counter()
+    identity = {"export": config.identity(), "test_fraction": float(test_fraction), "format": fs.FORMAT}
+    folder = RunFolder(Path(out_dir), kind="export")
+    folder.open(identity, code_fingerprint(), force=force, say=lambda m: _say(m, False))
+    try:
+        root = folder.path
+        for d in ("images", *fs.TRUTH_DIRS.values()):
+            (root / d).mkdir(exist_ok=True)
+        rows, experiments = [], []
+        for k, exp in enumerate(config.experiments):
+            scene = _scene_for(exp, config)
+            angles = _angles(exp, scene)
+            spp = scene.params["spp"]
+            _say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(angles)} frames at "
+                 f"{scene.rig.width}x{scene.rig.height}", quiet)
+            variant, false_stripes = "", False
+            for i, angle in enumerate(angles):
+                frame = scene.render(float(angle), spp=spp, seed=config.seed)
+                fid = fs.frame_id(exp.key, i)
+                split = fs.split_of(fid, config.seed, test_fraction)
+                seen, seen_off = tracker_images(frame, scene.params)  # what a tracker gets in a run
+                if seen.dtype != np.uint8:
+                    raise InputError(f"experiment {exp.key!r}: its trackers see a {seen.dtype} frame (a colour "
+                                      "camera through a float channel rule); a frame set holds 8-bit frames only")
+                H, W = seen.shape
+                image, off = f"images/{fid}.png", f"images/{fid}_off.png"
+                atomic_write_bytes(root / image, fs.png_bytes(seen))
+                atomic_write_bytes(root / off, fs.png_bytes(seen_off))
+                t = frame.truth
+                false = t.false_columns if t.false_mask is not None else None
+                false_stripes |= false is not None
+                atomic_write_text(root / fs.TRUTH_DIRS[split] / f"{fid}.csv",
+                                  fs.truth_csv(t.columns, t.points_cm, t.part, false))
+                variant = frame.variant
+                rows.append({"frame": fid, "image": image, "background": off, "experiment": exp.key,
+                             "condition": exp.condition or exp.key, "split": split, "angle_deg": float(angle),
+                             "height": H, "width": W})
+            experiments.append({"key": exp.key, "index": k, "scene": exp.scene, "material": exp.material,
+                                "condition": exp.condition or exp.key, "frames": int(len(angles)),
+                                "angles_deg": [float(a) for a in angles], "spp": int(spp), "variant": variant,
+                                "false_stripes": bool(false_stripes), "rig": dataclasses.asdict(scene.rig)})
+        fs.write_frames_csv(root / "frames.csv", rows)
+        n_test = sum(r["split"] == "test" for r in rows)
+        doc = {
+            "format": fs.FORMAT, "kind": "stripebench-frames", "profile": config.name,
+            "config_source": config.source, "config_hash": config_hash(config.identity()),
+            "code_revision": git_revision(), "versions": versions(), "seed": config.seed,
+            "split": {"rule": "test when the first 8 bytes of sha256('<seed>:<frame>') / 2**64 < test_fraction",
+                      "test_fraction": float(test_fraction), "seed": config.seed, "dev": len(rows) - n_test,
+                      "test": n_test, "truth_dirs": fs.TRUTH_DIRS},
+            "images": {"format": "PNG, 8-bit grey", "dtype": "uint8",
+                       "what": "the laser-on (image) and laser-off (background) arrays a tracker gets in a run, "
+                               "losslessly"},
+            "units": UNITS, "truth_columns": list(fs.TRUTH_COLUMNS), "frame_columns": list(fs.FRAME_COLUMNS),
+            "submission": {"file": "submission.csv", "columns": "frame,row,col[,score]",
+                           "times": "times.csv: frame,ms (optional)"},
+            "experiments": experiments, "config": config.to_dict(),
+        }
+        fs.write_dataset_json(root / "dataset.json", doc)
+        _say(f"stripebench: {len(rows)} frames ({len(rows) - n_test} dev, {n_test} test) in "
+             f"{time.perf_counter() - t0:.1f} s", quiet)
+        return root
+    finally:
+        folder.unlock()

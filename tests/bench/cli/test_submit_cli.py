@@ -1,0 +1,23 @@
+"""The CLI of the export -> score -> leaderboard loop: outputs, and every expected failure as exit 2."""
+
+from bench.cli import main
+
+
+def test_score_and_leaderboard_through_the_cli(tiny_run, tiny_export, tmp_path, capsys):
+    sub = tmp_path / "bad"
+    sub.mkdir()
+    (sub / "submission.csv").write_text("frame,row,col\nnope,0,1\ncone-patchy-000,0,99\n")
+    assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "r"), "--quiet"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and all(line.startswith("stripebench score: ") for line in err)
+    (sub / "submission.csv").write_text("frame,row,col\ncone-patchy-000,10,30.5\n")
+    assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "r"), "--quiet", "--no-report",
+                 "--trackers", "threshold"]) == 0
+    assert main(["leaderboard", str(tmp_path / "r"), "--out", str(tmp_path / "lb")]) == 0
+    assert (tmp_path / "lb" / "leaderboard.html").is_file()
+    assert main(["leaderboard", str(tmp_path / "r"), str(tiny_run[0]), "--out", str(tmp_path / "lb2")]) == 0
+    capsys.readouterr()
+    assert main(["export", "--out", str(tmp_path / "x")]) == 2
+    assert "CONFIG.toml or --profile" in capsys.readouterr().err
+    assert main(["score", str(tmp_path), str(sub), "--out", str(tmp_path / "r2")]) == 2
+    assert "exported frame set" in capsys.readouterr().err

@@ -1,0 +1,55 @@
+"""bench.report.leaderboard: comparable runs ranked per condition, ties by overlapping intervals."""
+
+import csv
+
+import pytest
+
+from bench.report.leaderboard import LeaderboardError, build_leaderboard, leaderboard_rows
+
+
+@pytest.fixture(scope="module")
+def scored_run(tiny_run, tiny_export, tmp_path_factory):
+    from bench.run.score import score
+    from bench.store import frameset as fs
+    from bench.store.checkpoint import read_checkpoint
+
+    fset = fs.read_frameset(tiny_export)
+    cols = {}
+    for key in dict.fromkeys(f["experiment"] for f in fset.frames):
+        res, _ = read_checkpoint(tiny_run[0] / "scans" / f"{key}.npz", key)
+        for i, f in enumerate(fset.frames_of(key)):
+            cols[f["frame"]] = res.columns["dp8"][i]
+    tmp = tmp_path_factory.mktemp("lb")
+    (tmp / "sub").mkdir()
+    (tmp / "sub" / "submission.csv").write_text(fs.submission_csv(cols))
+    return score(tiny_export, tmp / "sub", tmp / "run", label="mine", trackers=None, quiet=True)
+
+
+def test_rows_rank_every_tracker_once_per_condition(tiny_run, scored_run):
+    rows = leaderboard_rows([tiny_run[0], scored_run])
+    conds = dict.fromkeys(r["condition"] for r in rows)
+    assert "patchy cone" in conds
+    cone = [r for r in rows if r["condition"] == "patchy cone"]
+    assert sorted(r["tracker"] for r in cone) == ["centroid", "dp4", "dp8", "mine", "threshold"]
+    within = [r["within"] for r in cone]
+    assert within == sorted(within, reverse=True)
+    mine, dp8 = (next(r for r in cone if r["tracker"] == t) for t in ("mine", "dp8"))
+    assert mine["within"] == dp8["within"] and mine["kind"] == "score" and dp8["kind"] == "run"
+    for a, b in zip(cone, cone[1:]):  # the interval rule decides ties and ranks
+        overlap = b["within_high"] >= a["within_low"]
+        assert b["tied"] == overlap and (b["rank"] == a["rank"]) == overlap
+
+
+def test_page_and_csv(tiny_run, scored_run, tmp_path):
+    page = build_leaderboard([tiny_run[0], scored_run], tmp_path / "lb")
+    text = page.read_text()
+    assert "patchy cone" in text and "mine</b> (submission)" in text
+    with (tmp_path / "lb" / "leaderboard.csv").open() as fh:
+        assert len(list(csv.DictReader(fh))) == len(leaderboard_rows([tiny_run[0], scored_run]))
+
+
+def test_incomparable_runs_are_refused_in_one_line(tiny_run, gate_run, tmp_path):
+    with pytest.raises(LeaderboardError, match="is not comparable with .* they differ in"):
+        build_leaderboard([tiny_run[0], gate_run[0]], tmp_path / "lb")
+    with pytest.raises(LeaderboardError, match="finished run"):
+        build_leaderboard([tmp_path], tmp_path / "lb")

@@ -1,0 +1,108 @@
+"""bench.run.score: a built-in tracker's own output, submitted, scores what `run` gives it, byte for byte."""
+
+import json
+
+import pytest
+
+from bench.store import frameset as fs
+from bench.store.checkpoint import read_checkpoint
+
+
+def _submit(run_dir, fset, tracker, folder, times=False):
+    cols, ms = {}, {}
+    for key in dict.fromkeys(f["experiment"] for f in fset.frames):
+        res, why = read_checkpoint(run_dir / "scans" / f"{key}.npz", key)
+        assert why is None
+        for i, f in enumerate(fset.frames_of(key)):
+            cols[f["frame"]] = res.columns[tracker][i]
+            ms[f["frame"]] = float(1e3 * res.seconds[tracker][i])
+    folder.mkdir()
+    (folder / "submission.csv").write_text(fs.submission_csv(cols))
+    if times:
+        (folder / "times.csv").write_text("frame,ms\n" + "".join(f"{k},{v!r}\n" for k, v in ms.items()))
+    return folder
+
+
+@pytest.fixture(scope="module")
+def scored(tiny_run, tiny_export, tmp_path_factory):
+    from bench.run.score import score
+
+    tmp = tmp_path_factory.mktemp("score")
+    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export), "dp4", tmp / "mine", times=True)
+    return score(tiny_export, sub, tmp / "run", quiet=True)
+
+
+def _lines(path):
+    return path.read_text().splitlines()
+
+
+def test_a_submitted_tracker_scores_its_run_metrics_byte_for_byte(tiny_run, scored):
+    run_lines, score_lines = _lines(tiny_run[0] / "metrics.csv"), _lines(scored / "metrics.csv")
+    assert run_lines[0] == score_lines[0]
+    dp4 = [line for line in run_lines[1:] if ",dp4," in line]
+    mine = [line for line in score_lines[1:] if ",mine," in line]
+    assert len(dp4) == 4 and [line.replace(",dp4,", ",mine,") for line in dp4] == mine
+
+
+def test_the_builtin_trackers_score_their_run_metrics_on_the_exported_pngs(tiny_run, scored):
+    score_lines = set(_lines(scored / "metrics.csv"))
+    assert all(line in score_lines for line in _lines(tiny_run[0] / "metrics.csv"))
+
+
+def test_the_samples_and_statistics_match(tiny_run, scored):
+    import pandas as pd
+
+    a, b = pd.read_csv(tiny_run[0] / "samples.csv"), pd.read_csv(scored / "samples.csv")
+    assert b["error_mm_mine"].tolist() == pytest.approx(a["error_mm_dp4"].tolist(), nan_ok=True, rel=0, abs=0)
+    s = json.loads((scored / "summary.json").read_text())
+    r = json.loads((tiny_run[0] / "summary.json").read_text())
+    assert s["kind"] == "score" and s["submission"]["label"] == "mine" and s["submission"]["timed"]
+    rob = {(x["group"], x["tracker"]): x for x in s["robust"]}
+    for x in r["robust"]:
+        if x["tracker"] == "dp4":
+            assert {k: v for k, v in rob[(x["group"], "mine")].items() if k != "tracker"} == \
+                   {k: v for k, v in x.items() if k != "tracker"}
+    assert any(i["dp"] == "mine" and i["baseline"] == "threshold" for i in s["improvement"])
+
+
+def test_the_scored_run_builds_a_report_and_a_baseline(scored):
+    from bench.report.run import build_report
+    from bench.run import gate
+
+    assert build_report(scored, quiet=True).is_file()
+    assert any("/mine/" in k for k in gate.baseline_from_run(scored)["metrics"])
+
+
+def test_score_on_the_test_split_only(tiny_run, tiny_export, tmp_path):
+    from bench.run.score import score
+
+    fset = fs.read_frameset(tiny_export)
+    sub = _submit(tiny_run[0], fset, "threshold", tmp_path / "t")
+    n_test = sum(f["split"] == "test" for f in fset.frames)
+    if n_test == 0:
+        pytest.skip("this seed puts no frame in the test split")
+    out = score(tiny_export, sub, tmp_path / "run", trackers=None, split="test", quiet=True)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["submission"]["frames"] == n_test
+
+
+def test_score_refuses_a_bad_submission_with_every_problem(tiny_export, tmp_path):
+    from bench.run.score import SubmissionError, score
+
+    sub = tmp_path / "bad"
+    sub.mkdir()
+    (sub / "submission.csv").write_text("frame,row,col\nnope-000,1,2.0\ncone-patchy-000,99,2.0\n")
+    with pytest.raises(SubmissionError) as err:
+        score(tiny_export, sub, tmp_path / "run", quiet=True)
+    assert len(err.value.problems) == 2 and "unknown frame 'nope-000'" in err.value.problems[0]
+    assert not (tmp_path / "run").exists()
+
+
+def test_score_refuses_a_label_of_a_builtin_tracker(tiny_export, tmp_path):
+    from bench.config import ConfigError
+    from bench.run.score import score
+
+    (tmp_path / "s").mkdir()
+    (tmp_path / "s" / "submission.csv").write_text("frame,row,col\n")
+    with pytest.raises(ConfigError, match="built-in tracker"):
+        score(tiny_export, tmp_path / "s", tmp_path / "run", label="dp4", quiet=True)

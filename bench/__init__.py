@@ -5,13 +5,13 @@ Layers, lowest first; a module imports only from its own layer or a lower one
 enforces it, so a new module must be added to :data:`LAYERS`):
 
 0. evaluation (pure: arrays and tables in, numbers out): ``triangulation``,
-   ``restore``, ``metrics``, ``stats``, ``analysis``, ``sweep_stats``
+   ``restore``, ``metrics``, ``stats``, ``analysis``, ``sweep_stats``, ``colour``
 1. running (configurations, scans, the run folder and its readers, the gate on
    saved runs, real photographs and their runs): ``config`` (and its ``profiles``), ``runio``, ``runfolder``,
    ``scan``, ``experiment``, ``renderahead``, ``gate``, ``real``, ``real_run``, ``sweep``
 2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
 3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
-   ``translucency``
+   ``translucency``, ``hard_frames``, ``tune_threshold``
 4. the command line: ``cli``
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
@@ -19,10 +19,10 @@ of them imports ``bench``.
 """
 
 LAYERS = {
-    "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats"),
+    "evaluation": ("triangulation", "restore", "metrics", "stats", "analysis", "sweep_stats", "colour"),
     "running": ("config", "profiles", "runio", "runfolder", "scan", "experiment", "renderahead", "gate", "real",
                 "real_run", "sweep"),
     "reporting": ("figures", "report", "sweep_report"),
-    "studies": ("estimators", "perf", "tune", "translucency"),
+    "studies": ("estimators", "perf", "tune", "translucency", "hard_frames", "tune_threshold"),
     "cli": ("cli",),
 }

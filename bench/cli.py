@@ -320,6 +320,9 @@ def _cmd_real(args) -> int:
     if args.n_boot < 10:
         raise UsageError(f"--n-boot must be an integer >= 10, got {args.n_boot!r}")
     dataset = Path(args.dataset)
+    extra = real.ignored_columns(dataset)
+    if extra:
+        print(f"stripebench real: manifest.csv: ignored column(s): {', '.join(extra)}", file=sys.stderr)
     if args.check:
         _, problems = real.validate_dataset(dataset)
         for line in problems:
@@ -499,20 +502,28 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("rest", nargs=argparse.REMAINDER)
     p.set_defaults(func=_cmd_perf)
     _add_sweep_parser(sub)
-    p = sub.add_parser("tune", help="choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
+    p = sub.add_parser("tune", help="choose defaults by their committed procedure: `tune dp` (the DP's h_weight), "
+                                    "`tune threshold` (detection, com_bg's level, the colour rule)",
                        description="Run a committed tuning procedure. `dp`: the DP trackers' h_weight on "
                                    "bench/profiles/tune_dp.toml (sphere and plane, seed 1; never the paper's "
-                                   "objects or seed); writes tune.csv and tune_dp.png and prints the chosen value.")
-    p.add_argument("what", choices=["dp"], help="what to tune")
-    p.add_argument("--profile", help="tuning profile (TOML; default: bench/profiles/tune_dp.toml)")
-    p.add_argument("--out", type=Path, help="output folder (default: results/runs/tune_dp)")
+                                   "objects or seed); writes tune.csv and tune_dp.png and prints the chosen value. "
+                                   "`threshold`: the threshold trackers' per-row detection, com_bg's "
+                                   "threshold-to-zero and the `auto` colour rule on bench/profiles/"
+                                   "tune_threshold.toml (seeded numpy frames of real failure classes and the "
+                                   "shipped real set); writes tune.csv and summary.json and prints the choices.")
+    p.add_argument("what", choices=["dp", "threshold"], help="what to tune")
+    p.add_argument("--profile", help="tuning profile (TOML; default: bench/profiles/tune_WHAT.toml)")
+    p.add_argument("--out", type=Path, help="output folder (default: results/runs/tune_WHAT)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=_cmd_tune)
     return parser
 
 
 def _cmd_tune(args) -> int:
-    from . import tune
+    if args.what == "threshold":
+        from . import tune_threshold as tune
+    else:
+        from . import tune
 
     argv = (["--profile", args.profile] if args.profile else []) + (["--out", str(args.out)] if args.out else [])
     return tune.main(argv + (["--quiet"] if args.quiet else []))

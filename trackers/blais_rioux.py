@@ -24,12 +24,12 @@ class BlaisRiouxTracker(PeakTracker):
     crossing, ``i + g0 / (g0 - g1)``, clamped to the interval.
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, same frame-derived threshold); rows whose peak does not
+    parameters, the same per-row rule); rows whose peak does not
     exceed it report NaN.
 
     Parameters
     ----------
-    threshold, k_sigma, rel
+    threshold, k_sigma, prominence
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes

@@ -21,12 +21,12 @@ class ParabolicTracker(PeakTracker):
     Gaussian profiles (most for narrow ones; see ``docs/estimators.png``).
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, same frame-derived threshold); rows whose peak does not
+    parameters, the same per-row rule); rows whose peak does not
     exceed it report NaN.
 
     Parameters
     ----------
-    threshold, k_sigma, rel
+    threshold, k_sigma, prominence
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes

@@ -375,7 +375,7 @@ def ignored_columns(root) -> list[str]:
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> d = pathlib.Path(tempfile.mkdtemp()); _ = (d / "manifest.csv").write_text("name,surface,has_background,laser_colour,rows\n")
+    >>> d = pathlib.Path(tempfile.mkdtemp()); _ = (d / "manifest.csv").write_text("name,surface,has_background,laser_colour,rows\\n")
     >>> ignored_columns(d)
     ['surface', 'rows']
     """

@@ -203,15 +203,15 @@ def choose_grid(scores: dict, tie: float, recalls: dict | None = None, min_recal
 
 
 def choose_min(values: dict, tie: float):
-    """The key of smallest value; values within ``tie`` of it go to the larger key.
+    """The key of smallest value; values within ``tie`` of it go to the smaller key.
 
     Examples
     --------
-    >>> choose_min({0.0: 0.101, 0.25: 0.1, 0.5: 0.2}, tie=0.005)
+    >>> choose_min({0.0: 0.2, 0.25: 0.1, 0.4: 0.101}, tie=0.005)
     0.25
     """
     best = min(values.values())
-    return max(k for k, v in values.items() if v <= best + tie)
+    return min(k for k, v in values.items() if v <= best + tie)
 
 
 def choose_listed(scores: dict, order: list, tie: float):
@@ -323,7 +323,11 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                 for name, frame, bg, _, _, _, ref in reals:
                     add(1, key, n, "real", name, t.track(frame, background=bg).columns, ref, real_scorer)
             scores1[(k, p)] = _setting_score(records, key)
-            recall1[(k, p)] = _mean([r["recall"] for r in records if r["setting"] == key and r["group"] == "synthetic"])
+            per_kind = {}
+            for r in records:
+                if r["setting"] == key and r["group"] == "synthetic":
+                    per_kind.setdefault(r["frame"].rsplit("-", 1)[0], []).append(r["recall"])
+            recall1[(k, p)] = min(_mean(v) for v in per_kind.values())  # the worst kind's mean recall
         say(f"stage 1: k_sigma = {k:g} done")
     k_best, p_best = choose_grid(scores1, profile.tie, recall1, profile.min_recall)
     # stage 2: com_bg's frac on laser-on/off pairs

@@ -42,9 +42,10 @@ class ComBgTracker(ThresholdTracker):
     replaces both: rows whose maximum exceeds it are reported, with
     ``T = threshold``.
 
-    Fallback without ``background``: ``D = image`` (each row's level is then
-    its own median). Ambient structure is not removed: it can win a row (and
-    be reported) where no laser-off frame would have cancelled it.
+    Fallback without ``background``: ``D = image - b_I`` with ``b_I`` each
+    row's median (a flat laser-off frame); the detection is the same as on the
+    image. Ambient structure is not removed: it can win a row (and be
+    reported) where no laser-off frame would have cancelled it.
 
     Parameters
     ----------
@@ -91,16 +92,19 @@ class ComBgTracker(ThresholdTracker):
         check_int("half_window", self.half_window, low=0)
 
     def _track(self, image, background):
-        if background is None:
-            diff = image
+        if background is None:  # a flat laser-off frame: each row's own level
+            d = self.detect(image)
+            diff = np.subtract(image, d.bg[:, None], dtype=np.float64)
+            base = np.zeros(image.shape[0])
         else:
             diff = np.subtract(image, background, dtype=np.float64)
-        d = self.detect(diff)
+            d = self.detect(diff)
+            base = d.bg
         H = image.shape[0]
         columns = np.empty(H)
         ok = np.empty(H, dtype=np.bool_)
         if self.threshold is None:
-            level, frac = d.bg, float(self.frac)
+            level, frac = base, float(self.frac)
         else:
             level, frac = np.full(H, float(self.threshold)), 0.0
         refine(diff, d.col, d.hit, level, ESTIMATORS["com"], 0, frac, int(self.half_window), columns, ok)

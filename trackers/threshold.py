@@ -10,9 +10,9 @@ from ._params import check_optional_real, check_real
 __all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE"]
 
 #: Default noise multiple of the per-row detection (chosen by ``stripebench tune threshold``).
-DEFAULT_K_SIGMA = 5.0
+DEFAULT_K_SIGMA = 4.0
 #: Default least ratio of the peak's contrast to the runner-up's (chosen by ``stripebench tune threshold``).
-DEFAULT_PROMINENCE = 1.5
+DEFAULT_PROMINENCE = 1.05
 
 
 class ThresholdTracker(Tracker):

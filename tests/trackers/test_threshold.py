@@ -48,7 +48,9 @@ def test_score_is_contrast_in_row_noise_units():
     img = rng.normal(20, 4, (50, 256))
     img[:, 30] = 220
     out = ThresholdTracker().track(img)
-    assert np.allclose(out.score, (220 - 20) / 4, rtol=0.15)
+    # each row's noise comes from its own 255 adjacent differences: about 10 % spread per row
+    assert np.allclose(out.score, (220 - 20) / 4, rtol=0.25)
+    assert np.median(out.score) == pytest.approx((220 - 20) / 4, rel=0.05)
 
 
 def test_a_clipped_plateau_reports_its_middle():

@@ -6,10 +6,12 @@ cannot inflate (see :func:`row_statistics` and
 :class:`trackers.threshold.ThresholdTracker`):
 
 * the row's background ``b``: the median of the row;
-* the row's pixel noise ``s``: ``1.4826 / sqrt(2)`` times the median absolute
-  difference of horizontally adjacent pixels. Smooth texture (shading, print,
-  gradients, walls) changes little from one pixel to the next and edges are
-  few, so the median difference measures the sensor's noise, not the scene;
+* the pixel noise ``s``: ``1.4826 / sqrt(2)`` times the median absolute
+  difference of horizontally adjacent pixels, over a fixed sample of the
+  frame. Smooth texture (shading, print, gradients, walls) changes little
+  from one pixel to the next and edges are few, so the median difference
+  measures the sensor's noise, not the scene (unlike the spread of the
+  pixel values themselves, which measures the texture);
 * the *runner-up* ``q``: the brightest pixel of the row outside the peak's
   exclusion zone (the contiguous run around the peak above half its contrast
   over ``b``, widened on each side by that run's length, at least 2 px).
@@ -27,11 +29,13 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["MAX_SAMPLES", "RowDetection", "row_statistics", "detect_rows"]
+__all__ = ["MAX_SAMPLES", "NOISE_SAMPLES", "RowDetection", "row_statistics", "detect_rows"]
 
-#: At most this many pixels (and adjacent-pixel differences) of a row enter
-#: its median and noise; wider rows are sampled with a fixed stride.
-MAX_SAMPLES = 256
+#: At most this many pixels of a row enter its median; wider rows are
+#: sampled with a fixed stride.
+MAX_SAMPLES = 64
+#: About this many adjacent-pixel differences of a frame enter its noise.
+NOISE_SAMPLES = 4096
 _DIFF_TO_SIGMA = 1.482602218505602 / math.sqrt(2.0)
 
 
@@ -95,8 +99,9 @@ def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
     bg : (H,) float64
         Output: the row's median (of every ``ceil(W / MAX_SAMPLES)``-th pixel).
     noise : (H,) float64
-        Output: ``1.4826 / sqrt(2)`` x the median of ``|I[j+1] - I[j]|`` over
-        the same sampled ``j`` (0 for a one-column frame), image units.
+        Output: ``1.4826 / sqrt(2)`` x the median of ``|I[r, j+1] - I[r, j]|``
+        over every row and every ``max(1, H (W - 1) // NOISE_SAMPLES)``-th
+        ``j``, the same for every row (0 for a one-column frame), image units.
     runner_up : (H,) float64
         Output: the brightest pixel outside the exclusion zone; ``bg`` if the
         zone covers the row.
@@ -108,36 +113,32 @@ def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
     step = (W + MAX_SAMPLES - 1) // MAX_SAMPLES
     buf = np.empty(W)
     for r in range(H):
+        row = image[r]  # comparisons in the image's own dtype: the same order for uint8 and its float64 copy
         p = 0
-        v = float(image[r, 0])
+        top = row[0]
         for j in range(1, W):
-            x = float(image[r, j])
-            if x > v:
-                v = x
+            if row[j] > top:
+                top = row[j]
                 p = j
+        v = float(top)
         col[r] = p
         peak[r] = v
         e = p
-        while e < W - 1 and float(image[r, e + 1]) == v:
+        while e < W - 1 and row[e + 1] == top:
             e += 1
         mid[r] = (p + e) // 2
         n = 0
         for j in range(0, W, step):
-            buf[n] = float(image[r, j])
+            buf[n] = float(row[j])
             n += 1
         b = _median(buf, n)
         bg[r] = b
-        n = 0
-        for j in range(0, W - 1, step):
-            buf[n] = abs(float(image[r, j + 1]) - float(image[r, j]))
-            n += 1
-        noise[r] = _DIFF_TO_SIGMA * _median(buf, n) if n > 0 else 0.0
         half = b + 0.5 * (v - b)
         lo = p
-        while lo > 0 and float(image[r, lo - 1]) > half:
+        while lo > 0 and float(row[lo - 1]) > half:
             lo -= 1
         hi = p
-        while hi < W - 1 and float(image[r, hi + 1]) > half:
+        while hi < W - 1 and float(row[hi + 1]) > half:
             hi += 1
         lo_out[r] = lo
         hi_out[r] = hi
@@ -145,17 +146,34 @@ def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
         if m < 2:
             m = 2
         a = lo - m
-        z = hi + m
-        q = -np.inf
+        z = hi + m + 1
+        found = False
+        q = top
         for j in range(0, a if a > 0 else 0):
-            x = float(image[r, j])
-            if x > q:
-                q = x
-        for j in range(z + 1 if z + 1 > 0 else 0, W):
-            x = float(image[r, j])
-            if x > q:
-                q = x
-        runner_up[r] = q if q > -np.inf else b
+            if not found or row[j] > q:
+                q = row[j]
+                found = True
+        for j in range(z if z > 0 else 0, W):
+            if not found or row[j] > q:
+                q = row[j]
+                found = True
+        runner_up[r] = float(q) if found else b
+    # the frame's pixel noise from about NOISE_SAMPLES adjacent differences,
+    # every dstep-th column of every row (a set that a vertical flip maps onto itself)
+    dstep = max(1, (H * (W - 1)) // NOISE_SAMPLES)
+    total = 0
+    for r in range(H):
+        total += len(range(0, W - 1, dstep))
+    dbuf = np.empty(max(total, 1))
+    n = 0
+    for r in range(H):
+        row = image[r]
+        for j in range(0, W - 1, dstep):
+            dbuf[n] = abs(float(row[j + 1]) - float(row[j]))
+            n += 1
+    s = _DIFF_TO_SIGMA * _median(dbuf, n) if n > 0 else 0.0
+    for r in range(H):
+        noise[r] = s
 
 
 @dataclass(frozen=True)
@@ -169,7 +187,7 @@ class RowDetection:
     peak, bg, runner_up : float64
         Image units.
     noise : float64
-        The row's pixel noise, floored (image units, > 0).
+        The frame's pixel noise (the same in every row), floored (image units, > 0).
     hit : bool
         Whether the row reports a stripe.
     score : float64
@@ -192,7 +210,7 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     A row is reported iff its peak's contrast over the row's background,
     ``c = peak - bg``, is positive and
 
-    * ``c > k_sigma * noise`` (the peak stands out of the row's pixel noise), and
+    * ``c > k_sigma * noise`` (the peak stands out of the pixel noise), and
     * ``c > prominence * (runner_up - bg)`` (nothing else in the row comes close:
       the brightest pixel outside the peak's exclusion zone has less than
       ``1 / prominence`` of its contrast),

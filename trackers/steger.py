@@ -260,9 +260,9 @@ class StegerTracker(ThresholdTracker):
 
     * the ridge strength passes the threshold trackers' per-row rule
       (:func:`trackers._detect.detect_rows`) on the row of the strength
-      image: above the row's median by ``k_sigma`` times its pixel noise
+      image: above the row's median by ``k_sigma`` times the pixel noise
       and ``prominence`` times above any ridge elsewhere in the row;
-    * the pixel's intensity stands ``k_sigma`` times the row's pixel noise
+    * the pixel's intensity stands ``k_sigma`` times the pixel noise
       above the row's median (an explicit ``threshold``: exceeds it), which
       also keeps flat frames, where the filters leave rounding-level
       curvature, empty;

@@ -12,7 +12,7 @@ __all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE"]
 #: Default noise multiple of the per-row detection (chosen by ``stripebench tune threshold``).
 DEFAULT_K_SIGMA = 4.0
 #: Default least ratio of the peak's contrast to the runner-up's (chosen by ``stripebench tune threshold``).
-DEFAULT_PROMINENCE = 1.05
+DEFAULT_PROMINENCE = 0.0
 
 
 class ThresholdTracker(Tracker):
@@ -21,9 +21,10 @@ class ThresholdTracker(Tracker):
     The paper's "simple method such as threshold" (Wang et al. 2008, sec. 2):
     rows where no stripe is found report NaN. Each row is decided against its
     own statistics (:func:`trackers._detect.detect_rows`), never against the
-    whole frame, so texture, daylight or a lamp elsewhere cannot hide a stripe
-    that is the brightest thing in its row: with ``b`` the row's median, ``s``
-    its pixel noise (from the median difference of adjacent pixels, which
+    spread of the whole frame's values, so texture, daylight or a lamp
+    elsewhere cannot hide a stripe that is the brightest thing in its row:
+    with ``b`` the row's median, ``s`` the pixel noise (from the median
+    difference of adjacent pixels over a fixed sample of the frame, which
     smooth texture does not inflate) and ``q`` the brightest pixel of the row
     outside the peak's exclusion zone (the run above half the peak's contrast,
     widened by its own length on each side), the row's peak ``m`` is reported

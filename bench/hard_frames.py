@@ -47,7 +47,7 @@ Examples
 --------
 >>> f = hard_frame("printed", seed=3)
 >>> f.rgb.shape, f.rgb.dtype, f.laser, f.truth.shape
-((240, 320, 3), dtype('uint8'), 'red', (240,))
+((300, 400, 3), dtype('uint8'), 'red', (300,))
 >>> bool(np.isnan(f.truth).any() and np.isfinite(f.truth).any())
 True
 """
@@ -295,7 +295,7 @@ def argmax_right(frame: np.ndarray, truth, tol_px: float = 3.0) -> float:
 
     Examples
     --------
-    >>> argmax_right(np.array([[0, 9, 0], [9, 0, 0]]), [1.0, 2.0])
+    >>> argmax_right(np.array([[0, 9, 0, 0, 0, 0], [9, 0, 0, 0, 0, 0]]), [1.0, 5.0])
     0.5
     """
     f = np.asarray(frame)

@@ -46,7 +46,7 @@ class BlaisRiouxTracker(PeakTracker):
     Examples
     --------
     >>> import numpy as np
-    >>> img = np.array([[0, 10, 60, 100, 60, 10, 0]], np.uint8)
+    >>> img = np.zeros((1, 40), np.uint8); img[0, :7] = [0, 10, 60, 100, 60, 10, 0]
     >>> float(BlaisRiouxTracker().track(img).columns[0])
     3.0
     """

@@ -41,7 +41,7 @@ class ParabolicTracker(PeakTracker):
     Examples
     --------
     >>> import numpy as np
-    >>> img = np.array([[0, 10, 50, 90, 70, 10, 0]], np.uint8)
+    >>> img = np.zeros((1, 40), np.uint8); img[0, :7] = [0, 10, 50, 90, 70, 10, 0]
     >>> float(ParabolicTracker().track(img).columns[0])
     3.1666666666666665
     """

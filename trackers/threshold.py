@@ -51,7 +51,7 @@ class ThresholdTracker(Tracker):
 
     Examples
     --------
-    >>> img = np.zeros((2, 5), np.uint8); img[:, 3] = 200
+    >>> img = np.zeros((2, 40), np.uint8); img[:, 3] = 200
     >>> ThresholdTracker().track(img).columns
     array([3., 3.])
     """

@@ -7,7 +7,6 @@ from typing import ClassVar
 import numpy as np
 
 from ._base import Track
-from ._stats import row_peaks
 from ._subpixel import ESTIMATORS, refine
 from .threshold import ThresholdTracker
 
@@ -16,8 +15,9 @@ __all__ = ["PeakTracker"]
 
 class PeakTracker(ThresholdTracker):
     """Detection as :class:`~trackers.threshold.ThresholdTracker` (same
-    parameters and threshold), then a sub-pixel estimator from
-    :mod:`trackers._subpixel` around each detected row's brightest pixel.
+    parameters, the same per-row rule), then a sub-pixel estimator from
+    :mod:`trackers._subpixel` around each detected row's brightest pixel,
+    with the row's own background level (its median).
 
     Subclasses set ``_estimator`` (a key of ``trackers._subpixel.ESTIMATORS``)
     and may override :meth:`_estimator_args` (``frac``, ``half_window``).
@@ -30,14 +30,12 @@ class PeakTracker(ThresholdTracker):
         return 0.0, 0
 
     def _track(self, image, background):
-        bg, noise, thr = self._level(image)
-        cols, peaks = row_peaks(image)
-        hit = peaks > thr
+        d = self.detect(image)
         H = image.shape[0]
         columns = np.empty(H)
         ok = np.empty(H, dtype=np.bool_)
         frac, half_window = self._estimator_args()
-        refine(image, cols, hit, np.full(H, bg), ESTIMATORS[self._estimator], 0, float(frac), int(half_window),
+        refine(image, d.col, d.hit, d.bg, ESTIMATORS[self._estimator], 0, float(frac), int(half_window),
                columns, ok)
-        score = np.where(hit, (peaks - bg) / noise, np.nan)
+        score = np.where(d.hit, d.score, np.nan)
         return Track(columns, score)

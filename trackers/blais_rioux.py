@@ -24,12 +24,12 @@ class BlaisRiouxTracker(PeakTracker):
     crossing, ``i + g0 / (g0 - g1)``, clamped to the interval.
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, same frame-derived threshold); rows whose peak does not
+    parameters, the same per-row rule); rows whose peak does not
     exceed it report NaN.
 
     Parameters
     ----------
-    threshold, k_sigma, rel
+    threshold, k_sigma, prominence
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes
@@ -46,7 +46,7 @@ class BlaisRiouxTracker(PeakTracker):
     Examples
     --------
     >>> import numpy as np
-    >>> img = np.array([[0, 10, 60, 100, 60, 10, 0]], np.uint8)
+    >>> img = np.zeros((1, 40), np.uint8); img[0, :7] = [0, 10, 60, 100, 60, 10, 0]
     >>> float(BlaisRiouxTracker().track(img).columns[0])
     3.0
     """

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ._params import check_int, check_real
 from ._peak import PeakTracker
+from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE
 
 __all__ = ["CentroidTracker"]
 
@@ -12,9 +13,10 @@ class CentroidTracker(PeakTracker):
     """Gray-gravity centre: intensity-weighted mean column around each row's peak.
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, same default threshold). In a detected row with peak value
+    parameters, the same per-row rule). In a detected row with peak value
     ``p`` at column ``j*`` (the middle pixel of the run of equal maxima when
-    the peak is flat, e.g. saturated) and frame background ``b``, the window
+    the peak is flat, e.g. saturated) and row background ``b`` (the row's
+    median), the window
     is the run of
     contiguous pixels around ``j*`` brighter than ``level = b + frac * (p - b)``,
     at most ``half_window`` pixels on each side; the column is
@@ -23,7 +25,7 @@ class CentroidTracker(PeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, rel
+    threshold, k_sigma, prominence
         As for :class:`~trackers.threshold.ThresholdTracker`.
     frac : float, default 0.5
         Level inside the peak, as a fraction of the peak's contrast
@@ -40,8 +42,9 @@ class CentroidTracker(PeakTracker):
     subpixel = True
     _estimator = "centroid"
 
-    def __init__(self, threshold=None, k_sigma=5.0, rel=0.25, frac=0.5, half_window=7):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, rel=rel)
+    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=0.5,
+                 half_window=7):
+        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence)
         self.frac = frac
         self.half_window = half_window
 

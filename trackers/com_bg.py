@@ -6,12 +6,15 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import Track
-from ._params import check_int
-from ._stats import robust_level, row_peaks
+from ._params import check_int, check_real
 from ._subpixel import ESTIMATORS, refine
-from .threshold import ThresholdTracker
+from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE, ThresholdTracker
 
-__all__ = ["ComBgTracker"]
+__all__ = ["ComBgTracker", "DEFAULT_FRAC"]
+
+#: Default threshold-to-zero level as a fraction of each row's peak contrast
+#: (chosen by ``stripebench tune threshold``).
+DEFAULT_FRAC = 0.25
 
 
 class ComBgTracker(ThresholdTracker):
@@ -23,31 +26,35 @@ class ComBgTracker(ThresholdTracker):
 
     1. the difference ``D = image - background`` of a laser-on and a
        laser-off frame of the same scene removes the ambient light;
-    2. ``D`` is thresholded to zero below a threshold ``T``;
+    2. ``D`` is thresholded to zero below a level ``T``;
     3. in each row, only the pixels within ``half_window`` columns of the
        row's maximum of ``D`` are kept;
     4. the column is their centre of mass, ``sum(D_j * j) / sum(D_j)`` over
        the kept pixels with ``D_j > T``.
 
-    A row is reported iff its maximum of ``D`` exceeds ``T``. Unlike the
-    scanners' fixed thresholds (Horus: user-set; FabScan: fixed), ``T`` is
-    derived from ``D`` as in :class:`~trackers.threshold.ThresholdTracker`:
-    ``T = b + max(k_sigma * s, rel * (m - b))`` with ``b``, ``s`` the robust
-    level and noise of ``D`` (median and 1.4826 x MAD of a fixed sample) and
-    ``m`` its maximum; ``threshold`` overrides it (in units of ``D``).
+    Unlike the scanners' fixed thresholds (Horus: user-set; FabScan: fixed),
+    both the detection and ``T`` are per row: a row of ``D`` is reported by
+    :class:`~trackers.threshold.ThresholdTracker`'s per-row rule (same
+    ``k_sigma``, ``prominence``), and its level is
+    ``T_r = b_r + frac * (m_r - b_r)`` with ``b_r`` the median and ``m_r``
+    the maximum of that row of ``D``, so the dim half of a stripe in a bright
+    frame keeps its own level. An explicit ``threshold`` (units of ``D``)
+    replaces both: rows whose maximum exceeds it are reported, with
+    ``T = threshold``.
 
-    Fallback without ``background``: ``D = image - b_I``, with ``b_I`` the
-    robust background level of the frame itself (a flat laser-off frame).
-    Ambient structure is then not removed: it can pass the threshold (and be
+    Fallback without ``background``: ``D = image - b_I`` with ``b_I`` each
+    row's median (a flat laser-off frame); the detection is the same as on the
+    image. Ambient structure is not removed: it can win a row (and be
     reported) where no laser-off frame would have cancelled it.
 
     Parameters
     ----------
     threshold : float or None, default None
-        ``T`` in image units of ``D``; ``None`` derives it as above.
-    k_sigma : float, default 5.0
-    rel : float, default 0.25
+        Explicit threshold in units of ``D``; ``None``: the per-row rule.
+    k_sigma, prominence : float
         As for :class:`~trackers.threshold.ThresholdTracker`, applied to ``D``.
+    frac : float, default :data:`DEFAULT_FRAC`
+        Threshold-to-zero level as a fraction of each row's peak contrast, in [0, 1).
     half_window : int, default 5
         Half width of the window around each row's maximum, in pixels
         (FabScan uses 3; 5 keeps the bias of a sigma = 3 px stripe below
@@ -55,11 +62,11 @@ class ComBgTracker(ThresholdTracker):
 
     Notes
     -----
-    ``score`` is the peak contrast of ``D`` in noise units, ``(max_D - b) / s``
-    (``s`` floored at 1e-3 of the dynamic range of ``D``). The window is
-    centred on the leftmost maximum, or on the middle of a run of equal
-    maxima (saturation). Weights are the values of ``D`` themselves, as in
-    the scanners, so a pixel crossing ``T`` moves the centre by a small jump.
+    ``score`` is the peak contrast of ``D`` in noise units, as for
+    ``threshold``. The window is centred on the leftmost maximum, or on the
+    middle of a run of equal maxima (saturation). Weights are the values of
+    ``D`` themselves, as in the scanners, so a pixel crossing ``T`` moves
+    the centre by a small jump.
 
     Examples
     --------
@@ -74,25 +81,33 @@ class ComBgTracker(ThresholdTracker):
     subpixel = True
     uses_background = True
 
-    def __init__(self, threshold=None, k_sigma=5.0, rel=0.25, half_window=5):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, rel=rel)
+    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=DEFAULT_FRAC,
+                 half_window=5):
+        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence)
+        self.frac = frac
         self.half_window = half_window
 
     def _validate_params(self):
         super()._validate_params()
+        check_real("frac", self.frac, low=0, high=1, high_open=True)
         check_int("half_window", self.half_window, low=0)
 
     def _track(self, image, background):
-        if background is None:
-            diff = np.subtract(image, robust_level(image)[0], dtype=np.float64)
+        if background is None:  # a flat laser-off frame: each row's own level
+            d = self.detect(image)
+            diff = np.subtract(image, d.bg[:, None], dtype=np.float64)
+            base = np.zeros(image.shape[0])
         else:
             diff = np.subtract(image, background, dtype=np.float64)
-        bg, noise, thr = self._level(diff)
-        cols, peaks = row_peaks(diff)
-        hit = peaks > thr
+            d = self.detect(diff)
+            base = d.bg
         H = image.shape[0]
         columns = np.empty(H)
         ok = np.empty(H, dtype=np.bool_)
-        refine(diff, cols, hit, np.full(H, thr), ESTIMATORS["com"], 0, 0.0, int(self.half_window), columns, ok)
-        score = np.where(hit, (peaks - bg) / noise, np.nan)
+        if self.threshold is None:
+            level, frac = base, float(self.frac)
+        else:
+            level, frac = np.full(H, float(self.threshold)), 0.0
+        refine(diff, d.col, d.hit, level, ESTIMATORS["com"], 0, frac, int(self.half_window), columns, ok)
+        score = np.where(d.hit, d.score, np.nan)
         return Track(columns, score)

@@ -20,18 +20,18 @@ class Gauss3Tracker(PeakTracker):
     exact for a sampled Gaussian profile on a known background.
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, same frame-derived threshold); rows whose peak does not
+    parameters, the same per-row rule); rows whose peak does not
     exceed it report NaN.
 
     Parameters
     ----------
-    threshold, k_sigma, rel
+    threshold, k_sigma, prominence
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes
     -----
-    * The background is the frame's robust level ``b`` (median of a fixed
-      sample, ``trackers._stats.robust_level``); ``a`` and ``c`` are floored
+    * The background is the row's level ``b`` (its median, as in the
+      detection, ``trackers._detect.row_statistics``); ``a`` and ``c`` are floored
       at ``1e-3 (I(j*) - b)`` before the logarithm (noise can take a tail
       pixel below the background), so the offset stays within +-0.5 px.
     * ``j*`` is the leftmost maximum of the row; if several equal maxima are

@@ -21,12 +21,12 @@ class ParabolicTracker(PeakTracker):
     Gaussian profiles (most for narrow ones; see ``docs/estimators.png``).
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, same frame-derived threshold); rows whose peak does not
+    parameters, the same per-row rule); rows whose peak does not
     exceed it report NaN.
 
     Parameters
     ----------
-    threshold, k_sigma, rel
+    threshold, k_sigma, prominence
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes
@@ -41,7 +41,7 @@ class ParabolicTracker(PeakTracker):
     Examples
     --------
     >>> import numpy as np
-    >>> img = np.array([[0, 10, 50, 90, 70, 10, 0]], np.uint8)
+    >>> img = np.zeros((1, 40), np.uint8); img[0, :7] = [0, 10, 50, 90, 70, 10, 0]
     >>> float(ParabolicTracker().track(img).columns[0])
     3.1666666666666665
     """

@@ -10,10 +10,21 @@ from scipy import ndimage as ndi
 
 from ._base import Track
 from ._params import check_optional_real, check_real
-from ._stats import default_threshold, robust_level
-from .threshold import ThresholdTracker
+from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE, ThresholdTracker
 
-__all__ = ["StegerTracker", "gaussian_derivatives", "default_sigma", "acceptance"]
+__all__ = ["StegerTracker", "gaussian_derivatives", "default_sigma", "acceptance", "estimate_width",
+           "WIDTH_RANGE", "FALLBACK_WIDTH", "SCALE_PER_WIDTH"]
+
+#: Range of the stripe width (px) that :func:`estimate_width` returns.
+WIDTH_RANGE = (1.0, 48.0)
+#: Width (px) assumed when no row of a frame is detected.
+FALLBACK_WIDTH = 4.0
+#: Scale per px of the width measured on a frame (above Steger's bound
+#: ``1 / (2 sqrt(3)) = 0.29``: at the bound the smoothed top of a wide clipped
+#: plateau is so flat that noise moves the Newton step out of the pixel; 0.4
+#: reported every row of plateaus of 19 and 30 px where 0.29 reported 96 % and
+#: 28 %, in a small seeded check on synthetic stripes).
+SCALE_PER_WIDTH = 0.4
 
 
 def default_sigma(width: float) -> float:
@@ -25,6 +36,42 @@ def default_sigma(width: float) -> float:
     least smoothing, best localisation) for ``w = width / 2``.
     """
     return width / (2.0 * math.sqrt(3.0))
+
+
+def estimate_width(image: np.ndarray, k_sigma: float = DEFAULT_K_SIGMA,
+                   prominence: float = DEFAULT_PROMINENCE) -> float:
+    """The stripe's full width at half its contrast, px, measured on a frame.
+
+    The median, over the rows that the threshold trackers' per-row rule
+    (:func:`trackers._detect.detect_rows`) reports, of the length of the run
+    of pixels around the row's peak brighter than half its contrast over the
+    row's median (a clipped plateau and its flanks included), clipped to
+    :data:`WIDTH_RANGE`; :data:`FALLBACK_WIDTH` if no row is reported.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W), uint8 or float64
+    k_sigma, prominence : float
+        As for :class:`~trackers.threshold.ThresholdTracker`.
+
+    Examples
+    --------
+    >>> img = np.zeros((4, 30)); img[:, 10:17] = 100.0  # a 7 px plateau
+    >>> estimate_width(img)
+    7.0
+    """
+    from ._detect import row_statistics
+
+    H = image.shape[0]
+    col, mid, lo, hi = (np.empty(H, np.int64) for _ in range(4))
+    peak, bg, noise, runner = (np.empty(H) for _ in range(4))
+    row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
+    floor = max(1e-3 * (float(peak.max()) - float(bg.min())), np.finfo(np.float64).tiny)
+    c = peak - bg
+    hit = (c > 0) & (c > k_sigma * np.maximum(noise, floor)) & (c > prominence * (runner - bg))
+    if not hit.any():
+        return FALLBACK_WIDTH
+    return float(np.clip(np.median((hi - lo + 1)[hit]), *WIDTH_RANGE))
 
 
 def acceptance(sigma: float) -> float:
@@ -132,7 +179,7 @@ def ridge_strength(d, strength, best_col):
 
 
 @njit(cache=True, nogil=True)
-def ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, half, columns, score):
+def ridge_rows(image, d, best_col, strong, img_thr, min_nx, half, columns, score):
     """Per row, the accepted ridge point nearest the strongest response.
 
     Candidates: the row's strongest-response column ``j*`` and its two
@@ -141,7 +188,8 @@ def ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, half, columns, score)
     ``t = -(g . n) / lambda`` along the normal ``n`` satisfies
     ``|t nx| <= half`` and ``|t ny| <= half``, and ``|nx| >= min_nx``. The row
     reports ``j + t / nx``, where the ridge's tangent line crosses the row,
-    and score ``-lambda``, if ``-lambda > s_thr`` and ``image[r, j] > img_thr``.
+    and score ``-lambda``, if ``strong[r]`` (the row's strength passed the
+    detection) and ``image[r, j] > img_thr[r]``.
     """
     W = d.shape[1]
     H = d.shape[2]
@@ -170,7 +218,7 @@ def ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, half, columns, score)
                 bdist = dist
                 bs = s
                 bcol = j + t / nx
-        if bj >= 0 and bs > s_thr and image[r, bj] > img_thr:
+        if bj >= 0 and strong[r] and image[r, bj] > img_thr[r]:
             columns[r] = bcol
             score[r] = bs
 
@@ -189,7 +237,7 @@ class StegerTracker(ThresholdTracker):
     ``lambda < 0``, and the point is accepted when it lies within the pixel,
     ``|t n_x| <= h`` and ``|t n_y| <= h``: Steger's rule has ``h = 1/2``;
     here ``h`` is widened by the largest overshoot of the Taylor step
-    (:func:`acceptance`: 0.62 px at the default scale), without which a
+    (:func:`acceptance`: 0.62 px at sigma = 1.15 px), without which a
     ridge near a pixel boundary is rejected by both pixels. The ridge
     strength ``-lambda`` is the score.
 
@@ -200,73 +248,109 @@ class StegerTracker(ThresholdTracker):
     where the ridge's tangent line crosses the row's centre line,
     ``j + t / n_x`` (exact for a straight stripe of any tilt).
 
-    Detection: the row reports NaN unless, at the chosen point,
+    Scale: ``sigma`` if given, else Steger's scale :func:`default_sigma` of
+    ``width`` if given, else :data:`SCALE_PER_WIDTH` (0.4) times the width
+    measured on the frame (:func:`estimate_width`: the median width at half
+    contrast of the rows the threshold trackers report, 1-48 px); floored at
+    0.6 px. A clipped plateau wider than about ``2 sqrt(3) sigma`` has no
+    ridge at its centre at that scale (two at its edges instead), which is
+    why the scale follows the stripe.
 
-    * the ridge strength exceeds ``b_s + max(k_sigma * s_s, rel * (m_s - b_s))``,
-      the threshold rule of :class:`~trackers.threshold.ThresholdTracker`
-      applied to the strength image (``b_s``, ``s_s``: median and
-      1.4826 x MAD of a fixed sample, ``m_s`` its maximum), and
-    * the pixel's intensity exceeds the ``threshold`` tracker's threshold on
-      the image (same ``threshold``, ``k_sigma``, ``rel``), which also keeps
-      flat frames, where the filters leave rounding-level curvature, empty;
+    Detection: a row is reported only where, at the chosen point,
+
+    * the ridge strength passes the threshold trackers' per-row rule
+      (:func:`trackers._detect.detect_rows`) on the row of the strength
+      image: above the row's median by ``k_sigma`` times the pixel noise
+      and ``prominence`` times above any ridge elsewhere in the row;
+    * the pixel's intensity stands ``k_sigma`` times the pixel noise
+      above the row's median (an explicit ``threshold``: exceeds it), which
+      also keeps flat frames, where the filters leave rounding-level
+      curvature, empty;
     * the ridge is within ``max_tilt`` of the vertical (``|n_x| >= cos``),
       beyond which a row crossing is ill-defined.
 
+    With a laser-off frame (``background``) the detector runs on
+    ``max(image - background, 0)``; without, on the image.
+
     Parameters
     ----------
-    threshold, k_sigma, rel
-        As for :class:`~trackers.threshold.ThresholdTracker` (the image
-        threshold; ``k_sigma`` and ``rel`` also set the strength threshold).
+    threshold : float or None, default None
+        Explicit intensity threshold in image units (the per-row intensity
+        test otherwise).
+    k_sigma, prominence : float
+        As for :class:`~trackers.threshold.ThresholdTracker` (for the
+        intensity and the strength tests).
     sigma : float or None, default None
-        Scale of the Gaussian derivatives in pixels, > 0.5; ``None`` uses
-        :func:`default_sigma` of ``width``.
-    width : float, default 4.0
-        Expected full width of the stripe in pixels (about its FWHM); gives
-        ``sigma = width / (2 sqrt(3)) = 1.15`` px by default (floored at
-        0.6 px).
+        Scale of the Gaussian derivatives in pixels, in (0.5, 64].
+    width : float or None, default None
+        Expected full width of the stripe in pixels (about its FWHM), in
+        (0, 256]; ``None``: measured on each frame.
     max_tilt : float, default 60.0
         Largest angle between the ridge and the vertical, in degrees.
 
     Notes
     -----
     The crossing lies at most ``h / cos(max_tilt)^2`` px from the chosen
-    pixel; columns are clipped to the image, [-0.5, W - 0.5]. The derivatives are
-    computed in float32; the ``background`` frame is ignored.
+    pixel; columns are clipped to the image, [-0.5, W - 0.5]. The frame is
+    divided by its largest absolute value before filtering (and the scores
+    multiplied back), so any scale of the image units, 1e-300 or 1e300,
+    gives the same rows; the derivatives are computed in float32.
     """
 
     name = "steger"
     subpixel = True
 
-    def __init__(self, threshold=None, k_sigma=5.0, rel=0.25, sigma=None, width=4.0, max_tilt=60.0):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, rel=rel)
+    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, sigma=None,
+                 width=None, max_tilt=60.0):
+        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence)
         self.sigma = sigma
         self.width = width
         self.max_tilt = max_tilt
 
     def _validate_params(self):
         super()._validate_params()
-        check_optional_real("sigma", self.sigma, low=0.5, low_open=True)
-        check_real("width", self.width, low=0, low_open=True)
+        check_optional_real("sigma", self.sigma, low=0.5, low_open=True, high=64)
+        check_optional_real("width", self.width, low=0, low_open=True, high=256)
         check_real("max_tilt", self.max_tilt, low=0, high=90)
         if self.max_tilt >= 90:
             raise ValueError(f"`max_tilt` must be < 90, got {self.max_tilt!r}")
 
-    def scale(self) -> float:
-        """The derivative filters' scale in pixels."""
-        return float(self.sigma) if self.sigma is not None else max(0.6, default_sigma(float(self.width)))
+    def scale(self, image=None) -> float:
+        """The derivative filters' scale in pixels (for ``image``, a validated
+        frame, when neither ``sigma`` nor ``width`` is set; else
+        :data:`FALLBACK_WIDTH` is assumed)."""
+        if self.sigma is not None:
+            return float(self.sigma)
+        if self.width is not None:
+            return max(0.6, default_sigma(float(self.width)))
+        if image is None:
+            return max(0.6, default_sigma(FALLBACK_WIDTH))
+        return max(0.6, SCALE_PER_WIDTH * estimate_width(image, float(self.k_sigma), float(self.prominence)))
 
     def _track(self, image, background):
+        from ._detect import detect_rows
+
         H, W = image.shape
-        _, _, img_thr = self._level(image)
-        d = gaussian_derivatives(image, self.scale())
+        if background is not None:
+            f = np.maximum(np.subtract(image, background, dtype=np.float64), 0.0)
+        else:
+            f = np.asarray(image, dtype=np.float64)
+        top = float(np.abs(f).max())
+        if top == 0.0:
+            return Track.empty(H)
+        f = f / top
+        k, prom = float(self.k_sigma), float(self.prominence)
+        sigma = self.scale(f)
+        d = gaussian_derivatives(f, sigma)
         strength = np.empty((W, H), np.float32)
         best_col = np.empty(H, np.int64)
         ridge_strength(d, strength, best_col)
-        sb, ss, sm = robust_level(strength)
-        s_thr = default_threshold(sb, ss, sm, float(self.k_sigma), float(self.rel))
+        ds = detect_rows(np.ascontiguousarray(strength.T, dtype=np.float64), k, prom)
+        di = detect_rows(f, k, prom)
+        img_thr = di.bg + k * di.noise if self.threshold is None else np.full(H, float(self.threshold) / top)
         columns = np.empty(H)
         score = np.empty(H)
         min_nx = math.cos(math.radians(float(self.max_tilt)))
-        ridge_rows(image, d, best_col, img_thr, s_thr, min_nx, acceptance(self.scale()), columns, score)
+        ridge_rows(f, d, best_col, ds.hit, img_thr, min_nx, acceptance(sigma), columns, score)
         np.clip(columns, -0.5, W - 0.5, out=columns)
-        return Track(columns, score)
+        return Track(columns, score * top)

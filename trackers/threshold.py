@@ -1,4 +1,4 @@
-"""``threshold``: the brightest pixel of each row, if bright enough."""
+"""``threshold``: the brightest pixel of each row, if it stands out of its row."""
 
 from __future__ import annotations
 
@@ -6,41 +6,52 @@ import numpy as np
 
 from ._base import Track, Tracker
 from ._params import check_optional_real, check_real
-from ._stats import default_threshold, noise_floor, robust_level, row_peaks
 
-__all__ = ["ThresholdTracker"]
+__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE"]
+
+#: Default noise multiple of the per-row detection (chosen by ``stripebench tune threshold``).
+DEFAULT_K_SIGMA = 4.0
+#: Default least ratio of the peak's contrast to the runner-up's (chosen by ``stripebench tune threshold``).
+DEFAULT_PROMINENCE = 0.0
 
 
 class ThresholdTracker(Tracker):
-    """Per row, the column of the brightest pixel if it exceeds a threshold.
+    """Per row, the column of the brightest pixel if it stands out of that row.
 
     The paper's "simple method such as threshold" (Wang et al. 2008, sec. 2):
-    rows whose maximum does not exceed the threshold report no stripe.
+    rows where no stripe is found report NaN. Each row is decided against its
+    own statistics (:func:`trackers._detect.detect_rows`), never against the
+    spread of the whole frame's values, so texture, daylight or a lamp
+    elsewhere cannot hide a stripe that is the brightest thing in its row:
+    with ``b`` the row's median, ``s`` the pixel noise (from the median
+    difference of adjacent pixels over a fixed sample of the frame, which
+    smooth texture does not inflate) and ``q`` the brightest pixel of the row
+    outside the peak's exclusion zone (the run above half the peak's contrast,
+    widened by its own length on each side), the row's peak ``m`` is reported
+    iff ``m - b > k_sigma * s`` and ``m - b > prominence * (q - b)``.
 
     Parameters
     ----------
     threshold : float or None, default None
-        Threshold in image units. ``None`` derives it from the frame:
-        ``b + max(k_sigma * s, rel * (m - b))`` where ``b`` and ``s`` are the
-        robust background level and noise (median and 1.4826 x MAD of a fixed
-        sample of the frame, see ``trackers._stats.robust_level``) and ``m``
-        the frame maximum. The first term rejects noise, the second ambient
-        structure much dimmer than the brightest stripe.
-    k_sigma : float, default 5.0
-        Noise multiple of the derived threshold.
-    rel : float, default 0.25
-        Fraction of the frame's dynamic range of the derived threshold.
+        An explicit threshold in image units: a row is reported iff its peak
+        exceeds it (the per-row rule above is then not used).
+    k_sigma : float, default :data:`DEFAULT_K_SIGMA`
+        Noise multiple of the per-row rule (>= 0).
+    prominence : float, default :data:`DEFAULT_PROMINENCE`
+        Least ratio of the peak's contrast to the runner-up's (>= 0; 0 turns
+        the test off).
 
     Notes
     -----
-    ``columns`` are whole pixels (the leftmost maximum on ties); ``score`` is
-    the peak's contrast over the background in noise units, ``(peak - b) / s``
-    (``s`` floored at 1e-3 of the dynamic range). A row is reported only if its
-    peak is strictly above the threshold, so a blank frame reports nothing.
+    ``columns`` are whole pixels: the leftmost maximum, or the middle of a run
+    of equal maxima (a clipped stripe). ``score`` is the peak's contrast over
+    the row's background in noise units, ``(m - b) / s`` (``s`` floored at
+    1e-3 of the frame's range). A constant frame reports nothing. The defaults
+    were chosen by ``stripebench tune threshold`` (``bench/studies/tune_threshold.py``).
 
     Examples
     --------
-    >>> img = np.zeros((2, 5), np.uint8); img[:, 3] = 200
+    >>> img = np.zeros((2, 40), np.uint8); img[:, 3] = 200
     >>> ThresholdTracker().track(img).columns
     array([3., 3.])
     """
@@ -48,28 +59,24 @@ class ThresholdTracker(Tracker):
     name = "threshold"
     subpixel = False
 
-    def __init__(self, threshold=None, k_sigma=5.0, rel=0.25):
+    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE):
         self.threshold = threshold
         self.k_sigma = k_sigma
-        self.rel = rel
+        self.prominence = prominence
 
     def _validate_params(self):
         check_optional_real("threshold", self.threshold)
-        check_real("k_sigma", self.k_sigma, low=0)
-        check_real("rel", self.rel, low=0, high=1)
+        check_real("k_sigma", self.k_sigma, low=0, high=1e6)
+        check_real("prominence", self.prominence, low=0, high=1e6)
 
-    def _level(self, image):
-        bg, sigma, vmax = robust_level(image)
-        if self.threshold is None:
-            thr = default_threshold(bg, sigma, vmax, self.k_sigma, self.rel)
-        else:
-            thr = float(self.threshold)
-        return bg, noise_floor(sigma, bg, vmax), thr
+    def detect(self, image):
+        """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`)."""
+        from ._detect import detect_rows
+
+        return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold)
 
     def _track(self, image, background):
-        bg, noise, thr = self._level(image)
-        cols, peaks = row_peaks(image)
-        hit = peaks > thr
-        columns = np.where(hit, cols.astype(np.float64), np.nan)
-        score = np.where(hit, (peaks - bg) / noise, np.nan)
+        d = self.detect(image)
+        columns = np.where(d.hit, d.mid.astype(np.float64), np.nan)
+        score = np.where(d.hit, d.score, np.nan)
         return Track(columns, score)

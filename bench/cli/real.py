@@ -72,6 +72,9 @@ def _real(args) -> int:
     specs = _specs(args)
     dataset = args.dataset
     _, problems = real.validate_dataset(dataset)
+    extra = real.ignored_columns(dataset)
+    if extra:  # sets made elsewhere carry more columns: listed once, then ignored
+        print(f"stripebench real: manifest.csv: ignored column(s): {', '.join(extra)}", file=sys.stderr)
     if args.check:  # one line per problem
         for line in problems:
             print(f"stripebench real: {line}", file=sys.stderr)

@@ -7,7 +7,8 @@ File readers only: per-image metrics and the sim-to-real numbers are in
 A real set is a folder::
 
     manifest.csv      columns name, has_background (0/1), laser_colour, and optionally
-                      rotate, channel, source_repo, source_commit, source_path, license, notes
+                      rotate, channel, source_repo, source_commit, source_path, license, notes;
+                      any other column is ignored (:func:`ignored_columns`)
     NAME.png          the laser-on photograph
     NAME_off.png      optional laser-off frame of the same view (has_background = 1)
     NAME_ref.csv      header ``row,col``: one line per row of the tracker's frame
@@ -31,7 +32,7 @@ from bench.errors import StripebenchError
 
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
-           "load_dataset", "validate_dataset", "read_reference", "synthetic_hit_rates"]
+           "load_dataset", "ignored_columns", "validate_dataset", "read_reference", "synthetic_hit_rates"]
 
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
@@ -41,8 +42,6 @@ ROTATIONS = (0, 90, 180, 270)
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
 _LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
 _CHANNEL_INDEX = {"r": 0, "g": 1, "b": 2}
-#: ``auto`` on a colour photograph: the laser's colour channel minus the mean of the other two.
-AUTO_CHANNEL = "excess"
 MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
 MANIFEST_OPTIONAL = ("rotate", "channel", "source_repo", "source_commit", "source_path", "license", "notes")
 
@@ -118,9 +117,12 @@ def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarr
     channel : {'auto', 'r', 'g', 'b', 'gray', 'excess'}
         ``r``/``g``/``b``: that colour channel; ``gray``: Rec. 709 luma
         (0.2126 R + 0.7152 G + 0.0722 B); ``excess``: the laser's channel minus
-        the mean of the other two, clipped at 0; ``auto``: ``excess`` on a colour
-        image, the image itself on a grey one (also when stored as RGB with
-        three equal channels). A 2-D image is returned unchanged for every channel.
+        the mean of the other two, clipped at 0; ``auto``: on a colour image the
+        excess where the laser's channel is below saturation, moving to the
+        laser's channel as it saturates (:func:`bench.evaluate.colour.saturation_blend`
+        with its tuned knee, so a clipped white stripe core is kept), the image
+        itself on a grey one (also when stored as RGB with three equal
+        channels). A 2-D image is returned unchanged for every channel.
     laser : {'red', 'green', 'blue'}
         The laser's colour (for ``excess`` and ``auto``).
 
@@ -128,7 +130,7 @@ def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarr
     -------
     ndarray, shape (H, W)
         The channel in the image's units (DN): ``uint8``/``uint16`` for a plain
-        channel, ``float64`` for ``gray`` and ``excess``.
+        channel, ``float64`` for ``gray``, ``excess`` and ``auto`` on colour.
 
     Raises
     ------
@@ -155,7 +157,9 @@ def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarr
     if channel == "auto":
         if np.array_equal(img[..., 0], img[..., 1]) and np.array_equal(img[..., 0], img[..., 2]):
             return np.ascontiguousarray(img[..., 0])  # a grey picture stored as RGB
-        channel = AUTO_CHANNEL
+        from bench.evaluate.colour import saturation_blend
+
+        return saturation_blend(img, laser)
     if channel in _CHANNEL_INDEX:
         return np.ascontiguousarray(img[..., _CHANNEL_INDEX[channel]])
     f = img.astype(np.float64)
@@ -326,10 +330,6 @@ def _manifest(root: Path) -> tuple[list[dict], list[str]]:
     missing = [c for c in MANIFEST_REQUIRED if c not in cols]
     if missing:
         return [], [f"manifest.csv: missing column(s) {', '.join(missing)} (have {', '.join(cols) or 'none'})"]
-    unknown = [c for c in cols if c not in MANIFEST_REQUIRED + MANIFEST_OPTIONAL]
-    if unknown:
-        return [], [f"manifest.csv: unknown column(s) {', '.join(unknown)} "
-                    f"(valid: {', '.join(MANIFEST_REQUIRED + MANIFEST_OPTIONAL)})"]
     rows = list(reader)
     if not rows:
         return [], ["manifest.csv: no images listed"]
@@ -370,6 +370,26 @@ def _check_row(root: Path, line: int, row: dict) -> tuple[RealImage | None, list
         return None, probs
     meta = {k: (row.get(k) or "").strip() for k in MANIFEST_OPTIONAL if k not in ("rotate", "channel")}
     return RealImage(name, img, off if hb == "1" else None, ref, laser, rot, channel, meta), []
+
+
+def ignored_columns(root) -> list[str]:
+    """The columns of ``root/manifest.csv`` that the layout does not use (in
+    file order; empty if the manifest is missing or unreadable). They are
+    accepted and ignored; ``stripebench real`` lists them once on stderr.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp()); _ = (d / "manifest.csv").write_text("name,surface,has_background,laser_colour,rows\\n")
+    >>> ignored_columns(d)
+    ['surface', 'rows']
+    """
+    path = Path(root) / "manifest.csv"
+    try:
+        header = next(csv.reader(path.read_text(encoding="utf-8").splitlines()), [])
+    except (OSError, UnicodeDecodeError):
+        return []
+    return [c for c in header if c not in MANIFEST_REQUIRED + MANIFEST_OPTIONAL]
 
 
 def validate_dataset(root) -> tuple[list[RealImage], list[str]]:

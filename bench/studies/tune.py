@@ -36,7 +36,7 @@ __all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "add_
            "DEFAULT_PROFILE"]
 
 DEFAULT_OUT = "results/runs/tune_dp"
-WHAT = ("dp", "dp_gap")  # what can be tuned: `dp`, the DP trackers' h_weight; `dp_gap`, its off level and switch cost
+WHAT = ("dp", "dp_gap", "threshold")  # what can be tuned: `dp`, the DP trackers' h_weight; `dp_gap`, its off level and switch cost
 
 
 def _key(e: dict) -> str:
@@ -185,7 +185,9 @@ def add_arguments(parser, *, what: bool = True) -> None:
 
     if what:
         parser.add_argument("what", choices=WHAT, help="what to tune: dp (the DP trackers' h_weight), dp_gap "
-                                                        "(dp_gap's off_rel and switch_rows)")
+                                                        "(dp_gap's off_rel and switch_rows), threshold (the "
+                                                        "threshold trackers' per-row detection, com_bg's level, "
+                                                        "the auto colour rule)")
     parser.add_argument("--profile", type=pathlib.Path, default=None if what else DEFAULT_PROFILE, metavar="TOML",
                         help="tuning profile (default: bench/config/profiles/tune_<what>.toml)")
     add_out(parser, "output folder (default: results/runs/tune_<what>)", default=None if what else DEFAULT_OUT)
@@ -195,12 +197,14 @@ def add_arguments(parser, *, what: bool = True) -> None:
 def command(args) -> int:
     """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
     (one line) before any scan."""
-    if getattr(args, "what", "dp") == "dp_gap":
-        from bench.studies import tune_gap
+    what = getattr(args, "what", "dp")
+    if what in ("dp_gap", "threshold"):
+        import importlib
 
-        args.profile = tune_gap.DEFAULT_PROFILE if args.profile is None else args.profile
-        args.out = tune_gap.DEFAULT_OUT if args.out is None else args.out
-        return tune_gap.command(args)
+        other = importlib.import_module("bench.studies.tune_gap" if what == "dp_gap" else "bench.studies.tune_threshold")
+        args.profile = other.DEFAULT_PROFILE if args.profile is None else args.profile
+        args.out = other.DEFAULT_OUT if args.out is None else args.out
+        return other.command(args)
     profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
     out = pathlib.Path(DEFAULT_OUT if args.out is None else args.out)
     chosen, scores, _ = run(profile, out, progress=not args.quiet)

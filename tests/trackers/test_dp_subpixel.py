@@ -56,7 +56,10 @@ def test_refinement_is_the_estimators_tracker_on_a_clean_frame(estimator):
     hy = DP8SubpixelTracker(estimator=estimator).track(img).columns
     ref = trackers.make(estimator).track(img).columns
     assert np.isfinite(hy).all()
-    assert np.array_equal(hy, ref)
+    if estimator in ("gauss3", "centroid"):  # these use a background level: the frame's here, each row's there
+        assert np.abs(hy - ref).max() < 0.02
+    else:
+        assert np.array_equal(hy, ref)
 
 
 def test_blank_and_noise_frames_report_nothing():

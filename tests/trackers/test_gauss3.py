@@ -59,7 +59,7 @@ def test_saturated_plateau_and_border_peaks():
     [
         ({"threshold": "high"}, r"`threshold` must be a real number, got 'high'"),
         ({"k_sigma": -1}, r"`k_sigma` must be >= 0, got -1"),
-        ({"rel": 1.5}, r"`rel` must be <= 1, got 1.5"),
+        ({"prominence": -1.5}, r"`prominence` must be >= 0, got -1.5"),
     ],
 )
 def test_bad_parameters(params, message):

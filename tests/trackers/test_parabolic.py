@@ -29,7 +29,7 @@ def test_biased_towards_the_pixel_centre_on_gaussians():
 
 @pytest.mark.parametrize(
     "params, message",
-    [({"k_sigma": "5"}, r"`k_sigma` must be a real number, got '5'"), ({"rel": -0.1}, r"`rel` must be >= 0, got -0.1")],
+    [({"k_sigma": "5"}, r"`k_sigma` must be a real number, got '5'"), ({"prominence": -0.1}, r"`prominence` must be >= 0, got -0.1")],
 )
 def test_bad_parameters(params, message):
     with pytest.raises(ValueError, match=message):

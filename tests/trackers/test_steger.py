@@ -6,7 +6,8 @@ from scipy import ndimage as ndi
 from scipy.special import erf
 
 import trackers
-from trackers.steger import StegerTracker, acceptance, default_sigma, gaussian_derivatives
+from trackers.steger import (FALLBACK_WIDTH, SCALE_PER_WIDTH, StegerTracker, acceptance, default_sigma, estimate_width,
+                             gaussian_derivatives)
 
 
 def line_image(slope=0.0, sigma=1.5, height=80, width=96, peak=150.0, bg=10.0, noise=0.0, offset=0.0, seed=0):
@@ -24,10 +25,62 @@ def line_image(slope=0.0, sigma=1.5, height=80, width=96, peak=150.0, bg=10.0, n
 def test_registered_and_scale():
     t = trackers.make("steger")
     assert isinstance(t, StegerTracker) and t.subpixel
-    assert t.scale() == pytest.approx(4.0 / (2 * math.sqrt(3)))
+    assert t.scale() == pytest.approx(default_sigma(FALLBACK_WIDTH))  # no frame, no width: the fallback
     assert StegerTracker(width=8.0).scale() == pytest.approx(default_sigma(8.0))
     assert StegerTracker(sigma=2.0, width=8.0).scale() == 2.0
     assert StegerTracker(width=1.0).scale() == 0.6  # floored
+
+
+@pytest.mark.parametrize("full_width", [1, 3, 6, 10, 15])
+def test_the_scale_follows_the_stripe_width_measured_on_the_frame(full_width):
+    img = np.full((30, 80), 20.0)
+    img[:, 30:30 + full_width] = 250.0  # a clipped bar of that width
+    assert estimate_width(img) == full_width
+    assert StegerTracker().scale(img) == pytest.approx(max(0.6, SCALE_PER_WIDTH * full_width))
+    assert estimate_width(np.zeros((5, 5))) == FALLBACK_WIDTH
+
+
+@pytest.mark.parametrize("sigma_px, peak", [(0.5, 150.0), (1.5, 150.0), (3.0, 150.0), (5.0, 150.0), (3.0, 2000.0),
+                                            (6.0, 3000.0)])
+def test_stripes_of_1_to_15_px_and_saturated_plateaus(sigma_px, peak):
+    # pixel-integrated Gaussian stripes (FWHM 1.2-14 px), clipped at 255 where the peak is higher
+    from trackers.testing import stripe_profile
+
+    rng = np.random.default_rng(4)
+    centre = 60.3 + 0.2 * (np.arange(90) - 45)  # straight and tilted: no curvature bias
+    img = np.clip(np.rint(15 + stripe_profile(centre, 128, sigma_px, peak) + rng.normal(0, 2, (90, 128))), 0, 255)
+    cols = StegerTracker().track(img.astype(np.uint8)).columns
+    err = np.abs(cols - centre)
+    assert np.mean(err <= 3.0) >= 0.95, (sigma_px, peak, np.nanmedian(err))
+    if peak < 255:  # unclipped: sub-pixel
+        assert np.nanmedian(err) < 0.15, (sigma_px, np.nanmedian(err))
+
+
+def test_background_frame_is_subtracted():
+    rng = np.random.default_rng(5)
+    img, truth = line_image(noise=1.0, seed=5)
+    lamp = np.zeros_like(img)
+    lamp[:, 10:14] = 400.0  # a bright line of ambient light, in both frames
+    off = 10 + rng.normal(0, 1.0, img.shape) + lamp
+    on = img + lamp
+    with_off = StegerTracker().track(on, background=off).columns
+    assert np.nanmax(np.abs(with_off[5:-5] - truth[5:-5])) < 0.2
+    without = StegerTracker().track(on).columns
+    assert np.mean(np.abs(without - truth) > 5) > 0.9  # the ambient line wins without the laser-off frame
+    # no background: exactly what the plain frame gives
+    np.testing.assert_array_equal(StegerTracker().track(img).columns,
+                                  StegerTracker().track(img, background=None).columns)
+
+
+@pytest.mark.parametrize("factor", [1e300, 1e-300, 3.7, 1e-5])
+def test_image_scale_does_not_change_the_rows(factor):
+    img, _ = line_image(noise=2.0, seed=6)
+    img[:10] = 10.0  # rows with no stripe
+    base = StegerTracker().track(img)
+    scaled = StegerTracker().track(img * factor)
+    np.testing.assert_array_equal(np.isnan(base.columns), np.isnan(scaled.columns))
+    np.testing.assert_allclose(scaled.columns, base.columns, rtol=0, atol=1e-4)
+    np.testing.assert_allclose(scaled.score / factor, base.score, rtol=1e-5)
 
 
 def test_derivatives_are_scipys_gaussian_derivatives():
@@ -104,7 +157,12 @@ def test_scale_trades_noise_for_curvature():
     "params, message",
     [
         ({"sigma": 0.5}, r"`sigma` must be > 0.5, got 0.5"),
+        ({"sigma": float("inf")}, r"`sigma` must be <= 64, got inf"),
+        ({"sigma": float("nan")}, r"`sigma` must be a real number, got nan"),
+        ({"sigma": "2"}, r"`sigma` must be a real number, got '2'"),
         ({"width": 0}, r"`width` must be > 0, got 0"),
+        ({"width": -3.0}, r"`width` must be > 0, got -3.0"),
+        ({"width": 1e9}, r"`width` must be <= 256, got 1000000000.0"),
         ({"max_tilt": 90}, r"`max_tilt` must be < 90, got 90"),
         ({"max_tilt": -5}, r"`max_tilt` must be >= 0, got -5"),
     ],

@@ -241,11 +241,12 @@ def test_the_paper_profile_reads_without_dp_three_ways():
     assert PAPER_READING in kinds.values()
     assert set(cfg.baselines) >= {"threshold", "threshold_gaps", "argmax"} and cfg.baselines[0] == "threshold"
     assert cfg.restore_by_label()["threshold_gaps"] == "none" and cfg.restore == "rows"
-    # argmax is exactly the brightest pixel of every row of an 8-bit frame
+    # argmax reports a brightest pixel in every row of an 8-bit frame (ties: the middle of the brightest run)
     import numpy as np
 
     rng = np.random.default_rng(0)
     img = rng.integers(0, 3, size=(40, 30)).astype(np.uint8)
-    img[5] = 0  # an all-black row: its brightest pixel (the leftmost 0) is still reported
+    img[5] = 0  # an all-black row: one of its brightest pixels is still reported
     cols = cfg.make_trackers()["argmax"].track(img).columns
-    np.testing.assert_array_equal(cols, np.argmax(img, axis=1).astype(float))
+    assert not np.isnan(cols).any() and np.array_equal(cols, np.round(cols))
+    assert (img[np.arange(40), cols.astype(int)] == img.max(axis=1)).all()

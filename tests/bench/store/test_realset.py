@@ -93,6 +93,7 @@ def test_channels_on_a_colour_pixel():
     assert real.select_channel(px, "excess", "red")[0, 0] == pytest.approx(200 - 75)
     assert real.select_channel(px, "excess", "green")[0, 0] == 0.0  # 100 - 125 clipped
     assert real.select_channel(px, "excess", "blue")[0, 0] == 0.0
+    # unsaturated colour pixels: auto is the excess
     np.testing.assert_array_equal(real.select_channel(px, "auto", "green"), real.select_channel(px, "excess", "green"))
     grey_rgb = np.repeat(np.array([[7, 9]], np.uint8)[..., None], 3, axis=2)
     assert real.select_channel(grey_rgb, "auto").tolist() == [[7, 9]]  # not the all-zero excess
@@ -174,7 +175,6 @@ def test_validator_gives_one_line_per_problem(tmp_path):
 
 @pytest.mark.parametrize("text, message", [
     ("name,laser_colour\na,red\n", "manifest.csv: missing column(s) has_background"),
-    ("name,has_background,laser_colour,colour\n", "manifest.csv: unknown column(s) colour"),
     ("name,has_background,laser_colour\n", "manifest.csv: no images listed"),
     (None, "no manifest.csv (not a real set)"),
 ])
@@ -219,3 +219,20 @@ def test_docstring_examples_run():
     with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
         result = doctest.testmod(real, extraglobs={"np": np}, optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_extra_manifest_columns_are_ignored_and_listed(tmp_path):
+    import shutil
+
+    for f in real.SHIPPED.iterdir():
+        if f.name.startswith("ag_tape"):
+            shutil.copy(f, tmp_path / f.name)
+    text = (real.SHIPPED / "manifest.csv").read_text().splitlines()
+    head, row = text[0], next(line for line in text if line.startswith("ag_tape,"))
+    (tmp_path / "manifest.csv").write_text(f"{head},surface,rows\n{row},paper,480\n")
+    images, problems = real.validate_dataset(tmp_path)
+    assert problems == [] and [im.name for im in images] == ["ag_tape"]
+    assert real.ignored_columns(tmp_path) == ["surface", "rows"]
+    assert real.ignored_columns(real.SHIPPED) == []
+    (tmp_path / "manifest.csv").write_text("name,laser_colour,surface\nag_tape,red,paper\n")
+    assert "missing column(s) has_background" in real.validate_dataset(tmp_path)[1][0]  # still required

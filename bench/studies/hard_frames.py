@@ -1,0 +1,328 @@
+"""Seeded synthetic photographs of the frames that defeat frame-wide thresholds.
+
+Built in numpy (no rendering), for the tuning procedures of
+:mod:`bench.studies.tune_threshold` and the tests of the threshold-type trackers. Each
+frame is an 8-bit RGB photograph of a scene with albedo ``a`` (H, W, 3) in
+ambient light ``L`` (H, W, 3) and a laser line of colour ``c`` and profile
+``P`` (a pixel-integrated Gaussian of the stripe's width around its centre in
+each row)::
+
+    I = clip(round(a * (L + A(r) * c * P) + noise), 0, 255)
+
+where ``A(r)`` is the stripe's brightness along the rows (in DN on a white
+surface) and the noise is Gaussian with variance ``read^2 + gain * I`` (read
+and shot noise). The laser's colour has *crosstalk*: a red laser is
+``c = (1, x, x)`` with ``x`` of 0.04-0.15, so a stripe bright enough to clip
+the red channel turns white in its core and stays red on its flanks, as in
+photographs. The stripe leaves the surface in a few stretches of rows (no
+stripe there: the truth is NaN) and its column jumps at a few rows (object
+edges).
+
+Kinds (:data:`KINDS`), the failure classes of real photographs:
+
+``printed``
+    a white board with dark print blocks and lines in bright room light; the
+    stripe is faint against the white and vanishes on the print.
+``noisy_floor``
+    a floor with pixel-scale texture (carpet, concrete) in room light and a
+    thin stripe.
+``polished``
+    a dark polished stone with veins, specular glints and a blurred mirror
+    reflection of the stripe beside it.
+``daylight``
+    strong, coloured daylight brightening towards one side, over
+    foliage-coloured or white surfaces; in half the frames a window that
+    clips in the upper rows.
+``noisy_sensor``
+    a dim scene taken with heavy sensor noise.
+``saturated_wide``
+    a wide stripe that clips, with a glow around it and glints beside it, on a
+    white glossy object.
+``thin_faint``
+    a thin, faint stripe in a dark room with a bright lamp in the frame.
+``plain``
+    the renders' easy case: a dark scene and a clear stripe.
+
+Examples
+--------
+>>> f = hard_frame("printed", seed=3)
+>>> f.rgb.shape, f.rgb.dtype, f.laser, f.truth.shape
+((300, 400, 3), dtype('uint8'), 'red', (300,))
+>>> bool(np.isnan(f.truth).any() and np.isfinite(f.truth).any())
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage as ndi
+
+__all__ = ["KINDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
+
+KINDS = ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide", "thin_faint", "plain")
+_SIZES = ((240, 320), (300, 400), (480, 512))
+_LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
+
+
+@dataclass(frozen=True)
+class HardFrame:
+    """One synthetic photograph.
+
+    Attributes
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    seed : int
+    rgb : ndarray of uint8, shape (H, W, 3)
+        The photograph.
+    laser : str
+        ``'red'`` or ``'green'``.
+    truth : ndarray of float64, shape (H,)
+        The stripe's centre per row (px, pixel-centre convention); NaN where
+        the stripe is not on the surface.
+    colour_background : bool
+        Whether the surfaces are coloured (True) or grey/white (False).
+    saturated : bool
+        Whether the stripe clips the laser's channel in some row.
+    rgb_off : ndarray of uint8, shape (H, W, 3)
+        The laser-off frame of the same view (same scene, its own noise).
+    """
+
+    kind: str
+    seed: int
+    rgb: np.ndarray
+    laser: str
+    truth: np.ndarray
+    colour_background: bool
+    saturated: bool
+    rgb_off: np.ndarray
+
+    @property
+    def laser_channel(self) -> np.ndarray:
+        """The laser's colour channel, (H, W) uint8: the frame a mono camera behind a filter sees."""
+        return np.ascontiguousarray(self.rgb[..., _LASER_INDEX[self.laser]])
+
+    @property
+    def laser_channel_off(self) -> np.ndarray:
+        """The laser's colour channel of the laser-off frame, (H, W) uint8."""
+        return np.ascontiguousarray(self.rgb_off[..., _LASER_INDEX[self.laser]])
+
+
+def _stripe_path(rng, H: int, W: int) -> tuple[np.ndarray, np.ndarray]:
+    """Centre per row (smooth wander, 0-2 jumps) and the rows where the stripe is absent."""
+    rows = np.arange(H)
+    centre = W * rng.uniform(0.3, 0.7) + W * rng.uniform(0.03, 0.12) * np.sin(
+        2 * np.pi * rows / H * rng.uniform(0.5, 1.5) + rng.uniform(0, 2 * np.pi))
+    centre += rng.uniform(-0.05, 0.05) * W * (rows / H - 0.5)
+    for _ in range(int(rng.integers(0, 3))):
+        at = int(rng.integers(H // 6, H - H // 6))
+        centre[at:] += rng.choice([-1, 1]) * rng.uniform(0.04, 0.2) * W
+    centre = np.clip(centre, 0.08 * W, 0.92 * W)
+    absent = np.zeros(H, bool)
+    for _ in range(int(rng.integers(1, 4))):
+        n = int(rng.uniform(0.04, 0.12) * H)
+        a = int(rng.integers(0, H - n))
+        absent[a:a + n] = True
+    return centre, absent
+
+
+def _profile(centre, W: int, sigma: float) -> np.ndarray:
+    from scipy.special import erf
+
+    edges = np.arange(W + 1) - 0.5
+    z = (edges[None, :] - centre[:, None]) / (np.sqrt(2.0) * sigma)
+    return np.sqrt(2.0 * np.pi) * sigma * 0.5 * np.diff(erf(z), axis=1)
+
+
+def _blobs(rng, H, W, n, r_lo, r_hi):
+    yy, xx = np.mgrid[0:H, 0:W]
+    out = np.zeros((H, W))
+    for _ in range(n):
+        cy, cx, rad = rng.uniform(0, H), rng.uniform(0, W), rng.uniform(r_lo, r_hi)
+        out += np.exp(-((yy - cy) ** 2 + (xx - cx) ** 2) / (2 * rad * rad))
+    return out
+
+
+def _smooth_field(rng, H, W, scale):
+    f = ndi.gaussian_filter(rng.normal(0, 1, (H, W)), scale, mode="reflect")
+    return f / (f.std() + 1e-12)
+
+
+def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -> HardFrame:
+    """One seeded synthetic photograph of ``kind`` (see the module docstring).
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    seed : int
+        Seed (>= 0); every random choice (size, laser, surfaces, path, noise) follows from it.
+    colour_background : bool, optional
+        Force coloured (True) or grey/white (False) surfaces; by default the seed chooses.
+
+    Returns
+    -------
+    HardFrame
+    """
+    if kind not in KINDS:
+        raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"`seed` must be an integer >= 0, got {seed!r}")
+    rng = np.random.default_rng([KINDS.index(kind), int(seed)])
+    H, W = _SIZES[int(rng.integers(0, len(_SIZES)))]
+    laser = "green" if rng.uniform() < 0.35 else "red"
+    k = _LASER_INDEX[laser]
+    coloured = bool(rng.uniform() < 0.5) if colour_background is None else bool(colour_background)
+    centre, absent = _stripe_path(rng, H, W)
+    rows = np.arange(H)
+    tint = np.ones(3)
+    if coloured:  # a surface colour: the laser's own hue, or a warm or foliage-like one
+        choice = int(rng.integers(0, 3))
+        tint = (np.array([1.0, 0.35, 0.3]) if choice == 0 else np.array([1.0, 0.8, 0.55]) if choice == 1
+                else np.array([0.35, 0.8, 0.35]))
+    albedo = np.ones((H, W))
+    ambient = np.full((H, W), 20.0)
+    sigma = rng.uniform(1.0, 2.0)
+    amp = rng.uniform(80, 160)
+    read, gain = 1.5, 0.05
+    extra = np.zeros((H, W))  # white light added on top of everything (glints, lamps), DN
+    laser_extra = np.zeros((H, W))  # laser light besides the stripe (glow, reflections), DN on white
+    if kind == "printed":
+        albedo = np.full((H, W), 0.85)
+        for _ in range(int(rng.integers(8, 25))):  # print blocks and lines
+            h, w = int(rng.integers(2, H // 6)), int(rng.integers(2, W // 5))
+            y, x = int(rng.integers(0, H - h)), int(rng.integers(0, W - w))
+            albedo[y:y + h, x:x + w] = rng.uniform(0.05, 0.3)
+        albedo = ndi.gaussian_filter(albedo, 0.7)
+        ambient = rng.uniform(120, 200) * (1 + 0.1 * _smooth_field(rng, H, W, 40))
+        amp = rng.uniform(40, 90)
+        sigma = rng.uniform(0.9, 2.0)
+    elif kind == "noisy_floor":
+        albedo = np.clip(0.5 + 0.12 * ndi.gaussian_filter(rng.normal(0, 1, (H, W)), 0.6) / 0.35
+                         + 0.1 * _smooth_field(rng, H, W, 25), 0.05, 1.0)
+        ambient = rng.uniform(80, 150) * np.ones((H, W))
+        amp = rng.uniform(160, 320)
+        sigma = rng.uniform(0.6, 1.1)
+        read = 3.0
+    elif kind == "polished":
+        veins = np.abs(_smooth_field(rng, H, W, 6))
+        albedo = np.clip(0.25 + 0.1 * _smooth_field(rng, H, W, 30) + 0.25 * np.exp(-4 * veins)
+                         + 0.03 * rng.normal(0, 1, (H, W)), 0.05, 1.0)
+        ambient = rng.uniform(60, 140) * np.ones((H, W))
+        amp = rng.uniform(200, 450)
+        sigma = rng.uniform(1.0, 2.5)
+        extra = 300.0 * _blobs(rng, H, W, int(rng.integers(2, 7)), 1.0, 3)
+        shift = rng.choice([-1, 1]) * rng.uniform(8, 30)
+        refl = 0.25 * _profile(centre + shift, W, 3 * sigma)  # the mirrored stripe, blurred
+        laser_extra = amp * refl * (~absent)[:, None]
+    elif kind == "daylight":
+        yy, xx = np.mgrid[0:H, 0:W]
+        ang = rng.uniform(0, 2 * np.pi)
+        ramp = np.cos(ang) * xx / W + np.sin(ang) * yy / H
+        ramp = (ramp - ramp.min()) / (np.ptp(ramp) + 1e-12)
+        ambient = rng.uniform(60, 110) + rng.uniform(80, 160) * ramp
+        albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 15), 0.1, 1.0)
+        wx = int(rng.choice([0, W - W // 6]))  # a window at one side, clipping, in the upper rows (half the frames)
+        wy = int(rng.uniform(0.1, 0.3) * H) if rng.uniform() < 0.5 else 0
+        albedo[:wy, wx:wx + W // 6] = 1.0
+        ambient[:wy, wx:wx + W // 6] = 400.0
+        amp = rng.uniform(100, 200)
+        sigma = rng.uniform(1.0, 2.5)
+        read = 2.5
+    elif kind == "noisy_sensor":
+        albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 30), 0.2, 1.0)
+        ambient = rng.uniform(20, 60) * np.ones((H, W))
+        amp = rng.uniform(110, 190)
+        sigma = rng.uniform(1.2, 2.2)
+        read, gain = rng.uniform(8, 14), 0.3
+    elif kind == "saturated_wide":
+        albedo = np.clip(0.85 + 0.08 * _smooth_field(rng, H, W, 20), 0.3, 1.0)
+        ambient = rng.uniform(25, 70) * np.ones((H, W))
+        amp = rng.uniform(700, 2500)
+        sigma = rng.uniform(2.5, 5.0)
+        glow = _profile(centre, W, rng.uniform(10, 20))
+        laser_extra = 0.06 * amp * glow / glow.max() * (~absent)[:, None]
+        near = np.zeros((H, W))
+        yy, xx = np.mgrid[0:H, 0:W]
+        for _ in range(int(rng.integers(3, 8))):  # glints within 40 px of the stripe
+            r0 = int(rng.integers(0, H))
+            cx = centre[r0] + rng.choice([-1, 1]) * rng.uniform(12, 40)
+            near += np.exp(-((yy - r0) ** 2 + (xx - cx) ** 2) / (2 * rng.uniform(1.5, 3) ** 2))
+        extra += 200.0 * near
+    elif kind == "thin_faint":
+        albedo = np.clip(0.6 + 0.1 * _smooth_field(rng, H, W, 20), 0.2, 1.0)
+        ambient = rng.uniform(15, 40) * np.ones((H, W))
+        amp = rng.uniform(50, 100)
+        sigma = rng.uniform(0.5, 0.8)
+        extra = 600.0 * _blobs(rng, H, W, 1, 6, 14)  # a lamp
+    elif kind == "plain":
+        albedo = np.full((H, W), 0.8)
+        ambient = np.full((H, W), rng.uniform(5, 20))
+        amp = rng.uniform(120, 220)
+    along = amp * np.clip(1 + 0.35 * np.sin(2 * np.pi * rows / H * rng.uniform(0.3, 1.2) + rng.uniform(0, 6)),
+                          0.3, None)
+    if kind == "saturated_wide":
+        along = np.maximum(along, 400.0)
+    prof = along[:, None] * _profile(centre, W, sigma) * (~absent)[:, None] + laser_extra
+    cross = rng.uniform(0.04, 0.15)
+    colour = np.full(3, cross)
+    colour[k] = 1.0
+    a3 = albedo[..., None] * tint[None, None, :]
+    def shoot(clean):
+        noisy = clean + rng.normal(0, 1, clean.shape) * np.sqrt(read ** 2 + gain * np.clip(clean, 0, None))
+        return np.clip(np.rint(noisy), 0, 255).astype(np.uint8)
+
+    off = a3 * ambient[..., None] + extra[..., None]
+    rgb = shoot(off + a3 * prof[..., None] * colour[None, None, :])
+    rgb_off = shoot(off)
+    truth = np.where(absent, np.nan, centre)
+    saturated = bool((rgb[..., k][~absent] == 255).any()) if (~absent).any() else False
+    return HardFrame(kind, int(seed), rgb, laser, truth, coloured, saturated, rgb_off)
+
+
+def hard_frames(kinds=KINDS, seeds=range(4)) -> list[HardFrame]:
+    """:func:`hard_frame` for every kind and seed (kinds outer)."""
+    return [hard_frame(kd, int(s)) for kd in kinds for s in seeds]
+
+
+def argmax_right(frame: np.ndarray, truth, tol_px: float = 3.0) -> float:
+    """Fraction of the stripe rows (finite ``truth``) whose brightest pixel lies within ``tol_px`` of it.
+
+    The brightest pixel of a row whose maximum is a plateau (clipped) is the
+    plateau's middle (:func:`plateau_middles`).
+
+    Examples
+    --------
+    >>> argmax_right(np.array([[0, 9, 0, 0, 0, 0], [9, 0, 0, 0, 0, 0]]), [1.0, 5.0])
+    0.5
+    """
+    f = np.asarray(frame)
+    t = np.asarray(truth, float)
+    ok = np.isfinite(t)
+    if not ok.any():
+        return float("nan")
+    cols = plateau_middles(f)
+    return float(np.mean(np.abs(cols[ok] - t[ok]) <= tol_px))
+
+
+def plateau_middles(frame) -> np.ndarray:
+    """Per row, the middle ``(lo + hi) // 2`` of the run of equal maxima around the leftmost maximum, (H,) int.
+
+    Examples
+    --------
+    >>> plateau_middles(np.array([[0, 9, 9, 9, 0, 9]])).tolist()
+    [2]
+    """
+    f = np.asarray(frame)
+    H, W = f.shape
+    left = np.argmax(f, axis=1)
+    top = f[np.arange(H), left]
+    out = left.copy()
+    for r in range(H):
+        hi = left[r]
+        while hi + 1 < W and f[r, hi + 1] == top[r]:
+            hi += 1
+        out[r] = (left[r] + hi) // 2
+    return out

@@ -1,0 +1,36 @@
+"""Synthetic photographs of the failure classes (bench.studies.hard_frames)."""
+
+import numpy as np
+import pytest
+
+from bench.studies.hard_frames import KINDS, argmax_right, hard_frame, hard_frames, plateau_middles
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_frames_are_seeded_and_have_stripe_and_stripeless_rows(kind):
+    a, b = hard_frame(kind, 7), hard_frame(kind, 7)
+    np.testing.assert_array_equal(a.rgb, b.rgb)
+    np.testing.assert_array_equal(a.rgb_off, b.rgb_off)
+    assert not np.array_equal(a.rgb, hard_frame(kind, 8).rgb)
+    assert a.rgb.dtype == np.uint8 and a.rgb.shape[2] == 3 and a.truth.shape == (a.rgb.shape[0],)
+    assert 0.5 < np.isfinite(a.truth).mean() < 1.0
+    assert a.laser_channel.shape == a.rgb.shape[:2] and a.laser in ("red", "green")
+    # the laser-off frame has no stripe: the laser channel is darker on the stripe rows' centres
+    rows = np.nonzero(np.isfinite(a.truth))[0]
+    c = np.rint(a.truth[rows]).astype(int)
+    assert a.laser_channel[rows, c].mean() > a.laser_channel_off[rows, c].mean()
+
+
+def test_saturated_wide_frames_clip_and_plain_frames_are_easy():
+    f = hard_frame("saturated_wide", 0)
+    assert f.saturated and argmax_right(f.laser_channel, f.truth) > 0.9
+    assert argmax_right(hard_frame("plain", 0).laser_channel, hard_frame("plain", 0).truth) == 1.0
+    assert len(hard_frames(["plain", "printed"], [0, 1])) == 4
+
+
+def test_plateau_middles_and_bad_arguments():
+    assert plateau_middles(np.array([[1, 5, 5, 5, 5, 0], [3, 0, 0, 0, 0, 0]])).tolist() == [2, 0]
+    with pytest.raises(ValueError, match="`kind` must be one of"):
+        hard_frame("snow", 0)
+    with pytest.raises(ValueError, match="`seed` must be an integer >= 0, got -1"):
+        hard_frame("plain", -1)

@@ -198,7 +198,11 @@ def _cmd_check(args) -> int:
         baseline = gate.load_baseline(args.baseline)
     except (FileNotFoundError, ValueError) as exc:
         raise UsageError(str(exc)) from None
-    rows = _gate_rows(baseline, current, f"run {str(run_dir)!r} and baseline {str(args.baseline)!r}")
+    what = f"run {str(run_dir)!r} and baseline {str(args.baseline)!r}"
+    if gate.renderer_difference(baseline, current):
+        raise UsageError(f"{what} are not comparable: their frames were rendered differently, "
+                         f"{gate.renderer_difference(baseline, current)} (docs/gate.md)")
+    rows = _gate_rows(baseline, current, what)
     status = _print_rows(rows, args)
     if status:
         failed = [r for r in rows if r.failed]

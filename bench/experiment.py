@@ -86,6 +86,16 @@ def _angles(experiment, scene) -> np.ndarray:
     return scene.default_angles()
 
 
+def _renderer(scan_info: list[dict]) -> str:
+    """What rendered the run's frames (:func:`scenes.variant.renderer`; every frame, cached or
+    resumed ones too, since the render cache key and the scan fingerprint include it)."""
+    if not any(s.get("variant") for s in scan_info):
+        return ""
+    from scenes import variant
+
+    return variant.renderer()
+
+
 def _say(msg: str, quiet: bool) -> None:
     if not quiet:
         print(msg, file=sys.stderr, flush=True)
@@ -211,7 +221,7 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
     summary = {
         "config": config.to_dict(), "config_source": config.source, "seed": config.seed,
         "versions": versions(), "git_revision": git_revision(), "run_dir": str(out),
-        "variants": sorted({s["variant"] for s in scan_info}), "scans": scan_info,
+        "variants": sorted({s["variant"] for s in scan_info}), "renderer": _renderer(scan_info), "scans": scan_info,
         "improvement": stats, "paper_improvement": PAPER_IMPROVEMENT, "restore": config.restore,
         "robust": robust, "within_mm": WITHIN_MM, "gross_mm": GROSS_MM, "conditions": conditions,
         "verdicts": analysis.verdicts(robust, stats, config.dp, config.baselines),

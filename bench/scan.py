@@ -234,11 +234,14 @@ def code_fingerprint(trackers_=()) -> str:
 
 
 def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
-    """Everything a scan's results depend on, hashed (plugin trackers' sources included)."""
+    """Everything a scan's results depend on, hashed (plugin trackers' sources and the renderer included)."""
     from .runio import config_hash
+
+    from scenes import variant
 
     params = {k: v for k, v in scene.params.items() if k not in ("cache", "cache_dir")}
     return config_hash({"scene": scene.name, "params": params, "spp": spp, "seed": seed,
+                        "renderer": variant.renderer(),
                         "trackers": {n: repr(t) for n, t in sorted(trackers_.items())},
                         "source": code_fingerprint(trackers_.values())})
 

@@ -84,7 +84,8 @@ def _say(msg: str) -> None:
 
 
 def _check_env() -> None:
-    """The folders named by environment variables must be folders (or creatable)."""
+    """The folders named by environment variables must be folders (or creatable), and
+    ``$STRIPEBENCH_LLVM_TARGET`` well formed."""
     for var in ("STRIPEBENCH_CACHE_DIR", "STRIPEBENCH_RUNS"):
         value = os.environ.get(var)
         if not value:
@@ -94,6 +95,12 @@ def _check_env() -> None:
             raise UsageError(f"${var} must name a folder, got {value!r} (a file)")
         if p.is_dir() and not os.access(p, os.W_OK | os.X_OK):
             raise UsageError(f"${var} names a folder this user cannot write: {value!r}")
+    from scenes import variant
+
+    try:
+        variant.parse_llvm_target(os.environ.get(variant.ENV_LLVM_TARGET, ""))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def _run_config(config, args) -> int:

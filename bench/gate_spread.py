@@ -271,22 +271,25 @@ def measure(out, *, gates: Sequence[str] = ("ci", "real"), machines: Sequence[Ma
 
 
 def _table(g: str, docs: Mapping[str, dict], machines: Sequence[Machine], tols: Mapping[str, dict]) -> str:
+    """The markdown table of a gate: per metric the gated machines' spread, each other machine's
+    against the reference, and the tolerance."""
     gated = {m.name: docs[m.name] for m in machines if m.gated and m.name in docs}
-    lines = [f"### {g}: spread of every gated metric (max over entries of the range)", "",
-             "| metric | entries | gated machines: max range (entries differing) | "
-             + " | ".join(f"{m.name} vs {REFERENCE}" for m in machines if not m.gated and m.name in docs)
-             + " | tolerance abs + rel |", "|---" * (4 + sum(not m.gated and m.name in docs for m in machines)) + "|"]
-    spread_g = metric_spread(entry_ranges(gated))
     others = {m.name: metric_spread(entry_ranges({REFERENCE: docs[REFERENCE], m.name: docs[m.name]}))
               for m in machines if not m.gated and m.name in docs}
-    for metric, s in spread_g.items():
-        cells = [f"{o[metric]['max_range']:.4g} ({o[metric]['differing']}"
-                 + (f", {len(o[metric]['nan_flips'])} NaN flips" if o[metric]["nan_flips"] else "") + ")"
-                 for o in others.values()]
+    head = ["metric", "entries", f"gated ({', '.join(gated)})", *(f"{n} vs {REFERENCE}" for n in others),
+            "tolerance: abs + rel × baseline"]
+    lines = [f"{g}: the largest range of each gated metric over its entries (entries that differ at all)", "",
+             "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+
+    def cell(s):
+        flips = f", {len(s['nan_flips'])} NaN flips" if s["nan_flips"] else ""
+        return f"{s['max_range']:.4g} ({s['differing']}{flips})"
+
+    for metric, s in metric_spread(entry_ranges(gated)).items():
         t = tols.get(metric, {})
-        lines.append(f"| {metric} | {s['entries']} | {s['max_range']:.4g} ({s['differing']}"
-                     + (f", {len(s['nan_flips'])} NaN flips" if s["nan_flips"] else "") + ") | "
-                     + " | ".join(cells) + f" | {t.get('abs', float('nan')):g} + {t.get('rel', float('nan')):g} |")
+        row = [metric, str(s["entries"]), cell(s), *(cell(o[metric]) if metric in o else "-" for o in others.values()),
+               f"{t['abs']:g} + {t['rel']:g}" if t else "-"]
+        lines.append("| " + " | ".join(row) + " |")
     return "\n".join(lines)
 
 

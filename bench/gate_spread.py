@@ -16,7 +16,9 @@ Usage::
 ``--write DIR`` writes ``DIR/ci.json`` and ``DIR/real.json`` from the
 reference machine's runs (:data:`REFERENCE`) with the derived tolerances
 (:func:`derive_tolerances`) and their provenance in ``tolerance_source``;
-``DIR/spread.json``-like detail goes to ``--out``.
+the detail (per-metric spreads, the tolerances the ungated machines would
+need, wall times) goes to ``OUT/spread.json``. ``--reuse`` reads runs already
+finished in ``--out`` instead of running them again.
 
 A machine's *spread* for one entry and metric is the range (max - min) of its
 values over the gated machines; a metric's tolerance is the spread times
@@ -251,9 +253,10 @@ def _run_one(gate_name: str, machine: Machine, out: Path, argv_extra: Sequence[s
 
 
 def measure(out, *, gates: Sequence[str] = ("ci", "real"), machines: Sequence[Machine] = MACHINES,
-            real_trackers: str = "", repo=None, log=print) -> dict:
+            real_trackers: str = "", repo=None, reuse: bool = False, log=print) -> dict:
     """Run every gate on every machine (child processes, own render caches under ``out``) and
-    return ``{gate: {machine name: baseline-like document}}`` with each run's wall time."""
+    return ``{gate: {machine name: baseline-like document}}`` with each run's wall time (``wall_s``,
+    None for a run that ``reuse`` found finished in ``out`` and read instead of running again)."""
     repo = Path(repo) if repo is not None else Path(__file__).resolve().parent.parent
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -262,11 +265,14 @@ def measure(out, *, gates: Sequence[str] = ("ci", "real"), machines: Sequence[Ma
         extra = ("--trackers", real_trackers) if g == "real" and real_trackers else ()
         docs[g] = {}
         for mach in machines:
-            run_dir, wall = _run_one(g, mach, out, extra, repo)
+            run_dir, wall = out / f"{g}-{mach.name}", None
+            if not (reuse and (run_dir / "summary.json").is_file()):
+                run_dir, wall = _run_one(g, mach, out, extra, repo)
             doc = gate.baseline_from_run(run_dir)
             doc["wall_s"] = wall
             docs[g][mach.name] = doc
-            log(f"gate_spread: {g} on {mach.name}: {wall:.0f} s, renderer {doc.get('renderer') or '-'}")
+            took = "reused" if wall is None else f"{wall:.0f} s"
+            log(f"gate_spread: {g} on {mach.name}: {took}, renderer {doc.get('renderer') or '-'}")
     return docs
 
 
@@ -320,6 +326,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--machines", default=",".join(m.name for m in MACHINES),
                    help=f"comma-separated machines (default all: {', '.join(m.name for m in MACHINES)})")
     p.add_argument("--safety", type=float, default=SAFETY, help=f"factor on the spread (default {SAFETY:g})")
+    p.add_argument("--reuse", action="store_true",
+                   help="read the runs already finished in --out (same machines) instead of running them again")
     p.add_argument("--write", type=Path, metavar="DIR",
                    help="write DIR/ci.json and DIR/real.json from the reference runs with the derived tolerances")
     a = p.parse_args(argv)
@@ -341,7 +349,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             real_base = gate.load_baseline(Path(__file__).resolve().parent.parent / "results" / "baselines"
                                            / GATES["real"][1])
             real_trackers = ",".join(real_base["config"]["trackers"])
-        docs = measure(a.out, gates=gates, machines=machines, real_trackers=real_trackers,
+        docs = measure(a.out, gates=gates, machines=machines, real_trackers=real_trackers, reuse=a.reuse,
                        log=lambda s: print(s, file=sys.stderr))
     except (ValueError, RuntimeError, FileNotFoundError) as exc:
         print(f"gate_spread: {exc}", file=sys.stderr)
@@ -359,15 +367,18 @@ def main(argv: Sequence[str] | None = None) -> int:
                   f"covers that), e.g. {flips[0]}", file=sys.stderr)
             status = 1
         print(_table(g, docs[g], machines, tols) + "\n")
+        informational = [(m, {REFERENCE: docs[g][REFERENCE], m.name: docs[g][m.name]}) for m in machines
+                         if not m.gated]
         source = {"procedure": "python -m bench.gate_spread", "safety": a.safety,
                   "machines": [m.name for m in machines if m.gated],
                   "spread": {m: {"max_range": s["max_range"], "entry": s["entry"], "differing": s["differing"]}
-                             for m, s in spread.items()},
-                  "wall_s": {n: round(d["wall_s"], 1) for n, d in docs[g].items()}}
+                             for m, s in spread.items()}}
         report[g] = {"tolerances": tols, "source": source,
-                     "informational": {m.name: metric_spread(entry_ranges({REFERENCE: docs[g][REFERENCE],
-                                                                            m.name: docs[g][m.name]}))
-                                       for m in machines if not m.gated},
+                     "wall_s": {n: d["wall_s"] and round(d["wall_s"], 1) for n, d in docs[g].items()},
+                     "informational": {m.name: metric_spread(entry_ranges(pair)) for m, pair in informational},
+                     # the tolerances each ungated machine would need against the reference (not used)
+                     "tolerances_if_gated": {m.name: derive_tolerances(entry_ranges(pair), floors, a.safety)
+                                             for m, pair in informational},
                      "renderers": {n: d.get("renderer", "") for n, d in docs[g].items()}}
         if a.write is not None and not flips:
             path = a.write / GATES[g][1]

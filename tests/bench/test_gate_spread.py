@@ -176,3 +176,16 @@ def test_update_keeps_derived_tolerances_and_their_source(gate_run, tmp_path):
     plain = tmp_path / "plain.json"
     gate.write_baseline(out, plain)
     assert gate.load_baseline(plain)["tolerance_source"] == "defaults"
+
+
+@pytest.mark.slow
+def test_reuse_reads_finished_runs_without_running_them(gate_run, tmp_path, monkeypatch):
+    import shutil
+
+    out, _ = gate_run
+    shutil.copytree(out, tmp_path / "ci-here")
+    monkeypatch.setattr(gs, "_run_one", lambda *a, **kw: pytest.fail("ran"))
+    here = next(m for m in gs.MACHINES if m.name == gs.REFERENCE)
+    docs = gs.measure(tmp_path, gates=["ci"], machines=[here], reuse=True, log=lambda s: None)
+    assert docs["ci"]["here"]["wall_s"] is None
+    assert docs["ci"]["here"]["metrics"] == gate.baseline_from_run(out)["metrics"]

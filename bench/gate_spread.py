@@ -102,7 +102,7 @@ MACHINES: tuple[Machine, ...] = (
     Machine("native-avx2", "an AVX2 CPU with Dr.Jit's own 8-wide code and AVX intrinsics (before the fix)",
             env={"STRIPEBENCH_LLVM_TARGET": "haswell/8/+avx,+avx2,+fma,+f16c,+bmi,+bmi2,+lzcnt,+movbe,+popcnt",
                  **_AVX2_ENV}, gated=False),
-    Machine("scalar", "a machine without a usable LLVM (Mitsuba's scalar_rgb variant, about 4x slower)",
+    Machine("scalar", "a machine without a usable LLVM: Mitsuba's scalar_rgb variant",
             env={"STRIPEBENCH_VARIANT": "scalar_rgb"}, gated=False),
 )
 #: The machine whose runs become the baselines.

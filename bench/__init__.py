@@ -12,7 +12,8 @@ enforces it, so a new module must be added to :data:`LAYERS`):
 2. reporting (figures and the HTML reports from saved runs): ``figures``, ``report``, ``sweep_report``
 3. studies (benchmarks on synthetic frames, tuning procedures): ``estimators``, ``perf``, ``tune``,
    ``translucency``
-4. the command line: ``cli``
+4. the command line: ``cli``, and ``gate_spread`` (runs the command line under machine
+   configurations to derive the gate's tolerances)
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
 of them imports ``bench``.
@@ -24,5 +25,5 @@ LAYERS = {
                 "real_run", "sweep"),
     "reporting": ("figures", "report", "sweep_report"),
     "studies": ("estimators", "perf", "tune", "translucency"),
-    "cli": ("cli",),
+    "cli": ("cli", "gate_spread"),
 }

@@ -6,7 +6,8 @@ parameters; :meth:`LoadedScene.render` sets *every* per-frame parameter (camera
 and laser pose) before rendering, so the result depends only on its arguments
 and never on the frames rendered before (loading is only a cache).
 
-Reproducibility: ``path`` renders are bit-identical run to run on LLVM; the
+Reproducibility: ``path`` renders are bit-identical run to run on LLVM, and across
+x86-64 machines with AVX2 since :mod:`scenes.variant` fixes the LLVM target; the
 ``ptracer`` renders (``specular``; the light-traced half of ``polished`` and
 ``glazed``) run on one LLVM thread because their
 atomic splatting order otherwise changes the last float bits.  On CUDA the

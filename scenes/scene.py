@@ -253,6 +253,7 @@ class Scene:
             "mirror_angle_deg": theta,
             "rig": dataclasses.asdict(self.rig),
             "variant": variant,
+            **({"llvm_target": _variant.llvm_target()} if variant.startswith("llvm") else {}),
             "mitsuba": _mitsuba_versions()[0],
             "drjit": _mitsuba_versions()[1],
             **self._optics_fields(),

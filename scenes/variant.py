@@ -8,6 +8,17 @@ overrides the choice.
 A broken LLVM (Debian's 14/15/16 with drjit 1.5) *aborts the whole process*
 inside the JIT, so each candidate is first tried in a child process that
 renders a tiny scene; only a variant that survived there is set in this process.
+
+The LLVM variant's code is generated for one fixed target, not for this CPU: Dr.Jit by
+default compiles for the host (``-march=native``) with the host's vector width (16 lanes
+with AVX-512, 8 with AVX2), and the width changes the order of the sums inside a
+render (per-pixel sample accumulation, the light tracer's splats), hence the last float
+bits of every pass and, through the 8-bit sensor, some metrics. :data:`PORTABLE_TARGET`
+(``x86-64-v3``: AVX2 + FMA, 8 lanes, no CPU-specific intrinsics) is set on every x86-64
+CPU that has those instructions, so such machines render bit-identical passes (measured:
+docs/gate.md). ``STRIPEBENCH_LLVM_TARGET`` overrides it: ``native`` (Dr.Jit's own
+choice) or ``CPU/WIDTH[/FEATURES]`` (e.g. ``haswell/8/+avx2,+fma``, used to emulate
+other CPUs); :func:`llvm_target` names the one in use (it is part of the render cache key).
 Before drjit is imported, ``DRJIT_LIBLLVM_PATH`` is pointed at a
 ``libLLVM.so.19*``/``libLLVM-19.so`` (or newer) found in the usual library
 folders, unless the variable is already set.  The choice is printed to stderr
@@ -17,6 +28,7 @@ machine, not of any frame).
 
 from __future__ import annotations
 
+import functools
 import glob
 import os
 import re
@@ -24,8 +36,9 @@ import subprocess
 import sys
 from typing import Optional
 
-__all__ = ["CANDIDATES", "VariantError", "find_libllvm", "probe", "choose", "check_forced", "mitsuba", "active_variant",
-           "is_mono"]
+__all__ = ["CANDIDATES", "PORTABLE_TARGET", "ENV_LLVM_TARGET", "VariantError", "find_libllvm", "probe", "choose",
+           "check_forced", "mitsuba", "active_variant", "is_mono", "parse_llvm_target", "llvm_target",
+           "host_supports_portable", "renderer"]
 
 CANDIDATES = ("cuda_ad_mono", "llvm_ad_mono", "scalar_rgb")
 ENV_VARIANT = "STRIPEBENCH_VARIANT"
@@ -33,6 +46,17 @@ _LLVM_DIRS = ("/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/l
               "/usr/local/lib", "/opt/homebrew/opt/llvm/lib", "/usr/local/opt/llvm/lib")
 _MIN_LLVM = 17
 _chosen: Optional[str] = None
+
+ENV_LLVM_TARGET = "STRIPEBENCH_LLVM_TARGET"
+#: (target CPU, LLVM feature string or None, vector width) of the LLVM variant's kernels on an
+#: x86-64 CPU with AVX2 and FMA. No feature string: Dr.Jit then picks no x86-specific intrinsic
+#: (its choice of those tests the feature string), only portable LLVM operations.
+PORTABLE_TARGET = ("x86-64-v3", None, 8)
+# /proc/cpuinfo flags of x86-64-v3 (abm: lzcnt); sse4.2 etc. are implied by these
+_V3_FLAGS = ("avx", "avx2", "fma", "bmi1", "bmi2", "f16c", "movbe", "abm", "xsave")
+_target: Optional[str] = None  # the descriptor of the target applied in this process
+_DRJIT_SYMBOLS = {"set": "_Z19jit_llvm_set_targetPKcS0_j", "width": "_Z21jit_llvm_vector_widthv",
+                  "cpu": "_Z19jit_llvm_target_cpuv", "features": "_Z24jit_llvm_target_featuresv"}
 
 _PROBE = r"""
 import sys
@@ -99,7 +123,11 @@ def choose() -> str:
     else:
         _chosen = next((v for v in CANDIDATES[:-1] if probe(v)), CANDIDATES[-1])
         how = "probed"
-    print(f"stripebench.scenes: Mitsuba variant {_chosen} ({how})", file=sys.stderr)
+    target = ""
+    if _chosen.startswith("llvm"):
+        t = _requested()
+        target = f", LLVM target {_describe(t) if t is not None else 'native'}"
+    print(f"stripebench.scenes: Mitsuba variant {_chosen} ({how}){target}", file=sys.stderr)
     return _chosen
 
 
@@ -139,8 +167,135 @@ def check_forced() -> Optional[str]:
     return forced
 
 
+def parse_llvm_target(value: str):
+    """The LLVM target named by ``value`` (the syntax of ``$STRIPEBENCH_LLVM_TARGET``).
+
+    Returns
+    -------
+    None or tuple
+        ``None`` for ``"native"`` (Dr.Jit's own choice for this CPU), :data:`PORTABLE_TARGET` for
+        ``""`` or ``"portable"``, else ``(cpu, features or None, width)`` from ``CPU/WIDTH[/FEATURES]``.
+
+    Raises
+    ------
+    ValueError
+        A malformed value (names the variable, echoes the value).
+
+    Examples
+    --------
+    >>> parse_llvm_target("haswell/8/+avx2,+fma")
+    ('haswell', '+avx2,+fma', 8)
+    >>> parse_llvm_target("native") is None, parse_llvm_target("portable") == PORTABLE_TARGET
+    (True, True)
+    >>> parse_llvm_target("haswell/6")
+    Traceback (most recent call last):
+    ...
+    ValueError: `STRIPEBENCH_LLVM_TARGET` must be 'portable', 'native' or CPU/WIDTH[/FEATURES] with WIDTH a power of two in 1..64, got 'haswell/6'
+    """
+    v = value.strip()
+    if v in ("", "portable"):
+        return PORTABLE_TARGET
+    if v == "native":
+        return None
+    parts = v.split("/", 2)
+    width = parts[1] if len(parts) > 1 else ""
+    if len(parts) < 2 or not parts[0] or not width.isdigit() or int(width) not in (1, 2, 4, 8, 16, 32, 64):
+        raise ValueError(f"`{ENV_LLVM_TARGET}` must be 'portable', 'native' or CPU/WIDTH[/FEATURES] with WIDTH "
+                         f"a power of two in 1..64, got {value!r}")
+    return parts[0], (parts[2] or None) if len(parts) > 2 else None, int(width)
+
+
+@functools.lru_cache(maxsize=8)
+def host_supports_portable(cpuinfo: str = "/proc/cpuinfo") -> bool:
+    """True on an x86-64 CPU whose flags (``cpuinfo``) include every instruction set of
+    :data:`PORTABLE_TARGET` (AVX2, FMA, BMI1/2, F16C, MOVBE, LZCNT); read once per path."""
+    import platform
+
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return False
+    try:
+        with open(cpuinfo, encoding="utf-8", errors="replace") as fh:
+            text = fh.read()
+    except OSError:
+        return False
+    m = re.search(r"^flags\s*:(.*)$", text, re.M)
+    return bool(m) and set(_V3_FLAGS) <= set(m.group(1).split())
+
+
+def _describe(target) -> str:
+    cpu, features, width = target
+    return f"{cpu}/{width}" + (f"/{features}" if features else "")
+
+
+def _requested():
+    """The target this process asks for: a tuple, or None for Dr.Jit's native choice."""
+    t = parse_llvm_target(os.environ.get(ENV_LLVM_TARGET, ""))
+    if t == PORTABLE_TARGET and not os.environ.get(ENV_LLVM_TARGET, "").strip() and not host_supports_portable():
+        return None  # the default on a CPU without AVX2/FMA (or not x86-64): Dr.Jit's own
+    return t
+
+
+def llvm_target() -> str:
+    """The LLVM target of this process's renders as ``CPU/WIDTH[/FEATURES]`` (``native CPU/WIDTH``
+    when Dr.Jit chose it), ``""`` for a variant that is not ``llvm_*``.
+
+    A set target is known without loading drjit; a native one loads it (:func:`mitsuba`).
+    """
+    if not choose().startswith("llvm"):
+        return ""
+    if _target is not None:
+        return _target
+    t = _requested()
+    if t is not None:
+        return _describe(t)
+    mitsuba()
+    return _target
+
+
+def renderer() -> str:
+    """The variant and, for ``llvm_*``, the LLVM target of this process's renders, e.g.
+    ``"llvm_ad_mono x86-64-v3/8"`` or ``"scalar_rgb"``: frames rendered under the same string
+    are bit-identical on any machine (docs/gate.md)."""
+    return f"{choose()} {llvm_target()}".strip()
+
+
+def _drjit_core():
+    import ctypes
+
+    import drjit
+
+    lib = ctypes.CDLL(os.path.join(os.path.dirname(drjit.__file__), "libdrjit-core.so"))
+    try:
+        fns = {k: getattr(lib, name) for k, name in _DRJIT_SYMBOLS.items()}
+    except AttributeError:
+        raise RuntimeError(f"drjit {drjit.__version__}'s libdrjit-core has no jit_llvm_set_target: cannot fix the "
+                           f"LLVM target (set {ENV_LLVM_TARGET}=native to render for this CPU)") from None
+    fns["set"].argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_uint32]
+    fns["set"].restype = None
+    fns["width"].restype = ctypes.c_uint32
+    fns["cpu"].restype = fns["features"].restype = ctypes.c_char_p
+    return fns
+
+
+def _apply_llvm_target() -> str:
+    """Set the requested LLVM target in drjit (before any kernel of this process compiles);
+    returns its descriptor."""
+    fns = _drjit_core()
+    t = _requested()
+    if t is None:
+        return f"native {fns['cpu']().decode()}/{fns['width']()}"
+    cpu, features, width = t
+    fns["set"](cpu.encode(), features.encode() if features else None, width)
+    if fns["width"]() != width or fns["cpu"]().decode() != cpu:
+        raise RuntimeError(f"drjit did not take the LLVM target {_describe(t)!r} (it reports "
+                           f"{fns['cpu']().decode()}/{fns['width']()})")
+    return _describe(t)
+
+
 def mitsuba():
-    """Import Mitsuba with the chosen variant set and return the module."""
+    """Import Mitsuba with the chosen variant set (and, for ``llvm_*``, the LLVM target of
+    :func:`llvm_target` applied) and return the module."""
+    global _target
     if "drjit" not in sys.modules and "DRJIT_LIBLLVM_PATH" not in os.environ:
         lib = find_libllvm()
         if lib:
@@ -153,6 +308,8 @@ def mitsuba():
             raise ValueError(f"`{ENV_VARIANT}` names a variant this Mitsuba lacks: {variant!r}; "
                              f"valid: {', '.join(mi.variants())}")
         mi.set_variant(variant)
+    if _target is None and variant.startswith("llvm"):
+        _target = _apply_llvm_target()
     return mi
 
 

@@ -99,7 +99,14 @@ def _loader(c: Command):
 
 
 def check_env() -> None:
-    """The folders named by environment variables must be folders (or creatable), and writable."""
+    """The folders named by environment variables must be folders (or creatable), and writable, and
+    ``$STRIPEBENCH_LLVM_TARGET`` well formed."""
+    from scenes import variant
+
+    try:
+        variant.parse_llvm_target(os.environ.get(variant.ENV_LLVM_TARGET, ""))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     for var in ("STRIPEBENCH_CACHE_DIR", "STRIPEBENCH_RUNS"):
         value = os.environ.get(var)
         if not value:

@@ -156,7 +156,11 @@ def _check(args) -> int:
         print(f"stripebench: wrote baseline {args.baseline} ({len(doc['metrics'])} entries) from {args.run}")
         return 0
     baseline = gate.load_baseline(args.baseline)
-    rows = _gate_rows(baseline, current, f"run {str(args.run)!r} and baseline {str(args.baseline)!r}")
+    what = f"run {str(args.run)!r} and baseline {str(args.baseline)!r}"
+    if gate.renderer_difference(baseline, current):
+        raise UsageError(f"{what} are not comparable: their frames were rendered differently, "
+                         f"{gate.renderer_difference(baseline, current)} (docs/gate.md)")
+    rows = _gate_rows(baseline, current, what)
     status = _print_rows(rows, args)
     if status:
         failed = [r for r in rows if r.failed]

@@ -251,7 +251,7 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     summary = build_summary(
         kind, config=config.to_dict(), config_source=config.source, seed=config.seed,
         versions=versions(), git_revision=git_revision(), run_dir=str(out),
-        variants=sorted({s["variant"] for s in scan_info}), scans=scan_info,
+        variants=sorted({s["variant"] for s in scan_info}), renderer=_renderer(scan_info), scans=scan_info,
         improvement=stats, paper_improvement=PAPER_IMPROVEMENT, restore=config.restore,
         restore_by_tracker={**config.restore_by_label(), **{n: config.restore for n in submissions}},
         robust=robust, within_mm=WITHIN_MM, gross_mm=GROSS_MM, conditions=conditions,
@@ -306,6 +306,16 @@ def distinct_trackers(specs) -> list:
             seen.add(key)
             out.append(s)
     return out
+
+
+def _renderer(scan_info: list[dict]) -> str:
+    """What rendered the run's frames (:func:`scenes.variant.renderer`; every frame, cached or
+    resumed ones too, since the render cache key and the scan fingerprint include it)."""
+    if not any(s.get("variant") for s in scan_info):
+        return ""
+    from scenes import variant
+
+    return variant.renderer()
 
 
 def _coverage_table(metrics) -> list[dict]:

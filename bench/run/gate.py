@@ -14,6 +14,14 @@ A real-photograph run (``stripebench real``) is gated the same way on its
 own metrics (:data:`REAL_TOLERANCES`: hit rate, MAE on the hits, coverage,
 false detections) per image x tracker and for the mean over images, e.g.
 ``stripebench check results/runs/real --baseline results/baselines/real.json``.
+
+Baseline files are format 2 (:data:`FORMAT`): format 1 plus ``renderer`` (the
+Mitsuba variant and LLVM target that rendered the baseline's frames, see
+:func:`scenes.variant.renderer`; a run rendered otherwise is not comparable)
+and ``tolerance_source`` (how the tolerances were derived: by
+:mod:`bench.cli.gate_spread` from the spread measured across machine
+configurations, or ``"defaults"``). Format 1 files are read as format 2 with
+neither; any other format is refused in one line.
 """
 
 from __future__ import annotations
@@ -26,7 +34,7 @@ from pathlib import Path
 from bench.errors import InputError
 
 __all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline",
-           "validate_baseline", "comparability", "COMPARED_KEYS", "rows_to_json"]
+           "validate_baseline", "comparability", "COMPARED_KEYS", "rows_to_json", "FORMAT", "renderer_difference"]
 
 # what must agree between two runs (or a run and a baseline) for their metrics to be comparable
 COMPARED_KEYS = ("render", "experiments", "seed")
@@ -52,7 +60,10 @@ REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
     "coverage": ("higher", 0.01, 0.0),
     "false_detections": ("lower", 0.01, 0.05),
 }
-_FORMAT = 1
+#: The baseline format written; :data:`READ_FORMATS` are read (format 1 is upgraded on reading).
+FORMAT = 2
+READ_FORMATS = (1, 2)
+_FORMAT = FORMAT
 
 
 def tolerances_for(summary: dict) -> dict[str, tuple[str, float, float]]:
@@ -90,7 +101,8 @@ def _clean(v):
 
 
 def baseline_from_run(run_dir) -> dict:
-    """The gated metrics of a finished run, as a baseline document."""
+    """The gated metrics of a finished run, as a baseline document (format :data:`FORMAT`,
+    the default tolerances, ``tolerance_source = "defaults"``)."""
     from bench.store.runfolder import RunFolderError, load_metrics, load_summary
 
     run_dir = Path(run_dir)
@@ -109,7 +121,9 @@ def baseline_from_run(run_dir) -> dict:
         "config": summary["config"],
         "git_revision": summary.get("git_revision", "unknown"),
         "variants": summary.get("variants", []),
+        "renderer": summary.get("renderer", ""),
         "tolerances": {m: {"direction": d, "abs": a, "rel": rel} for m, (d, a, rel) in tols.items()},
+        "tolerance_source": "defaults",
         "metrics": entries,
     }
     if summary.get("kind") == "real":
@@ -117,11 +131,29 @@ def baseline_from_run(run_dir) -> dict:
     return doc
 
 
-def write_baseline(run_dir, path) -> dict:
-    """Write the run's metrics as the baseline at ``path`` (atomically)."""
+def write_baseline(run_dir, path, *, tolerances: dict | None = None, tolerance_source=None) -> dict:
+    """Write the run's metrics as the baseline at ``path`` (atomically).
+
+    ``tolerances`` (``{metric: {direction, abs, rel}}``) and ``tolerance_source`` replace the defaults;
+    without them, a valid baseline already at ``path`` whose tolerances were derived
+    (``tolerance_source`` not ``"defaults"``) keeps its tolerances and their source, so
+    ``check --update`` does not undo :mod:`bench.cli.gate_spread`.
+    """
     from bench.store.files import atomic_write_text
 
     doc = baseline_from_run(run_dir)
+    if tolerances is None and Path(path).exists():
+        try:
+            old = load_baseline(path)
+        except (FileNotFoundError, ValueError):
+            old = None
+        if old is not None and old.get("tolerance_source", "defaults") != "defaults" \
+                and set(old.get("tolerances") or {}) == set(doc["tolerances"]):
+            tolerances, tolerance_source = old["tolerances"], old["tolerance_source"]
+    if tolerances is not None:
+        doc["tolerances"] = tolerances
+        doc["tolerance_source"] = tolerance_source if tolerance_source is not None else "given"
+    validate_baseline(doc, f"baseline for {str(path)!r}")
     atomic_write_text(path, json.dumps(doc, indent=1, sort_keys=True) + "\n")
     return doc
 
@@ -140,13 +172,36 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
 
     Examples
     --------
+    A format 1 document is upgraded in place (``renderer = ""``, ``tolerance_source = "defaults"``).
+
+    Examples
+    --------
     >>> validate_baseline({"format": 1, "metrics": {"e/t/all": {"px_mae": "x"}}})
     Traceback (most recent call last):
     ...
     bench.errors.InputError: baseline: `metrics.e/t/all.px_mae` must be a number or null, got 'x'
+    >>> validate_baseline({"format": 3, "metrics": {}})
+    Traceback (most recent call last):
+    ...
+    bench.errors.InputError: baseline is format 3: this stripebench reads baseline formats 1 and 2 (regenerate it with `stripebench check RUN --baseline FILE --update` or `python -m bench.cli.gate_spread`)
     """
-    if not isinstance(doc, dict) or doc.get("format") != _FORMAT or "metrics" not in doc:
+    if isinstance(doc, dict) and "metrics" in doc and doc.get("format") not in READ_FORMATS \
+            and isinstance(doc.get("format"), int) and not isinstance(doc.get("format"), bool):
+        raise InputError(f"{where} is format {doc['format']}: this stripebench reads baseline formats "
+                         f"{' and '.join(map(str, READ_FORMATS))} (regenerate it with `stripebench check RUN "
+                         "--baseline FILE --update` or `python -m bench.cli.gate_spread`)")
+    if not isinstance(doc, dict) or doc.get("format") not in READ_FORMATS or "metrics" not in doc:
         raise InputError(f"{where} is not a stripebench baseline (format {_FORMAT})")
+    if doc["format"] == 1:
+        doc["format"] = FORMAT
+        doc.setdefault("renderer", "")
+        doc.setdefault("tolerance_source", "defaults")
+    if not isinstance(doc.get("renderer", ""), str):
+        raise InputError(f"{where}: `renderer` must be a string, got {doc['renderer']!r:.60}")
+    src = doc.get("tolerance_source", "defaults")
+    if not (isinstance(src, str) or (isinstance(src, dict) and isinstance(src.get("procedure"), str))):
+        raise InputError(f"{where}: `tolerance_source` must be a string or an object with a `procedure`, "
+                         f"got {src!r:.60}")
     metrics = doc["metrics"]
     if not isinstance(metrics, dict):
         raise InputError(f"{where}: `metrics` must be an object, got {metrics!r:.60}")
@@ -212,6 +267,20 @@ def comparability(config_a: dict | None, config_b: dict | None) -> list[str]:
             else:
                 out.append(f"{k} ({a!r:.60} vs {b!r:.60})")
     return out
+
+
+def renderer_difference(baseline: dict, current: dict) -> str:
+    """Why two documents' frames were rendered differently (``""`` when alike or either is unknown).
+
+    Examples
+    --------
+    >>> renderer_difference({"renderer": "llvm_ad_mono x86-64-v3/8"}, {"renderer": "scalar_rgb"})
+    "renderer ('llvm_ad_mono x86-64-v3/8' vs 'scalar_rgb')"
+    >>> renderer_difference({"renderer": ""}, {"renderer": "scalar_rgb"})
+    ''
+    """
+    a, b = baseline.get("renderer") or "", current.get("renderer") or ""
+    return f"renderer ({a!r} vs {b!r})" if a and b and a != b else ""
 
 
 def rows_to_json(rows: list[Row], *, all_rows: bool = True) -> dict:

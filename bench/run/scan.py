@@ -42,13 +42,15 @@ def _pad_false(cols: np.ndarray, k: int = FALSE_K) -> np.ndarray:
 
 
 def scan_fingerprint(scene, trackers_: dict, spp: int, seed: int) -> str:
-    """Everything a scan's results depend on, hashed (plugin trackers' sources included)."""
+    """Everything a scan's results depend on, hashed (plugin trackers' sources and the renderer included)."""
     from bench.store.files import config_hash
     from bench.store.provenance import code_fingerprint
+    from scenes import variant
 
     params = {k: v for k, v in scene.params.items() if k not in ("cache", "cache_dir")}
     return config_hash({"scene": scene.name, "params": params, "spp": spp, "seed": seed,
                         "trackers": {n: repr(t) for n, t in sorted(trackers_.items())},
+                        "renderer": variant.renderer(),
                         "source": code_fingerprint(trackers_.values())})
 
 

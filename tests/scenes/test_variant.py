@@ -56,3 +56,69 @@ def test_scalar_fallback_renders_the_same_scene(tmp_path):
     assert np.abs(laser - f.laser_radiance).sum() < 0.05 * f.laser_radiance.sum()
     assert np.array_equal(np.isnan(cols), np.isnan(f.truth.columns))
     assert np.nanmax(np.abs(cols - f.truth.columns)) < 1e-3
+
+
+# -- the LLVM target ----------------------------------------------------------------------
+
+def test_llvm_target_syntax():
+    assert V.parse_llvm_target("") == V.parse_llvm_target(" portable ") == V.PORTABLE_TARGET
+    assert V.parse_llvm_target("native") is None
+    assert V.parse_llvm_target("znver3/8") == ("znver3", None, 8)
+    assert V.parse_llvm_target("skylake-avx512/16/+avx512f,+avx2") == ("skylake-avx512", "+avx512f,+avx2", 16)
+    for bad in ("haswell", "haswell/x", "/8", "haswell/0", "haswell/128", "haswell/-8"):
+        with pytest.raises(ValueError, match=r"`STRIPEBENCH_LLVM_TARGET` must be .*got '" + bad):
+            V.parse_llvm_target(bad)
+
+
+def test_portable_target_needs_every_x86_64_v3_flag(tmp_path, monkeypatch):
+    import platform
+
+    monkeypatch.setattr(platform, "machine", lambda: "x86_64")
+    flags = "fpu sse sse2 avx avx2 fma bmi1 bmi2 f16c movbe abm xsave avx512f"
+    ok, old = tmp_path / "ok", tmp_path / "old"
+    ok.write_text(f"processor\t: 0\nflags\t\t: {flags}\n")
+    old.write_text(f"processor\t: 0\nflags\t\t: {flags.replace(' avx2', '')}\n")
+    assert V.host_supports_portable(str(ok)) and not V.host_supports_portable(str(old))
+    assert not V.host_supports_portable(str(tmp_path / "missing"))
+    monkeypatch.setattr(platform, "machine", lambda: "aarch64")
+    V.host_supports_portable.cache_clear()
+    assert not V.host_supports_portable(str(ok))
+    V.host_supports_portable.cache_clear()
+
+
+def test_the_default_target_is_portable_only_on_a_capable_cpu(monkeypatch):
+    monkeypatch.delenv(V.ENV_LLVM_TARGET, raising=False)
+    monkeypatch.setattr(V, "host_supports_portable", lambda cpuinfo="/proc/cpuinfo": False)
+    assert V._requested() is None
+    monkeypatch.setattr(V, "host_supports_portable", lambda cpuinfo="/proc/cpuinfo": True)
+    assert V._requested() == V.PORTABLE_TARGET
+    monkeypatch.setenv(V.ENV_LLVM_TARGET, "portable")  # asked for explicitly: set even where untested
+    monkeypatch.setattr(V, "host_supports_portable", lambda cpuinfo="/proc/cpuinfo": False)
+    assert V._requested() == V.PORTABLE_TARGET
+
+
+def _render_in_child(tmp_path, target):
+    code = ("import hashlib, numpy as np, scenes; from scenes import variant; "
+            "f = scenes.make('cone', material='glazed', support='table', background='none', width=48, height=45, "
+            "spp=2, ambient_spp=1, cache=False).render(-2.0); "
+            "print(variant.renderer()); print(hashlib.sha256(f.laser_radiance.tobytes() + "
+            "f.radiance.tobytes()).hexdigest())")
+    env = {**os.environ, "PYTHONPATH": os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+           V.ENV_LLVM_TARGET: target, V.ENV_VARIANT: "llvm_ad_mono"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout.split()[-3:]
+
+
+@pytest.mark.slow
+def test_renders_do_not_depend_on_the_cpu_the_target_names(tmp_path):
+    """The portable target renders the same bits as an AVX2 CPU's own 8-lane code (another CPU
+    name, its x86 intrinsics on): the vector width, not the CPU, sets the result."""
+    if not V.host_supports_portable() or "llvm_ad_mono" not in __import__("mitsuba").variants():
+        pytest.skip("needs an x86-64-v3 CPU and the LLVM variant")
+    if not V.probe("llvm_ad_mono"):
+        pytest.skip("no working LLVM here")
+    portable = _render_in_child(tmp_path, "portable")
+    avx2 = _render_in_child(tmp_path, "haswell/8/+avx,+avx2,+fma,+f16c,+bmi,+bmi2,+lzcnt,+movbe,+popcnt")
+    assert portable[:2] == ["llvm_ad_mono", "x86-64-v3/8"] and avx2[1].startswith("haswell/8/")
+    assert portable[2] == avx2[2]

@@ -3,10 +3,11 @@
 Usage: ``stripebench perf scenes [--object hand] [--frames 100] [--per-material 6]
 [--materials matte,glossy] [--background wall|none] [--support none|table]``
 
-Prints, for each material at the default spp, the frames per second of
-``Scene.render`` with the disk cache off (Mitsuba scene already loaded, so no
-JIT compilation is counted) and the split into laser pass, ambient pass and
-ground truth; then the wall time of a ``--frames`` scan of one object, cold
+Prints the renderer (:func:`scenes.variant.renderer`), then for each material at
+the default spp the frames per second of ``Scene.render`` with the disk cache off
+(Mitsuba scene already loaded, so no JIT compilation is counted), the process
+CPU time per frame (all threads; on a shared machine a steadier figure than the
+wall time) and the split into laser pass, ambient pass and ground truth; then the wall time of a ``--frames`` scan of one object, cold
 (empty cache, scene loading and JIT included) and cached (a new ``Scene`` reading
 the same cache); ``--frames 0`` skips the scan.
 """
@@ -32,10 +33,11 @@ def _per_material(obj: str, material: str, n: int, geometry: dict):
     angles = s.default_angles()
     s.render(float(angles[0]))  # load + JIT
     picks = angles[np.linspace(1, len(angles) - 1, n).astype(int)]
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     for a in picks:
         s.render(float(a))
     fps = n / (time.perf_counter() - t0)
+    cpu = (time.process_time() - c0) / n
     laser, ambient = s._load(s.params["spp"])
     split = np.zeros(3)
     for a in picks:
@@ -50,7 +52,7 @@ def _per_material(obj: str, material: str, n: int, geometry: dict):
                      fan_deg=s.params["laser_fan_deg"])
         t.append(time.perf_counter())
         split += np.diff(t)
-    return fps, split / n
+    return fps, cpu, split / n
 
 
 def _object(name, text):
@@ -92,12 +94,14 @@ def command(args) -> int:
     materials = args.materials
     geometry = {"background": args.background, "support": args.support}
     d = scenes.DEFAULTS
+    from scenes import variant
+
     print(f"512x480, laser spp {d['spp']}, ambient spp {d['ambient_spp']}, object {args.object}, "
-          f"background {args.background}, support {args.support}")
-    print(f"{'material':<10} {'frames/s':>8} {'laser s':>8} {'ambient s':>9} {'truth s':>8}")
+          f"background {args.background}, support {args.support}, renderer {variant.renderer()}")
+    print(f"{'material':<10} {'frames/s':>8} {'CPU s/frame':>11} {'laser s':>8} {'ambient s':>9} {'truth s':>8}")
     for m in materials:
-        fps, (tl, ta, tt) = _per_material(args.object, m, args.per_material, geometry)
-        print(f"{m:<10} {fps:8.2f} {tl:8.3f} {ta:9.3f} {tt:8.3f}", flush=True)
+        fps, cpu, (tl, ta, tt) = _per_material(args.object, m, args.per_material, geometry)
+        print(f"{m:<10} {fps:8.2f} {cpu:11.3f} {tl:8.3f} {ta:9.3f} {tt:8.3f}", flush=True)
     if args.frames == 0:
         return 0
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-") as tmp:

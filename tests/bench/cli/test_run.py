@@ -130,6 +130,14 @@ def test_environment_variables_naming_a_file_are_one_line(var, tmp_path, capsys,
     one_line_err(capsys, f"${var} must name a folder", "afile")
 
 
+def test_a_malformed_llvm_target_is_one_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("STRIPEBENCH_LLVM_TARGET", "haswell/6")
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(TOML)
+    assert main(["run", str(cfg), "--quiet"]) == 2
+    one_line_err(capsys, "`STRIPEBENCH_LLVM_TARGET` must be", "'haswell/6'")
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "doc, message",

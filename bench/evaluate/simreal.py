@@ -12,7 +12,7 @@ import numpy as np
 
 from bench.evaluate.metrics import HIT_PX
 
-__all__ = ["image_metrics", "sim_to_real", "sim_to_real_sentences"]
+__all__ = ["image_metrics", "sim_to_real", "sim_to_real_sentences", "class_real_hit_rates", "sim_to_real_by_class"]
 
 
 def image_metrics(columns, reference, tol_px: float = HIT_PX) -> dict[str, float]:
@@ -139,3 +139,113 @@ def sim_to_real_sentences(result: dict, *, margin: float = 0.10) -> list[str]:
     if not over and not under and result["table"]:
         out.append(f"Every tracker's real hit rate lies within {margin:.2f} of the synthetic one.")
     return out
+
+
+def class_real_hit_rates(real_by_image: dict, image_class: dict) -> dict:
+    """Each class's real hit rate per tracker: the mean over its photographs.
+
+    Parameters
+    ----------
+    real_by_image : dict
+        Photograph name -> {tracker label -> hit rate in [0, 1] (NaN: no reference rows)}.
+    image_class : dict
+        Photograph name -> class (a manifest's ``condition``; ``""`` = untagged, left out).
+
+    Returns
+    -------
+    dict
+        class -> ``{"photographs": [names, sorted], "hit_rates": {tracker: mean over the
+        photographs with a finite rate}}``; photographs without a class are left out.
+
+    Examples
+    --------
+    >>> r = class_real_hit_rates({"p": {"a": 0.2}, "q": {"a": 0.6}, "x": {"a": 1.0}},
+    ...                          {"p": "c1", "q": "c1", "x": ""})
+    >>> r["c1"]["photographs"], round(r["c1"]["hit_rates"]["a"], 6)
+    (['p', 'q'], 0.4)
+    """
+    for arg, d in (("real_by_image", real_by_image), ("image_class", image_class)):
+        if not isinstance(d, dict):
+            raise ValueError(f"`{arg}` must be a dict, got {type(d).__name__}")
+    out: dict = {}
+    for name in sorted(real_by_image):
+        cls = str(image_class.get(name, "") or "").strip()
+        if not cls:
+            continue
+        entry = out.setdefault(cls, {"photographs": [], "_rates": {}})
+        entry["photographs"].append(name)
+        for label, v in real_by_image[name].items():
+            if isinstance(v, (int, float)) and not math.isnan(v):
+                entry["_rates"].setdefault(label, []).append(float(v))
+    return {c: {"photographs": e["photographs"],
+                "hit_rates": {k: float(np.mean(v)) for k, v in e["_rates"].items()}} for c, e in out.items()}
+
+
+def sim_to_real_by_class(synthetic_by_class: dict, real_by_image: dict, image_class: dict) -> dict:
+    """Synthetic against real hit rates, matched by class of condition.
+
+    A class is a rendered experiment's ``condition`` and a photograph's manifest
+    ``condition``; a class is compared where both sides have it. Per class the
+    renders' rates are the run's (mean over the experiments of that condition),
+    the real ones the mean over its photographs (:func:`class_real_hit_rates`),
+    and :func:`sim_to_real` gives the table and Spearman's rho across trackers.
+
+    Parameters
+    ----------
+    synthetic_by_class : dict
+        Class -> {tracker label -> synthetic hit rate in [0, 1]}.
+    real_by_image : dict
+        Photograph name -> {tracker label -> real hit rate in [0, 1]}.
+    image_class : dict
+        Photograph name -> class.
+
+    Returns
+    -------
+    dict
+        ``classes``: one entry per class of either side, sorted by name:
+        ``{condition, photographs (names), n_photographs, rendered (bool), table,
+        spearman_rho, spearman_p, n}`` (``table`` etc. as :func:`sim_to_real`, empty
+        and NaN where the class lacks renders or photographs; rho also NaN with
+        fewer than 3 trackers). ``matched``: the classes with both.
+        ``overall``: :func:`sim_to_real` of each tracker's mean over the matched
+        classes (each class weighs the same on both sides). ``mean_abs_delta``:
+        tracker -> mean over the matched classes of ``|synthetic - real|``.
+
+    Examples
+    --------
+    >>> r = sim_to_real_by_class({"c1": {"a": 0.9, "b": 0.5}, "c2": {"a": 0.4, "b": 0.8}},
+    ...                          {"p": {"a": 0.7, "b": 0.2}}, {"p": "c1"})
+    >>> r["matched"], [(c["condition"], c["n_photographs"]) for c in r["classes"]]
+    (['c1'], [('c1', 1), ('c2', 0)])
+    >>> {k: round(v, 6) for k, v in r["mean_abs_delta"].items()}
+    {'a': 0.2, 'b': 0.3}
+    """
+    if not isinstance(synthetic_by_class, dict):
+        raise ValueError(f"`synthetic_by_class` must be a dict of class -> {{tracker: hit rate}}, "
+                         f"got {type(synthetic_by_class).__name__}")
+    real_by_class = class_real_hit_rates(real_by_image, image_class)
+    nan = float("nan")
+    classes, matched = [], []
+    for cls in sorted(set(synthetic_by_class) | set(real_by_class)):
+        photos = real_by_class.get(cls, {}).get("photographs", [])
+        rendered = cls in synthetic_by_class
+        if rendered and photos:
+            cmp = sim_to_real(dict(synthetic_by_class[cls]), real_by_class[cls]["hit_rates"])
+            matched.append(cls)
+        else:
+            cmp = {"table": [], "spearman_rho": nan, "spearman_p": nan, "n": 0}
+        classes.append({"condition": cls, "photographs": list(photos), "n_photographs": len(photos),
+                        "rendered": rendered, **cmp})
+    syn_sum: dict = {}
+    real_sum: dict = {}
+    for c in classes:
+        for t in c["table"]:
+            syn_sum.setdefault(t["tracker"], []).append(t["synthetic"])
+            real_sum.setdefault(t["tracker"], []).append(t["real"])
+    # a tracker enters the overall comparison only where it has a rate in every matched class
+    full = [k for k, v in syn_sum.items() if len(v) == len(matched)]
+    overall = sim_to_real({k: float(np.mean(syn_sum[k])) for k in full},
+                          {k: float(np.mean(real_sum[k])) for k in full}) if matched else \
+        {"table": [], "spearman_rho": nan, "spearman_p": nan, "n": 0}
+    mad = {k: float(np.mean(np.abs(np.array(syn_sum[k]) - np.array(real_sum[k])))) for k in sorted(full)}
+    return {"classes": classes, "matched": matched, "overall": overall, "mean_abs_delta": mad}

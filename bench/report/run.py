@@ -478,6 +478,10 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             "run, averaged over its experiments, beside its mean hit rate over the photographs of the real set "
             f"<code>{html.escape(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; references "
             "only where the stripe is visible, see docs/real.md).</p>"))
+        if s["sim_to_real"].get("by_class"):
+            from bench.report.simreal import sim_to_real_by_class_html
+
+            parts.append(sim_to_real_by_class_html(s["sim_to_real"]["by_class"]))
     parts.append(_improvement_tables(s))
     parts.append(_hit_table(metrics))
     if figs["bars"]:

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import html
+import math
 
 from bench.evaluate.simreal import sim_to_real_sentences
 
-__all__ = ["sim_to_real_html"]
+__all__ = ["sim_to_real_html", "sim_to_real_by_class_html"]
 
 
 def sim_to_real_html(result: dict) -> str:
@@ -18,3 +19,42 @@ def sim_to_real_html(result: dict) -> str:
     return (f"<section class='sim-to-real'><h2>Renders vs photographs</h2>{text}<table><tr><th>tracker</th>"
             f"<th>synthetic hit rate</th><th>real hit rate</th><th>real - synthetic</th><th>rank (synthetic)</th>"
             f"<th>rank (real)</th></tr>{rows}</table></section>")
+
+
+def _num(v: float, fmt: str = ".3f") -> str:
+    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
+
+
+def sim_to_real_by_class_html(by_class: dict) -> str:
+    """An HTML fragment from :func:`bench.evaluate.simreal.sim_to_real_by_class`:
+    per class the photographs and Spearman's rho, a tracker x class table of
+    synthetic / real hit rates, the overall rho and each tracker's mean
+    ``|synthetic - real|``. Empty when no class has both renders and photographs."""
+    matched = by_class.get("matched", [])
+    if not matched:
+        return ""
+    esc = html.escape
+    cls_rows = "".join(
+        f"<tr><td>{esc(c['condition'])}</td><td>{'yes' if c['rendered'] else 'no'}</td><td>{c['n_photographs']}</td>"
+        f"<td>{esc(', '.join(c['photographs']))}</td><td>{c['n']}</td><td>{_num(c['spearman_rho'], '.2f')}</td></tr>"
+        for c in by_class["classes"])
+    rates = {c["condition"]: {t["tracker"]: t for t in c["table"]} for c in by_class["classes"] if c["condition"] in matched}
+    overall = {t["tracker"]: t for t in by_class["overall"]["table"]}
+    trackers = [t["tracker"] for t in by_class["overall"]["table"]]
+    head = "".join(f"<th>{esc(c)}<br>synthetic / real</th>" for c in matched)
+    body = "".join(
+        f"<tr><td>{esc(k)}</td>" + "".join(
+            f"<td>{_num(rates[c][k]['synthetic'])} / {_num(rates[c][k]['real'])}</td>" if k in rates[c] else "<td>–</td>"
+            for c in matched)
+        + f"<td>{_num(overall[k]['synthetic'])} / {_num(overall[k]['real'])}</td>"
+        f"<td>{_num(by_class['mean_abs_delta'].get(k, float('nan')))}</td></tr>" for k in trackers)
+    o = by_class["overall"]
+    rho = ("too few trackers with distinct rates for a rank correlation" if math.isnan(o["spearman_rho"])
+           else f"Spearman's rho = {o['spearman_rho']:.2f} across {o['n']} trackers")
+    return (f"<section class='sim-to-real-by-class'><h3>Matched by class of condition</h3><p>Each experiment's "
+            f"<code>condition</code> against the photographs whose manifest <code>condition</code> is the same; "
+            f"matched classes: {esc(', '.join(matched))}. Over the matched classes (each class weighs the same): "
+            f"{esc(rho)}.</p><table><tr><th>class</th><th>rendered</th><th>photographs</th><th>names</th>"
+            f"<th>trackers</th><th>Spearman's rho</th></tr>{cls_rows}</table>"
+            f"<table><tr><th>tracker</th>{head}<th>matched classes, mean<br>synthetic / real</th>"
+            f"<th>mean |synthetic - real|</th></tr>{body}</table></section>")

@@ -266,10 +266,13 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
 def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     """Evaluate the same tracker settings on the configuration's real set (into
     ``<run>/real``) and compare each tracker's mean object hit rate over the
-    experiments with its mean hit rate over the photographs."""
+    experiments with its mean hit rate over the photographs; where experiments
+    carry a ``condition``, also matched by class (``by_class``:
+    :func:`bench.evaluate.simreal.sim_to_real_by_class` against the manifest's
+    ``condition`` column)."""
     from bench.evaluate import simreal
     from bench.store import realset as real
-    from bench.store.realrun import real_run_means
+    from bench.store.realrun import load_real_run, real_run_means
     from bench.run.real import run_real
 
     dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
@@ -283,6 +286,17 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     result = simreal.sim_to_real(synthetic, rm)
     result["dataset"] = str(config.real_set)
     result["sentences"] = simreal.sim_to_real_sentences(result)
+    cond_of = {e.key: e.condition for e in config.experiments if e.condition}
+    if cond_of:  # experiments that name a class of photograph: the comparison matched by class
+        by_exp = obj[obj["experiment"].isin(list(cond_of))].assign(
+            condition=lambda d: d["experiment"].map(cond_of))
+        synthetic_by_class = {str(c): {str(k): float(v) for k, v in g.groupby("tracker")["hit_rate"].mean().items()}
+                              for c, g in by_exp.groupby("condition")}
+        rmet = load_real_run(rdir)["metrics"]
+        per_image = {str(n): {str(r.tracker): float(r.hit_rate) for r in g.itertuples()}
+                     for n, g in rmet[rmet["experiment"] != "mean"].groupby("experiment")}
+        image_class = {im.name: im.meta.get("condition", "") for im in real.load_dataset(dataset)}
+        result["by_class"] = simreal.sim_to_real_by_class(synthetic_by_class, per_image, image_class)
     return result
 
 

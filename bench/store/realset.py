@@ -7,7 +7,9 @@ File readers only: per-image metrics and the sim-to-real numbers are in
 A real set is a folder::
 
     manifest.csv      columns name, has_background (0/1), laser_colour, and optionally
-                      rotate, channel, source_repo, source_commit, source_path, license, notes;
+                      rotate, channel, condition (the class of photograph, free text; a run's
+                      experiments with that `condition` are its synthetic match), source_repo,
+                      source_commit, source_path, license, notes;
                       any other column is ignored (:func:`ignored_columns`)
     NAME.png          the laser-on photograph
     NAME_off.png      optional laser-off frame of the same view (has_background = 1)
@@ -43,7 +45,7 @@ IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
 _LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
 _CHANNEL_INDEX = {"r": 0, "g": 1, "b": 2}
 MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
-MANIFEST_OPTIONAL = ("rotate", "channel", "source_repo", "source_commit", "source_path", "license", "notes")
+MANIFEST_OPTIONAL = ("rotate", "channel", "condition", "source_repo", "source_commit", "source_path", "license", "notes")
 
 
 class ImageError(StripebenchError, ValueError):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from bench.evaluate import simreal
-from bench.report.simreal import sim_to_real_html
+from bench.report.simreal import sim_to_real_by_class_html, sim_to_real_html
 
 
 # ---------------------------------------------------------------------------------------------------- metrics
@@ -56,3 +56,59 @@ def test_sim_to_real_under_prediction_and_too_few_trackers():
     assert text[0].startswith("Too few trackers") and text[1] == "The renders under-predict a (synthetic 0.20, real 0.60)."
     with pytest.raises(ValueError, match=r"`real_hit_rates\['a'\]` must be a hit rate in \[0, 1\], got 1.5"):
         simreal.sim_to_real({"a": 0.2}, {"a": 1.5})
+
+
+# ---------------------------------------------------------------------------------------------------- by class
+
+
+def test_class_real_hit_rates_average_the_photographs_of_a_class():
+    per_image = {"p1": {"a": 0.2, "b": 0.4}, "p2": {"a": 0.6, "b": float("nan")}, "p3": {"a": 1.0}, "p4": {"a": 0.3}}
+    r = simreal.class_real_hit_rates(per_image, {"p1": "x", "p2": "x", "p3": "y", "p4": ""})
+    assert set(r) == {"x", "y"}  # p4 has no class and is left out
+    assert r["x"]["photographs"] == ["p1", "p2"]
+    assert r["x"]["hit_rates"]["a"] == pytest.approx(0.4) and r["x"]["hit_rates"]["b"] == pytest.approx(0.4)  # NaN skipped
+    assert r["y"] == {"photographs": ["p3"], "hit_rates": {"a": 1.0}}
+    with pytest.raises(ValueError, match="`image_class` must be a dict, got list"):
+        simreal.class_real_hit_rates(per_image, [])
+
+
+def test_sim_to_real_by_class_by_hand():
+    syn = {"x": {"a": 0.9, "b": 0.7, "c": 0.5},   # rendered and photographed
+           "y": {"a": 0.2, "b": 0.6, "c": 0.4},   # rendered and photographed
+           "z": {"a": 0.1, "b": 0.1, "c": 0.1}}   # rendered, no photograph
+    per_image = {"p1": {"a": 0.8, "b": 0.6, "c": 0.1}, "p2": {"a": 0.6, "b": 0.2, "c": 0.3},
+                 "q1": {"a": 0.5, "b": 0.3, "c": 0.4}, "o1": {"a": 0.0, "b": 1.0, "c": 0.5}}
+    cls = {"p1": "x", "p2": "x", "q1": "y", "o1": "other"}
+    r = simreal.sim_to_real_by_class(syn, per_image, cls)
+    assert r["matched"] == ["x", "y"]
+    by = {c["condition"]: c for c in r["classes"]}
+    assert [c["condition"] for c in r["classes"]] == ["other", "x", "y", "z"]
+    assert (by["z"]["rendered"], by["z"]["n_photographs"], by["z"]["n"]) == (True, 0, 0)
+    assert (by["other"]["rendered"], by["other"]["n_photographs"]) == (False, 1) and np.isnan(by["other"]["spearman_rho"])
+    # class x: real = means of p1, p2 = a 0.7, b 0.4, c 0.2; synthetic a 0.9, b 0.7, c 0.5: same order, rho 1
+    x = {t["tracker"]: t for t in by["x"]["table"]}
+    assert x["a"]["real"] == pytest.approx(0.7) and x["b"]["real"] == pytest.approx(0.4) and x["c"]["real"] == pytest.approx(0.2)
+    assert by["x"]["spearman_rho"] == pytest.approx(1.0) and by["x"]["photographs"] == ["p1", "p2"]
+    # class y: synthetic ranks b1 c2 a3, real (q1) a1 c2 b3: d = 2, 0, 2 -> rho = 1 - 6 * 8 / (3 * 8) = -1
+    assert by["y"]["spearman_rho"] == pytest.approx(-1.0)
+    # overall: per tracker the mean over x and y: synthetic a 0.55, b 0.65, c 0.45; real a 0.6, b 0.35, c 0.3
+    # ranks synthetic b1 a2 c3, real a1 b2 c3: d = 1, 1, 0 -> rho = 1 - 6 * 2 / 24 = 0.5
+    o = {t["tracker"]: t for t in r["overall"]["table"]}
+    assert o["a"]["synthetic"] == pytest.approx(0.55) and o["b"]["real"] == pytest.approx(0.35)
+    assert r["overall"]["spearman_rho"] == pytest.approx(0.5) and r["overall"]["n"] == 3
+    # mean |synthetic - real| over x, y: a (0.2 + 0.3) / 2, b (0.3 + 0.3) / 2, c (0.3 + 0.0) / 2
+    assert r["mean_abs_delta"] == pytest.approx({"a": 0.25, "b": 0.3, "c": 0.15})
+    html = sim_to_real_by_class_html(r)
+    assert "rho = 0.50 across 3 trackers" in html and "p1, p2" in html and html.count("<tr>") == 5 + 4
+
+
+def test_sim_to_real_by_class_without_a_match_or_with_few_trackers():
+    r = simreal.sim_to_real_by_class({"x": {"a": 0.5}}, {"p": {"a": 0.4}}, {"p": "y"})
+    assert r["matched"] == [] and r["overall"]["n"] == 0 and r["mean_abs_delta"] == {}
+    assert sim_to_real_by_class_html(r) == ""  # nothing matched: no section
+    r = simreal.sim_to_real_by_class({"x": {"a": 0.5, "b": 0.2}}, {"p": {"a": 0.4, "b": 0.1}}, {"p": "x"})
+    assert r["matched"] == ["x"] and np.isnan(r["classes"][0]["spearman_rho"])  # two trackers: no rho
+    assert r["mean_abs_delta"] == pytest.approx({"a": 0.1, "b": 0.1})
+    assert "too few trackers" in sim_to_real_by_class_html(r)
+    with pytest.raises(ValueError, match="`synthetic_by_class` must be a dict"):
+        simreal.sim_to_real_by_class([], {}, {})

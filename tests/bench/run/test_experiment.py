@@ -115,9 +115,12 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
     from bench.report.run import build_report
 
     d = {**tiny_dict, "real_set": "shipped", "trackers": ["threshold", "dp4"], "baselines": ["threshold"],
-         "dp": ["dp4"], "experiments": tiny_dict["experiments"][:1]}
+         "dp": ["dp4"], "experiments": [{**tiny_dict["experiments"][0], "condition": "colour-no-filter"}]}
     out = run(parse(d), tmp_path / "r", progress=False, quiet=True)
     s = json.loads((out / "summary.json").read_text())["sim_to_real"]
+    by = {c["condition"]: c for c in s["by_class"]["classes"]}  # the experiment's condition against the manifest's
+    assert s["by_class"]["matched"] == ["colour-no-filter"] and by["colour-no-filter"]["n_photographs"] == 12
+    assert by["turntable-saturated"]["rendered"] is False and by["turntable-saturated"]["n_photographs"] == 2
     real = pd.read_parquet(out / "real" / "metrics.parquet")
     means = real[real.experiment == "mean"].set_index("tracker")["hit_rate"]
     m = pd.read_parquet(out / "metrics.parquet")
@@ -127,7 +130,11 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
     for name in rows:
         assert rows[name]["real"] == pytest.approx(means[name]) and rows[name]["synthetic"] == pytest.approx(synth[name])
     assert "Too few trackers" in s["sentences"][0]  # two trackers: no rank correlation is claimed
-    assert "Renders vs photographs" in build_report(out, quiet=True).read_text()
+    rc = real[real.experiment.isin(by["colour-no-filter"]["photographs"])].groupby("tracker")["hit_rate"].mean()
+    for t in by["colour-no-filter"]["table"]:
+        assert t["real"] == pytest.approx(rc[t["tracker"]]) and t["synthetic"] == pytest.approx(synth[t["tracker"]])
+    page = build_report(out, quiet=True).read_text()
+    assert "Renders vs photographs" in page and "Matched by class of condition" in page
 
 
 @pytest.mark.slow

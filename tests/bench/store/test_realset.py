@@ -236,3 +236,15 @@ def test_extra_manifest_columns_are_ignored_and_listed(tmp_path):
     assert real.ignored_columns(real.SHIPPED) == []
     (tmp_path / "manifest.csv").write_text("name,laser_colour,surface\nag_tape,red,paper\n")
     assert "missing column(s) has_background" in real.validate_dataset(tmp_path)[1][0]  # still required
+
+
+def test_the_condition_column_is_read_not_ignored(tmp_path):
+    path = tmp_path / "manifest.csv"
+    _write_set(tmp_path, {"a": (_stripe(), None, np.full(20, 12.0), "red"),
+                          "b": (_stripe(), None, np.full(20, 12.0), "red")})
+    path.write_text("name,has_background,laser_colour,condition\na,0,red,turntable-saturated\nb,0,red,\n")
+    images = {im.name: im for im in real.load_dataset(tmp_path)}
+    assert images["a"].meta["condition"] == "turntable-saturated" and images["b"].meta["condition"] == ""
+    assert real.ignored_columns(tmp_path) == []
+    shipped = {im.name: im.meta["condition"] for im in real.load_dataset(real.SHIPPED)}
+    assert all(shipped.values()), "every shipped photograph carries a class"

@@ -173,8 +173,9 @@ def parse_llvm_target(value: str):
     Returns
     -------
     None or tuple
-        ``None`` for ``"native"`` (Dr.Jit's own choice for this CPU), :data:`PORTABLE_TARGET` for
-        ``""`` or ``"portable"``, else ``(cpu, features or None, width)`` from ``CPU/WIDTH[/FEATURES]``.
+        ``None`` for ``""`` (unset: the default) or ``"native"`` (Dr.Jit's own choice for this CPU),
+        :data:`PORTABLE_TARGET` for ``"portable"`` (the renders of every x86-64-v3 CPU, bit for bit:
+        what the regression gate uses), else ``(cpu, features or None, width)`` from ``CPU/WIDTH[/FEATURES]``.
 
     Raises
     ------
@@ -193,9 +194,9 @@ def parse_llvm_target(value: str):
     ValueError: `STRIPEBENCH_LLVM_TARGET` must be 'portable', 'native' or CPU/WIDTH[/FEATURES] with WIDTH a power of two in 1..64, got 'haswell/6'
     """
     v = value.strip()
-    if v in ("", "portable"):
+    if v == "portable":
         return PORTABLE_TARGET
-    if v == "native":
+    if v in ("", "native"):
         return None
     parts = v.split("/", 2)
     width = parts[1] if len(parts) > 1 else ""
@@ -228,10 +229,12 @@ def _describe(target) -> str:
 
 
 def _requested():
-    """The target this process asks for: a tuple, or None for Dr.Jit's native choice."""
+    """The target this process asks for: a tuple, or None for Dr.Jit's native choice (the default;
+    also where ``portable`` is asked for on a CPU that cannot run it: the renderer then says so, and
+    ``stripebench check`` refuses a baseline rendered with it in one line)."""
     t = parse_llvm_target(os.environ.get(ENV_LLVM_TARGET, ""))
-    if t == PORTABLE_TARGET and not os.environ.get(ENV_LLVM_TARGET, "").strip() and not host_supports_portable():
-        return None  # the default on a CPU without AVX2/FMA (or not x86-64): Dr.Jit's own
+    if t == PORTABLE_TARGET and not host_supports_portable():
+        return None
     return t
 
 

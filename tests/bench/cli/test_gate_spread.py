@@ -3,6 +3,7 @@ baseline format it writes (read, upgraded, refused)."""
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -190,3 +191,9 @@ def test_reuse_reads_finished_runs_without_running_them(gate_run, tmp_path, monk
     docs = gs.measure(tmp_path, gates=["ci"], machines=[here], reuse=True, log=lambda s: None)
     assert docs["ci"]["here"]["wall_s"] is None
     assert docs["ci"]["here"]["metrics"] == gate.baseline_from_run(out)["metrics"]
+
+
+def test_ci_runs_the_gates_as_the_procedure_measured_them():
+    ci = (Path(__file__).resolve().parents[3] / ".ci" / "run").read_text()
+    assert f"--trackers {gs.REAL_TRACKERS}" in ci.replace("\\\n    ", "")
+    assert "export STRIPEBENCH_LLVM_TARGET=portable" in ci and gs.GATE_ENV == {"STRIPEBENCH_LLVM_TARGET": "portable"}

@@ -261,7 +261,7 @@ def measure(out, *, gates: Sequence[str] = ("ci", "real"), machines: Sequence[Ma
     """Run every gate on every machine (child processes, own render caches under ``out``) and
     return ``{gate: {machine name: baseline-like document}}`` with each run's wall time (``wall_s``,
     None for a run that ``reuse`` found finished in ``out`` and read instead of running again)."""
-    repo = Path(repo) if repo is not None else Path(__file__).resolve().parent.parent
+    repo = Path(repo) if repo is not None else Path(__file__).resolve().parents[2]
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     docs: dict[str, dict] = {}

@@ -47,8 +47,11 @@ def _track(args) -> int:
             real.read_image(args.background)
         except real.ImageError as exc:
             raise UsageError(f"--background: {exc}") from None
+    from bench.report.real import legend, overlay_png
+
     failed = track_images(args.images, args.out, specs, background=args.background, pair=not args.no_pair,
-                          channel=args.channel, laser=args.laser, rotate_deg=args.rotate, force=args.force)
+                          channel=args.channel, laser=args.laser, rotate_deg=args.rotate, force=args.force,
+                          draw=overlay_png, legend=legend)
     return 1 if failed else 0
 
 
@@ -90,8 +93,11 @@ def _real(args) -> int:
 
         args.out = runs_root() / f"real-{dataset.resolve().name}"
     check_out_folder(args.out)
+    from bench.report.real import build_real_report, overlay_png
+
     out = run_real(dataset, args.out, specs, tol_px=args.tol, n_boot=args.n_boot, seed=args.seed, quiet=args.quiet,
-                   force=args.force)
+                   force=args.force, draw=overlay_png)
+    build_real_report(out)
     if not args.quiet:
         from bench.store.realrun import load_real_run
 

@@ -106,7 +106,7 @@ def _report(args) -> int:
     with RunFolder(args.run) as folder:
         folder.lock()
         if summary.get("kind") == "real":
-            from bench.run.real import build_real_report
+            from bench.report.real import build_real_report
 
             path = build_real_report(args.run)
         else:

@@ -9,31 +9,14 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.report.palette import TRACKER_COLOURS, tracker_colour  # noqa: F401  (the one palette)
+
 __all__ = ["fig_tracking", "fig_samples", "fig_bars", "fig_curves", "fig_gallery", "fig_shapes", "tracker_colour",
            "clip_for_plot", "TRACKER_COLOURS", "SAMPLE_CAP_MM"]
 
 # One colour per tracker label, the same in every run and figure.
-TRACKER_COLOURS = {
-    "threshold": "#000000", "centroid": "#7f7f7f", "dp4": "#2ca02c", "dp8": "#17becf", "dp4_iso": "#98df8a",
-    "dp8_iso": "#9edae5", "gauss3": "#ff7f0e", "parabolic": "#ffbb78", "blais_rioux": "#9467bd",
-    "steger": "#8c564b", "com_bg": "#e377c2", "dp8_subpixel": "#1f77b4",
-    # the paper profile's other readings of the method without DP (bench/evaluate/readings.py)
-    "threshold_gaps": "#595959", "argmax": "#d62728",
-}
-_PALETTE = ["#d62728", "#bcbd22", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd", "#e6550d",
-            "#31a354", "#756bb1", "#636363"]
 _MARKERS = ["o", "s", "D", "^", "v", "<", ">", "P", "X", "*", "h", "p"]
 SAMPLE_CAP_MM = 1000.0  # Fig. 10's axis ends here; larger errors are drawn at the edge, marked and counted
-
-
-def tracker_colour(label: str) -> str:
-    """The colour of a tracker label: fixed for the registered trackers, else a
-    stable hash of the label (never its position in a list)."""
-    import hashlib
-
-    if label in TRACKER_COLOURS:
-        return TRACKER_COLOURS[label]
-    return _PALETTE[int(hashlib.sha1(label.encode()).hexdigest(), 16) % len(_PALETTE)]
 
 
 def _marker(label: str) -> str:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.evaluate import readings
+from bench.report.html import page
 from bench.evaluate.metrics import hit_rate
 from bench.evaluate.tables import restored_points
 from bench.store.runfolder import load_run
@@ -509,16 +510,10 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             f"<li><b>{html.escape(n)}</b> on {html.escape(e)}: {c} frame(s) failed: "
             f"{html.escape('; '.join(m))}</li>" for e, n, c, m in fails) + "</ul>")
     parts.append("<h2>Configuration</h2><pre>" + html.escape(json.dumps(cfg, indent=2)) + "</pre>")
-    page = ("<!doctype html><html><head><meta charset='utf-8'><title>stripebench report</title><style>"
-            "body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
-            "h1{font-size:1.4em;margin:0.3em 0}h2{font-size:1.15em;margin:0.9em 0 0.3em}"
-            "table{border-collapse:collapse;font-size:12px;margin:0.5em 0}td,th{border:1px solid #ccc;padding:3px 6px;"
-            "text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}"
-            "ul.claims{font-size:14px;margin:0.3em 0;padding-left:1.2em}p.why,p.note{font-size:12px;color:#444;"
-            "margin:0.3em 0}p.lead{margin:0.2em 0}table.glance{width:100%;table-layout:fixed}table.glance td{line-height:1.2;padding:2px 4px}table.glance span.w{white-space:nowrap}"
-            "table.glance small{font-size:10px}details{margin:0.3em 0}summary{cursor:pointer}"
-            "</style></head><body>"
-            + "\n".join(p for p in parts if p) + "</body></html>")
+    html_page = page("stripebench report", "\n".join(p for p in parts if p), css=(
+        "ul.claims{font-size:14px;margin:0.3em 0;padding-left:1.2em}p.why,p.note{font-size:12px;color:#444;"
+        "margin:0.3em 0}p.lead{margin:0.2em 0}table.glance{width:100%;table-layout:fixed}table.glance td{line-height:1.2;"
+        "padding:2px 4px}table.glance span.w{white-space:nowrap}table.glance small{font-size:10px}"))
     path = run_dir / "report.html"
-    atomic_write_text(path, page)
+    atomic_write_text(path, html_page)
     return path

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.report.html import page
 from bench.store.files import atomic_write_text
 from bench.report.figures import tracker_colour
 from bench.evaluate.curves import CURVE_METRICS, PAPER_POINT, _paper_or_default, curves, per_unit_costs, reference_point
@@ -122,10 +123,7 @@ def build_report(sweep_dir) -> Path:
                     f"({c['render_s_per_later_frame']:.3f} s after the first of each batch), "
                     f"{1e3 * c['eval_s_per_evaluation']:.1f} ms per frame x grid point x repeat "
                     f"({c['units']} unit(s))</li>" for c in summary["costs"])
-    page = f"""<!doctype html><html><head><meta charset="utf-8"><title>sweep {html.escape(summary['config']['name'])}</title>
-<style>body{{font-family:sans-serif;max-width:1400px;margin:auto}}td,th{{padding:2px 6px;font-size:12px}}
-table{{border-collapse:collapse}}tr:nth-child(even){{background:#f3f3f3}}</style></head><body>
-<h1>Sweep: {html.escape(summary['config']['name'])}</h1>
+    body = f"""<h1>Sweep: {html.escape(summary['config']['name'])}</h1>
 <p>Grid: {html.escape(json.dumps(sd))}; seed {summary['seed']}; engine {html.escape(str(summary['engine'].get('engine')))};
 wall {summary['wall_s']:.1f} s; git {html.escape(summary['git_revision'])}.
 A repeat varies {html.escape(summary['repeat_varies'])}. Metrics on the object's rows
@@ -134,6 +132,7 @@ A repeat varies {html.escape(summary['repeat_varies'])}. Metrics on the object's
 <h2>Measured costs</h2><ul>{costs}</ul>
 <h2>Curve data</h2><table><tr><th>experiment</th><th>key</th><th>value</th><th>tracker</th><th>metric</th>
 <th>mean</th><th>low</th><th>high</th><th>n</th></tr>{rows}</table>
-</body></html>"""
-    atomic_write_text(sweep_dir / "report.html", page)
+"""
+    atomic_write_text(sweep_dir / "report.html", page(f"sweep {summary['config']['name']}", body,
+                                                      css="tr:nth-child(even){background:#f3f3f3}"))
     return sweep_dir / "report.html"

@@ -11,18 +11,15 @@ whose outputs would collide or that lie inside the folder refused).
 ``real`` evaluates trackers on a real set (layout in :mod:`bench.store.realset`) into a
 run folder of kind ``real`` (its files: :mod:`bench.store.realrun`): per-image
 and mean metrics, the tracks and overlays of every image, ``summary.json`` with
-per-tracker means and bootstrap CIs, ``report.html``.
+per-tracker means and bootstrap CIs; the command adds ``report.html``
+(:mod:`bench.report.real`).
 """
 
 from __future__ import annotations
 
-import base64
-import html
 import sys
 import time
 from pathlib import Path
-
-import numpy as np
 
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
@@ -30,73 +27,8 @@ from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.realrun import write_track_csv
 
-__all__ = ["PALETTE", "REFERENCE_COLOUR", "track_images", "overlay", "run_real", "build_real_report"]
+__all__ = ["track_images", "run_real"]
 
-#: Marker colours (RGB) of the trackers, in the order given.
-PALETTE = [(255, 0, 255), (0, 255, 255), (255, 255, 0), (0, 128, 255), (255, 128, 0), (0, 255, 0), (255, 0, 0),
-           (128, 0, 255), (255, 255, 255), (0, 0, 255)]
-REFERENCE_COLOUR = (0, 200, 0)
-
-
-def _display_rgb(original: np.ndarray) -> np.ndarray:
-    """An 8-bit RGB version of a photograph for drawing on."""
-    img = np.asarray(original)
-    if img.dtype != np.uint8:
-        f = img.astype(np.float64)
-        top = np.percentile(f, 99.9) if f.size else 1.0
-        img = np.clip(np.rint(255.0 * f / max(top, 1e-12)), 0, 255).astype(np.uint8)
-    if img.ndim == 2:
-        img = np.repeat(img[..., None], 3, axis=2)
-    return np.ascontiguousarray(img)
-
-
-def overlay(original, tracks: dict, *, rotate_deg: int = 0, reference=None, radius: int = 1,
-            dim: float = 0.6) -> np.ndarray:
-    """The photograph (dimmed) with a square marker per row of every track.
-
-    Parameters
-    ----------
-    original : ndarray, shape (H, W) or (H, W, 3)
-        The photograph as read.
-    tracks : dict
-        label -> columns, shape (H',), of the frame turned by ``rotate_deg``.
-    rotate_deg : int
-    reference : array_like, shape (H',), optional
-        Drawn first, in :data:`REFERENCE_COLOUR`, one pixel wide.
-    radius : int
-        Marker half-size in px.
-    dim : float
-        Factor on the photograph so the markers stand out.
-
-    Returns
-    -------
-    ndarray of uint8, shape (H, W, 3)
-    """
-    out = (_display_rgb(original).astype(np.float64) * dim).astype(np.uint8)
-    H, W = out.shape[:2]
-    layers = []
-    if reference is not None:
-        layers.append((np.asarray(reference, float), REFERENCE_COLOUR, 0))
-    for i, cols in enumerate(tracks.values()):
-        layers.append((np.asarray(cols, float), PALETTE[i % len(PALETTE)], radius))
-    for cols, colour, rad in layers:
-        rows = np.arange(cols.size, dtype=float)
-        ok = ~np.isnan(cols)
-        r, c = real.unrotate_points(rows[ok], cols[ok], rotate_deg, (H, W))
-        r = np.rint(r).astype(int)
-        c = np.rint(c).astype(int)
-        for dr in range(-rad, rad + 1):
-            for dc in range(-rad, rad + 1):
-                rr, cc = r + dr, c + dc
-                keep = (rr >= 0) & (rr < H) & (cc >= 0) & (cc < W)
-                out[rr[keep], cc[keep]] = colour
-    return out
-
-
-def _png_bytes(img: np.ndarray) -> bytes:
-    import imageio.v3 as iio
-
-    return iio.imwrite("<bytes>", img, extension=".png")
 
 
 def _track_all(trackers: dict, frame, background):
@@ -114,8 +46,14 @@ def _track_all(trackers: dict, frame, background):
 
 
 def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, channel: str = "auto",
-                 laser: str = "red", rotate_deg: int = 0, err=None, say=print, force: bool = False) -> int:
+                 laser: str = "red", rotate_deg: int = 0, err=None, say=print, force: bool = False,
+                 draw=None, legend=None) -> int:
     """Run trackers on image files; returns the number of files that failed.
+
+    ``draw(original, tracks, rotate_deg=..., radius=...) -> PNG bytes`` makes each
+    ``NAME_overlay.png`` and ``legend(labels) -> str`` names its colours (the command
+    passes :func:`bench.report.real.overlay_png` and :func:`bench.report.real.legend`;
+    drawing belongs to the report layer); without ``draw`` no overlay is written.
 
     A file that cannot be read (or whose background cannot) gets one line on
     ``err`` and the others go on. ``background`` (a path) is used for every
@@ -159,12 +97,14 @@ def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, c
     folder = RunFolder(out, kind="track")
     folder.open(identity, code_fingerprint(trackers.values()), force=force, say=lambda m: print(m, file=err))
     try:
-        return _track_locked(folder, todo, names, trackers, background, pair, channel, laser, rotate_deg, err, say)
+        return _track_locked(folder, todo, names, trackers, background, pair, channel, laser, rotate_deg, err, say,
+                             draw, legend)
     finally:
         folder.unlock()
 
 
-def _track_locked(folder, todo, names, trackers, background, pair, channel, laser, rotate_deg, err, say) -> int:
+def _track_locked(folder, todo, names, trackers, background, pair, channel, laser, rotate_deg, err, say, draw,
+                  legend) -> int:
     from bench.store.realrun import read_inputs, write_inputs
 
     out = folder.path
@@ -195,16 +135,16 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
         inputs[name] = str(p.resolve())
         write_inputs(out, inputs)  # before the outputs: an interrupted track still knows whose they are
         write_track_csv(out / f"{name}.csv", labels, tracks)
-        folder.write_bytes(f"{name}_overlay.png",
-                           _png_bytes(overlay(original, {k: v.columns for k, v in tracks.items()},
-                                              rotate_deg=rotate_deg, radius=max(1, min(original.shape[:2]) // 300))))
+        if draw is not None:
+            folder.write_bytes(f"{name}_overlay.png",
+                               draw(original, {k: v.columns for k, v in tracks.items()}, rotate_deg=rotate_deg,
+                                    radius=max(1, min(original.shape[:2]) // 300)))
         parts = []
         for lab, (tr, ms, status, msg) in res.items():
             n = int(tr.detected.sum())
             parts.append(f"{lab} {n}/{tr.height} rows {ms:.0f} ms" + (f" FAILED ({msg})" if status != "ok" else ""))
         say(f"{p.name}{' (background ' + bg_name + ')' if bg is not None else ''}: " + "; ".join(parts))
-    colours = ", ".join(f"{lab}={'#%02x%02x%02x' % PALETTE[i % len(PALETTE)]}" for i, lab in enumerate(labels))
-    say(f"stripebench track: wrote {out} (overlay colours: {colours})")
+    say(f"stripebench track: wrote {out}" + (f" (overlay colours: {legend(labels)})" if legend is not None else ""))
     return failed
 
 
@@ -212,8 +152,13 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
 
 
 def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000, seed: int = 0,
-             quiet: bool = False, force: bool = False) -> Path:
+             quiet: bool = False, force: bool = False, draw=None) -> Path:
     """Evaluate trackers on a real set; returns the run folder.
+
+    ``draw(original, tracks, rotate_deg=..., reference=...) -> PNG bytes`` makes each
+    ``overlays/NAME.png`` (the command passes :func:`bench.report.real.overlay_png`, then
+    builds ``report.html`` with :func:`bench.report.real.build_real_report`); without it
+    the run writes its numbers only (as inside a synthetic run's sim-to-real comparison).
 
     The folder is a run folder of kind ``real`` (:class:`bench.store.runfolder.RunFolder`):
     locked while this runs, claimed for the dataset, trackers, tolerance, resamples
@@ -239,12 +184,12 @@ def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000
     folder.open(identity, code_fingerprint(trackers.values()), force=force,
                 say=lambda m: print(m, file=sys.stderr, flush=True))
     try:
-        return _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed, quiet, t_start)
+        return _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed, quiet, t_start, draw)
     finally:
         folder.unlock()
 
 
-def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed, quiet, t_start) -> Path:
+def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed, quiet, t_start, draw) -> Path:
     import pandas as pd
 
     from bench.store.provenance import git_revision, versions
@@ -262,9 +207,10 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
         res = _track_all(trackers, frame, bg)
         tracks = {lab: r[0] for lab, r in res.items()}
         write_track_csv(out / LAYOUT["tracks"] / f"{im.name}.csv", labels, tracks)
-        folder.write_bytes(f"{LAYOUT['overlays']}/{im.name}.png",
-                           _png_bytes(overlay(original, {lab: t.columns for lab, t in tracks.items()},
-                                              rotate_deg=im.rotate_deg, reference=ref)))
+        if draw is not None:
+            folder.write_bytes(f"{LAYOUT['overlays']}/{im.name}.png",
+                               draw(original, {lab: t.columns for lab, t in tracks.items()},
+                                    rotate_deg=im.rotate_deg, reference=ref))
         for lab, (tr, ms, status, msg) in res.items():
             m = image_metrics(tr.columns, ref, tol_px)
             records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
@@ -291,71 +237,6 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
                             git_revision=git_revision(), run_dir=str(out), variants=[], trackers=summary_rows,
                             n_images=len(images), wall_s=time.perf_counter() - t_start)
     write_summary(out, summary)
-    _report(out, metrics, summary, labels, images)
     return out
 
 
-def build_real_report(run_dir) -> Path:
-    """Rebuild ``report.html`` of a finished real run from its saved files
-    (provenance columns only if the dataset is still where the run found it)."""
-    from bench.store.realrun import load_real_run
-
-    out = Path(run_dir)
-    saved = load_real_run(out)
-    summary, metrics = saved["summary"], saved["metrics"]
-    labels = list(summary["trackers"])
-    images, _ = real.validate_dataset(summary["config"]["dataset"])
-    _report(out, metrics, summary, labels, images)
-    return out / "report.html"
-
-
-def _img_tag(path: Path, max_w: int = 360) -> str:
-    import imageio.v3 as iio
-
-    img = iio.imread(path)
-    step = max(1, int(np.ceil(img.shape[1] / max_w)))
-    small = img[::step, ::step]
-    return f"<img src='data:image/png;base64,{base64.b64encode(_png_bytes(small)).decode()}' alt='{path.name}'>"
-
-
-def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> None:
-    e = html.escape
-    rows = []
-    for lab in labels:
-        s = summary["trackers"][lab]
-        h, m, c = s["hit_rate"], s["mae_px"], s["coverage"]
-        rows.append(f"<tr><td>{e(lab)}</td><td><b>{h['mean']:.3f}</b> [{h['lo']:.3f}, {h['hi']:.3f}]</td>"
-                    f"<td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td></tr>")
-    per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values="hit_rate")
-    per = per[labels]
-    head = "".join(f"<th>{e(lab)}</th>" for lab in labels)
-    body = "".join(f"<tr><td>{e(str(name))}</td>" + "".join(f"<td>{v:.2f}</td>" for v in r) + "</tr>"
-                   for name, r in zip(per.index, per.to_numpy()))
-    legend = " ".join(f"<span style='background:#{''.join('%02x' % v for v in PALETTE[i % len(PALETTE)])};"
-                      f"padding:0 6px'>&nbsp;</span> {e(lab)}" for i, lab in enumerate(labels))
-    legend += f" <span style='background:#{''.join('%02x' % v for v in REFERENCE_COLOUR)};padding:0 6px'>&nbsp;</span> reference"
-    worst = []
-    for lab in labels:
-        col = per[lab].sort_values()
-        names = [n for n in col.index[:2]]
-        tags = "".join(f"<figure>{_img_tag(out / 'overlays' / f'{n}.png')}<figcaption>{e(n)}: hit rate "
-                       f"{col[n]:.2f}</figcaption></figure>" for n in names)
-        worst.append(f"<h3>{e(lab)}</h3><div class='row'>{tags}</div>")
-    notes = "".join(f"<tr><td>{e(im.name)}</td><td>{e(im.meta.get('source_repo', ''))}</td>"
-                    f"<td>{e(im.meta.get('license', ''))}</td><td>{e(im.meta.get('notes', ''))}</td></tr>"
-                    for im in images)
-    page = f"""<!doctype html><html><head><meta charset='utf-8'><title>stripebench real</title>
-<style>body{{font-family:sans-serif;margin:2em;max-width:1200px}} td,th{{padding:2px 8px;border-bottom:1px solid #ddd}}
-.row{{display:flex;flex-wrap:wrap;gap:8px}} figure{{margin:0}} figcaption{{font-size:small}}</style></head><body>
-<h1>Real photographs: {summary['n_images']} images, tolerance {summary['tol_px']:g} px</h1>
-<p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']};
-means over images with 95 % bootstrap intervals over images.</p>
-<table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th></tr>{''.join(rows)}</table>
-<h2>Hit rate per image</h2><table><tr><th>image</th>{head}</tr>{body}</table>
-<h2>The worst images per tracker</h2><p>{legend}</p>{''.join(worst)}
-<h2>Images</h2><table><tr><th>image</th><th>source</th><th>license</th><th>notes</th></tr>{notes}</table>
-</body></html>"""
-    from bench.store.files import atomic_write_text
-    from bench.store.realrun import LAYOUT
-
-    atomic_write_text(out / LAYOUT["report"], page)

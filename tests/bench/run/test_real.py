@@ -14,7 +14,8 @@ from bench.run import gate
 
 from bench.store import realset as real
 from bench.cli import main
-from bench.run.real import PALETTE, overlay
+from bench.report.palette import tracker_rgb
+from bench.report.real import overlay
 
 
 def _frame(h=40, w=50, col=20, value=200, bar=None):
@@ -43,7 +44,7 @@ def test_track_writes_csv_and_overlay_and_goes_on_past_a_broken_file(tmp_path, c
         assert len(df) == 40 and np.allclose(df["col_threshold"], col) and np.allclose(df["col_wide"], col)
         ov = iio.imread(out / f"{name}_overlay.png")
         assert ov.shape == (40, 50, 3)
-        assert tuple(ov[10, col]) in (PALETTE[0], PALETTE[1])  # a tracker's marker on the stripe
+        assert tuple(ov[10, col]) in (tracker_rgb("threshold"), tracker_rgb("wide"))  # a marker on the stripe
     assert not (out / "broken.csv").exists()
 
 
@@ -88,12 +89,14 @@ def test_track_rotates_horizontal_stripes_and_draws_them_back(tmp_path):
     assert len(df) == 40  # rows of the turned frame = columns of the file
     assert np.allclose(df["col_threshold"], 20)  # turned counter-clockwise: file row 20 -> column 20
     ov = iio.imread(tmp_path / "o" / "h_overlay.png")
-    assert ov.shape == (50, 40, 3) and tuple(ov[20, 5]) == PALETTE[0] and tuple(ov[5, 5]) != PALETTE[0]
+    c = tracker_rgb("threshold")
+    assert ov.shape == (50, 40, 3) and tuple(ov[20, 5]) == c and tuple(ov[5, 5]) != c
 
 
 def test_overlay_draws_the_reference_and_skips_nan():
     ov = overlay(np.zeros((5, 6), np.uint8), {"t": [1.0, np.nan, 2.0, 2.0, 2.0]}, reference=[4.0] * 5, radius=0)
-    assert tuple(ov[0, 1]) == PALETTE[0] and tuple(ov[1, 4]) != PALETTE[0] and tuple(ov[1, 4]) == (0, 200, 0)
+    c = tracker_rgb("t")
+    assert tuple(ov[0, 1]) == c and tuple(ov[1, 4]) != c and tuple(ov[1, 4]) == (0, 200, 0)
     assert not ov[1, :4].any()
 
 

@@ -1,0 +1,42 @@
+"""The one HTML page shell of every report (run, real run, sweep, leaderboard), and escaping.
+
+Every string that comes from a configuration, a data set, a file name or a
+tracker goes through :func:`esc`, which also escapes quotes, so it is safe in
+text and in attribute values alike.
+"""
+
+from __future__ import annotations
+
+import html
+
+__all__ = ["esc", "page", "BASE_CSS"]
+
+#: The style every page shares; a page adds its own rules after it.
+BASE_CSS = ("body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
+            "h1{font-size:1.4em;margin:0.3em 0}h2{font-size:1.15em;margin:0.9em 0 0.3em}"
+            "table{border-collapse:collapse;font-size:12px;margin:0.5em 0}td,th{border:1px solid #ccc;"
+            "padding:3px 6px;text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}"
+            "details{margin:0.3em 0}summary{cursor:pointer}")
+
+
+def esc(value) -> str:
+    """``html.escape(str(value), quote=True)``: safe in text and in attribute values.
+
+    Examples
+    --------
+    >>> esc("x' onload='alert(3)")
+    'x&#x27; onload=&#x27;alert(3)'
+    """
+    return html.escape(str(value), quote=True)
+
+
+def page(title: str, body: str, *, css: str = "") -> str:
+    """A self-contained page: the shared shell around ``body`` (already HTML), titled ``title`` (escaped).
+
+    Examples
+    --------
+    >>> page("<run>", "<p>hi</p>").startswith("<!doctype html><html><head><meta charset='utf-8'><title>&lt;run&gt;")
+    True
+    """
+    return (f"<!doctype html><html><head><meta charset='utf-8'><title>{esc(title)}</title>"
+            f"<style>{BASE_CSS}{css}</style></head><body>{body}</body></html>")

@@ -1,0 +1,161 @@
+"""The pictures and the page of real-photograph runs: ``stripebench track`` overlays and ``real`` reports.
+
+:func:`overlay_png` draws a photograph with every tracker's columns (colours from
+:mod:`bench.report.palette`, the same as every figure); :func:`build_real_report`
+writes ``report.html`` of a finished real run from its saved files.
+"""
+
+from __future__ import annotations
+
+import base64
+from pathlib import Path
+
+import numpy as np
+
+from bench.report.html import esc, page
+from bench.report.palette import REFERENCE_COLOUR, tracker_colour, tracker_rgb
+from bench.store import realset as real
+
+__all__ = ["overlay", "overlay_png", "legend", "build_real_report"]
+
+
+def _display_rgb(original: np.ndarray) -> np.ndarray:
+    """An 8-bit RGB version of a photograph for drawing on."""
+    img = np.asarray(original)
+    if img.dtype != np.uint8:
+        f = img.astype(np.float64)
+        top = np.percentile(f, 99.9) if f.size else 1.0
+        img = np.clip(np.rint(255.0 * f / max(top, 1e-12)), 0, 255).astype(np.uint8)
+    if img.ndim == 2:
+        img = np.repeat(img[..., None], 3, axis=2)
+    return np.ascontiguousarray(img)
+
+
+def overlay(original, tracks: dict, *, rotate_deg: int = 0, reference=None, radius: int = 1,
+            dim: float = 0.6) -> np.ndarray:
+    """The photograph (dimmed) with a square marker per row of every track.
+
+    Parameters
+    ----------
+    original : ndarray, shape (H, W) or (H, W, 3)
+        The photograph as read.
+    tracks : dict
+        label -> columns, shape (H',), of the frame turned by ``rotate_deg``; each label in its
+        colour of :func:`bench.report.palette.tracker_colour`.
+    rotate_deg : int
+    reference : array_like, shape (H',), optional
+        Drawn first, in :data:`bench.report.palette.REFERENCE_COLOUR`, one pixel wide.
+    radius : int
+        Marker half-size in px.
+    dim : float
+        Factor on the photograph so the markers stand out.
+
+    Returns
+    -------
+    ndarray of uint8, shape (H, W, 3)
+    """
+    out = (_display_rgb(original).astype(np.float64) * dim).astype(np.uint8)
+    H, W = out.shape[:2]
+    layers = []
+    if reference is not None:
+        layers.append((np.asarray(reference, float), _rgb(REFERENCE_COLOUR), 0))
+    for label, cols in tracks.items():
+        layers.append((np.asarray(cols, float), tracker_rgb(label), radius))
+    for cols, colour, rad in layers:
+        rows = np.arange(cols.size, dtype=float)
+        ok = ~np.isnan(cols)
+        r, c = real.unrotate_points(rows[ok], cols[ok], rotate_deg, (H, W))
+        r = np.rint(r).astype(int)
+        c = np.rint(c).astype(int)
+        for dr in range(-rad, rad + 1):
+            for dc in range(-rad, rad + 1):
+                rr, cc = r + dr, c + dc
+                keep = (rr >= 0) & (rr < H) & (cc >= 0) & (cc < W)
+                out[rr[keep], cc[keep]] = colour
+    return out
+
+
+def _rgb(hex_colour: str) -> tuple[int, int, int]:
+    h = hex_colour.lstrip("#")
+    return int(h[0:2], 16), int(h[2:4], 16), int(h[4:6], 16)
+
+
+def _png_bytes(img: np.ndarray) -> bytes:
+    import imageio.v3 as iio
+
+    return iio.imwrite("<bytes>", img, extension=".png")
+
+
+def overlay_png(original, tracks: dict, **kw) -> bytes:
+    """:func:`overlay` as PNG bytes (what ``track`` and ``real`` write)."""
+    return _png_bytes(overlay(original, tracks, **kw))
+
+
+def legend(labels) -> str:
+    """``label=#rrggbb, ...``: the overlay colours, for the command's last line."""
+    return ", ".join(f"{lab}={tracker_colour(lab)}" for lab in labels)
+
+
+def build_real_report(run_dir) -> Path:
+    """Rebuild ``report.html`` of a finished real run from its saved files
+    (provenance columns only if the dataset is still where the run found it)."""
+    from bench.store.realrun import load_real_run
+
+    out = Path(run_dir)
+    saved = load_real_run(out)
+    summary, metrics = saved["summary"], saved["metrics"]
+    labels = list(summary["trackers"])
+    images, _ = real.validate_dataset(summary["config"]["dataset"])
+    _report(out, metrics, summary, labels, images)
+    return out / "report.html"
+
+
+def _img_tag(path: Path, max_w: int = 360) -> str:
+    import imageio.v3 as iio
+
+    img = iio.imread(path)
+    step = max(1, int(np.ceil(img.shape[1] / max_w)))
+    small = img[::step, ::step]
+    return f"<img src='data:image/png;base64,{base64.b64encode(_png_bytes(small)).decode()}' alt='{esc(path.name)}'>"
+
+
+def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> None:
+    e = esc
+    rows = []
+    for lab in labels:
+        s = summary["trackers"][lab]
+        h, m, c = s["hit_rate"], s["mae_px"], s["coverage"]
+        rows.append(f"<tr><td>{e(lab)}</td><td><b>{h['mean']:.3f}</b> [{h['lo']:.3f}, {h['hi']:.3f}]</td>"
+                    f"<td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td></tr>")
+    per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values="hit_rate")
+    per = per[labels]
+    head = "".join(f"<th>{e(lab)}</th>" for lab in labels)
+    table = "".join(f"<tr><td>{e(str(name))}</td>" + "".join(f"<td>{v:.2f}</td>" for v in r) + "</tr>"
+                   for name, r in zip(per.index, per.to_numpy()))
+    key = " ".join(f"<span style='background:{tracker_colour(lab)};padding:0 6px'>&nbsp;</span> {e(lab)}"
+                   for lab in labels)
+    key += f" <span style='background:{REFERENCE_COLOUR};padding:0 6px'>&nbsp;</span> reference"
+    worst = []
+    for lab in labels:
+        col = per[lab].sort_values()
+        names = [n for n in col.index[:2]]
+        tags = "".join(f"<figure>{_img_tag(out / 'overlays' / f'{n}.png')}<figcaption>{e(n)}: hit rate "
+                       f"{col[n]:.2f}</figcaption></figure>" for n in names)
+        worst.append(f"<h3>{e(lab)}</h3><div class='row'>{tags}</div>")
+    notes = "".join(f"<tr><td>{e(im.name)}</td><td>{e(im.meta.get('source_repo', ''))}</td>"
+                    f"<td>{e(im.meta.get('license', ''))}</td><td>{e(im.meta.get('notes', ''))}</td></tr>"
+                    for im in images)
+    body = f"""<h1>Real photographs: {summary['n_images']} images, tolerance {summary['tol_px']:g} px</h1>
+<p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']};
+means over images with 95 % bootstrap intervals over images.</p>
+<table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th></tr>{''.join(rows)}</table>
+<h2>Hit rate per image</h2><table><tr><th>image</th>{head}</tr>{table}</table>
+<h2>The worst images per tracker</h2><p>{key}</p>{''.join(worst)}
+<h2>Images</h2><table><tr><th>image</th><th>source</th><th>license</th><th>notes</th></tr>{notes}</table>
+"""
+    from bench.store.files import atomic_write_text
+    from bench.store.realrun import LAYOUT
+
+    atomic_write_text(out / LAYOUT["report"], page("stripebench real", body, css=(
+        "td,th{text-align:left}.row{display:flex;flex-wrap:wrap;gap:8px}figure{margin:0}"
+        "figcaption{font-size:small}")))

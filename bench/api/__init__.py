@@ -143,6 +143,22 @@ def _registered(entry):
         _trackers.unregister(label)
 
 
+def _own_class_dir(cfg, cls) -> Path:
+    """The default folder of a run of an unregistered class: the configuration's hash with the
+    class's source text in it (a class edited in a notebook cell has no module file for the run
+    folder's code fingerprint to see, so an edit must change the folder)."""
+    import inspect
+
+    from bench.store.files import config_hash
+    from bench.store.runfolder import named_run_dir
+
+    try:
+        source = inspect.getsource(cls)
+    except (OSError, TypeError):  # no source to be had (defined by exec): the fingerprint is what there is
+        source = None
+    return named_run_dir(cfg.name, config_hash({"config": cfg.identity(), "class_source": source}))
+
+
 def _configuration(profile, spec, overrides: dict):
     if isinstance(profile, _config.Config):
         base = profile
@@ -180,7 +196,8 @@ def evaluate(tracker, profile="quick", *, label: str | None = None, out=None, fo
     tracker : trackers.Tracker, str or dict
         A tracker instance (built with its current parameters; a class that is not
         registered is registered under ``label`` for the call only and is run in
-        this process), a registered name (``"dp4"``), or a settings dict as in a
+        this process, and its default run folder's name includes a hash of the
+        class's source when :func:`inspect.getsource` finds it), a registered name (``"dp4"``), or a settings dict as in a
         configuration's ``trackers`` list (``{"label": ..., "name": ..., "params": {...}}``,
         optionally ``restore``, ``timeout_s``, ``isolate``).
     profile : str, path-like or bench.config.Config
@@ -225,6 +242,8 @@ def evaluate(tracker, profile="quick", *, label: str | None = None, out=None, fo
     spec, entry = _spec_value(tracker, label)
     with _registered(entry):
         cfg = _configuration(profile, spec, overrides)
+        if out is None and entry is not None:
+            out = _own_class_dir(cfg, entry[1])
         folder = experiment.run(cfg, out, progress=False, quiet=quiet, force=force)
     tables = load_run(folder)
     metrics = tables.metrics.reset_index(drop=True)

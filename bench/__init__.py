@@ -15,10 +15,11 @@ enforces both, so a new sub-package must be added to :data:`LAYERS`:
 4. ``run``: scans, experiments, render-ahead, real-photograph runs, sweeps, the regression gate
 5. ``report``: figures and HTML pages built from saved runs only
 6. ``studies``: sub-pixel estimators, translucency, tuning procedures, speed benchmarks (``perf``)
-7. ``cli``: the ``stripebench`` command tree
+7. ``api``: the notebook API (``bench.api.evaluate`` one tracker on a profile, ``bench.api.load_run``)
+8. ``cli``: the ``stripebench`` command tree
 
 ``bench`` uses ``trackers`` (pixels only) and ``scenes`` (rendering); neither
 of them imports ``bench``.
 """
 
-LAYERS = ("errors", "evaluate", "store", "config", "run", "report", "studies", "cli")
+LAYERS = ("errors", "evaluate", "store", "config", "run", "report", "studies", "api", "cli")

@@ -6,8 +6,10 @@ experiments, seed); otherwise the page is refused in one line. Each tracker
 label enters once (from the first run that has it). Per condition, trackers
 are ranked by the fraction of sample points within ±5 mm (``within``, missing
 points counted as misses) with its Wilson 95 % interval; a tracker whose
-interval overlaps the one ranked above it is marked tied and shares its rank
-(the report's rule: intervals overlap => tie). Beside it: median |error|,
+interval overlaps that of the first tracker of the rank above it (the rank's
+leader) is marked tied and shares that rank (the report's rule: intervals
+overlap => tie; comparing with the leader, not the neighbour, keeps ties from
+chaining down a table of small steps, :func:`rank_with_ties`). Beside it: median |error|,
 RMSE, gross errors, ms per frame (the mean over the condition's experiments
 of ``timings.csv``) and the run and code revision the entry comes from.
 """
@@ -24,10 +26,13 @@ from bench.run import gate
 from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
 
-__all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "COLUMNS"]
+__all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS"]
 
 COLUMNS = ("condition", "rank", "tied", "tracker", "within", "within_low", "within_high", "median_abs_mm",
            "rmse_mm", "n_gross", "n", "ms_per_frame", "run", "kind", "git_revision")
+
+
+_TRACK_PX = 200  # width of the interval track on the page
 
 
 class LeaderboardError(ValueError):
@@ -89,16 +94,41 @@ def leaderboard_rows(runs) -> list[dict]:
                     "n": x["n"], "ms_per_frame": ms, "run": path.name, "kind": s["kind"],
                     "git_revision": s.get("git_revision", "")})
     out = []
-    for cond, rows in per_cond.items():
-        rows.sort(key=lambda r: (-(r["within"] if _ok(r["within"]) else -1.0), r["tracker"]))
-        rank = 0
-        for i, r in enumerate(rows):
-            prev = rows[i - 1] if i else None
-            tied = prev is not None and _ok(r["within_high"]) and _ok(prev["within_low"]) \
-                and r["within_high"] >= prev["within_low"]
-            rank = rank if tied else i + 1
-            out.append({"rank": rank, "tied": bool(tied), **r})
+    for rows in per_cond.values():
+        out += rank_with_ties(rows)
     return [{k: r[k] for k in COLUMNS} for r in out]
+
+
+def rank_with_ties(rows: list[dict]) -> list[dict]:
+    """``rows`` sorted by ``within`` (best first, then by ``tracker``), each with ``rank`` and ``tied``.
+
+    A row is tied, and shares the rank, when its interval reaches the lower end
+    of the interval of the rank's leader (the first row holding that rank);
+    otherwise it starts a new rank at its position (1-based). A NaN value sorts last and never ties.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Each with ``tracker``, ``within`` and its interval ``within_low``, ``within_high`` (fractions).
+
+    Examples
+    --------
+    Each neighbour overlaps the next, but c does not overlap the leader a, so c starts rank 3:
+
+    >>> rows = [{"tracker": t, "within": w, "within_low": w - 0.06, "within_high": w + 0.06}
+    ...         for t, w in (("a", 0.95), ("b", 0.88), ("c", 0.81), ("d", 0.76))]
+    >>> [(r["tracker"], r["rank"], r["tied"]) for r in rank_with_ties(rows)]
+    [('a', 1, False), ('b', 1, True), ('c', 3, False), ('d', 3, True)]
+    """
+    rows = sorted(rows, key=lambda r: (-(r["within"] if _ok(r["within"]) else -1.0), r["tracker"]))
+    out, leader, rank = [], None, 0
+    for i, r in enumerate(rows):
+        tied = leader is not None and _ok(r["within_high"]) and _ok(leader["within_low"]) \
+            and r["within_high"] >= leader["within_low"]
+        if not tied:
+            leader, rank = r, i + 1
+        out.append({**r, "rank": rank, "tied": bool(tied)})
+    return out
 
 
 def _ok(v) -> bool:
@@ -128,26 +158,38 @@ def build_leaderboard(runs, out_dir) -> Path:
     e = html.escape
     parts = ["<!doctype html><meta charset='utf-8'><title>stripebench leaderboard</title>",
              "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;margin-bottom:2em}"
-             "td,th{padding:4px 10px;border-bottom:1px solid #ddd;text-align:right}td.l,th.l{text-align:left}"
-             ".bar{display:inline-block;height:10px;background:#4a7;vertical-align:middle}"
-             ".tie{color:#a60}</style>",
+             "p{max-width:60em}td,th{padding:4px 10px;border-bottom:1px solid #ddd;text-align:right}"
+             "td.l,th.l{text-align:left}th{white-space:nowrap}"
+             f".track{{position:relative;display:inline-block;width:{_TRACK_PX}px;height:12px;background:#eee;"
+             "vertical-align:middle}.bar{position:absolute;top:0;height:12px;background:#7b9}"
+             ".mark{position:absolute;top:-2px;width:2px;height:16px;background:#145}"
+             ".scale{font-weight:normal;color:#666;font-size:85%}.tie{color:#a60}</style>",
              "<h1>stripebench leaderboard</h1>",
              f"<p>{len(list(runs))} comparable run(s). Ranked per condition by the fraction of sample points within "
-             "±5 mm (95 % Wilson interval; missing points count as misses). <span class='tie'>tie</span>: its "
-             "interval overlaps the one ranked above, so it shares that rank. Times are ms per frame (a "
+             "±5 mm (95 % Wilson interval, drawn as a bar with the estimate marked; missing points count as "
+             "misses). <span class='tie'>tie</span>: its interval overlaps that of the rank's first tracker, so "
+             "it shares that rank. Times are ms per frame (a "
              "submission's own times.csv, else the harness's clock; machine dependent).</p>"]
     for cond in dict.fromkeys(r["condition"] for r in rows):
+        crows = [x for x in rows if x["condition"] == cond]
+        lows = [x["within_low"] for x in crows if _ok(x["within_low"])]
+        start = min(0.9, math.floor(10 * min(lows)) / 10) if lows else 0.0  # the track spans [start, 1]
         parts.append(f"<h2>{e(cond)}</h2><table><tr><th>rank</th><th class='l'>tracker</th><th>±5 mm</th>"
-                     "<th class='l'>95 % interval</th><th>median |e| mm</th><th>RMSE mm</th><th>gross</th>"
+                     f"<th class='l'>95 % interval</th><th class='l'>interval <span class='scale'>"
+                     f"(track {start:.1f} to 1)</span></th><th>median |e| mm</th><th>RMSE mm</th><th>gross</th>"
                      "<th>n</th><th>ms/frame</th><th class='l'>run</th><th class='l'>code</th></tr>")
-        for r in (x for x in rows if x["condition"] == cond):
+        for r in crows:
             lo, hi = r["within_low"], r["within_high"]
-            bar = (f"<span class='bar' style='margin-left:{100 * lo:.0f}px;width:{max(1, 100 * (hi - lo)):.0f}px'>"
-                   "</span>") if _ok(lo) and _ok(hi) else ""
+            bar = ""
+            if _ok(lo) and _ok(hi) and _ok(r["within"]):
+                x0, x1, xm = (_TRACK_PX * (v - start) / (1 - start) for v in (lo, hi, r["within"]))
+                bar = (f"<span class='track'><span class='bar' style='left:{x0:.0f}px;width:{max(1.0, x1 - x0):.0f}px'>"
+                       f"</span><span class='mark' style='left:{xm - 1:.0f}px'></span></span>")
             parts.append(
                 f"<tr><td>{r['rank']}{' <span class=tie>tie</span>' if r['tied'] else ''}</td>"
                 f"<td class='l'><b>{e(r['tracker'])}</b>{' (submission)' if r['kind'] == 'score' else ''}</td>"
-                f"<td>{_f(r['within'], '.3f')}</td><td class='l'>[{_f(lo, '.3f')}, {_f(hi, '.3f')}] {bar}</td>"
+                f"<td>{_f(r['within'], '.3f')}</td><td class='l'>[{_f(lo, '.3f')}, {_f(hi, '.3f')}]</td>"
+                f"<td class='l'>{bar}</td>"
                 f"<td>{_f(r['median_abs_mm'], '.2f')}</td><td>{_f(r['rmse_mm'], '.2f')}</td><td>{r['n_gross']}</td>"
                 f"<td>{r['n']}</td><td>{_f(r['ms_per_frame'], '.2f')}</td><td class='l'>{e(r['run'])}</td>"
                 f"<td class='l'><code>{e(str(r['git_revision'])[:12])}</code></td></tr>")

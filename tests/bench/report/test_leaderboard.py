@@ -35,15 +35,32 @@ def test_rows_rank_every_tracker_once_per_condition(tiny_run, scored_run):
     assert within == sorted(within, reverse=True)
     mine, dp8 = (next(r for r in cone if r["tracker"] == t) for t in ("mine", "dp8"))
     assert mine["within"] == dp8["within"] and mine["kind"] == "score" and dp8["kind"] == "run"
-    for a, b in zip(cone, cone[1:]):  # the interval rule decides ties and ranks
-        overlap = b["within_high"] >= a["within_low"]
-        assert b["tied"] == overlap and (b["rank"] == a["rank"]) == overlap
+    leader = cone[0]
+    for i, b in enumerate(cone[1:], start=2):  # the interval rule against the rank's leader decides ties and ranks
+        overlap = b["within_high"] >= leader["within_low"]
+        assert b["tied"] == overlap and b["rank"] == (leader["rank"] if overlap else i)
+        leader = leader if overlap else b
+
+
+def test_ties_do_not_chain_down_the_table():
+    from bench.report.leaderboard import rank_with_ties
+
+    # each interval overlaps its neighbour's, none overlaps one two steps up
+    rows = [{"tracker": f"t{i}", "within": w, "within_low": w - 0.04, "within_high": w + 0.04}
+            for i, w in enumerate((0.96, 0.91, 0.86, 0.81, 0.76))]
+    ranked = rank_with_ties(list(reversed(rows)))
+    assert [r["tracker"] for r in ranked] == ["t0", "t1", "t2", "t3", "t4"]
+    assert [(r["rank"], r["tied"]) for r in ranked] == [(1, False), (1, True), (3, False), (3, True), (5, False)]
+    nan = {"tracker": "broken", "within": float("nan"), "within_low": float("nan"), "within_high": float("nan")}
+    assert rank_with_ties([nan, rows[0]])[-1] == {**nan, "rank": 2, "tied": False}
 
 
 def test_page_and_csv(tiny_run, scored_run, tmp_path):
     page = build_leaderboard([tiny_run[0], scored_run], tmp_path / "lb")
     text = page.read_text()
     assert "patchy cone" in text and "mine</b> (submission)" in text
+    rows = leaderboard_rows([tiny_run[0], scored_run])
+    assert text.count("class='track'") == sum(r["within"] == r["within"] for r in rows)  # one interval track per ranked row
     with (tmp_path / "lb" / "leaderboard.csv").open() as fh:
         assert len(list(csv.DictReader(fh))) == len(leaderboard_rows([tiny_run[0], scored_run]))
 

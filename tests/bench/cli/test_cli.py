@@ -1,6 +1,7 @@
 """The command tree and ``main`` (bench/cli/__init__.py): one parser, one-line errors, plain help,
 every documented bad input with its test."""
 
+import json
 import re
 import subprocess
 import sys
@@ -8,7 +9,7 @@ import sys
 import pytest
 
 from bench.cli import build_parser, main
-from cli_helpers import REPO, one_line_err
+from cli_helpers import REPO, TOML, one_line_err
 
 
 def test_bad_seed_is_a_usage_error():

@@ -40,8 +40,17 @@ def test_a_rendered_colour_scan_is_tracked_on_the_excess_channel(tmp_path):
     s = scenes.make("plane", camera="rgb", filter="none", object_texture="checker", laser_power_mw=5.0,
                     width=64, height=60, spp=4, ambient_spp=2, cache_dir=str(tmp_path))
     angles = s.default_angles()[[2, 5]]
-    res, kept = run_scan("k", s, angles, {"dp4": trackers.make("dp4")}, spp=4, seed=0,
-                         checkpoint=tmp_path / "k.npz", progress=False, keep_frame=0)
+    seen = []
+    dp4 = trackers.make("dp4")
+
+    class Recording(type(dp4)):  # records the frames the scan hands to the tracker
+        def find_stripe(self, image, background):
+            seen.append(np.array(image))
+            return super().find_stripe(image, background)
+
+    res = run_scan("k", s, angles, {"dp4": Recording(**dp4.get_params())}, spp=4, seed=0,
+                   checkpoint=tmp_path / "k.npz", progress=False)
     f = s.render(float(angles[0]))
-    assert np.array_equal(kept[0], select_channel(f.rgb, "auto", "red"))
+    assert len(seen) == 3 and not seen[0].any()  # a warm-up call on a blank frame, then the two frames
+    assert np.array_equal(seen[1], select_channel(f.rgb, "auto", "red"))
     assert res.done.all() and res.status["dp4"].max() == 0

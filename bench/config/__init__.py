@@ -201,7 +201,8 @@ class TrackerSpec:
         return out
 
 
-_LABEL_CHARS = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.")
+#: The characters of a tracker label or an experiment name (they name files and columns).
+LABEL_CHARS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.")
 
 
 def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
@@ -236,7 +237,7 @@ def _tracker_spec(path: str, value, registered: list[str]) -> TrackerSpec:
                            isolate)
     else:
         raise ConfigError(f"`{path}` must be a tracker name or a table {{label, name, params}}, got {value!r}")
-    if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= _LABEL_CHARS:
+    if not isinstance(spec.label, str) or not spec.label or not set(spec.label) <= LABEL_CHARS:
         raise ConfigError(f"`{path}.label` must be letters, digits, '_', '-' or '.', got {spec.label!r}")
     if spec.name not in registered:
         raise ConfigError(f"`{path}` names unknown tracker {spec.name!r}; available: {', '.join(registered)}")
@@ -579,7 +580,7 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
         check_scene(path, scene, material, render, overrides)
         exp_name = e.get("name")
         if exp_name is not None and (not isinstance(exp_name, str) or not exp_name
-                                     or not set(exp_name) <= _LABEL_CHARS):
+                                     or not set(exp_name) <= LABEL_CHARS):
             raise ConfigError(f"`{path}.name` must be letters, digits, '_', '-' or '.', got {exp_name!r}")
         condition = e.get("condition", "")
         if not isinstance(condition, str):

@@ -22,6 +22,7 @@ import io
 import math
 from pathlib import Path
 
+from bench.errors import InputError
 from bench.run import gate
 from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
@@ -35,7 +36,7 @@ COLUMNS = ("condition", "rank", "tied", "tracker", "within", "within_low", "with
 _TRACK_PX = 200  # width of the interval track on the page
 
 
-class LeaderboardError(ValueError):
+class LeaderboardError(InputError):
     """Runs that cannot share a leaderboard; one line."""
 
 

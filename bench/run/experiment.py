@@ -9,7 +9,6 @@ the figure data in :mod:`bench.store.figdata`, the summary's builder in
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
@@ -17,6 +16,7 @@ import numpy as np
 
 from bench.evaluate import readings, tables as analysis
 from bench.run import renderahead
+from bench.run.plan import angles_for, say, scene_for
 from bench.run.camera_view import tracker_images
 from bench.config import Config
 from bench.store.checkpoint import STATUS
@@ -42,26 +42,6 @@ def _conditions(config: Config) -> list[dict]:
     for e in config.experiments:
         out.setdefault(e.condition or e.key, []).append(e.key)
     return [{"condition": c, "experiments": keys} for c, keys in out.items()]
-
-
-def _scene_for(experiment, config: Config):
-    import scenes
-
-    return scenes.make(experiment.scene, material=experiment.material, seed=config.seed, **config.render,
-                       **experiment.overrides)
-
-
-def _angles(experiment, scene) -> np.ndarray:
-    if experiment.angles is not None:
-        return np.asarray(experiment.angles, float)
-    if experiment.n_angles is not None:
-        return scene.object.default_angles(scene.rig.zeta_deg, experiment.n_angles)
-    return scene.default_angles()
-
-
-def _say(msg: str, quiet: bool) -> None:
-    if not quiet:
-        print(msg, file=sys.stderr, flush=True)
 
 
 def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = False, force: bool = False) -> Path:
@@ -92,7 +72,7 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     tracker_objs = build_trackers(config.tracker_specs)
     folder = RunFolder(out)
     folder.open(config.identity(), code_fingerprint(tracker_objs.values()), force=force,
-                say=lambda m: _say(m, False))  # damaged or stale files: always said
+                say=lambda m: say(m, False))  # damaged or stale files: always said
     try:
         return _run_locked(config, folder, tracker_objs, t_start, progress, quiet)
     finally:
@@ -135,12 +115,12 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
     None) is told which frame is rendered next."""
     fig7 = None
     for k, (exp, scene, angles) in enumerate(plan):
-        _say(f"[{k + 1}/{len(plan)}] {exp.key}: {len(angles)} frames at "
+        say(f"[{k + 1}/{len(plan)}] {exp.key}: {len(angles)} frames at "
              f"{scene.rig.width}x{scene.rig.height}", quiet)
         t0 = time.perf_counter()
         res = run_scan(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
                        checkpoint=folder.checkpoint(exp.key), progress=progress,
-                       say=lambda m: _say(m, False),  # damaged or stale files: always said
+                       say=lambda m: say(m, False),  # damaged or stale files: always said
                        on_frame=None if helper is None else (lambda i, k=k: helper.at(k, i)))
         wall = time.perf_counter() - t0
         worst = analysis.worst_frames(res, GALLERY_FRAMES)
@@ -160,21 +140,21 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
                           "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5] for n in res.messages}})
         for n, c in failures.items():
             if c:
-                _say(f"  {n}: failed on {c} frame(s): {scan_info[-1]['failure_messages'][n][0]}", quiet)
+                say(f"  {n}: failed on {c} frame(s): {scan_info[-1]['failure_messages'][n][0]}", quiet)
     return fig7
 
 
 def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
     out = folder.path
     records, samples, scan_info, gallery = [], [], [], []
-    plan = [(exp, scene, _angles(exp, scene)) for exp, scene in
-            ((e, _scene_for(e, config)) for e in config.experiments)]
+    plan = [(exp, scene, angles_for(exp, scene)) for exp, scene in
+            ((e, scene_for(e, config)) for e in config.experiments)]
     helper, off = None, renderahead.reason_off(config.render_ahead, [scene for _, scene, _ in plan])
     if off is None:
         pending = [pending_frames(exp.key, scene, angles, tracker_objs, spp=scene.params["spp"], seed=config.seed,
                                   checkpoint=folder.checkpoint(exp.key)) for exp, scene, angles in plan]
         helper = renderahead.RenderAhead([scene for _, scene, _ in plan], [angles for _, _, angles in plan],
-                                         config.seed, pending=pending, say=lambda m: _say(m, False))
+                                         config.seed, pending=pending, say=lambda m: say(m, False))
         helper.start()
     try:
         fig7 = _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper,
@@ -183,7 +163,7 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
         if helper is not None:
             helper.stop()  # the loop ended, failed or was interrupted: the helper stops now
     if helper is not None:
-        _say(helper.summary_line(), quiet)
+        say(helper.summary_line(), quiet)
     render_ahead = helper.stop() if helper is not None else {"off": off}
     return finish_run(config, out, records, samples, scan_info, gallery, fig7, t_start=t_start, quiet=quiet,
                       render_ahead=render_ahead)
@@ -225,7 +205,7 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     metrics = pd.DataFrame.from_records(records)
     samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(labels))
     if samples_df.empty:
-        _say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
+        say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
     stats = analysis.improvements(samples_df, dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
     robust = analysis.robust_table(samples_df, labels)
     conditions = _conditions(config)
@@ -277,7 +257,7 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
 
     dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
     specs = distinct_trackers(config.tracker_specs)
-    _say(f"real set {dataset}: {len(specs)} trackers", quiet)
+    say(f"real set {dataset}: {len(specs)} trackers", quiet)
     rdir = run_real(dataset, out / "real", specs, seed=config.seed, n_boot=min(config.n_boot, 2000),
                     quiet=True, force=True)  # a folder inside this run's, which this process holds
     rm = real_run_means(rdir)

@@ -12,13 +12,13 @@ hold them losslessly) with its per-row truth. The files and their readers are
 from __future__ import annotations
 
 import dataclasses
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 from bench.config import Config
+from bench.run.plan import angles_for, say, scene_for
 from bench.errors import InputError
 from bench.run.camera_view import tracker_images
 from bench.store import frameset as fs
@@ -33,11 +33,6 @@ UNITS = {"angle_deg": "deg (mirror angle theta)", "row": "px (image row, 0 at th
          "col": "px (continuous column, pixel centre at integer values)",
          "x_cm, y_cm, z_cm": "cm (world point of the true stripe)", "rig": "cm, mm and deg as the field names say",
          "ms": "milliseconds per frame (times.csv)"}
-
-
-def _say(msg: str, quiet: bool) -> None:
-    if not quiet:
-        print(msg, file=sys.stderr, flush=True)
 
 
 def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, quiet: bool = False,
@@ -64,23 +59,22 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
     bench.store.runfolder.RunFolderError
         The folder is locked, holds another run (without ``force``) or cannot be written.
     """
-    from bench.run.experiment import _angles, _scene_for
 
     fs.split_of("x", 0, test_fraction)  # validates test_fraction
     t0 = time.perf_counter()
     identity = {"export": config.identity(), "test_fraction": float(test_fraction), "format": fs.FORMAT}
     folder = RunFolder(Path(out_dir), kind="export")
-    folder.open(identity, code_fingerprint(), force=force, say=lambda m: _say(m, False))
+    folder.open(identity, code_fingerprint(), force=force, say=lambda m: say(m, False))
     try:
         root = folder.path
         for d in ("images", *fs.TRUTH_DIRS.values()):
             (root / d).mkdir(exist_ok=True)
         rows, experiments = [], []
         for k, exp in enumerate(config.experiments):
-            scene = _scene_for(exp, config)
-            angles = _angles(exp, scene)
+            scene = scene_for(exp, config)
+            angles = angles_for(exp, scene)
             spp = scene.params["spp"]
-            _say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(angles)} frames at "
+            say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(angles)} frames at "
                  f"{scene.rig.width}x{scene.rig.height}", quiet)
             variant, false_stripes = "", False
             for i, angle in enumerate(angles):
@@ -126,7 +120,7 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
             "experiments": experiments, "config": config.to_dict(),
         }
         fs.write_dataset_json(root / "dataset.json", doc)
-        _say(f"stripebench: {len(rows)} frames ({len(rows) - n_test} dev, {n_test} test) in "
+        say(f"stripebench: {len(rows)} frames ({len(rows) - n_test} dev, {n_test} test) in "
              f"{time.perf_counter() - t0:.1f} s", quiet)
         return root
     finally:

@@ -21,13 +21,13 @@ A built-in tracker's own output, submitted, scores byte for byte what
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 from bench.config import ConfigError, parse, with_overrides
+from bench.run.plan import say
 from bench.store import frameset as fs
 from bench.store.checkpoint import FALSE_K, ScanResult, write_checkpoint
 from bench.store.figdata import FigData, GalleryFrame
@@ -48,16 +48,11 @@ class SubmissionError(RunFolderError):
         self.problems = list(problems)
 
 
-def _say(msg: str, quiet: bool) -> None:
-    if not quiet:
-        print(msg, file=sys.stderr, flush=True)
-
-
 def _label(label: str | None, submission: Path, builtins) -> str:
-    from bench.config import _LABEL_CHARS
+    from bench.config import LABEL_CHARS
 
     label = safe_dir_name(submission.resolve().name) if label is None else label
-    if not isinstance(label, str) or not label or not set(label) <= _LABEL_CHARS:
+    if not isinstance(label, str) or not label or not set(label) <= LABEL_CHARS:
         raise ConfigError(f"--label must be letters, digits, '_', '-' or '.', got {label!r}")
     if label in builtins:
         raise ConfigError(f"--label {label!r} is the label of a built-in tracker of this score; choose another")
@@ -120,7 +115,7 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                 "dataset_revision": fset.meta.get("code_revision"), "submission": sub.checksum, "label": label,
                 "split": split, "config": config.identity()}
     folder = RunFolder(Path(out_dir), kind="score")
-    folder.open(identity, code_fingerprint(tracker_objs.values()), force=force, say=lambda m: _say(m, False))
+    folder.open(identity, code_fingerprint(tracker_objs.values()), force=force, say=lambda m: say(m, False))
     try:
         restore = {**config.restore_by_label(), label: config.restore}
         records, samples, scan_info, gallery, fig7 = [], [], [], [], None
@@ -170,7 +165,7 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                               "render_s": 0.0, "variant": res.variant, "failures": failures,
                               "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5]
                                                    for n in res.messages}})
-            _say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(frames)} frames scored", quiet)
+            say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(frames)} frames scored", quiet)
         if not scan_info:
             raise ConfigError(f"--split {split}: the frame set has no {split} frames")
         extra = {"submission": {"label": label, "path": str(submission), "checksum": sub.checksum,

@@ -62,9 +62,8 @@ from bench.store.files import config_hash
 from bench.evaluate.curves import PAPER_POINT  # noqa: F401  (re-exported: the paper's operating point)
 
 __all__ = ["Sweep", "SweepError", "parse_sweep", "load", "plan", "run_unit", "run_sweep", "default_sweep_dir",
-           "load_sweep", "sweep_keys", "TABLE_METRICS", "PAPER_POINT"]
+           "load_sweep", "sweep_keys", "PAPER_POINT"]
 
-TABLE_METRICS = ("hit_rate", "depth_mae_mm", "depth_rmse_mm", "within_5mm", "coverage", "outlier_rate")
 
 
 class SweepError(StripebenchError, RuntimeError):
@@ -97,7 +96,7 @@ def plan(config: Config, sweep: Sweep, *, chunk: int | None = None) -> list[dict
     """
     import scenes
 
-    from bench.run.experiment import _angles
+    from bench.run.plan import angles_for
 
     if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
         raise ValueError(f"`chunk` must be an integer >= 1, got {chunk!r}")
@@ -106,7 +105,7 @@ def plan(config: Config, sweep: Sweep, *, chunk: int | None = None) -> list[dict
     units = []
     for k, e in enumerate(config.experiments):
         scene = scenes.make(e.scene, material=e.material, **config.render, **e.overrides)
-        angles = [float(a) for a in _angles(e, scene)]
+        angles = [float(a) for a in angles_for(e, scene)]
         batches: dict[str, list] = {}
         for i, p in enumerate(points):
             rk = {key: v for key, v in p.items() if key in render_keys}

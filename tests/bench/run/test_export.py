@@ -28,14 +28,14 @@ def test_export_is_byte_stable_for_one_seed(tiny_export, tiny_dict, tmp_path):
 
 def test_export_writes_the_frames_a_tracker_gets_in_a_run(tiny_export, tiny_dict):
     from bench.config import parse
-    from bench.run.experiment import _angles, _scene_for
+    from bench.run.plan import angles_for, scene_for
 
     cfg = parse(tiny_dict)
     fset = fs.read_frameset(tiny_export)
     exp = cfg.experiments[0]
-    scene = _scene_for(exp, cfg)
+    scene = scene_for(exp, cfg)
     frames = fset.frames_of(exp.key)
-    assert [f["angle_deg"] for f in frames] == _angles(exp, scene).tolist()
+    assert [f["angle_deg"] for f in frames] == angles_for(exp, scene).tolist()
     frame = scene.render(frames[1]["angle_deg"], spp=scene.params["spp"], seed=cfg.seed)
     assert frame.image.dtype == np.uint8
     np.testing.assert_array_equal(fs.read_png(tiny_export / frames[1]["image"]), frame.image)

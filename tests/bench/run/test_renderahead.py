@@ -105,11 +105,11 @@ def test_stop_kills_a_busy_helper_at_once(tmp_path, monkeypatch):
 @pytest.mark.slow
 def test_a_cached_run_starts_no_helper(tiny_run):
     """Every frame of the session's tiny run is cached: no helper process is started for it again."""
-    from bench.run.experiment import _angles, _scene_for
+    from bench.run.plan import angles_for, scene_for
 
     out, cfg = tiny_run
-    plan = [(_scene_for(e, cfg), e) for e in cfg.experiments]
-    helper = renderahead.RenderAhead([s for s, _ in plan], [_angles(e, s) for s, e in plan], cfg.seed)
+    plan = [(scene_for(e, cfg), e) for e in cfg.experiments]
+    helper = renderahead.RenderAhead([s for s, _ in plan], [angles_for(e, s) for s, e in plan], cfg.seed)
     assert helper.start() is False
     assert helper.stop() == {"frames": 5, "rendered": 0, "used": 0, "started": False, "why": "cached"}
     assert helper.summary_line() == "render-ahead: not needed, every one of the 5 frames was cached or done"

@@ -1,0 +1,38 @@
+"""What a configuration renders: each experiment's scene and mirror angles, and the progress notes of a run.
+
+Shared by ``run`` (:mod:`bench.run.experiment`), ``export``, ``score`` and
+sweeps, so that a frame set, a scored submission and a sweep render exactly
+the frames a run renders.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+__all__ = ["scene_for", "angles_for", "say"]
+
+
+def scene_for(experiment, config):
+    """The :class:`scenes.Scene` of one experiment of ``config`` (its render settings, seed and overrides)."""
+    import scenes
+
+    return scenes.make(experiment.scene, material=experiment.material, seed=config.seed, **config.render,
+                       **experiment.overrides)
+
+
+def angles_for(experiment, scene) -> np.ndarray:
+    """The experiment's mirror angles (deg): its own ``angles``, else ``n_angles`` spread over the
+    object, else the scene's defaults."""
+    if experiment.angles is not None:
+        return np.asarray(experiment.angles, float)
+    if experiment.n_angles is not None:
+        return scene.object.default_angles(scene.rig.zeta_deg, experiment.n_angles)
+    return scene.default_angles()
+
+
+def say(msg: str, quiet: bool) -> None:
+    """A progress note on stderr unless ``quiet`` (stdout is for results)."""
+    if not quiet:
+        print(msg, file=sys.stderr, flush=True)

@@ -17,12 +17,12 @@ of ``timings.csv``) and the run and code revision the entry comes from.
 from __future__ import annotations
 
 import csv
-import html
 import io
 import math
 from pathlib import Path
 
 from bench.errors import InputError
+from bench.report.html import esc, page
 from bench.run import gate
 from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
@@ -156,16 +156,14 @@ def build_leaderboard(runs, out_dir) -> Path:
     w.writeheader()
     w.writerows(rows)
     atomic_write_text(out_dir / "leaderboard.csv", buf.getvalue())
-    e = html.escape
-    parts = ["<!doctype html><meta charset='utf-8'><title>stripebench leaderboard</title>",
-             "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;margin-bottom:2em}"
-             "p{max-width:60em}td,th{padding:4px 10px;border-bottom:1px solid #ddd;text-align:right}"
-             "td.l,th.l{text-align:left}th{white-space:nowrap}"
-             f".track{{position:relative;display:inline-block;width:{_TRACK_PX}px;height:12px;background:#eee;"
-             "vertical-align:middle}.bar{position:absolute;top:0;height:12px;background:#7b9}"
-             ".mark{position:absolute;top:-2px;width:2px;height:16px;background:#145}"
-             ".scale{font-weight:normal;color:#666;font-size:85%}.tie{color:#a60}</style>",
-             "<h1>stripebench leaderboard</h1>",
+    e = esc
+    css = ("table{margin-bottom:2em;font-size:13px}td,th{border:none;border-bottom:1px solid #ddd;padding:4px 10px}"
+           "p{max-width:60em}td.l,th.l{text-align:left}th{white-space:nowrap;background:none}"
+           f".track{{position:relative;display:inline-block;width:{_TRACK_PX}px;height:12px;background:#eee;"
+           "vertical-align:middle}.bar{position:absolute;top:0;height:12px;background:#7b9}"
+           ".mark{position:absolute;top:-2px;width:2px;height:16px;background:#145}"
+           ".scale{font-weight:normal;color:#666;font-size:85%}.tie{color:#a60}")
+    parts = ["<h1>stripebench leaderboard</h1>",
              f"<p>{len(list(runs))} comparable run(s). Ranked per condition by the fraction of sample points within "
              "±5 mm (95 % Wilson interval, drawn as a bar with the estimate marked; missing points count as "
              "misses). <span class='tie'>tie</span>: its interval overlaps that of the rank's first tracker, so "
@@ -195,6 +193,6 @@ def build_leaderboard(runs, out_dir) -> Path:
                 f"<td>{r['n']}</td><td>{_f(r['ms_per_frame'], '.2f')}</td><td class='l'>{e(r['run'])}</td>"
                 f"<td class='l'><code>{e(str(r['git_revision'])[:12])}</code></td></tr>")
         parts.append("</table>")
-    page = out_dir / "leaderboard.html"
-    atomic_write_text(page, "\n".join(parts) + "\n")
-    return page
+    path = out_dir / "leaderboard.html"
+    atomic_write_text(path, page("stripebench leaderboard", "\n".join(parts) + "\n", css=css))
+    return path

@@ -226,8 +226,10 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
                 if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
                     raise InputError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
     cfg = doc.get("config")
-    if cfg is not None and not isinstance(cfg, dict):
-        raise InputError(f"{where}: `config` must be an object, got {cfg!r:.60}")
+    if not isinstance(cfg, dict):  # without it the comparability check would pass anything
+        raise InputError(f"{where}: `config` must be the object of the run it was made from (its comparability "
+                         f"is checked), got {cfg!r:.60}; regenerate the baseline with `stripebench check RUN "
+                         "--baseline FILE --update`")
     return doc
 
 

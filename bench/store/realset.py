@@ -74,12 +74,14 @@ def read_image(path) -> np.ndarray:
     -------
     ndarray, shape (H, W) or (H, W, 3)
         ``uint8`` or ``uint16`` (or float for float TIFFs) as stored; an alpha
-        channel is dropped. JPEG EXIF orientation is not applied.
+        channel is dropped; a CMYK or palette image is converted to RGB. JPEG EXIF
+        orientation is not applied.
 
     Raises
     ------
     ImageError
-        Missing, unreadable, not an image, or not 2-D / 3-channel.
+        Missing, unreadable, not an image, not 2-D / 3-channel, a 16-bit colour PNG or a
+        multi-page TIFF (one line each).
     """
     import imageio.v3 as iio
 
@@ -92,9 +94,15 @@ def read_image(path) -> np.ndarray:
         data = p.read_bytes()
     except OSError as exc:
         raise ImageError(f"{str(p)!r}: cannot read file ({exc.strerror})") from None
+    problem = _refused_layout(data, p.suffix.lower())
+    if problem:
+        raise ImageError(f"{str(p)!r}: {problem}")
     try:  # from bytes: imageio's plugin search leaves no open file behind on a bad file
         plugin = "tifffile" if p.suffix.lower() in (".tif", ".tiff") else "pillow"
-        img = np.asarray(iio.imread(data, plugin=plugin, extension=p.suffix.lower()))
+        if plugin == "pillow":
+            img = _read_pillow(data)
+        else:
+            img = np.asarray(iio.imread(data, plugin=plugin, extension=p.suffix.lower()))
     except Exception as exc:  # imageio raises many types for a bad file
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ImageError(f"{str(p)!r}: cannot read image ({msg})") from None
@@ -107,6 +115,41 @@ def read_image(path) -> np.ndarray:
     if img.dtype.kind not in "uif":
         raise ImageError(f"{str(p)!r}: unsupported pixel type {img.dtype}")
     return img
+
+
+def _refused_layout(data: bytes, suffix: str) -> str | None:
+    """Why a file's layout cannot be read faithfully, or None: a 16-bit colour PNG (Pillow reads
+    it wrongly) or a multi-page TIFF (which page would be the frame?)."""
+    if suffix == ".png" and data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) >= 26 and data[12:16] == b"IHDR":
+        depth, colour_type = data[24], data[25]
+        if depth == 16 and colour_type in (2, 6):
+            return ("a 16-bit colour PNG is not supported (it would be read wrongly); save it as a 16-bit TIFF "
+                    "or an 8-bit PNG")
+    if suffix in (".tif", ".tiff"):
+        import io
+
+        import tifffile
+
+        try:
+            with tifffile.TiffFile(io.BytesIO(data)) as tf:
+                n = len(tf.pages)
+        except Exception:  # not a TIFF: the reader says so below
+            return None
+        if n > 1:
+            return f"a multi-page TIFF ({n} pages); give one frame per file"
+    return None
+
+
+def _read_pillow(data: bytes) -> np.ndarray:
+    """A PNG or JPEG through Pillow, CMYK (and other colour spaces) converted to RGB, palettes expanded."""
+    import io
+
+    from PIL import Image
+
+    with Image.open(io.BytesIO(data)) as im:
+        if im.mode in ("CMYK", "YCbCr", "LAB", "HSV", "P", "PA", "1"):
+            im = im.convert("RGBA" if im.mode == "PA" or (im.mode == "P" and "transparency" in im.info) else "RGB")
+        return np.asarray(im)
 
 
 def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarray:

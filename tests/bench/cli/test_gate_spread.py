@@ -122,9 +122,14 @@ def test_bad_arguments_are_one_line_and_exit_2(tmp_path, capsys):
 
 def test_format_1_is_upgraded_on_reading(tmp_path):
     p = tmp_path / "b.json"
-    p.write_text(json.dumps({"format": 1, "metrics": {"e/t/all": {"px_mae": 0.1}}, "variants": ["llvm_ad_mono"]}))
+    cfg = {"seed": 0, "render": {}, "experiments": []}
+    p.write_text(json.dumps({"format": 1, "metrics": {"e/t/all": {"px_mae": 0.1}}, "variants": ["llvm_ad_mono"],
+                             "config": cfg}))
     doc = gate.load_baseline(p)
     assert (doc["format"], doc["renderer"], doc["tolerance_source"]) == (gate.FORMAT, "", "defaults")
+    p.write_text(json.dumps({"format": 1, "metrics": {"e/t/all": {"px_mae": 0.1}}, "config": None}))
+    with pytest.raises(ValueError, match="`config` must be the object of the run it was made from"):
+        gate.load_baseline(p)  # a null config would skip the comparability check
 
 
 @pytest.mark.parametrize("fmt", [0, 3, 99])

@@ -248,3 +248,36 @@ def test_the_condition_column_is_read_not_ignored(tmp_path):
     assert real.ignored_columns(tmp_path) == []
     shipped = {im.name: im.meta["condition"] for im in real.load_dataset(real.SHIPPED)}
     assert all(shipped.values()), "every shipped photograph carries a class"
+
+
+def _png16_rgb(h: int, w: int, value: int) -> bytes:
+    """A 16-bit RGB PNG written by hand (Pillow cannot write one)."""
+    import struct
+    import zlib
+
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+
+    row = b"\x00" + struct.pack(">H", value) * (3 * w)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 16, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(row * h)) + chunk(b"IEND", b""))
+
+
+def test_cmyk_16_bit_colour_png_and_multi_page_tiff(tmp_path):
+    from PIL import Image
+
+    rgb = np.zeros((6, 8, 3), np.uint8)
+    rgb[:, 3] = (250, 20, 10)
+    Image.fromarray(rgb).convert("CMYK").save(tmp_path / "c.jpg", quality=100)
+    back = real.read_image(tmp_path / "c.jpg")  # converted to RGB, not read as 4 channels
+    assert back.shape == (6, 8, 3) and back[:, 3, 0].min() > 200 and back[:, 0].max() < 40
+    (tmp_path / "d.png").write_bytes(_png16_rgb(6, 8, 40000))  # refused, not read as zeros
+    with pytest.raises(real.ImageError, match="a 16-bit colour PNG is not supported"):
+        real.read_image(tmp_path / "d.png")
+    with tifffile.TiffWriter(tmp_path / "two.tif") as w:
+        w.write(np.zeros((6, 8), np.uint16))
+        w.write(np.ones((6, 8), np.uint16))
+    with pytest.raises(real.ImageError, match=r"a multi-page TIFF \(2 pages\); give one frame per file"):
+        real.read_image(tmp_path / "two.tif")
+    tifffile.imwrite(tmp_path / "one.tif", np.full((6, 8), 7, np.uint16))
+    assert real.read_image(tmp_path / "one.tif").dtype == np.uint16

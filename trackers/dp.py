@@ -450,8 +450,8 @@ class DPTracker(Tracker):
         contrast = np.empty(H)
         side_sd = np.empty(H)
         span = np.empty(H, dtype=np.int64)
-        R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), ROW_RULES[self.row_rule],
-                      col, contrast, side_sd, span)
+        R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer),
+                      ROW_RULES[self.row_rule], col, contrast, side_sd, span)
         vmax = float(image.max())
         vmin = float(image.min())
         finite_sd = side_sd[np.isfinite(side_sd)]

@@ -30,7 +30,8 @@ from . import _dp_rows as R
 from ._base import Track
 from ._params import Choice, Real, check_real
 from ._validation import check_image
-from .dp import _TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight, _half_cost
+from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight,
+                 _half_cost)
 
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
@@ -284,8 +285,8 @@ def _report(tracker, image, mark, rows, cols):
     contrast = np.empty(H)
     side_sd = np.empty(H)
     span = np.empty(H, dtype=np.int64)
-    R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer), ROW_RULES[tracker.row_rule],
-                  col, contrast, side_sd, span)
+    R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer),
+                  ROW_RULES[tracker.row_rule], col, contrast, side_sd, span)
     vmax = float(image.max())
     vmin = float(image.min())
     finite_sd = side_sd[np.isfinite(side_sd)]

@@ -27,7 +27,6 @@ import numpy as np
 
 from . import _dp_gap as G
 from . import _dp_rows as R
-from ._base import Track
 from ._params import Choice, Real, check_real
 from ._validation import check_image
 from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight,

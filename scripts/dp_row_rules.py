@@ -14,24 +14,28 @@ seeded; and rendered frames of the sphere and the plane (seed 1, 512x480,
 at h_weight 1 and 0.1: reported rows, rows off by more than 3 px (of the reported), median and
 worst error in px.
 
-Run: ``.venv/bin/python scripts/dp_row_rules.py [--no-render]``.
+The rules are the DP trackers' documented parameters ``row_rule`` and
+``max_walk`` (:class:`trackers.dp.DPTracker`); the default is ``crossing``.
+
+Run with the project's Python: ``python scripts/dp_row_rules.py [--no-render]``.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, ".")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 
 import trackers  # noqa: E402
-from trackers import _dp_rows as K  # noqa: E402
 from trackers.testing import make_stripe_image  # noqa: E402
 
-RULES = {"mean": (K.RULE_MEAN, None), "crossing": (K.RULE_CROSSING, None), "brightest": (K.RULE_BRIGHTEST, None),
-         "crossing+walk5": (K.RULE_CROSSING, 5)}
+#: label -> (row_rule, max_walk) of the DP trackers
+RULES = {"mean": ("mean", None), "crossing": ("crossing", None), "brightest": ("brightest", None),
+         "crossing+walk5": ("crossing", 5)}
 
 
 def synthetic(n=6):
@@ -69,10 +73,8 @@ def rendered():
 
 
 def measure(frames, name, h_weight):
-    for rule, (code, walk) in RULES.items():
-        t = trackers.make(name, h_weight=h_weight)
-        t._row_rule = code
-        t._max_walk = walk
+    for rule, (row_rule, walk) in RULES.items():
+        t = trackers.make(name, h_weight=h_weight, row_rule=row_rule, max_walk=walk)
         errs, reported, lit = [], 0, 0
         for img, truth in frames:
             cols = t.track(img).columns

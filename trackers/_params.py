@@ -19,7 +19,8 @@ import math
 import numbers
 from dataclasses import dataclass
 
-__all__ = ["check_real", "check_int", "check_optional_real", "check_choice", "Real", "Int", "Choice", "Bool"]
+__all__ = ["check_real", "check_int", "check_optional_real", "check_choice", "Real", "Int", "Choice", "Bool",
+           "StrList"]
 
 
 def check_real(name: str, value, *, low=None, high=None, low_open=False, high_open=False) -> None:
@@ -47,8 +48,10 @@ def check_int(name: str, value, *, low=None) -> None:
 
 
 def check_choice(name: str, value, choices) -> None:
-    """Raise ``ValueError`` unless ``value`` is one of ``choices`` (strings)."""
-    if not isinstance(value, str) or value not in choices:
+    """Raise ``ValueError`` unless ``value`` is one of ``choices`` (strings, or integers: then
+    an integer of equal value, not a bool)."""
+    kinds = (str,) if all(isinstance(c, str) for c in choices) else (numbers.Integral,)
+    if isinstance(value, bool) or not isinstance(value, kinds) or value not in choices:
         listed = ", ".join(repr(c) for c in sorted(choices))
         raise ValueError(f"`{name}` must be one of {listed}, got {value!r}")
 
@@ -130,7 +133,7 @@ class Int:
 
 @dataclass(frozen=True)
 class Choice:
-    """One of a set of strings.
+    """One of a set of strings (or of integers, e.g. ``Choice(frozenset({4, 8}))``; not bools).
 
     Examples
     --------
@@ -146,7 +149,9 @@ class Choice:
         check_choice(name, value, self.values)
 
     def invalid(self) -> list:
-        return ["not-one-of-them", 1, None]
+        if all(isinstance(c, str) for c in self.values):
+            return ["not-one-of-them", 1, None]
+        return [max(self.values) + 1, str(min(self.values)), float(min(self.values)) + 0.5, True, None]
 
 
 @dataclass(frozen=True)
@@ -160,3 +165,24 @@ class Bool:
     def invalid(self) -> list:
         return [1, "yes", None]
 
+
+
+@dataclass(frozen=True)
+class StrList:
+    """A non-empty list or tuple of strings (a command line).
+
+    Examples
+    --------
+    >>> StrList().check("command", ["prog", "--fast"])
+    >>> StrList().check("command", [])
+    Traceback (most recent call last):
+    ...
+    ValueError: `command` must be a non-empty list of strings, got []
+    """
+
+    def check(self, name: str, value) -> None:
+        if not (isinstance(value, (list, tuple)) and value and all(isinstance(a, str) for a in value)):
+            raise ValueError(f"`{name}` must be a non-empty list of strings, got {value!r}")
+
+    def invalid(self) -> list:
+        return [[], "prog", ["prog", 1], None]

@@ -29,7 +29,7 @@ class PeakTracker(ThresholdTracker):
     def _estimator_args(self) -> tuple[float, int]:
         return 0.0, 0
 
-    def _track(self, image, background):
+    def find_stripe(self, image, background):
         d = self.detect(image)
         H = image.shape[0]
         columns = np.empty(H)

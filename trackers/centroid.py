@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._params import check_int, check_real
+from ._params import Int, Real
 from ._peak import PeakTracker
 from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE
 
@@ -48,10 +48,8 @@ class CentroidTracker(PeakTracker):
         self.frac = frac
         self.half_window = half_window
 
-    def _validate_params(self):
-        super()._validate_params()
-        check_real("frac", self.frac, low=0, high=1, high_open=True)
-        check_int("half_window", self.half_window, low=0)
+    parameter_constraints = {**PeakTracker.parameter_constraints, "frac": Real(low=0, high=1, high_open=True),
+                             "half_window": Int(low=0)}
 
     def _estimator_args(self):
         return float(self.frac), int(self.half_window)

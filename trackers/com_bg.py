@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import Track
-from ._params import check_int, check_real
+from ._params import Int, Real
 from ._subpixel import ESTIMATORS, refine
 from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE, ThresholdTracker
 
@@ -87,12 +87,10 @@ class ComBgTracker(ThresholdTracker):
         self.frac = frac
         self.half_window = half_window
 
-    def _validate_params(self):
-        super()._validate_params()
-        check_real("frac", self.frac, low=0, high=1, high_open=True)
-        check_int("half_window", self.half_window, low=0)
+    parameter_constraints = {**ThresholdTracker.parameter_constraints, "frac": Real(low=0, high=1, high_open=True),
+                             "half_window": Int(low=0)}
 
-    def _track(self, image, background):
+    def find_stripe(self, image, background):
         if background is None:  # a flat laser-off frame: each row's own level
             d = self.detect(image)
             diff = np.subtract(image, d.bg[:, None], dtype=np.float64)

@@ -37,8 +37,11 @@ import numpy as np
 from . import _dp_kernels as K
 from . import _dp_rows as R
 from ._base import Track, Tracker
-from ._params import check_int, check_real
+from ._params import Bool, Choice, Int, Real, check_real
 from ._validation import check_background, check_image
+
+#: The row rules a DP tracker's ``row_rule`` names (the kernel's codes, :mod:`trackers._dp_rows`).
+ROW_RULES = {"crossing": R.RULE_CROSSING, "mean": R.RULE_MEAN, "brightest": R.RULE_BRIGHTEST}
 
 __all__ = [
     "DEFAULT_H_WEIGHT",
@@ -368,19 +371,21 @@ class DPTracker(Tracker):
     use_background : bool, default True
         Track the difference ``image - background`` when a laser-off frame
         is given (see *Background* above); False ignores it.
+    row_rule : {"crossing", "mean", "brightest"}, default "crossing"
+        Which column a row reports (see *Row rule* above): the brightest
+        crossing node (the default), the mean column of the row's
+        optimal-path nodes (the old rule), or the brightest of them.
+        The others are kept for the comparison in ``scripts/dp_row_rules.py``.
+    max_walk : int or None, default None
+        Rows whose optimal-path nodes span more than ``max_walk`` columns are
+        not reported (None: any span; >= 0).
     """
 
     connectivity = 4
     uses_background = True
 
-    #: The row rule (``R.RULE_*``) and the longest walk, in columns, a row may
-    #: hold and still be reported (None: any); class attributes so that the
-    #: measurement in ``bench/studies/perf/dp_rows.py`` can compare the rules.
-    _row_rule = R.RULE_CROSSING
-    _max_walk = None
-
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 h_weight=DEFAULT_H_WEIGHT, use_background=True):
+                 h_weight=DEFAULT_H_WEIGHT, use_background=True, row_rule="crossing", max_walk=None):
         self.eps = eps
         self.h_weight = h_weight
         self.k_sigma = k_sigma
@@ -389,20 +394,20 @@ class DPTracker(Tracker):
         self.side_inner = side_inner
         self.side_outer = side_outer
         self.use_background = use_background
+        self.row_rule = row_rule
+        self.max_walk = max_walk
 
-    def _validate_params(self):
-        check_real("eps", self.eps, low=0, low_open=True)
-        _check_h_weight(self.h_weight)
-        check_real("k_sigma", self.k_sigma, low=0)
-        check_real("min_support", self.min_support, low=0, high=1)
-        if self.max_gap is not None:
-            check_int("max_gap", self.max_gap, low=0)
-        check_int("side_inner", self.side_inner, low=1)
-        check_int("side_outer", self.side_outer, low=1)
+    parameter_constraints = {"eps": Real(low=0, low_open=True), "k_sigma": Real(low=0),
+                             "min_support": Real(low=0, high=1), "max_gap": Int(low=0, optional=True),
+                             "side_inner": Int(low=1), "side_outer": Int(low=1),
+                             "h_weight": Real(low=0, low_open=True), "use_background": Bool(),
+                             "row_rule": Choice(frozenset(ROW_RULES)), "max_walk": Int(low=0, optional=True)}
+
+    def validate_params(self):
+        """The parameters' constraints (:attr:`parameter_constraints`), then ``side_outer >= side_inner``."""
+        super().validate_params()
         if self.side_outer < self.side_inner:
             raise ValueError(f"`side_outer` must be >= `side_inner` ({self.side_inner}), got {self.side_outer!r}")
-        if not isinstance(self.use_background, bool):
-            raise ValueError(f"`use_background` must be True or False, got {self.use_background!r}")
 
     def seen_frame(self, image: np.ndarray, background: np.ndarray | None) -> np.ndarray:
         """The frame the DP works on: ``image`` itself, or ``image - background``
@@ -445,8 +450,8 @@ class DPTracker(Tracker):
         contrast = np.empty(H)
         side_sd = np.empty(H)
         span = np.empty(H, dtype=np.int64)
-        R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer), int(self._row_rule),
-                      col, contrast, side_sd, span)
+        R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer),
+                      ROW_RULES[self.row_rule], col, contrast, side_sd, span)
         vmax = float(image.max())
         vmin = float(image.min())
         finite_sd = side_sd[np.isfinite(side_sd)]
@@ -471,11 +476,11 @@ class DPTracker(Tracker):
                     if r - gap_start > self.max_gap:
                         report[gap_start:r] = False
                     gap_start = None
-        if self._max_walk is not None:
-            report &= span <= self._max_walk
+        if self.max_walk is not None:
+            report &= span <= self.max_walk
         return col, z, support, report
 
-    def _track(self, image, background):
+    def find_stripe(self, image, background):
         rows = self._path_rows(self.seen_frame(image, background))
         if rows is None:
             return Track.empty(image.shape[0])

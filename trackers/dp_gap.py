@@ -27,10 +27,10 @@ import numpy as np
 
 from . import _dp_gap as G
 from . import _dp_rows as R
-from ._base import Track
-from ._params import check_real
+from ._params import Choice, Real, check_real
 from ._validation import check_image
-from .dp import _TIE_TOL, DEFAULT_H_WEIGHT, DPTracker, _check_connectivity, _check_cost, _check_h_weight, _half_cost
+from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight,
+                 _half_cost)
 
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
@@ -199,7 +199,7 @@ class DPGapTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background
+    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
         As for :class:`~trackers.dp.DPTracker`.
     connectivity : {4, 8}, default 8
     off_rel : float, default :data:`DEFAULT_OFF_REL`
@@ -221,21 +221,16 @@ class DPGapTracker(DPTracker):
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
                  h_weight=DEFAULT_H_WEIGHT, use_background=True, connectivity=8, off_rel=DEFAULT_OFF_REL,
-                 switch_rows=DEFAULT_SWITCH_ROWS):
+                 switch_rows=DEFAULT_SWITCH_ROWS, row_rule="crossing", max_walk=None):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
-                         use_background=use_background)
+                         use_background=use_background, row_rule=row_rule, max_walk=max_walk)
         self.connectivity = connectivity
         self.off_rel = off_rel
         self.switch_rows = switch_rows
 
-    def _validate_params(self):
-        super()._validate_params()
-        _check_connectivity(self.connectivity)
-        check_real("off_rel", self.off_rel, low=0, high=1)
-        check_real("switch_rows", self.switch_rows, low=0)
-        if not np.isfinite(self.switch_rows):
-            raise ValueError(f"`switch_rows` must be finite, got {self.switch_rows!r}")
+    parameter_constraints = {**DPTracker.parameter_constraints, "connectivity": Choice(frozenset({4, 8})),
+                             "off_rel": Real(low=0, high=1), "switch_rows": Real(low=0)}
 
     def off_costs(self, image: np.ndarray, rowmin: np.ndarray) -> tuple[float, float]:
         """The off node's cost and the switch cost for a frame.
@@ -289,8 +284,8 @@ def _report(tracker, image, mark, rows, cols):
     contrast = np.empty(H)
     side_sd = np.empty(H)
     span = np.empty(H, dtype=np.int64)
-    R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer), int(tracker._row_rule),
-                  col, contrast, side_sd, span)
+    R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer),
+                  ROW_RULES[tracker.row_rule], col, contrast, side_sd, span)
     vmax = float(image.max())
     vmin = float(image.min())
     finite_sd = side_sd[np.isfinite(side_sd)]
@@ -314,5 +309,7 @@ def _report(tracker, image, mark, rows, cols):
                 if r - gap_start > tracker.max_gap:
                     report[gap_start:r] = False
                 gap_start = None
+    if tracker.max_walk is not None:
+        report &= span <= tracker.max_walk
     report &= ~np.isnan(col)
     return col, z, support, report

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import Track
-from ._params import check_choice, check_int, check_real
+from ._params import Choice, Int, Real
 from ._stats import robust_level
 from ._subpixel import ESTIMATORS, refine
 from .dp import DEFAULT_H_WEIGHT, DPTracker
@@ -40,7 +40,7 @@ class DPSubpixelTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background
+    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
         As for :class:`~trackers.dp.DPTracker`.
     estimator : {'gauss3', 'parabolic', 'blais_rioux', 'centroid'}, default 'blais_rioux'
         The sub-pixel estimator (see ``docs/estimators.png``).
@@ -62,23 +62,20 @@ class DPSubpixelTracker(DPTracker):
 
     def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
                  estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=DEFAULT_H_WEIGHT,
-                 use_background=True):
+                 use_background=True, row_rule="crossing", max_walk=None):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
-                         use_background=use_background)
+                         use_background=use_background, row_rule=row_rule, max_walk=max_walk)
         self.estimator = estimator
         self.search = search
         self.frac = frac
         self.half_window = half_window
 
-    def _validate_params(self):
-        super()._validate_params()
-        check_choice("estimator", self.estimator, _CHOICES)
-        check_int("search", self.search, low=0)
-        check_real("frac", self.frac, low=0, high=1, high_open=True)
-        check_int("half_window", self.half_window, low=0)
+    parameter_constraints = {**DPTracker.parameter_constraints, "estimator": Choice(frozenset(_CHOICES)),
+                             "search": Int(low=0), "frac": Real(low=0, high=1, high_open=True),
+                             "half_window": Int(low=0)}
 
-    def _track(self, image, background):
+    def find_stripe(self, image, background):
         image = self.seen_frame(image, background)
         H = image.shape[0]
         rows = self._path_rows(image)

@@ -42,6 +42,7 @@ import zlib
 import numpy as np
 
 from ._base import Track, Tracker
+from ._params import Choice, Real, StrList
 
 __all__ = ["ExternalTracker", "png_bytes", "parse_answer"]
 
@@ -145,17 +146,14 @@ class ExternalTracker(Tracker):
         self.image_format = image_format
         self.timeout_s = timeout_s
 
+    parameter_constraints = {"command": StrList(), "mode": Choice(frozenset(MODES)),
+                             "image_format": Choice(frozenset(FORMATS)),
+                             "timeout_s": Real(low=0, low_open=True, optional=True)}
+
     def validate_params(self) -> None:
+        """The parameters' constraints, then: a persistent program's command takes no placeholders."""
+        super().validate_params()
         c = self.command
-        if not (isinstance(c, (list, tuple)) and c and all(isinstance(a, str) for a in c)):
-            raise ValueError(f"`command` must be a non-empty list of strings, got {c!r}")
-        if self.mode not in MODES:
-            raise ValueError(f"`mode` must be one of {', '.join(MODES)}, got {self.mode!r}")
-        if self.image_format not in FORMATS:
-            raise ValueError(f"`image_format` must be one of {', '.join(FORMATS)}, got {self.image_format!r}")
-        t = self.timeout_s
-        if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float)) or not 0 < t < float("inf")):
-            raise ValueError(f"`timeout_s` must be a finite number of seconds > 0 or None, got {t!r}")
         if self.mode == "persistent" and any(p in a for a in c for p in ("{image}", "{background}", "{out}")):
             raise ValueError(f"`command` of a persistent program takes no placeholders, got {list(c)!r}")
 

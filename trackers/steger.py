@@ -9,7 +9,7 @@ from numba import njit
 from scipy import ndimage as ndi
 
 from ._base import Track
-from ._params import check_optional_real, check_real
+from ._params import Real
 from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE, ThresholdTracker
 
 __all__ = ["StegerTracker", "gaussian_derivatives", "default_sigma", "acceptance", "estimate_width",
@@ -307,13 +307,10 @@ class StegerTracker(ThresholdTracker):
         self.width = width
         self.max_tilt = max_tilt
 
-    def _validate_params(self):
-        super()._validate_params()
-        check_optional_real("sigma", self.sigma, low=0.5, low_open=True, high=64)
-        check_optional_real("width", self.width, low=0, low_open=True, high=256)
-        check_real("max_tilt", self.max_tilt, low=0, high=90)
-        if self.max_tilt >= 90:
-            raise ValueError(f"`max_tilt` must be < 90, got {self.max_tilt!r}")
+    parameter_constraints = {**ThresholdTracker.parameter_constraints,
+                             "sigma": Real(low=0.5, low_open=True, high=64, optional=True),
+                             "width": Real(low=0, low_open=True, high=256, optional=True),
+                             "max_tilt": Real(low=0, high=90, high_open=True)}
 
     def scale(self, image=None) -> float:
         """The derivative filters' scale in pixels (for ``image``, a validated
@@ -327,7 +324,7 @@ class StegerTracker(ThresholdTracker):
             return max(0.6, default_sigma(FALLBACK_WIDTH))
         return max(0.6, SCALE_PER_WIDTH * estimate_width(image, float(self.k_sigma), float(self.prominence)))
 
-    def _track(self, image, background):
+    def find_stripe(self, image, background):
         from ._detect import detect_rows
 
         H, W = image.shape

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import Track, Tracker
-from ._params import check_optional_real, check_real
+from ._params import Real
 
 __all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE"]
 
@@ -64,10 +64,8 @@ class ThresholdTracker(Tracker):
         self.k_sigma = k_sigma
         self.prominence = prominence
 
-    def _validate_params(self):
-        check_optional_real("threshold", self.threshold)
-        check_real("k_sigma", self.k_sigma, low=0, high=1e6)
-        check_real("prominence", self.prominence, low=0, high=1e6)
+    parameter_constraints = {"threshold": Real(optional=True), "k_sigma": Real(low=0, high=1e6),
+                             "prominence": Real(low=0, high=1e6)}
 
     def detect(self, image):
         """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`)."""
@@ -75,7 +73,7 @@ class ThresholdTracker(Tracker):
 
         return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold)
 
-    def _track(self, image, background):
+    def find_stripe(self, image, background):
         d = self.detect(image)
         columns = np.where(d.hit, d.mid.astype(np.float64), np.nan)
         score = np.where(d.hit, d.score, np.nan)

@@ -108,3 +108,55 @@ def test_a_tracker_without_parameters():
             return Track.empty(image.shape[0])
 
     assert Bare().get_params() == {} and repr(Bare()) == "Bare()"
+
+
+def test_an_old_plugin_overriding_only_the_private_hooks_still_works():
+    # _Echo overrides only `_track` and `_validate_params` (the contract before find_stripe)
+    img = np.zeros((3, 8), np.uint8)
+    img[:, 5] = 200
+    t = _Echo(offset=0.5)
+    assert t.track(img).columns.tolist() == [5.5, 5.5, 5.5]
+    assert t.find_stripe(img, None).columns.tolist() == [5.5, 5.5, 5.5]  # the public hook calls `_track`
+    with pytest.raises(ValueError, match=r"`offset` must be >= 0, got -1"):
+        _Echo(offset=-1).track(img)  # track() still calls the overridden `_validate_params`
+
+
+def test_a_plugin_on_the_public_contract_works():
+    from trackers._params import Int, Real
+    from trackers.testing import check_parameter_constraints
+
+    class Shifted(Tracker):
+        name = "shifted"
+        parameter_constraints = {"offset": Real(low=0), "step": Int(low=1)}
+
+        def __init__(self, offset=0.0, step=1):
+            self.offset, self.step = offset, step
+
+        def validate_params(self):
+            super().validate_params()
+            if self.offset >= self.step:
+                raise ValueError(f"`offset` must be < `step` ({self.step}), got {self.offset!r}")
+
+        def find_stripe(self, image, background):
+            cols = np.argmax(image, axis=1).astype(float) + self.offset
+            return Track(cols, np.ones_like(cols))
+
+    img = np.zeros((2, 8), np.uint8)
+    img[:, 2] = 90
+    assert Shifted(offset=0.25).track(img).columns.tolist() == [2.25, 2.25]
+    with pytest.raises(ValueError, match=r"`offset` must be >= 0, got -0.5"):  # the table
+        Shifted(offset=-0.5).track(img)
+    with pytest.raises(ValueError, match=r"`offset` must be < `step` \(1\), got 1.5"):  # the cross rule
+        Shifted(offset=1.5).track(img)
+    check_parameter_constraints(Shifted())
+
+
+def test_every_built_in_tracker_is_on_the_public_contract():
+    import trackers
+
+    for name in trackers.available(unlisted=True):
+        cls = type(trackers.make(name))
+        hooks = [k for c in cls.__mro__ if c is not Tracker for k in vars(c) if k in ("_track", "_validate_params")]
+        assert not hooks, f"{name} still overrides the private hook(s) {hooks}"
+        assert cls.find_stripe is not Tracker.find_stripe, name
+        assert cls.parameter_constraints, name

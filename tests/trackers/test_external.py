@@ -138,3 +138,13 @@ def test_bad_params_are_named(params, match):
 def test_parse_answer_ignores_a_header_and_empty_cols():
     tr = parse_answer("row,col,score\n0,1.5,2\n1,,\n", 3)
     assert tr.columns[0] == 1.5 and tr.score[0] == 2.0 and np.isnan(tr.columns[1:]).all()
+
+
+def test_the_parameter_table_holds_for_the_external_tracker():
+    import sys
+
+    from trackers.testing import check_parameter_constraints
+
+    t = ExternalTracker([sys.executable, "-c", "open(r'{out}', 'w').write('0,2\\n')"])
+    check_parameter_constraints(t)
+    t.close()

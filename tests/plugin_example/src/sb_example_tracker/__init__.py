@@ -10,7 +10,7 @@ True
 
 import numpy as np
 
-from trackers import Track, Tracker
+from trackers import Real, Track, Tracker
 
 __all__ = ["ExamplePeakTracker"]
 
@@ -31,11 +31,9 @@ class ExamplePeakTracker(Tracker):
     subpixel = True
 
     def __init__(self, min_dn=20.0):
-        self.min_dn = min_dn  # stored unchanged: validated in validate_params
+        self.min_dn = min_dn  # stored unchanged: track() checks it against parameter_constraints
 
-    def validate_params(self):
-        if not np.isfinite(self.min_dn) or self.min_dn < 0:
-            raise ValueError(f"`min_dn` must be a finite number >= 0, got {self.min_dn!r}")
+    parameter_constraints = {"min_dn": Real(low=0)}  # a finite real >= 0
 
     def find_stripe(self, image, background):
         img = image.astype(np.float64)

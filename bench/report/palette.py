@@ -16,7 +16,7 @@ TRACKER_COLOURS = {
     "dp8_iso": "#9edae5", "gauss3": "#ff7f0e", "parabolic": "#ffbb78", "blais_rioux": "#9467bd",
     "steger": "#8c564b", "com_bg": "#e377c2", "dp8_subpixel": "#1f77b4",
     # the paper profile's other readings of the method without DP (bench/evaluate/readings.py)
-    "threshold_gaps": "#595959", "argmax": "#d62728",
+    "threshold_gaps": "#595959", "argmax": "#d62728", "dp4_oneframe": "#006d2c", "dp_gap": "#bcbd22",
 }
 _PALETTE = ["#d62728", "#bcbd22", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd", "#e6550d",
             "#31a354", "#756bb1", "#636363"]

@@ -292,6 +292,46 @@ def shortest_path_reference(cost, connectivity: int = 4, max_iter: int | None = 
     return rows, cols, total
 
 
+def _reporting_rule(image, contrast, side_sd, span, tracker):
+    """The reporting rule of the DP trackers (and ``dp_gap``) on a path's row readings.
+
+    ``contrast`` and ``side_sd`` (H,) are each row's contrast of the path's column and the
+    spread of its sides, ``span`` (H,) the columns the path walks in the row. A row
+    *supports* the path when its contrast is above ``tracker.k_sigma`` times the frame's
+    median side spread; too few supporting rows (``tracker.min_support``) mean no stripe
+    (None). Otherwise the rows from the first to the last supporting one are reported,
+    less gaps of unsupported rows longer than ``tracker.max_gap`` and rows walking more
+    than ``tracker.max_walk`` columns. Returns ``(z, support, report)``, all (H,).
+    """
+    H = image.shape[0]
+    vmax = float(image.max())
+    vmin = float(image.min())
+    finite_sd = side_sd[np.isfinite(side_sd)]
+    s = float(np.median(finite_sd)) if finite_sd.size else 0.0
+    s = max(s, 1e-3 * (vmax - vmin), np.finfo(np.float64).tiny)
+    z = contrast / s
+    support = z > tracker.k_sigma
+    if int(np.count_nonzero(support)) < max(3, tracker.min_support * H):
+        return None
+    first = int(np.argmax(support))
+    last = H - 1 - int(np.argmax(support[::-1]))
+    report = np.zeros(H, dtype=bool)
+    report[first : last + 1] = True
+    if tracker.max_gap is not None:
+        gap_start = None
+        for r in range(first, last + 1):
+            if not support[r]:
+                if gap_start is None:
+                    gap_start = r
+            elif gap_start is not None:
+                if r - gap_start > tracker.max_gap:
+                    report[gap_start:r] = False
+                gap_start = None
+    if tracker.max_walk is not None:
+        report &= span <= tracker.max_walk
+    return z, support, report
+
+
 class DPTracker(Tracker):
     """Minimum-cost path tracker; use :class:`DP4Tracker` or :class:`DP8Tracker`.
 
@@ -452,33 +492,8 @@ class DPTracker(Tracker):
         span = np.empty(H, dtype=np.int64)
         R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer),
                       ROW_RULES[self.row_rule], col, contrast, side_sd, span)
-        vmax = float(image.max())
-        vmin = float(image.min())
-        finite_sd = side_sd[np.isfinite(side_sd)]
-        s = float(np.median(finite_sd)) if finite_sd.size else 0.0
-        s = max(s, 1e-3 * (vmax - vmin), np.finfo(np.float64).tiny)
-        z = contrast / s
-        support = z > self.k_sigma
-        n_support = int(np.count_nonzero(support))
-        if n_support < max(3, self.min_support * H):
-            return None
-        first = int(np.argmax(support))
-        last = H - 1 - int(np.argmax(support[::-1]))
-        report = np.zeros(H, dtype=bool)
-        report[first : last + 1] = True
-        if self.max_gap is not None:
-            gap_start = None
-            for r in range(first, last + 1):
-                if not support[r]:
-                    if gap_start is None:
-                        gap_start = r
-                elif gap_start is not None:
-                    if r - gap_start > self.max_gap:
-                        report[gap_start:r] = False
-                    gap_start = None
-        if self.max_walk is not None:
-            report &= span <= self.max_walk
-        return col, z, support, report
+        rule = _reporting_rule(image, contrast, side_sd, span, self)
+        return None if rule is None else (col,) + rule
 
     def find_stripe(self, image, background):
         rows = self._path_rows(self.seen_frame(image, background))

@@ -30,7 +30,7 @@ from . import _dp_rows as R
 from ._params import Choice, Real, check_real
 from ._validation import check_image
 from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight,
-                 _half_cost)
+                 _half_cost, _reporting_rule)
 
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
@@ -286,30 +286,9 @@ def _report(tracker, image, mark, rows, cols):
     span = np.empty(H, dtype=np.int64)
     R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer),
                   ROW_RULES[tracker.row_rule], col, contrast, side_sd, span)
-    vmax = float(image.max())
-    vmin = float(image.min())
-    finite_sd = side_sd[np.isfinite(side_sd)]
-    s = float(np.median(finite_sd)) if finite_sd.size else 0.0
-    s = max(s, 1e-3 * (vmax - vmin), np.finfo(np.float64).tiny)
-    z = contrast / s
-    support = z > tracker.k_sigma
-    if int(np.count_nonzero(support)) < max(3, tracker.min_support * H):
+    rule = _reporting_rule(image, contrast, side_sd, span, tracker)
+    if rule is None:
         return None
-    first = int(np.argmax(support))
-    last = H - 1 - int(np.argmax(support[::-1]))
-    report = np.zeros(H, dtype=bool)
-    report[first : last + 1] = True
-    if tracker.max_gap is not None:
-        gap_start = None
-        for r in range(first, last + 1):
-            if not support[r]:
-                if gap_start is None:
-                    gap_start = r
-            elif gap_start is not None:
-                if r - gap_start > tracker.max_gap:
-                    report[gap_start:r] = False
-                gap_start = None
-    if tracker.max_walk is not None:
-        report &= span <= tracker.max_walk
+    z, support, report = rule
     report &= ~np.isnan(col)
     return col, z, support, report

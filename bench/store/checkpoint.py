@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.store.files import array_checksum, clear_non_file, non_file_kind, read_npz, save_npz
+from bench.store.files import array_checksum, non_file_reason, read_npz, save_npz
 
 __all__ = ["FORMAT", "STATUS", "FALSE_K", "ScanResult", "read_checkpoint", "write_checkpoint", "verify_checkpoint"]
 
@@ -196,12 +196,9 @@ def read_checkpoint(path, key: str = "", *, clear_bad: bool = False) -> tuple[Sc
     (None, None)
     """
     path = Path(path)
-    kind = non_file_kind(path)
-    if kind is not None:
-        if clear_bad:
-            clear_non_file(path)
-            return None, f"{kind}, not a file (removed)"
-        return None, f"{kind}, not a file"
+    why = non_file_reason(path, clear_bad)
+    if why is not None:
+        return None, why
     arrays, why = read_npz(path)
     if arrays is None:
         return None, None if why is None else f"unreadable ({why})"

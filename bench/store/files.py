@@ -22,7 +22,7 @@ import numpy as np
 from bench.errors import StripebenchError
 
 __all__ = ["RunFolderError", "os_error", "atomic_write_bytes", "atomic_write_text", "save_npz", "load_npz",
-           "read_npz", "array_checksum", "json_checksum", "clear_non_file", "non_file_kind", "check_format",
+           "read_npz", "array_checksum", "json_checksum", "clear_non_file", "non_file_kind", "non_file_reason", "check_format",
            "config_hash", "runs_root"]
 
 
@@ -205,6 +205,19 @@ def clear_non_file(path) -> str | None:
         raise RunFolderError(f"{str(p)!r} is {kind} where stripebench keeps a file and cannot be removed "
                              f"({exc.strerror or exc}); remove it") from None
     return kind
+
+
+def non_file_reason(path, clear_bad: bool = False) -> str | None:
+    """Why a directory or other non-file stands where a file should (``"a directory, not a file"``;
+    with ``clear_bad`` it is removed and the reason ends in ``"(removed)"``), or None for a file
+    or nothing."""
+    kind = non_file_kind(path)
+    if kind is None:
+        return None
+    if clear_bad:
+        clear_non_file(path)
+        return f"{kind}, not a file (removed)"
+    return f"{kind}, not a file"
 
 
 def check_format(found: Any, supported: tuple[int, ...], what: str, path) -> int:

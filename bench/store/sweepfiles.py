@@ -24,8 +24,8 @@ import math
 from pathlib import Path
 from typing import Any
 
-from bench.store.files import (RunFolderError, atomic_write_bytes, atomic_write_text, clear_non_file, json_checksum,
-                               non_file_kind, os_error)
+from bench.store.files import (RunFolderError, atomic_write_bytes, atomic_write_text, json_checksum, non_file_reason,
+                               os_error)
 from bench.store.summary import read_summary
 
 __all__ = ["UNIT_FORMAT", "LAYOUT", "unit_path", "write_unit", "read_unit", "verify_unit", "write_sweep_table",
@@ -80,12 +80,9 @@ def read_unit(path, *, clear_bad: bool = False) -> tuple[dict | None, str | None
     (None, None)
     """
     path = Path(path)
-    kind = non_file_kind(path)
-    if kind is not None:
-        if clear_bad:
-            clear_non_file(path)
-            return None, f"{kind}, not a file (removed)"
-        return None, f"{kind}, not a file"
+    why = non_file_reason(path, clear_bad)
+    if why is not None:
+        return None, why
     if not path.exists():
         return None, None
     try:

@@ -1,7 +1,6 @@
 """The command tree and ``main`` (bench/cli/__init__.py): one parser, one-line errors, plain help,
 every documented bad input with its test."""
 
-import json
 import re
 import subprocess
 import sys
@@ -9,7 +8,7 @@ import sys
 import pytest
 
 from bench.cli import build_parser, main
-from cli_helpers import REPO, TOML, one_line_err
+from cli_helpers import REPO, one_line_err
 
 
 def test_bad_seed_is_a_usage_error():
@@ -65,21 +64,6 @@ def test_docs_errors_names_tests_that_exist():
     for module, name in refs:
         assert module in sources, module
         assert any(re.search(rf"^def {name}", s, re.M) for s in sources[module]), f"{module}::{name}"
-
-
-@pytest.mark.slow
-def test_no_render_ahead_turns_the_helper_off_and_resumes_the_same_run_folder(cli_run, capsys):
-    """``--no-render-ahead`` on two experiments: no helper; the flag is not part of the run's identity,
-    so it resumes (does not refuse) the folder of the same configuration run with the helper on."""
-    run_dir, _ = cli_run
-    cfg = run_dir.parent / "two.toml"
-    cfg.write_text(TOML + '[[experiments]]\nscene = "cone"\nmaterial = "patchy"\nn_angles = 2\n')
-    out = run_dir.parent / "two"
-    assert main(["run", str(cfg), "--out", str(out), "--quiet", "--no-report", "--no-render-ahead"]) == 0
-    assert json.loads((out / "summary.json").read_text())["render_ahead"] == {"off": "turned off"}
-    assert main(["run", str(cfg), "--out", str(out), "--quiet", "--no-report"]) == 0
-    ra = json.loads((out / "summary.json").read_text())["render_ahead"]
-    assert ra["started"] is False and ra["frames"] == 4  # resumed: every frame was done, no helper needed
 
 
 @pytest.mark.parametrize("setting, message", [

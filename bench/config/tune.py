@@ -35,7 +35,8 @@ from dataclasses import dataclass, field
 from bench.config import RENDER_KEYS, ConfigError, check_scene, read_toml, scene_override_keys
 
 __all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_RENDER_KEYS", "DEFAULT_PROFILE",
-           "GapProfile", "load_gap_profile", "GAP_TOP_KEYS", "GAP_DEFAULT_PROFILE"]
+           "GapProfile", "load_gap_profile", "GAP_TOP_KEYS", "GAP_DEFAULT_PROFILE", "TuneThresholdProfile",
+           "load_threshold_profile", "THRESHOLD_TOP_KEYS"]
 
 #: The committed profile of ``stripebench tune dp``.
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp.toml"
@@ -230,3 +231,83 @@ def load_gap_profile(path) -> GapProfile:
                     {k: v for k, v in e.items() if k not in ("scene", "material")})
     return GapProfile(str(data["name"]), seed, name, list(refs), off, sw, float(data["hit_px"]), float(data["tie"]),
                       dict(render), [dict(e) for e in exps])
+
+
+# ---------------------------------------------------------------------------------------------------- threshold
+
+THRESHOLD_TOP_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "min_recall", "trackers", "k_sigma",
+         "prominence", "frac", "colour_trackers", "colour_rules"}
+
+
+@dataclass
+class TuneThresholdProfile:
+    """A validated profile (see ``bench/config/profiles/tune_threshold.toml``)."""
+
+    name: str
+    seeds: list[int]
+    kinds: list[str]
+    real: bool
+    hit_px: float
+    tie: float
+    tie_px: float
+    min_recall: float
+    trackers: list[str]
+    k_sigma: list[float]
+    prominence: list[float]
+    frac: list[float]
+    colour_trackers: list[str]
+    colour_rules: list
+
+
+def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
+    """Read and validate a ``stripebench tune threshold`` profile; ``kinds`` are the hard-frame kinds
+    it may name (:data:`bench.studies.hard_frames.KINDS`).
+
+    Raises
+    ------
+    bench.config.ConfigError
+        A missing or unknown key or a bad value, named in the message (one line).
+    """
+    data = read_toml(pathlib.Path(path), "tuning profile")  # a regular UTF-8 file, bounded nesting
+    unknown = set(data) - THRESHOLD_TOP_KEYS
+    if unknown:
+        raise ConfigError(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(THRESHOLD_TOP_KEYS)}")
+    missing = sorted(THRESHOLD_TOP_KEYS - set(data))
+    if missing:
+        raise ConfigError(f"`profile` lacks the key(s) {missing}")
+    seeds = data["seeds"]
+    if not isinstance(seeds, list) or not seeds or any(isinstance(s, bool) or not isinstance(s, int) or s < 0
+                                                        for s in seeds):
+        raise ConfigError(f"`seeds` must be a non-empty list of integers >= 0, got {seeds!r}")
+    allowed = tuple(kinds)
+    kinds = data["kinds"]
+    if not isinstance(kinds, list) or not kinds or any(k not in allowed for k in kinds):
+        raise ConfigError(f"`kinds` must be a non-empty list of {', '.join(allowed)}, got {kinds!r}")
+    if not isinstance(data["real"], bool):
+        raise ConfigError(f"`real` must be true or false, got {data['real']!r}")
+    if isinstance(data["min_recall"], bool) or not isinstance(data["min_recall"], (int, float)) or not (
+            0 <= data["min_recall"] <= 1):
+        raise ConfigError(f"`min_recall` must be a number in [0, 1], got {data['min_recall']!r}")
+    for key in ("hit_px", "tie", "tie_px"):
+        v = data[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
+            raise ConfigError(f"`{key}` must be a number >= 0, got {v!r}")
+    import trackers
+
+    for key in ("trackers", "colour_trackers"):
+        names = data[key]
+        if not isinstance(names, list) or not names or any(n not in trackers.available() for n in names):
+            raise ConfigError(f"`{key}` must be a non-empty list of registered trackers, got {names!r}")
+    for n in data["trackers"]:
+        if not {"k_sigma", "prominence"} <= set(trackers.make(n).get_params()):
+            raise ConfigError(f"`trackers` must name trackers with k_sigma and prominence, got {n!r}")
+    rules = data["colour_rules"]
+    if (not isinstance(rules, list) or not rules or len(set(map(str, rules))) != len(rules)
+            or any(not (r in ("excess", "laser") or (not isinstance(r, bool) and isinstance(r, (int, float))
+                                                     and 0 <= r <= 1)) for r in rules)):
+        raise ConfigError(f"`colour_rules` must list distinct knees in [0, 1], 'excess' or 'laser', got {rules!r}")
+    return TuneThresholdProfile(
+        str(data["name"]), [int(s) for s in seeds], list(kinds), data["real"], float(data["hit_px"]),
+        float(data["tie"]), float(data["tie_px"]), float(data["min_recall"]), list(data["trackers"]), _grid(data, "k_sigma", 0),
+        _grid(data, "prominence", 0), _grid(data, "frac", 0, 0.99), list(data["colour_trackers"]),
+        [r if isinstance(r, str) else float(r) for r in rules])

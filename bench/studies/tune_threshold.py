@@ -29,53 +29,18 @@ import csv
 import json
 import pathlib
 import sys
-from dataclasses import dataclass
 
 import numpy as np
+
+from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
            "apply_rule", "run", "main"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
 DEFAULT_OUT = "results/runs/tune_threshold"
-_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "min_recall", "trackers", "k_sigma",
-         "prominence", "frac", "colour_trackers", "colour_rules"}
-
-
-@dataclass
-class TuneThresholdProfile:
-    """A validated profile (see ``bench/config/profiles/tune_threshold.toml``)."""
-
-    name: str
-    seeds: list[int]
-    kinds: list[str]
-    real: bool
-    hit_px: float
-    tie: float
-    tie_px: float
-    min_recall: float
-    trackers: list[str]
-    k_sigma: list[float]
-    prominence: list[float]
-    frac: list[float]
-    colour_trackers: list[str]
-    colour_rules: list
-
-
-def _numbers(data, key, low, high=None):
-    from bench.config import ConfigError
-
-    v = data[key]
-    if (not isinstance(v, list) or not v or len(set(v)) != len(v)
-            or any(isinstance(x, bool) or not isinstance(x, (int, float)) or not np.isfinite(x) or x < low
-                   or (high is not None and x > high) for x in v)):
-        rng = f"[{low}, {high}]" if high is not None else f">= {low}"
-        raise ConfigError(f"`{key}` must be a non-empty list of distinct finite numbers {rng}, got {v!r}")
-    return [float(x) for x in v]
-
-
 def load_profile(path) -> TuneThresholdProfile:
-    """Read and validate a profile.
+    """Read and validate a profile (:func:`bench.config.tune.load_threshold_profile` with the hard-frame kinds).
 
     Raises
     ------
@@ -84,50 +49,7 @@ def load_profile(path) -> TuneThresholdProfile:
     """
     from bench.studies.hard_frames import KINDS
 
-    from bench.config import ConfigError, read_toml
-
-    data = read_toml(pathlib.Path(path), "tuning profile")  # a regular UTF-8 file, bounded nesting
-    unknown = set(data) - _KEYS
-    if unknown:
-        raise ConfigError(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(_KEYS)}")
-    missing = sorted(_KEYS - set(data))
-    if missing:
-        raise ConfigError(f"`profile` lacks the key(s) {missing}")
-    seeds = data["seeds"]
-    if not isinstance(seeds, list) or not seeds or any(isinstance(s, bool) or not isinstance(s, int) or s < 0
-                                                        for s in seeds):
-        raise ConfigError(f"`seeds` must be a non-empty list of integers >= 0, got {seeds!r}")
-    kinds = data["kinds"]
-    if not isinstance(kinds, list) or not kinds or any(k not in KINDS for k in kinds):
-        raise ConfigError(f"`kinds` must be a non-empty list of {', '.join(KINDS)}, got {kinds!r}")
-    if not isinstance(data["real"], bool):
-        raise ConfigError(f"`real` must be true or false, got {data['real']!r}")
-    if isinstance(data["min_recall"], bool) or not isinstance(data["min_recall"], (int, float)) or not (
-            0 <= data["min_recall"] <= 1):
-        raise ConfigError(f"`min_recall` must be a number in [0, 1], got {data['min_recall']!r}")
-    for key in ("hit_px", "tie", "tie_px"):
-        v = data[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
-            raise ConfigError(f"`{key}` must be a number >= 0, got {v!r}")
-    import trackers
-
-    for key in ("trackers", "colour_trackers"):
-        names = data[key]
-        if not isinstance(names, list) or not names or any(n not in trackers.available() for n in names):
-            raise ConfigError(f"`{key}` must be a non-empty list of registered trackers, got {names!r}")
-    for n in data["trackers"]:
-        if not {"k_sigma", "prominence"} <= set(trackers.make(n).get_params()):
-            raise ConfigError(f"`trackers` must name trackers with k_sigma and prominence, got {n!r}")
-    rules = data["colour_rules"]
-    if (not isinstance(rules, list) or not rules or len(set(map(str, rules))) != len(rules)
-            or any(not (r in ("excess", "laser") or (not isinstance(r, bool) and isinstance(r, (int, float))
-                                                     and 0 <= r <= 1)) for r in rules)):
-        raise ConfigError(f"`colour_rules` must list distinct knees in [0, 1], 'excess' or 'laser', got {rules!r}")
-    return TuneThresholdProfile(
-        str(data["name"]), [int(s) for s in seeds], list(kinds), data["real"], float(data["hit_px"]),
-        float(data["tie"]), float(data["tie_px"]), float(data["min_recall"]), list(data["trackers"]), _numbers(data, "k_sigma", 0),
-        _numbers(data, "prominence", 0), _numbers(data, "frac", 0, 0.99), list(data["colour_trackers"]),
-        [r if isinstance(r, str) else float(r) for r in rules])
+    return load_threshold_profile(path, KINDS)
 
 
 def frame_scores(columns, truth, hit_px: float, argmax_cols=None) -> dict[str, float]:

@@ -133,10 +133,18 @@ class LoadedScene:
         """Pose, then render; returns float32 (H, W) radiance (one channel).
 
         ``integrator`` ``(kind, max_depth)`` (e.g. ``("ptracer", 2)``) renders with that integrator
-        instead of the scene's own; the same ``seed`` then draws the same random numbers for the
+        instead of the scene's own (``("ptracer_indirect", d)``: ``ptracer`` at ``d`` minus ``ptracer``
+        at ``d - 1``, see :class:`scenes.description.LaserPass`); the same ``seed`` then draws the same random numbers for the
         vertices the integrators share (so ``ptracer`` at depths 3 and 2 differ by exactly the
         depth-3 paths).
         """
+        if integrator is not None and integrator[0] == "ptracer_indirect":
+            # the light paths with a bounce before the camera: the same seed draws the same numbers
+            # for the vertices both depths share, so the difference is the longer paths' splats
+            depth = int(integrator[1])
+            longer = self.render(updates, spp, seed, integrator=("ptracer", depth))
+            shorter = self.render(updates, spp, seed, integrator=("ptracer", depth - 1))
+            return (longer.astype(np.float64) - shorter).astype(np.float32)
         self.set_pose(updates)
         kwargs = {}
         kind = self._scene_kind

@@ -44,7 +44,7 @@ from .laser import LaserProfile
 from .objects import SceneObject
 
 __all__ = ["sensor", "projector", "sky", "integrator", "mesh_shape", "laser_scene", "ambient_scene",
-           "laser_passes", "LaserPass", "ambient_integrator"]
+           "laser_passes", "LaserPass", "ambient_integrator", "DIRECT_DEPTH", "hybrid_passes", "split_hybrid_passes"]
 
 MAX_DEPTH = 3
 #: Depth of the slab that closes an open object (the ``plane``) around a medium, cm.
@@ -95,14 +95,55 @@ def integrator(kind: str, max_depth: int = MAX_DEPTH) -> dict:
 class LaserPass(NamedTuple):
     """One render of the laser scene: integrator, depth and the pixels it contributes to.
 
+    ``kind`` is a Mitsuba integrator (``path``, ``ptracer``, ``volpath``) or ``"ptracer_indirect"``:
+    the light paths that bounce at least once between the projector and the camera, rendered as
+    ``ptracer`` at ``max_depth`` minus ``ptracer`` at ``max_depth - 1`` with the same seed (the two
+    draw the same random numbers for the vertices they share, so the difference is exactly the
+    longer paths' splats, up to float32 rounding; :meth:`scenes.backend.LoadedScene.render`).
+
     ``pixels`` is ``"all"``, ``"object"`` (pixels that see the object, see
     :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest); or ``"support"`` (pixels that
     see a polished table, :meth:`scenes.Scene.support_pixels`) and ``"rest"`` (the others).
+    Passes that all have ``"all"`` are summed.
     """
 
     kind: str
     max_depth: int
     pixels: str
+
+
+DIRECT_DEPTH = 2
+"""``max_depth`` of a camera path that ends at its first surface (camera, surface, light)."""
+
+
+def hybrid_passes() -> Tuple[LaserPass, ...]:
+    """The laser passes of the ``"hybrid"`` choice (:mod:`scenes.sampling`): the stripe's direct light by
+    path tracing (camera paths that end at the first surface, next-event estimation to the projector:
+    only the pixel footprint is sampled) plus the interreflected light by light tracing (projector
+    paths with at least one bounce before the camera, where a path tracer's bounces rarely find the
+    thin sheet). Together they are every path up to :data:`MAX_DEPTH`, as one ``path`` pass.
+
+    Examples
+    --------
+    >>> [tuple(p) for p in hybrid_passes()]
+    [('path', 2, 'all'), ('ptracer_indirect', 3, 'all')]
+    """
+    return (LaserPass("path", DIRECT_DEPTH, "all"), LaserPass("ptracer_indirect", MAX_DEPTH, "all"))
+
+
+def split_hybrid_passes() -> Tuple[LaserPass, ...]:
+    """The laser passes of the ``"split_hybrid"`` choice (:mod:`scenes.sampling`) of a shiny material:
+    ``path`` on the pixels that see the object (as the ``split``), and on the others the direct light
+    path traced plus the light that reaches them after a bounce (the sheet the object mirrors, the
+    interreflections) light traced, instead of one ``ptracer`` pass for both there.
+
+    Examples
+    --------
+    >>> [tuple(p) for p in split_hybrid_passes()]
+    [('path', 3, 'object'), ('path', 2, 'other'), ('ptracer_indirect', 3, 'other')]
+    """
+    return (LaserPass("path", MAX_DEPTH, "object"), LaserPass("path", DIRECT_DEPTH, "other"),
+            LaserPass("ptracer_indirect", MAX_DEPTH, "other"))
 
 
 def _max_depth(kind: str) -> int:

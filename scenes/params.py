@@ -45,6 +45,10 @@ Camera (:mod:`scenes.colour_camera`; :data:`CAMERA_KEYS`, applied after renderin
 * ``jpeg_quality``: None (default: lossless) or an integer 1-95;
 * ``defocus_px``: pillbox defocus radius in [0, 20] px, default 0.
 
+Sample counts: ``spp`` (every laser pass, default 16) and ``ambient_spp`` (default 8) are integers
+>= 1 or ``"auto"``: the per-material, per-pass counts that the committed procedure chose
+(:mod:`scenes.sampling`; the experiment profiles use it).
+
 ``ambient_illuminant`` also accepts ``"daylight"`` (CIE D75, :data:`scenes.radiometry.ALIASES`).
 
 ``width`` x ``height`` must keep the default 16:15 square-pixel aspect (64x60,
@@ -63,6 +67,7 @@ from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO, SUPPORT_FINIS
 from .textures import TEXTURES
 from .objects import BACKDROP_DISTANCE_CM, BACKGROUNDS, SUPPORTS
 from .rig import Rig
+from .sampling import AUTO
 from .sensor import SensorModel
 
 __all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "TEXTURE_KEYS", "CAMERA_KEYS", "MAX_SIZE",
@@ -174,11 +179,16 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
     p["filter_fwhm_nm"] = _checks.in_range("filter_fwhm_nm", p["filter_fwhm_nm"], 0.0, 400.0, lo_open=True)
     p["filter_peak"] = _checks.in_range("filter_peak", p["filter_peak"], 0.0, 1.0, lo_open=True)
     for k in ("width", "height", "spp", "ambient_spp", "n_angles"):
+        if k in ("spp", "ambient_spp") and p[k] == AUTO:
+            continue
+        if k in ("spp", "ambient_spp") and (isinstance(p[k], bool) or not isinstance(p[k], numbers.Integral)
+                                            or p[k] < 1):
+            raise ValueError(f"`{k}` must be an integer >= 1 or {AUTO!r} (scenes.sampling), got {p[k]!r}")
         p[k] = _checks.positive_int(k, p[k])
         if p[k] > MAX_SIZE[k]:
             raise ValueError(f"`{k}` must be at most {MAX_SIZE[k]}, got {p[k]!r}")
     for k in ("spp", "ambient_spp"):
-        if p["width"] * p["height"] * p[k] > MAX_SAMPLES:
+        if p[k] != AUTO and p["width"] * p["height"] * p[k] > MAX_SAMPLES:
             raise ValueError(f"`width` x `height` x `{k}` must be at most 2**32 - 1 samples (Mitsuba's limit), "
                              f"got {p['width']}x{p['height']}x{p[k]}")
     rig = Rig()

@@ -28,11 +28,11 @@ from __future__ import annotations
 import dataclasses
 import struct
 import sys
-from typing import Any, Dict, Iterable, Iterator, Optional
+from typing import Any, Dict, Iterable, Iterator, Optional, Tuple
 
 import numpy as np
 
-from . import _checks, cache as _cache, colour_camera, description, materials, objects, radiometry, textures
+from . import _checks, cache as _cache, colour_camera, description, materials, objects, radiometry, sampling, textures
 from . import variant as _variant
 from .frame import Frame, Truth
 from .laser import profile as _laser_profile
@@ -194,10 +194,12 @@ class Scene:
         return out
 
     # -- rendering ----------------------------------------------------------------------
-    def _load(self, spp: int):
+    def _load(self, spp: Optional[int] = None):
         from .backend import LoadedScene
 
         if self._loaded is None:
+            _, counts, ambient_spp = self.sample_counts(spp)
+            spp = counts[0]
             rig, obj, mat = self.rig, self.object, self.params["material"]
             laser = _laser_profile(self.params["line_fwhm_mrad"], self.params["laser_fan_deg"])
             albedos = {"background_albedo": self.params["background_albedo"],
@@ -208,14 +210,13 @@ class Scene:
             if not weights:
                 self._loaded = (
                     LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp, **albedos)),
-                    LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"],
-                                                          **albedos)),
+                    LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, ambient_spp, **albedos)),
                 )
             else:
                 self._loaded = (
                     LoadedScene(description.laser_scene(rig, obj, mat, laser, 0.0, spp, **albedos,
                                                         albedo_maps=self._albedo_maps(weights["laser"]))),
-                    *[LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, self.params["ambient_spp"], **albedos,
+                    *[LoadedScene(description.ambient_scene(rig, obj, mat, 0.0, ambient_spp, **albedos,
                                                             albedo_maps=self._albedo_maps(w)))
                       for w in weights["ambient"]],
                 )
@@ -237,8 +238,8 @@ class Scene:
                             "ambient": [[float(f"{v:.12g}") for v in w] for w in weights["ambient"]]}}
         return out
 
-    def _cache_fields(self, theta: float, spp: int, seed: int, variant: str) -> Dict[str, Any]:
-        passes = self.laser_passes()
+    def _cache_fields(self, theta: float, spp, seed: int, variant: str) -> Dict[str, Any]:
+        passes, counts, ambient_spp = self.sample_counts(spp)
         extra = {}
         if passes != (description.LaserPass("path", description.MAX_DEPTH, "all"),):
             # keys of plain path-traced materials stay as they were (warm caches survive)
@@ -248,7 +249,9 @@ class Scene:
             **extra,
             "scene": self.name,
             **{k: self.params[k] for k in RENDER_KEYS if k not in ("spp", "seed")},
-            "spp": spp,
+            # one count when every laser pass has it (the keys of fixed counts stay what they were)
+            "spp": counts[0] if len(set(counts)) == 1 else list(counts),
+            "ambient_spp": ambient_spp,
             "seed": seed,
             "mirror_angle_deg": theta,
             "rig": dataclasses.asdict(self.rig),
@@ -288,9 +291,14 @@ class Scene:
         laser_scene, *ambient_scenes = self._load(spp)
         pose = description.pose_updates(self.rig, theta)
         laser_seed = int(seeds[0].generate_state(1)[0])
-        passes = self.laser_passes()
-        if len(passes) == 1 and passes[0].pixels == "all":
-            laser = laser_scene.render(pose, spp, laser_seed)
+        passes, counts, ambient_spp = self.sample_counts(spp)
+        if passes == description.laser_passes(self.params["material"])[:1] and passes[0].pixels == "all":
+            laser = laser_scene.render(pose, counts[0], laser_seed)  # the scene's own integrator
+        elif all(p.pixels == "all" for p in passes):
+            acc = np.zeros((self.params["height"], self.params["width"]), np.float64)
+            for p, n in zip(passes, counts):
+                acc += laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth))
+            laser = acc.astype(np.float32)
         else:
             if passes[0].pixels == "support":
                 on_support = self.support_pixels(theta)
@@ -299,12 +307,12 @@ class Scene:
                 on_object = self.split_pixels(theta)
                 masks = {"object": on_object, "other": ~on_object}
             acc = np.zeros(next(iter(masks.values())).shape, np.float64)
-            for p in passes:
-                img = laser_scene.render(pose, spp, laser_seed, integrator=(p.kind, p.max_depth))
+            for p, n in zip(passes, counts):
+                img = laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth))
                 acc += np.where(masks[p.pixels], img, 0.0)
             laser = acc.astype(np.float32)
         ambient_seed = int(seeds[1].generate_state(1)[0])
-        bands = [a.render(pose, self.params["ambient_spp"], ambient_seed) for a in ambient_scenes]
+        bands = [a.render(pose, ambient_spp, ambient_seed) for a in ambient_scenes]
         ambient = bands[0] if len(bands) == 1 else np.stack(bands, axis=-1)
 
         truth = self._truth(laser_scene, theta)
@@ -333,7 +341,7 @@ class Scene:
         The same arrays as ``render(mirror_angle_deg).truth`` (not cached; about 0.05 s at 512x480).
         """
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
-        laser_scene = self._load(self.params["spp"])[0]
+        laser_scene = self._load()[0]
         laser_scene.set_pose(description.pose_updates(self.rig, theta))
         truth = self._truth(laser_scene, theta)
         shape = (self.params["height"], self.params["width"])
@@ -357,7 +365,7 @@ class Scene:
         """First hits through every pixel centre: points (H, W, 3) cm and the index into ``_PARTS`` (H, W)."""
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
         rig = self.rig
-        laser_scene = self._load(self.params["spp"])[0]
+        laser_scene = self._load()[0]
         laser_scene.set_pose(description.pose_updates(rig, theta))
         rows, cols = np.meshgrid(np.arange(rig.height, dtype=float), np.arange(rig.width, dtype=float),
                                  indexing="ij")
@@ -375,12 +383,66 @@ class Scene:
         others (the sheet the coat reflects onto the object, which a path tracer finds only as
         fireflies through the narrow lobe). Unbiased for the same reason as the shiny materials' split.
         """
+        return self.sample_counts()[0]
+
+    def _own_passes(self) -> tuple:
         passes = description.laser_passes(self.params["material"])
         plain = (description.LaserPass("path", description.MAX_DEPTH, "all"),)
         if passes == plain and self.params["support"] == "table" and self.params["support_finish"] == "polished":
             return (description.LaserPass("path", description.MAX_DEPTH, "support"),
                     description.LaserPass("ptracer", description.MAX_DEPTH, "rest"))
         return passes
+
+    def sample_counts(self, spp=None) -> Tuple[tuple, Tuple[int, ...], int]:
+        """The laser passes, each one's samples per pixel and the ambient pass's, of a render at ``spp``.
+
+        Parameters
+        ----------
+        spp : int or "auto", optional
+            :meth:`render`'s ``spp`` (default ``params['spp']``). An integer gives every laser pass
+            that count; ``"auto"`` takes the material's integrator and counts from
+            :mod:`scenes.sampling` (the fixed counts where its table lacks the material or the scene's
+            passes are not the material's own). ``ambient_spp`` likewise from ``params``.
+
+        Returns
+        -------
+        passes : tuple of scenes.description.LaserPass
+        laser_spp : tuple of int
+            One count per pass.
+        ambient_spp : int
+
+        Examples
+        --------
+        >>> import scenes
+        >>> s = scenes.make("cone", material="skin", spp="auto", ambient_spp=4)
+        >>> [tuple(p) for p in s.sample_counts()[0]], s.sample_counts()[1:]
+        ([('volpath', 64, 'all')], ((16,), 4))
+        >>> s.sample_counts(32)[1]
+        (32,)
+        """
+        spp = self.params["spp"] if spp is None else spp
+        material = self.params["material"]
+        passes = self._own_passes()
+        if spp == sampling.AUTO:
+            choice = sampling.laser_choice(material)
+            if choice is not None and passes == description.laser_passes(material):
+                kind, counts = choice
+                if kind == "hybrid":
+                    passes = description.hybrid_passes()
+                elif kind == "split_hybrid":
+                    passes = description.split_hybrid_passes()
+                elif kind != "split":
+                    passes = (description.LaserPass(kind, description.MAX_DEPTH, "all"),)
+            else:
+                counts = (sampling.FIXED_SPP,) * len(passes)
+        else:
+            counts = (_checks.positive_int("spp", spp),) * len(passes)
+        if len(counts) != len(passes):
+            raise ValueError(f"scenes.sampling gives {len(counts)} counts for {len(passes)} laser passes "
+                             f"of {material!r}: rerun `stripebench perf sampling --write`")
+        amb = self.params["ambient_spp"]
+        ambient_spp = sampling.ambient_spp(material) if amb == sampling.AUTO else int(amb)
+        return passes, tuple(counts), ambient_spp
 
     def support_pixels(self, mirror_angle_deg: float) -> np.ndarray:
         """Pixels whose centre ray hits the table, grown by one pixel (8-neighbourhood), (H, W) bool."""
@@ -409,9 +471,10 @@ class Scene:
         ----------
         mirror_angle_deg : float
             Mirror angle θ (deg); the camera and the laser sheet turn by 2θ.
-        spp : int, optional
-            Samples per pixel of the laser pass (default ``params['spp']``); the ambient pass
-            always uses ``params['ambient_spp']``.
+        spp : int or "auto", optional
+            Samples per pixel of every laser pass (default ``params['spp']``; ``"auto"``: the
+            counts of :mod:`scenes.sampling`, see :meth:`sample_counts`); the ambient pass always
+            uses ``params['ambient_spp']``.
         seed : int, optional
             Seed (default ``params['seed']``); with the angle it fixes every random number.
         noise_draw : int, optional
@@ -426,7 +489,9 @@ class Scene:
         Frame
         """
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
-        spp = _checks.positive_int("spp", self.params["spp"] if spp is None else spp)
+        spp = self.params["spp"] if spp is None else spp
+        if spp != sampling.AUTO:
+            spp = _checks.positive_int("spp", spp)
         seed = self.params["seed"] if seed is None else seed
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
             raise ValueError(f"`seed` must be an integer >= 0, got {seed!r}")
@@ -483,7 +548,9 @@ class Scene:
         if not self.params["cache"]:
             return False
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
-        spp = _checks.positive_int("spp", self.params["spp"] if spp is None else spp)
+        spp = self.params["spp"] if spp is None else spp
+        if spp != sampling.AUTO:
+            spp = _checks.positive_int("spp", spp)
         seed = int(self.params["seed"] if seed is None else seed)
         k = _cache.key(self._cache_fields(theta, spp, seed, _variant.active_variant()))
         return _cache.path(_cache.cache_root(self.params["cache_dir"]), k).exists()

@@ -32,6 +32,9 @@ PERF = (
            renders=True),
     _study("bench.studies.perf.shiny", "shiny", "laser-pass integrators on shiny materials: noise and cost",
            renders=True),
+    _study("bench.studies.perf.sampling", "sampling",
+           "choose each material's integrator and sample counts by the render noise (spp = \"auto\")",
+           renders=True),
 )
 
 COMMANDS = (

@@ -19,7 +19,8 @@ A configuration is a TOML document::
     [render]                  # shared by every experiment
     width = 512
     height = 480
-    spp = 16
+    spp = "auto"              # samples per pixel of the laser pass(es): an integer, or "auto": each
+    ambient_spp = "auto"      # material's counts chosen by `stripebench perf sampling` (scenes.sampling)
 
     [[experiments]]           # one scan each
     name = "cone-paper"       # optional identifier (default: scene-material plus overrides)
@@ -540,11 +541,19 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
     if not isinstance(render_in, dict):
         raise ConfigError(f"`render` must be a table, got {render_in!r}")
     _unknown("render", render_in, set(RENDER_KEYS))
-    render = {k: _int(f"render.{k}", v, 1) for k, v in render_in.items()}
     from scenes.params import DEFAULTS as SCENE_DEFAULTS, MAX_SIZE
+    from scenes.sampling import AUTO
 
+    render = {}
+    for k, v in render_in.items():
+        if k in ("spp", "ambient_spp") and v == AUTO:
+            render[k] = v
+        elif k in ("spp", "ambient_spp") and (isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < 1):
+            raise ConfigError(f"{_where(f'render.{k}')} must be an integer >= 1 or \"{AUTO}\", got {v!r}")
+        else:
+            render[k] = _int(f"render.{k}", v, 1)
     for k, v in render.items():
-        if v > MAX_SIZE[k]:
+        if v != AUTO and v > MAX_SIZE[k]:
             raise ConfigError(f"`render.{k}` must be at most {MAX_SIZE[k]}, got {v!r}")
     overridable = set(scene_override_keys())
     exps_in = data.get("experiments")

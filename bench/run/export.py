@@ -100,7 +100,7 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
                              "height": H, "width": W})
             experiments.append({"key": exp.key, "index": k, "scene": exp.scene, "material": exp.material,
                                 "condition": exp.condition or exp.key, "frames": int(len(angles)),
-                                "angles_deg": [float(a) for a in angles], "spp": int(spp), "variant": variant,
+                                "angles_deg": [float(a) for a in angles], "spp": spp if spp == "auto" else int(spp), "variant": variant,
                                 "false_stripes": bool(false_stripes), "rig": dataclasses.asdict(scene.rig)})
         fs.write_frames_csv(root / "frames.csv", rows)
         n_test = sum(r["split"] == "test" for r in rows)

@@ -241,8 +241,8 @@ class RenderAhead:
         jobs = [(self.offsets[k] + i, k, a) for k in range(len(self.scenes)) for i, a in enumerate(self.angles[k])
                 if self.pending[k][i] and not self.scenes[k].is_cached(a, spp=self.scenes[k].params["spp"],
                                                                       seed=self.seed)]
-        work = sum(self.scenes[k].params["width"] * self.scenes[k].params["height"] * self.scenes[k].params["spp"]
-                   for _, k, _ in jobs)
+        work = sum(self.scenes[k].params["width"] * self.scenes[k].params["height"]
+                   * sum(self.scenes[k].sample_counts()[1]) for _, k, _ in jobs)
         if not jobs or work < MIN_PIXEL_SAMPLES:
             self.result = {"frames": self.n_frames, "rendered": 0, "used": 0, "started": False,
                            "why": "cached" if not jobs else f"little to render ({len(jobs)} frames, {work:.2g} "

@@ -20,8 +20,9 @@ def test_unknown_parameter_is_a_type_error_listing_valid_names():
 @pytest.mark.parametrize("name,value,pattern", [
     ("laser_power_mw", -3.0, r"`laser_power_mw` must be >= 0, got -3.0"),
     ("ambient_lux", -1, r"`ambient_lux` must be >= 0, got -1"),
-    ("spp", 0, r"`spp` must be an integer >= 1, got 0"),
-    ("ambient_spp", 2.5, r"`ambient_spp` must be an integer >= 1, got 2.5"),
+    ("spp", 0, r"`spp` must be an integer >= 1 or 'auto' \(scenes.sampling\), got 0"),
+    ("ambient_spp", 2.5, r"`ambient_spp` must be an integer >= 1 or 'auto' \(scenes.sampling\), got 2.5"),
+    ("spp", "Auto", r"`spp` must be an integer >= 1 or 'auto' \(scenes.sampling\), got 'Auto'"),
     ("width", 0, r"`width` must be an integer >= 1, got 0"),
     ("height", -60, r"`height` must be an integer >= 1, got -60"),
     ("seed", -1, r"`seed` must be an integer >= 0, got -1"),

@@ -1,13 +1,21 @@
 """Rendering speed of ``scenes`` at 512x480 on this machine.
 
 Usage: ``stripebench perf scenes [--object hand] [--frames 100] [--per-material 6]
-[--materials matte,glossy] [--background wall|none] [--support none|table]``
+[--materials matte,glossy] [--background wall|none] [--support none|table] [--spp auto|N]
+[--ambient-spp auto|N] [--strict]``
 
 Prints the renderer (:func:`scenes.variant.renderer`), then for each material at
-the default spp the frames per second of ``Scene.render`` with the disk cache off
+``--spp`` / ``--ambient-spp`` (default ``auto``: the counts of :mod:`scenes.sampling`, as the
+experiment profiles render) the frames per second of ``Scene.render`` with the disk cache off
 (Mitsuba scene already loaded, so no JIT compilation is counted), the process
 CPU time per frame (all threads; on a shared machine a steadier figure than the
-wall time) and the split into laser pass, ambient pass and ground truth; then the wall time of a ``--frames`` scan of one object, cold
+wall time), the split into laser pass(es), ambient pass and ground truth, and the
+**frame / bare** ratio: the wall time of a whole ``Scene.render`` (both passes, truth, sensor)
+over that of a *bare* render of the same frame, one ``mi.render`` of its laser scene with the
+material's own integrator at the fixed :data:`scenes.sampling.FIXED_SPP` samples per pixel (what a
+plain Mitsuba script spends on the frame). Target (``--strict`` exits 1 when a material misses it):
+frame / bare <= :data:`FRAME_VS_BARE` (median over the timed frames) for every opaque and shiny material.
+Then the wall time of a ``--frames`` scan of one object, cold
 (empty cache, scene loading and JIT included) and cached (a new ``Scene`` reading
 the same cache); ``--frames 0`` skips the scan.
 """
@@ -28,31 +36,50 @@ from scenes.truth import ground_truth
 __all__ = ["add_arguments", "command", "main"]
 
 
-def _per_material(obj: str, material: str, n: int, geometry: dict):
-    s = scenes.make(obj, material=material, cache=False, **geometry)
+FRAME_VS_BARE = 1.2
+"""Target: a scan frame costs at most this many bare renders of it (module docstring)."""
+
+
+def _per_material(obj: str, material: str, n: int, geometry: dict, spp, ambient_spp):
+    from scenes.sampling import FIXED_SPP
+
+    s = scenes.make(obj, material=material, cache=False, spp=spp, ambient_spp=ambient_spp, **geometry)
     angles = s.default_angles()
     s.render(float(angles[0]))  # load + JIT
+    laser, *ambient = s._load()
+    passes, counts, amb_spp = s.sample_counts()
     picks = angles[np.linspace(1, len(angles) - 1, n).astype(int)]
+    pose0 = description.pose_updates(s.rig, float(picks[0]))
+    laser.render(pose0, FIXED_SPP, 3)  # compile the bare render's kernel
     t0, c0 = time.perf_counter(), time.process_time()
+    frame_s, bare_s = [], []
     for a in picks:
+        t = time.perf_counter()
         s.render(float(a))
+        frame_s.append(time.perf_counter() - t)
     fps = n / (time.perf_counter() - t0)
     cpu = (time.process_time() - c0) / n
-    laser, ambient = s._load(s.params["spp"])
+    for a in picks:
+        pose = description.pose_updates(s.rig, float(a))
+        t = time.perf_counter()
+        laser.render(pose, FIXED_SPP, 3)  # one mi.render, the scene's own integrator
+        bare_s.append(time.perf_counter() - t)
     split = np.zeros(3)
     for a in picks:
         pose = description.pose_updates(s.rig, float(a))
         t = [time.perf_counter()]
-        for lp in description.laser_passes(material):  # split materials render two passes
-            laser.render(pose, s.params["spp"], 1, integrator=(lp.kind, lp.max_depth))
+        for lp, k in zip(passes, counts):  # split materials render two passes
+            laser.render(pose, k, 1, integrator=(lp.kind, lp.max_depth))
         t.append(time.perf_counter())
-        ambient.render(pose, s.params["ambient_spp"], 2)
+        for amb in ambient:
+            amb.render(pose, amb_spp, 2)
         t.append(time.perf_counter())
         ground_truth(s.rig, float(a), lambda o, d: laser.cast(o, d, ("backdrop", "object", "support")),
                      fan_deg=s.params["laser_fan_deg"])
         t.append(time.perf_counter())
         split += np.diff(t)
-    return fps, cpu, split / n
+    ratio = float(np.median(np.asarray(frame_s) / np.asarray(bare_s)))
+    return fps, cpu, split / n, ratio, (passes, counts, amb_spp)
 
 
 def _object(name, text):
@@ -73,6 +100,12 @@ def _materials(name, text):
     return materials
 
 
+def _count(name, text):
+    from bench.config.options import positive_int
+
+    return text if text == "auto" else positive_int(name, text, 65536)
+
+
 def add_arguments(parser) -> None:
     """The benchmark's options (``stripebench perf scenes``)."""
     from bench.config.options import arg_type, int_in_range, positive_int
@@ -85,23 +118,37 @@ def add_arguments(parser) -> None:
                         default=6, metavar="N", help="frames timed per material (default 6)")
     parser.add_argument("--materials", type=arg_type(_materials, "--materials"), default=list(scenes.MATERIALS),
                         metavar="LIST", help="comma-separated materials (default: all; the translucent ones cost ~15x matte)")
+    parser.add_argument("--spp", type=arg_type(_count, "--spp"), default="auto", metavar="auto|N",
+                        help="laser-pass samples per pixel (default auto: scenes.sampling)")
+    parser.add_argument("--ambient-spp", type=arg_type(_count, "--ambient-spp"), default="auto", metavar="auto|N",
+                        help="ambient-pass samples per pixel (default auto)")
+    parser.add_argument("--strict", action="store_true", help=f"exit 1 if frame / bare > {FRAME_VS_BARE}")
     parser.add_argument("--background", default="wall", choices=("wall", "none"))
     parser.add_argument("--support", default="none", choices=("none", "table"))
 
 
 def command(args) -> int:
     """Run the benchmark with parsed options."""
+    from scenes import materials as M, variant
+
     materials = args.materials
     geometry = {"background": args.background, "support": args.support}
-    d = scenes.DEFAULTS
-    from scenes import variant
-
-    print(f"512x480, laser spp {d['spp']}, ambient spp {d['ambient_spp']}, object {args.object}, "
+    print(f"512x480, laser spp {args.spp}, ambient spp {args.ambient_spp}, object {args.object}, "
           f"background {args.background}, support {args.support}, renderer {variant.renderer()}")
-    print(f"{'material':<10} {'frames/s':>8} {'CPU s/frame':>11} {'laser s':>8} {'ambient s':>9} {'truth s':>8}")
+    print(f"{'material':<10} {'frames/s':>8} {'CPU s/frame':>11} {'laser s':>8} {'ambient s':>9} {'truth s':>8} "
+          f"{'frame/bare':>10}  passes (spp)")
+    missed = []
     for m in materials:
-        fps, cpu, (tl, ta, tt) = _per_material(args.object, m, args.per_material, geometry)
-        print(f"{m:<10} {fps:8.2f} {cpu:11.3f} {tl:8.3f} {ta:9.3f} {tt:8.3f}", flush=True)
+        fps, cpu, (tl, ta, tt), ratio, (passes, counts, amb) = _per_material(
+            args.object, m, args.per_material, geometry, args.spp, args.ambient_spp)
+        text = " + ".join(f"{p.kind}@{p.max_depth}:{n}" for p, n in zip(passes, counts)) + f"; ambient {amb}"
+        print(f"{m:<10} {fps:8.2f} {cpu:11.3f} {tl:8.3f} {ta:9.3f} {tt:8.3f} {ratio:10.2f}  {text}", flush=True)
+        if not M.is_translucent(m) and ratio > FRAME_VS_BARE:
+            missed.append(f"{m} {ratio:.2f}")
+    if missed:
+        print(f"target missed: frame / bare <= {FRAME_VS_BARE} ({', '.join(missed)})")
+    if args.strict and missed:
+        return 1
     if args.frames == 0:
         return 0
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-") as tmp:

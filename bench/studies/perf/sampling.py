@@ -1,0 +1,493 @@
+"""The committed procedure that chooses each material's sample counts (``spp = "auto"``).
+
+Usage: ``stripebench perf sampling [--angles 2] [--ref-spp 144] [--ref-ambient-spp 144] [--write]``
+
+For every opaque and shiny material (:data:`MATERIALS`) and each case of :data:`CASES` (the cone and
+the hand on the table, and for ``patchy`` also before the in-range wall: the paper profile's
+geometries), at 512x480, seed :data:`SEED` and ``--angles`` mirror angles that the paper run does not
+use (:func:`calibration_angles`), it renders
+
+* the **laser pass** with every candidate of :func:`laser_candidates`: for the path-traced materials
+  ``path`` (camera paths, every pixel), ``ptracer`` (light paths from the projector, splatted to the
+  camera) and ``hybrid`` (the direct light path traced, the interreflected light light traced:
+  :func:`scenes.description.hybrid_passes`) at several sample counts; the ``split`` of the shiny
+  materials (``path`` on the pixels that see the object, ``ptracer`` on the others) at several counts
+  per half, and their ``split_hybrid`` (the others' direct light path traced, what reaches them after
+  a bounce light traced: :func:`scenes.description.split_hybrid_passes`); ``ptracer`` and ``hybrid``
+  for ``specular``;
+* the **ambient pass** (``path``) at :data:`AMBIENT_CANDIDATES` samples per pixel,
+
+and compares each with a high-count reference (``--ref-spp``, ``--ref-ambient-spp``): for the
+path-traced materials and ``specular`` the ``hybrid`` at that count (each half by the integrator that
+converges there; the material's own integrator at the same count is printed beside it as a check: the
+stripe's energy ratio and ``z_off``), for the split the split (each reference pixel from the half that
+converges there).  All
+renders are converted to noise-free DN by the default sensor at the scene's laser power and ambient, and
+measured in units of the **sensor noise** (shot + read noise at the reference level plus the ADC's
+1/sqrt(12) DN, :func:`sensor_noise_dn`):
+
+``z_stripe``, ``z_off``
+    rms of (render - reference) / sensor noise over the pixels within 3 px of the true stripe, and over
+    the other pixels that see a surface (where only interreflected laser light lands);
+``energy``
+    the laser energy on the stripe pixels relative to the reference;
+``centre``
+    rms over the well-lit rows (reference peak >= 5 DN) of the shift of the stripe's centroid
+    (11-px window on the true column) against the reference, divided by the rms of the centroid's
+    standard deviation that the sensor noise alone causes (:func:`centroid_sd_px`).
+
+A candidate passes when, on every case, ``z_stripe``, ``z_off`` and ``centre`` are at most
+:data:`Z_MAX` (1: the render noise at most the sensor's; the total noise then at most sqrt(2) times
+the sensor's) and ``energy``
+is within :data:`ENERGY_TOL`; for the ambient pass ``z`` over every surface pixel.  Of the passing
+candidates the cheapest (mean CPU seconds of its renders, kernels compiled beforehand) is chosen.
+``--write`` writes the choices and their worst-case numbers into :mod:`scenes.sampling`, which
+``spp = "auto"`` and ``ambient_spp = "auto"`` read.  The translucent materials are not measured here
+(``volpath``'s render noise stays above the sensor's at any affordable count: docs/translucency.md);
+``auto`` keeps their fixed counts.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+__all__ = ["MATERIALS", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "calibration_angles",
+           "laser_candidates", "sensor_noise_dn", "centroid_sd_px", "add_arguments", "command", "main"]
+
+MATERIALS = ("matte", "patchy", "absorbing", "glossy", "polished", "glazed", "specular")
+"""The materials the procedure measures (every opaque and shiny one)."""
+
+_TABLE = {"background": "none", "support": "table"}
+_WALL = {"background": "wall", "support": "none"}
+CASES = {m: (("cone", _TABLE), ("hand", _TABLE)) + ((("cone", _WALL), ("hand", _WALL)) if m == "patchy" else ())
+         for m in MATERIALS}
+"""Per material, the (object, geometry) cases: the paper profile's geometries."""
+
+SEED = 1
+"""The renders' seed (the paper run uses 0)."""
+
+Z_MAX = 1.0
+"""Largest accepted render noise in units of the sensor noise (the issue's rule: below the sensor's)."""
+
+ENERGY_TOL = 0.02
+"""Largest accepted relative error of the stripe's laser energy."""
+
+AMBIENT_CANDIDATES = (1, 2, 4, 8)
+"""Samples per pixel tried for the ambient pass."""
+
+_PATH_SPP = (4, 8, 16)
+_PTRACER_SPP = (16,)
+_HYBRID_DIRECT_SPP = (2, 4, 8, 16)
+_HYBRID_INDIRECT_SPP = (1, 2, 4)
+_SPLIT_SPP = (4, 8, 16)
+_WINDOW_PX = 5
+_LIT_DN = 5.0
+_STRIPE_PX = 3
+
+
+def calibration_angles(scene, n: int) -> np.ndarray:
+    """``n`` mirror angles (deg) inside the object's sweep that a 12-angle scan does not use.
+
+    The midpoints between consecutive angles of the scene's 12-angle default sweep, ``n`` of them
+    spread from the second to the second-last midpoint.
+
+    Parameters
+    ----------
+    scene : scenes.Scene
+    n : int
+        Number of angles, >= 1.
+
+    Returns
+    -------
+    ndarray (n,), float64
+    """
+    grid = scene.object.default_angles(scene.rig.zeta_deg, 12)
+    mids = 0.5 * (grid[1:] + grid[:-1])
+    return mids[np.unique(np.linspace(1, len(mids) - 2, n).round().astype(int))]
+
+
+def laser_candidates(material: str) -> List[Tuple[str, Tuple[int, ...]]]:
+    """The laser-pass candidates of ``material``: ``(integrator label, spp per pass)``.
+
+    Labels (:func:`scenes.sampling.laser_choice`): ``path`` and ``ptracer`` (one pass over every
+    pixel) and ``hybrid`` (``path`` count of the direct light, ``ptracer`` count of the
+    interreflections: :func:`scenes.description.hybrid_passes`) for the path-traced materials;
+    ``split`` (``path`` count, ``ptracer`` count) and ``split_hybrid`` (three counts) for ``polished``
+    and ``glazed``; ``ptracer`` and ``hybrid`` for ``specular``.
+
+    Examples
+    --------
+    >>> laser_candidates("specular")[:4]
+    [('ptracer', (4,)), ('ptracer', (8,)), ('ptracer', (16,)), ('hybrid', (2, 1))]
+    >>> laser_candidates("glazed")[:2]
+    [('split', (4, 4)), ('split', (4, 8))]
+    >>> laser_candidates("matte")[:3]
+    [('path', (4,)), ('path', (8,)), ('path', (16,))]
+    """
+    from scenes import description
+
+    kinds = [p.kind for p in description.laser_passes(material)]
+    if kinds == ["path", "ptracer"]:
+        return ([("split", (a, b)) for a in _SPLIT_SPP for b in _SPLIT_SPP]
+                + [("split_hybrid", (a, b, c)) for a in _SPLIT_SPP[1:] for b in _HYBRID_DIRECT_SPP[:2]
+                   for c in _HYBRID_INDIRECT_SPP[1:]])
+    if kinds == ["ptracer"]:
+        return ([("ptracer", (k,)) for k in _SPLIT_SPP]
+                + [("hybrid", (a, b)) for a in _HYBRID_DIRECT_SPP for b in _HYBRID_INDIRECT_SPP])
+    return ([("path", (k,)) for k in _PATH_SPP] + [("ptracer", (k,)) for k in _PTRACER_SPP]
+            + [("hybrid", (a, b)) for a in _HYBRID_DIRECT_SPP for b in _HYBRID_INDIRECT_SPP])
+
+
+def sensor_noise_dn(sensor, level_dn: np.ndarray) -> np.ndarray:
+    """The sensor's noise (DN rms) at a noise-free level: shot + read noise plus the ADC's 1/sqrt(12).
+
+    Parameters
+    ----------
+    sensor : scenes.sensor.SensorModel
+    level_dn : ndarray
+        Noise-free level (DN), any shape.
+
+    Returns
+    -------
+    ndarray, the shape of ``level_dn``
+
+    Examples
+    --------
+    >>> from scenes.sensor import SensorModel
+    >>> s = SensorModel()
+    >>> bool(abs(sensor_noise_dn(s, np.array(0.0)) - (s.read_noise_e / s.gain_e_per_dn + 12 ** -0.5)) < 1e-12)
+    True
+    """
+    e = np.clip(level_dn, 0, None) * sensor.gain_e_per_dn
+    return np.sqrt(e + sensor.read_noise_e ** 2) / sensor.gain_e_per_dn + 1.0 / math.sqrt(12.0)
+
+
+def _windows(columns: np.ndarray, width: int):
+    rows = np.nonzero(np.isfinite(columns))[0]
+    centre = np.rint(columns[rows]).astype(int)
+    cols = centre[:, None] + np.arange(-_WINDOW_PX, _WINDOW_PX + 1)[None, :]
+    keep = (cols[:, 0] >= 0) & (cols[:, -1] < width)
+    return rows[keep], cols[keep]
+
+
+def _centroids(laser_dn: np.ndarray, rows, cols) -> np.ndarray:
+    w = laser_dn[rows[:, None], cols]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (w * cols).sum(axis=1) / w.sum(axis=1)
+
+
+def centroid_sd_px(laser_dn: np.ndarray, sigma_dn: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """Standard deviation (px) of each row's stripe centroid that the sensor noise alone causes.
+
+    The centroid ``c = sum(u L_u) / sum(L_u)`` over an 11-px window on the true column; to first order
+    ``var(c) = sum((u - c)^2 sigma_u^2) / (sum L_u)^2``.
+
+    Parameters
+    ----------
+    laser_dn : ndarray (H, W)
+        Noise-free laser level (DN).
+    sigma_dn : ndarray (H, W)
+        Sensor noise (DN rms) per pixel.
+    columns : ndarray (H,)
+        True stripe column per row (NaN: none).
+
+    Returns
+    -------
+    ndarray (H,), float64
+        NaN on rows without a full window.
+
+    Examples
+    --------
+    >>> L = np.zeros((1, 21)); L[0, 10] = 100.0
+    >>> float(centroid_sd_px(L, np.ones((1, 21)), np.array([10.0]))[0]) == math.sqrt(110) / 100
+    True
+    """
+    out = np.full(len(columns), np.nan)
+    rows, cols = _windows(np.asarray(columns, float), laser_dn.shape[1])
+    if len(rows):
+        c = _centroids(laser_dn, rows, cols)
+        num = (((cols - c[:, None]) ** 2) * sigma_dn[rows[:, None], cols] ** 2).sum(axis=1)
+        out[rows] = np.sqrt(num) / laser_dn[rows[:, None], cols].sum(axis=1)
+    return out
+
+
+class _Case:
+    """One (material, object, geometry, angle): its loaded scene, references and regions."""
+
+    def __init__(self, material, obj, geometry, theta, ref_spp, ref_ambient_spp):
+        import scenes
+        from scenes import description
+
+        self.label = f"{obj}/{material}/{geometry['background']}-{geometry['support']}@{theta:.2f}"
+        self.scene = s = scenes.make(obj, material=material, cache=False, seed=SEED, **geometry)
+        self.laser_scene, self.ambient_scene = s._load(16)
+        self.pose = description.pose_updates(s.rig, theta)
+        self.sensor = s.sensor
+        per_unit = s.sensor.electrons_per_radiance / s.sensor.gain_e_per_dn
+        self.laser_scale = s.laser_power_inband_w() * per_unit
+        self.ambient_scale = s.sky_radiance_inband() * per_unit
+        kinds = [p.kind for p in description.laser_passes(material)]
+        self.split = s.split_pixels(theta) if kinds == ["path", "ptracer"] else None
+        truth = s.truth(theta)
+        self.columns = truth.columns
+        points, _ = s.visible_points(theta)
+        surface = np.isfinite(points[..., 0])
+        h, w = surface.shape
+        near = np.zeros((h, w), bool)
+        cols = np.arange(w)[None, :]
+        with np.errstate(invalid="ignore"):
+            near |= np.abs(cols - self.columns[:, None]) <= _STRIPE_PX
+        self.regions = {"stripe": near, "off": surface & ~near}
+        self.surface = surface
+        self.ambient_ref = self.ambient(ref_ambient_spp, 1001)
+        self.check = None
+        if kinds == ["path", "ptracer"]:
+            self.laser_ref = self.laser("split", (ref_spp, ref_spp), 1002)
+        else:
+            # each half by the integrator that converges there; the material's own integrator at the
+            # same count is kept as a check that the two agree (:attr:`check`)
+            self.laser_ref = self.laser("hybrid", (ref_spp, ref_spp), 1002)
+        self.sigma = sensor_noise_dn(self.sensor, self.laser_ref + self.ambient_ref)
+        if kinds != ["path", "ptracer"]:
+            path_ref = self.laser(kinds[0], (ref_spp,), 1003)
+            stripe = self.regions["stripe"]
+            self.check = {"energy": float(path_ref[stripe].sum() / self.laser_ref[stripe].sum()),
+                          "z_off": float(np.sqrt(np.mean(((path_ref - self.laser_ref) / self.sigma)[
+                              self.regions["off"]] ** 2)))}
+        sd = centroid_sd_px(self.laser_ref, self.sigma, self.columns)
+        rows, cols_w = _windows(self.columns, w)
+        lit = np.zeros(h, bool)
+        lit[rows] = self.laser_ref[rows[:, None], cols_w].max(axis=1) >= _LIT_DN
+        self.lit = lit & np.isfinite(sd)
+        self.centroid_sd = float(np.sqrt(np.mean(sd[self.lit] ** 2))) if self.lit.any() else math.nan
+        self.centroid_ref = _centroids(self.laser_ref, rows, cols_w)
+        self._rows, self._cols = rows, cols_w
+
+    def render(self, kind: str, depth: int, spp: int, seed: int) -> np.ndarray:
+        return self.laser_scene.render(self.pose, spp, seed, integrator=(kind, depth)).astype(np.float64)
+
+    def components(self, label: str, spps: Tuple[int, ...]):
+        """The renders ``(kind, depth, spp)`` a candidate is made of."""
+        from scenes import description
+
+        d = description.MAX_DEPTH
+        if label == "split":
+            return [("path", d, spps[0]), ("ptracer", d, spps[1])]
+        if label == "split_hybrid":
+            return [("path", d, spps[0]), ("path", description.DIRECT_DEPTH, spps[1]),
+                    ("ptracer_indirect", d, spps[2])]
+        if label == "hybrid":
+            return [("path", description.DIRECT_DEPTH, spps[0]), ("ptracer_indirect", d, spps[1])]
+        return [(label, d, spps[0])]
+
+    def combine(self, label: str, parts) -> np.ndarray:
+        """Noise-free laser DN of a candidate from its component renders."""
+        if label == "split":
+            img = np.where(self.split, parts[0], parts[1])
+        elif label == "split_hybrid":
+            img = np.where(self.split, parts[0], parts[1] + parts[2])
+        else:
+            img = sum(parts)
+        return img * self.laser_scale
+
+    def laser(self, label: str, spps: Tuple[int, ...], seed: int) -> np.ndarray:
+        """Noise-free laser DN of a candidate."""
+        return self.combine(label, [self.render(k, d, n, seed) for k, d, n in self.components(label, spps)])
+
+    def ambient(self, spp: int, seed: int) -> np.ndarray:
+        return self.ambient_scene.render(self.pose, spp, seed).astype(np.float64) * self.ambient_scale
+
+    def laser_metrics(self, img: np.ndarray) -> Dict[str, float]:
+        z = (img - self.laser_ref) / self.sigma
+        out = {name: float(np.sqrt(np.mean(z[m] ** 2))) if m.any() else 0.0 for name, m in self.regions.items()}
+        e_ref = self.laser_ref[self.regions["stripe"]].sum()
+        out["energy"] = float(img[self.regions["stripe"]].sum() / e_ref) if e_ref > 0 else 1.0
+        c = _centroids(img, self._rows, self._cols)
+        lit = self.lit[self._rows]
+        shift = c[lit] - self.centroid_ref[lit]
+        out["centre"] = (float(np.sqrt(np.mean(shift ** 2)) / self.centroid_sd)
+                         if lit.any() and self.centroid_sd > 0 else 0.0)
+        return out
+
+    def ambient_metrics(self, img: np.ndarray) -> float:
+        z = (img - self.ambient_ref) / sensor_noise_dn(self.sensor, self.ambient_ref)
+        return float(np.sqrt(np.mean(z[self.surface] ** 2)))
+
+
+def _timed(fn):
+    c0 = time.process_time()
+    out = fn()
+    return out, time.process_time() - c0
+
+
+def _passes(metrics: Dict[str, float]) -> bool:
+    return (metrics["stripe"] <= Z_MAX and metrics["off"] <= Z_MAX and metrics["centre"] <= Z_MAX
+            and abs(metrics["energy"] - 1.0) <= ENERGY_TOL)
+
+
+def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, progress: bool = True) -> dict:
+    """Every candidate of one material on its cases.
+
+    Returns
+    -------
+    dict
+        ``{"laser": {(label, spps): {"worst": metrics, "cost_s": float, "pass": bool}}, "ambient":
+        {spp: {"z": float, "cost_s": float, "pass": bool}}, "cases": [labels]}``; ``worst`` holds the
+        largest ``stripe``/``off``/``centre`` and the energy farthest from 1 over the cases.
+    """
+    import scenes
+
+    laser: Dict[tuple, dict] = {}
+    ambient: Dict[int, dict] = {}
+    labels, checks = [], []
+    for obj, geometry in CASES[material]:
+        probe = scenes.make(obj, material=material, cache=False, seed=SEED, **geometry)
+        for theta in calibration_angles(probe, n_angles):
+            case = _Case(material, obj, geometry, float(theta), ref_spp, ref_ambient_spp)
+            labels.append(case.label)
+            if progress:
+                check = ("" if case.check is None else
+                         f"; own integrator @ref / reference: stripe energy {case.check['energy']:.4f}, z off "
+                         f"{case.check['z_off']:.2f}")
+                print(f"  {case.label}: {int(case.lit.sum())} lit rows, sensor centroid sd "
+                      f"{case.centroid_sd:.3f} px{check}", file=sys.stderr, flush=True)
+            checks.append(case.check)
+            done: Dict[tuple, tuple] = {}  # component render -> (image, CPU s), shared by the candidates
+            for cand in laser_candidates(material):
+                for comp in case.components(*cand):
+                    if comp not in done:
+                        case.render(*comp, 7)  # compile the kernels first
+                        done[comp] = _timed(lambda: case.render(*comp, 11))
+                parts = [done[c] for c in case.components(*cand)]
+                img, cost = case.combine(cand[0], [p[0] for p in parts]), sum(p[1] for p in parts)
+                m = case.laser_metrics(img)
+                rec = laser.setdefault(cand, {"worst": None, "costs": []})
+                rec["costs"].append(cost)
+                w = rec["worst"]
+                rec["worst"] = m if w is None else {
+                    "stripe": max(w["stripe"], m["stripe"]), "off": max(w["off"], m["off"]),
+                    "centre": max(w["centre"], m["centre"]),
+                    "energy": max(w["energy"], m["energy"], key=lambda e: abs(e - 1.0))}
+            for spp in AMBIENT_CANDIDATES:
+                case.ambient(spp, 7)
+                img, cost = _timed(lambda: case.ambient(spp, 11))
+                rec = ambient.setdefault(spp, {"z": 0.0, "costs": []})
+                rec["z"] = max(rec["z"], case.ambient_metrics(img))
+                rec["costs"].append(cost)
+    for rec in laser.values():
+        rec["cost_s"] = float(np.mean(rec.pop("costs")))
+        rec["pass"] = _passes(rec["worst"])
+    for rec in ambient.values():
+        rec["cost_s"] = float(np.mean(rec.pop("costs")))
+        rec["pass"] = rec["z"] <= Z_MAX
+    return {"laser": laser, "ambient": ambient, "cases": labels, "checks": checks}
+
+
+def choose(result: dict):
+    """The cheapest passing laser candidate and ambient count of :func:`measure`'s result (None if none)."""
+    ok = [(rec["cost_s"], cand) for cand, rec in result["laser"].items() if rec["pass"]]
+    amb = [(rec["cost_s"], spp) for spp, rec in result["ambient"].items() if rec["pass"]]
+    return (min(ok)[1] if ok else None), (min(amb)[1] if amb else None)
+
+
+def _table(material: str, result: dict, chosen) -> str:
+    lines = [f"| `{material}` laser | z stripe | z off | centre | energy | CPU s | passes |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for cand, rec in result["laser"].items():
+        w = rec["worst"]
+        mark = " **chosen**" if cand == chosen[0] else ""
+        lines.append(f"| {cand[0]} {'+'.join(map(str, cand[1]))} spp{mark} | {w['stripe']:.2f} | {w['off']:.2f} | "
+                     f"{w['centre']:.2f} | {w['energy']:.3f} | {rec['cost_s']:.2f} | {'yes' if rec['pass'] else 'no'} |")
+    for spp, rec in result["ambient"].items():
+        mark = " **chosen**" if spp == chosen[1] else ""
+        lines.append(f"| ambient path {spp} spp{mark} | z {rec['z']:.2f} | | | | {rec['cost_s']:.2f} | "
+                     f"{'yes' if rec['pass'] else 'no'} |")
+    return "\n".join(lines)
+
+
+def _write(path: Path, results: Dict[str, dict], chosen: Dict[str, tuple], argv_text: str) -> None:
+    from bench.store.files import atomic_write_text
+
+    laser = {m: c[0][1] for m, c in chosen.items() if c[0] is not None}
+    kinds = {m: c[0][0] for m, c in chosen.items() if c[0] is not None}
+    ambient = {m: c[1] for m, c in chosen.items() if c[1] is not None}
+    measured = {}
+    for m, c in chosen.items():
+        if c[0] is None or c[1] is None:
+            continue
+        w = results[m]["laser"][c[0]]["worst"]
+        measured[m] = {"z_stripe": round(w["stripe"], 3), "z_off": round(w["off"], 3),
+                       "centre": round(w["centre"], 3), "energy": round(w["energy"], 4),
+                       "z_ambient": round(results[m]["ambient"][c[1]]["z"], 3), "cases": len(results[m]["cases"])}
+    text = path.read_text()
+    start, end = "# --- generated: begin ---\n", "# --- generated: end ---\n"
+    head, rest = text.split(start)
+    _, tail = rest.split(end)
+    body = (f"# by `{argv_text}`\n"
+            f"LASER_KIND = {kinds!r}\n"
+            f"LASER_SPP = {laser!r}\n"
+            f"AMBIENT_SPP = {ambient!r}\n"
+            f"MEASURED = {measured!r}\n")
+    atomic_write_text(path, head + start + body + end + tail)
+
+
+def add_arguments(parser) -> None:
+    """The procedure's options (``stripebench perf sampling``)."""
+    from bench.config.options import arg_type, int_in_range, positive_int
+
+    parser.add_argument("--angles", type=arg_type(lambda n, v: int_in_range(n, v, 1, 9), "--angles"), default=2,
+                        metavar="N", help="calibration angles per case (default 2)")
+    parser.add_argument("--ref-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--ref-spp"),
+                        default=144, metavar="N", help="spp of the laser references (default 144)")
+    parser.add_argument("--ref-ambient-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536),
+                                                           "--ref-ambient-spp"),
+                        default=144, metavar="N", help="spp of the ambient references (default 144)")
+    parser.add_argument("--materials", default=",".join(MATERIALS), metavar="LIST",
+                        help=f"comma-separated materials (default {','.join(MATERIALS)})")
+    parser.add_argument("--write", action="store_true", help="write the choices into scenes/sampling.py")
+
+
+def command(args) -> int:
+    """Run the procedure with parsed options."""
+    from bench.errors import InputError
+    from scenes import sampling
+
+    materials = [m for m in args.materials.split(",") if m]
+    bad = [m for m in materials if m not in MATERIALS]
+    if bad or not materials:
+        raise InputError(f"--materials must name some of {', '.join(MATERIALS)}, got {args.materials!r}")
+    if args.write and tuple(materials) != MATERIALS:
+        raise InputError("--write needs every material (leave --materials at its default)")
+    results, chosen = {}, {}
+    for material in materials:
+        print(f"{material}:", file=sys.stderr, flush=True)
+        results[material] = measure(material, args.angles, args.ref_spp, args.ref_ambient_spp)
+        chosen[material] = choose(results[material])
+        print(_table(material, results[material], chosen[material]) + "\n", flush=True)
+    print("| material | laser pass(es) | ambient spp |\n| --- | --- | --- |")
+    for m, (laser, amb) in chosen.items():
+        text = "none passes (fixed counts kept)" if laser is None else f"{laser[0]} {'+'.join(map(str, laser[1]))}"
+        print(f"| `{m}` | {text} | {amb if amb is not None else 'none passes'} |")
+    if args.write:
+        argv = (f"stripebench perf sampling --angles {args.angles} --ref-spp {args.ref_spp} "
+                f"--ref-ambient-spp {args.ref_ambient_spp} --write")
+        _write(Path(sampling.__file__), results, chosen, argv)
+        print(f"wrote {sampling.__file__}", file=sys.stderr)
+    return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m bench.studies.perf.sampling``: the same options as ``stripebench perf sampling``."""
+    from bench.config.options import study_main
+
+    return study_main("python -m bench.studies.perf.sampling", __doc__, add_arguments, command, argv)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,73 @@
+"""Sample counts per material and pass: what ``spp = "auto"`` and ``ambient_spp = "auto"`` render.
+
+The counts between the ``generated`` markers below are written by the committed procedure
+``stripebench perf sampling --write`` (:mod:`bench.studies.perf.sampling`; do not edit them by hand):
+for every opaque and shiny material it renders the laser and ambient passes of the cone and the hand
+at 512x480 with several integrators and sample counts, on a seed and angles that the paper run does not
+use, measures each against a high-count reference in units of the sensor noise, and keeps the
+cheapest candidate whose render noise stays at most the sensor's (stripe, the rest of
+the frame and the stripe's centroid) with the stripe's energy within 2 %. ``MEASURED`` holds the
+chosen candidates' worst-case numbers over the procedure's cases.
+
+A material the table lacks (the translucent ones, whose ``volpath`` noise stays above the sensor's at
+any affordable count: docs/translucency.md), and any scene whose laser passes are not the material's own
+(a path-traced material on a polished table), keeps the fixed counts :data:`FIXED_SPP` and
+:data:`FIXED_AMBIENT_SPP`. The counts were measured at 512x480; at other sizes ``auto`` gives the same
+counts (a smaller image has wider pixels, so its stripe is sharper per pixel; rerun the procedure
+there before relying on the noise claim).
+"""
+
+from __future__ import annotations
+
+from typing import Optional, Tuple
+
+__all__ = ["AUTO", "FIXED_SPP", "FIXED_AMBIENT_SPP", "LASER_KIND", "LASER_SPP", "AMBIENT_SPP", "MEASURED",
+           "laser_choice", "ambient_spp"]
+
+AUTO = "auto"
+"""The value of ``spp`` / ``ambient_spp`` that selects this table."""
+
+FIXED_SPP = 16
+"""Laser-pass spp of every material (and pass) the table lacks."""
+
+FIXED_AMBIENT_SPP = 8
+"""Ambient-pass spp of every material the table lacks."""
+
+# --- generated: begin ---
+LASER_KIND = {}
+LASER_SPP = {}
+AMBIENT_SPP = {}
+MEASURED = {}
+# --- generated: end ---
+
+
+def laser_choice(material: str) -> Optional[Tuple[str, Tuple[int, ...]]]:
+    """The ``auto`` laser pass of ``material``: ``(integrator, spp per pass)``, or None.
+
+    ``integrator`` is ``"path"`` or ``"ptracer"`` (one pass over every pixel), ``"hybrid"``
+    (:func:`scenes.description.hybrid_passes`: the direct light path traced, the interreflected light
+    light traced; two counts), ``"split"`` (the shiny materials' ``path`` on the object's pixels and
+    ``ptracer`` elsewhere: two counts) or ``"split_hybrid"`` (:func:`scenes.description.split_hybrid_passes`:
+    three counts). None
+    when the table lacks ``material``: the scene keeps its passes at :data:`FIXED_SPP`.
+
+    Examples
+    --------
+    >>> laser_choice("skin") is None
+    True
+    """
+    chosen = LASER_SPP.get(material)
+    if chosen is None:
+        return None
+    return LASER_KIND[material], tuple(int(n) for n in chosen)
+
+
+def ambient_spp(material: str) -> int:
+    """The ``auto`` sample count of the ambient pass (:data:`FIXED_AMBIENT_SPP` when the table lacks it).
+
+    Examples
+    --------
+    >>> ambient_spp("wax")
+    8
+    """
+    return int(AMBIENT_SPP.get(material, FIXED_AMBIENT_SPP))

@@ -1,0 +1,87 @@
+"""The sampling procedure's pieces: angles, noise units, the choice and the generated table."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import scenes
+from bench.studies.perf import sampling as S
+
+
+def test_calibration_angles_avoid_the_paper_runs_grid():
+    for obj in ("cone", "hand"):
+        s = scenes.make(obj, width=64, height=60, cache=False)
+        grid = s.object.default_angles(s.rig.zeta_deg, 12)
+        angles = S.calibration_angles(s, 3)
+        assert len(angles) == 3 and np.all(np.diff(angles) > 0)
+        assert np.min(np.abs(angles[:, None] - grid[None, :])) > 0.25 * np.min(np.diff(grid))
+        assert grid[0] < angles[0] and angles[-1] < grid[-1]
+
+
+def test_centroid_sd_matches_a_monte_carlo_of_the_sensor_noise():
+    rng = np.random.default_rng(3)
+    u = np.arange(31.0)
+    laser = 60.0 * np.exp(-0.5 * ((u - 15.3) / 1.5) ** 2)[None, :]
+    sigma = np.full((1, 31), 1.7)
+    predicted = S.centroid_sd_px(laser, sigma, np.array([15.3]))[0]
+    window = slice(10, 21)
+    draws = laser[0, window] + rng.normal(0, 1.7, size=(20000, 11))
+    c = (draws * u[window]).sum(axis=1) / draws.sum(axis=1)
+    assert abs(c.std() / predicted - 1) < 0.05
+    assert np.isnan(S.centroid_sd_px(laser, sigma, np.array([np.nan]))[0])
+    assert np.isnan(S.centroid_sd_px(laser, sigma, np.array([2.0]))[0])  # window off the image
+
+
+def test_sensor_noise_grows_with_the_level():
+    sensor = scenes.sensor.SensorModel()
+    n = S.sensor_noise_dn(sensor, np.array([0.0, 10.0, 100.0]))
+    assert np.all(np.diff(n) > 0)
+    assert math.isclose(n[2], math.sqrt(100 * sensor.gain_e_per_dn + sensor.read_noise_e ** 2)
+                        / sensor.gain_e_per_dn + 12 ** -0.5)
+
+
+def test_the_cheapest_passing_candidate_is_chosen():
+    ok = {"stripe": 0.5, "off": 0.5, "centre": 0.5, "energy": 1.0}
+    result = {"laser": {("path", (16,)): {"worst": ok, "cost_s": 0.6, "pass": True},
+                        ("path", (4,)): {"worst": {**ok, "centre": 1.5}, "cost_s": 0.1, "pass": False},
+                        ("hybrid", (4, 2)): {"worst": ok, "cost_s": 0.3, "pass": True}},
+              "ambient": {1: {"z": 1.2, "cost_s": 0.05, "pass": False}, 2: {"z": 0.6, "cost_s": 0.1, "pass": True},
+                          4: {"z": 0.4, "cost_s": 0.2, "pass": True}}}
+    assert S.choose(result) == (("hybrid", (4, 2)), 2)
+    for v in result["laser"].values():
+        v["pass"] = False
+    assert S.choose(result)[0] is None
+    assert S._passes(ok) and not S._passes({**ok, "energy": 1.0 + 2 * S.ENERGY_TOL})
+    assert not S._passes({**ok, "off": S.Z_MAX + 0.01})
+
+
+def test_write_replaces_only_the_generated_block(tmp_path):
+    src = Path(scenes.sampling.__file__).read_text()
+    path = tmp_path / "sampling.py"
+    path.write_text(src)
+    ok = {"stripe": 0.5, "off": 0.4, "centre": 0.3, "energy": 0.999}
+    results = {"matte": {"laser": {("hybrid", (4, 2)): {"worst": ok, "cost_s": 0.3, "pass": True}},
+                         "ambient": {2: {"z": 0.6, "cost_s": 0.1, "pass": True}}, "cases": ["a", "b"]},
+               "specular": {"laser": {}, "ambient": {}, "cases": ["c"]}}
+    S._write(path, results, {"matte": (("hybrid", (4, 2)), 2), "specular": (None, None)}, "cmd")
+    text = path.read_text()
+    before, after = src.split("# --- generated: begin ---\n"), text.split("# --- generated: begin ---\n")
+    assert before[0] == after[0] and before[1].split("# --- generated: end ---\n")[1] == \
+        after[1].split("# --- generated: end ---\n")[1]
+    ns = {}
+    exec(after[1].split("# --- generated: end ---\n")[0], ns)
+    assert ns["LASER_KIND"] == {"matte": "hybrid"} and ns["LASER_SPP"] == {"matte": (4, 2)}
+    assert ns["AMBIENT_SPP"] == {"matte": 2} and ns["MEASURED"]["matte"]["cases"] == 2
+
+
+def test_bad_options_are_one_line_errors(capsys):
+    assert S.main(["--materials", "chrome"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--materials must name some of matte" in err and "'chrome'" in err
+
+
+def test_write_needs_every_material(capsys):
+    assert S.main(["--materials", "matte", "--write"]) == 2
+    assert "--write needs every material" in capsys.readouterr().err

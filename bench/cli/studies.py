@@ -42,7 +42,7 @@ COMMANDS = (
     _study("bench.studies.translucency", "translucency", "the subsurface-scattering bias study", renders=True),
     _study("bench.studies.tune", "tune", "choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
            renders=True),
-    Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`",
+    Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`",
             lambda parser: None, None,
             description="Speed benchmarks; `stripebench perf` alone runs `stripebench perf trackers`.",
             subcommands=PERF, default_subcommand="trackers"),

@@ -39,8 +39,11 @@ measured in units of the **sensor noise** (shot + read noise at the reference le
 A candidate passes when, on every case, ``z_stripe``, ``z_off`` and ``centre`` are at most
 :data:`Z_MAX` (1: the render noise at most the sensor's; the total noise then at most sqrt(2) times
 the sensor's) and ``energy``
-is within :data:`ENERGY_TOL`; for the ambient pass ``z`` over every surface pixel.  Of the passing
-candidates the cheapest (mean CPU seconds of its renders, kernels compiled beforehand) is chosen.
+is within :data:`ENERGY_TOL`; for the ambient pass ``z`` over every surface pixel.  A candidate
+qualifies when it passes and so does every candidate with the same integrators and at least its
+count in every pass (:func:`choose`); the cheapest qualifying one (mean CPU seconds of its renders,
+kernels compiled beforehand) is chosen. ``--save FILE`` keeps every measurement as JSON and
+``--from FILE`` chooses (and writes) from such a file without rendering.
 ``--write`` writes the choices and their worst-case numbers into :mod:`scenes.sampling`, which
 ``spp = "auto"`` and ``ambient_spp = "auto"`` read.  The translucent materials are not measured here
 (``volpath``'s render noise stays above the sensor's at any affordable count: docs/translucency.md);
@@ -49,6 +52,7 @@ candidates the cheapest (mean CPU seconds of its renders, kernels compiled befor
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 import time
@@ -389,11 +393,37 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
     return {"laser": laser, "ambient": ambient, "cases": labels, "checks": checks}
 
 
+def _dominates(a, b) -> bool:
+    """Whether candidate ``a`` has the same integrators as ``b`` and at least its count in every pass."""
+    return a[0] == b[0] and all(x >= y for x, y in zip(a[1], b[1]))
+
+
 def choose(result: dict):
-    """The cheapest passing laser candidate and ambient count of :func:`measure`'s result (None if none)."""
-    ok = [(rec["cost_s"], cand) for cand, rec in result["laser"].items() if rec["pass"]]
-    amb = [(rec["cost_s"], spp) for spp, rec in result["ambient"].items() if rec["pass"]]
-    return (min(ok)[1] if ok else None), (min(amb)[1] if amb else None)
+    """The chosen laser candidate and ambient count of :func:`measure`'s result (None where none qualifies).
+
+    A candidate qualifies when it passes and so does every candidate with the same integrators and
+    at least its count in every pass (a pass that more samples would lose is the measurement's noise,
+    not a margin); the cheapest qualifying one is chosen.
+    """
+    laser = result["laser"]
+    ok = [(rec["cost_s"], cand) for cand, rec in laser.items()
+          if all(laser[c]["pass"] for c in laser if _dominates(c, cand))]
+    amb = result["ambient"]
+    ok_amb = [(rec["cost_s"], spp) for spp, rec in amb.items() if all(amb[n]["pass"] for n in amb if n >= spp)]
+    return (min(ok)[1] if ok else None), (min(ok_amb)[1] if ok_amb else None)
+
+
+def _jsonable(result: dict) -> dict:
+    return {"laser": [{"label": c[0], "spp": list(c[1]), **rec} for c, rec in result["laser"].items()],
+            "ambient": [{"spp": n, **rec} for n, rec in result["ambient"].items()],
+            "cases": result["cases"], "checks": result.get("checks", [])}
+
+
+def _from_jsonable(d: dict) -> dict:
+    laser = {(r["label"], tuple(r["spp"])): {k: v for k, v in r.items() if k not in ("label", "spp")}
+             for r in d["laser"]}
+    ambient = {int(r["spp"]): {k: v for k, v in r.items() if k != "spp"} for r in d["ambient"]}
+    return {"laser": laser, "ambient": ambient, "cases": d["cases"], "checks": d.get("checks", [])}
 
 
 def _table(material: str, result: dict, chosen) -> str:
@@ -451,6 +481,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--materials", default=",".join(MATERIALS), metavar="LIST",
                         help=f"comma-separated materials (default {','.join(MATERIALS)})")
     parser.add_argument("--write", action="store_true", help="write the choices into scenes/sampling.py")
+    parser.add_argument("--save", metavar="FILE", default=None,
+                        help="also write the measurements (every candidate, every material) as JSON")
+    parser.add_argument("--from", dest="from_file", metavar="FILE", default=None,
+                        help="choose (and --write) from measurements saved by --save instead of rendering")
 
 
 def command(args) -> int:
@@ -465,11 +499,33 @@ def command(args) -> int:
     if args.write and tuple(materials) != MATERIALS:
         raise InputError("--write needs every material (leave --materials at its default)")
     results, chosen = {}, {}
+    saved = None
+    if args.from_file:
+        try:
+            saved = json.loads(Path(args.from_file).read_text())
+            options = saved["options"]
+            saved_results = {m: _from_jsonable(r) for m, r in saved["results"].items()}
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise InputError(f"--from {args.from_file}: not a file of `stripebench perf sampling --save` ({exc})")
+        args.angles, args.ref_spp, args.ref_ambient_spp = options["angles"], options["ref_spp"], options["ref_ambient_spp"]
+        missing = [m for m in materials if m not in saved_results]
+        if missing:
+            raise InputError(f"--from {args.from_file} lacks the material(s) {', '.join(missing)}")
     for material in materials:
-        print(f"{material}:", file=sys.stderr, flush=True)
-        results[material] = measure(material, args.angles, args.ref_spp, args.ref_ambient_spp)
+        if saved is not None:
+            results[material] = saved_results[material]
+        else:
+            print(f"{material}:", file=sys.stderr, flush=True)
+            results[material] = measure(material, args.angles, args.ref_spp, args.ref_ambient_spp)
         chosen[material] = choose(results[material])
         print(_table(material, results[material], chosen[material]) + "\n", flush=True)
+    if args.save:
+        from bench.store.files import atomic_write_text
+
+        atomic_write_text(Path(args.save), json.dumps(
+            {"format": 1, "options": {"angles": args.angles, "ref_spp": args.ref_spp,
+                                      "ref_ambient_spp": args.ref_ambient_spp},
+             "results": {m: _jsonable(r) for m, r in results.items()}}, indent=1) + "\n")
     print("| material | laser pass(es) | ambient spp |\n| --- | --- | --- |")
     for m, (laser, amb) in chosen.items():
         text = "none passes (fixed counts kept)" if laser is None else f"{laser[0]} {'+'.join(map(str, laser[1]))}"

@@ -1,7 +1,7 @@
 """Cost of a scale-only sweep grid against its single point, cold render cache.
 
 Usage: ``stripebench perf sweep [--scene cone] [--material patchy] [--size 256x240] [--angles 10]
-[--spp 16] [--trackers threshold,centroid,dp4,dp8] [--lux 0,100,400,1000,2000] [--power 1,3,10]
+[--spp auto|N] [--trackers threshold,centroid,dp4,dp8] [--lux 0,100,400,1000,2000] [--power 1,3,10]
 [--repeats 1] [--trials 2] [--out DIR]``
 
 Runs ``stripebench sweep --scheduler sync``, each time in a fresh Python process
@@ -34,8 +34,9 @@ def _config(args, lux: list[float], power: list[float]) -> str:
     w, h = args.size
     trackers = ", ".join(f'"{t}"' for t in args.trackers.split(","))
     return (f'name = "perf-sweep"\nseed = 0\ntrackers = [{trackers}]\nbaselines = []\ndp = []\nn_samples = 150\n'
-            f'[render]\nwidth = {int(w)}\nheight = {int(h)}\nspp = {args.spp}\n'
-            f'[[experiments]]\nscene = "{args.scene}"\nmaterial = "{args.material}"\nn_angles = {args.angles}\n'
+            f'[render]\nwidth = {int(w)}\nheight = {int(h)}\n'
+            + ('spp = "auto"\nambient_spp = "auto"\n' if args.spp == "auto" else f'spp = {args.spp}\n')
+            + f'[[experiments]]\nscene = "{args.scene}"\nmaterial = "{args.material}"\nn_angles = {args.angles}\n'
             f'[sweep]\nambient_lux = {lux}\nlaser_power_mw = {power}\nrepeats = {args.repeats}\n')
 
 
@@ -71,8 +72,10 @@ def add_arguments(parser) -> None:
                         help="WIDTHxHEIGHT (16:15; default 256x240)")
     parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, 10000), "--angles"), default=10,
                         metavar="N", help="mirror angles (default 10)")
-    parser.add_argument("--spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--spp"), default=16,
-                        metavar="N", help="laser-pass samples per pixel (default 16)")
+    parser.add_argument("--spp", type=arg_type(lambda n, v: v if v == "auto" else positive_int(n, v, 65536), "--spp"),
+                        default="auto", metavar="auto|N",
+                        help="laser-pass samples per pixel, or auto (scenes.sampling; the ambient pass then too) "
+                             "(default auto)")
     add_trackers(parser, "comma-separated tracker names (default threshold,centroid,dp4,dp8)")
     parser.add_argument("--lux", type=nonneg("--lux"), default=[0.0, 100.0, 400.0, 1000.0, 2000.0], metavar="LIST",
                         help="ambient lux of the grid (default 0,100,400,1000,2000)")

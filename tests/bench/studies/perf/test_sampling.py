@@ -42,19 +42,44 @@ def test_sensor_noise_grows_with_the_level():
                         / sensor.gain_e_per_dn + 12 ** -0.5)
 
 
-def test_the_cheapest_passing_candidate_is_chosen():
+def test_the_cheapest_qualifying_candidate_is_chosen():
     ok = {"stripe": 0.5, "off": 0.5, "centre": 0.5, "energy": 1.0}
     result = {"laser": {("path", (16,)): {"worst": ok, "cost_s": 0.6, "pass": True},
                         ("path", (4,)): {"worst": {**ok, "centre": 1.5}, "cost_s": 0.1, "pass": False},
-                        ("hybrid", (4, 2)): {"worst": ok, "cost_s": 0.3, "pass": True}},
+                        ("hybrid", (4, 2)): {"worst": ok, "cost_s": 0.3, "pass": True},
+                        ("hybrid", (4, 4)): {"worst": ok, "cost_s": 0.4, "pass": True}},
               "ambient": {1: {"z": 1.2, "cost_s": 0.05, "pass": False}, 2: {"z": 0.6, "cost_s": 0.1, "pass": True},
                           4: {"z": 0.4, "cost_s": 0.2, "pass": True}}}
     assert S.choose(result) == (("hybrid", (4, 2)), 2)
+    # a pass that more samples lose does not qualify: the next cheapest that does is chosen
+    result["laser"][("hybrid", (4, 4))]["pass"] = False
+    result["ambient"][4]["pass"] = False
+    assert S.choose(result) == (("path", (16,)), None)
     for v in result["laser"].values():
         v["pass"] = False
     assert S.choose(result)[0] is None
     assert S._passes(ok) and not S._passes({**ok, "energy": 1.0 + 2 * S.ENERGY_TOL})
     assert not S._passes({**ok, "off": S.Z_MAX + 0.01})
+
+
+def test_saved_measurements_choose_and_write_without_rendering(tmp_path, capsys):
+    ok = {"stripe": 0.5, "off": 0.4, "centre": 0.3, "energy": 0.999}
+    results = {m: {"laser": {("path", (8,)): {"worst": ok, "cost_s": 0.3, "pass": True}},
+                   "ambient": {2: {"z": 0.6, "cost_s": 0.1, "pass": True}}, "cases": ["a"], "checks": []}
+               for m in S.MATERIALS}
+    saved = {"format": 1, "options": {"angles": 2, "ref_spp": 144, "ref_ambient_spp": 144},
+             "results": {m: S._jsonable(r) for m, r in results.items()}}
+    path = tmp_path / "m.json"
+    import json
+    path.write_text(json.dumps(saved))
+    assert S._from_jsonable(S._jsonable(results["matte"]))["laser"] == results["matte"]["laser"]
+    assert S.main(["--from", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "| `specular` | path 8 | 2 |" in out
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}")
+    assert S.main(["--from", str(bad)]) == 2
+    assert "not a file of `stripebench perf sampling --save`" in capsys.readouterr().err
 
 
 def test_write_replaces_only_the_generated_block(tmp_path):

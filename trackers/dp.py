@@ -78,17 +78,18 @@ def _check_h_weight(h_weight) -> float:
 
 
 def _half_cost(image: np.ndarray, eps: float):
-    """Half node costs ``0.5 / (max(I, 0) + eps)`` and each row's least one
-    and its column (the kernels' inputs)."""
+    """Half node costs ``0.5 / (max(I, 0) + eps)``, each row's least one and
+    its leftmost and rightmost columns (the kernels' inputs)."""
     H = image.shape[0]
     hc = np.empty(image.shape, dtype=np.float64)
     rowmin = np.empty(H)
     centre = np.empty(H, dtype=np.int64)
+    rightc = np.empty(H, dtype=np.int64)
     if image.dtype == np.uint8:
-        K.half_cost_u8(image, float(eps), hc, rowmin, centre)
+        K.half_cost_u8(image, float(eps), hc, rowmin, centre, rightc)
     else:
-        K.half_cost_float(image, float(eps), hc, rowmin, centre)
-    return hc, rowmin, centre
+        K.half_cost_float(image, float(eps), hc, rowmin, centre, rightc)
+    return hc, rowmin, centre, rightc
 
 
 def node_cost(image, eps: float = 1.0) -> np.ndarray:
@@ -124,10 +125,11 @@ def _check_cost(cost) -> np.ndarray:
     return c
 
 
-def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool, h_weight: float = 1.0):
+def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, rightc: np.ndarray, conn8: bool,
+           h_weight: float = 1.0):
     H, W = hc.shape
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, True, D, rowmin, centre, h_weight)
+    K.accumulate(hc, conn8, True, D, rowmin, centre, h_weight, rightc)
     rows = np.empty(H * W, dtype=np.int64)
     cols = np.empty(H * W, dtype=np.int64)
     n = K.backtrack(D, hc, conn8, rows, cols, h_weight)
@@ -141,8 +143,9 @@ def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool, 
 def _stats(hc: np.ndarray):
     rowmin = np.empty(hc.shape[0])
     centre = np.empty(hc.shape[0], dtype=np.int64)
-    K.row_stats(hc, rowmin, centre)
-    return rowmin, centre
+    rightc = np.empty(hc.shape[0], dtype=np.int64)
+    K.row_stats(hc, rowmin, centre, rightc)
+    return rowmin, centre, rightc
 
 
 def shortest_path(cost, connectivity: int = 4, h_weight: float = 1.0):
@@ -214,9 +217,9 @@ def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0, h_weight
     check_real("eps", eps, low=0, low_open=True)
     conn8 = _check_connectivity(connectivity)
     hw = _check_h_weight(h_weight)
-    hc, rowmin, centre = _half_cost(img, eps)
+    hc, rowmin, centre, rightc = _half_cost(img, eps)
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, False, D, rowmin, centre, hw)
+    K.accumulate(hc, conn8, False, D, rowmin, centre, hw, rightc)
     D[-1, :] = D[-1].min()
     return D
 
@@ -477,11 +480,11 @@ class DPTracker(Tracker):
         supporting the path, the rows to report.
         """
         H, W = image.shape
-        hc, rowmin, centre = _half_cost(image, self.eps)
+        hc, rowmin, centre, rightc = _half_cost(image, self.eps)
         conn8 = self.connectivity == 8
         hw = float(self.h_weight)
         D = np.empty_like(hc)
-        K.accumulate(hc, conn8, True, D, rowmin, centre, hw)
+        K.accumulate(hc, conn8, True, D, rowmin, centre, hw, rightc)
         mark = np.zeros((H, W), dtype=np.uint8)
         rows = np.empty(H * W, dtype=np.int64)
         cols = np.empty(H * W, dtype=np.int64)

@@ -262,13 +262,13 @@ class DPGapTracker(DPTracker):
         bg = check_background(background, img.shape)
         self._validate_params()
         img = self.seen_frame(img, bg)
-        hc, rowmin, _ = _half_cost(img, self.eps)
+        hc, rowmin, _, _ = _half_cost(img, self.eps)
         off, s = self.off_costs(img, rowmin)
         return gap_path(2.0 * hc, off, s, self.connectivity, self.h_weight)
 
     def _path_rows(self, image):
         H, W = image.shape
-        hc, rowmin, _ = _half_cost(image, self.eps)
+        hc, rowmin, _, _ = _half_cost(image, self.eps)
         off, s = self.off_costs(image, rowmin)
         ho = np.full(H, 0.5 * off)
         mark, _, rows, cols, _, _ = _labels(hc, ho, s, self.connectivity == 8, float(self.h_weight))

@@ -64,8 +64,9 @@ chain continued from the other half's last value while that improves it
 equals the chain run from the row's start (once a carried value does not
 beat the chain's own at one column, it cannot at the next: both add the
 same step). The fields are bit for bit those of the former scalar loops
-(checked on the 72 frames of ``bench.studies.perf.frames`` for both
-connectivities at ``h_weight`` 1 and 0.25, sweep counts included).
+(``python scripts/dp_kernel_identity.py``: the perf frame set, both
+connectivities at ``h_weight`` 1 and 0.25, sweep counts, labels and paths
+included; docs/dp.md, Speed).
 """
 
 from __future__ import annotations

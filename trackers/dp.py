@@ -87,10 +87,10 @@ def _work_arrays(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     field of one solve) for the calling thread, the same ones again while the
     frame size stays the same (and new ones when it changes).
 
-    Fresh pages of a large array cost a page fault each when first written:
-    at 960x600 a new pair cost the DP trackers more system time (about 2 ms
-    per frame on this machine) than the solve itself. Only callers whose
-    results do not keep either array use them.
+    Fresh pages of a large array cost a page fault each when first written,
+    and at 960x600 a new pair per frame cost the DP trackers more than the
+    solve itself (docs/dp.md, Speed). Only callers whose results keep
+    neither array use them.
     """
     arrays = getattr(_WORK, "arrays", None)
     if arrays is None or arrays[0].shape != shape:

@@ -471,7 +471,7 @@ def main(argv=None) -> int:
     times = {}
     differ = 0
     for label, img in varied_frames(args.per_kind, seed=0):
-        hc, rowmin, centre = _half_cost(img, 1.0)
+        hc, rowmin, centre, _ = _half_cost(img, 1.0)
         cells = [f"{label:20s}"]
         for conn8 in (False, True):
             for hw in (1.0, 0.25):

@@ -64,12 +64,20 @@ rule is in its docstring).
 The sums are evaluated in the same order in the three kernels (``F[q] + hc[q] + hc[p]``
 vertically, ``F[q] + dg * hc[q] + dg * hc[p]`` diagonally, ``F[q] + step``
 along a row), so tightness tests see the sweep's own roundings.
+
+The sweep's loops index with unsigned integers (numba then drops the
+negative-index wraparound, which lets the loops run on SIMD lanes and keeps
+the scans' eight chains short); the values are the same expressions in the
+same order.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+
+_U1 = np.uint64(1)
 
 
 @njit(cache=True, nogil=True)
@@ -99,76 +107,82 @@ def sweep(hc, ho, switch, conn8, hw, F, Foff):
     S = np.empty(W)
     L = np.empty(W)
     R = np.empty(W)
-    for j in range(W):
-        F[0, j] = 0.0
+    uW = np.uint64(W)
+    one = _U1
+    F0 = F[0]
+    for j in range(uW):
+        F0[j] = 0.0
     Foff[0] = 0.0
-    leave = _row_exits(F, hc, 0, dg, U, Ud)
+    leave = _row_exits(F[0], hc[0], dg, U, Ud)
     for r in range(1, H):
         p = r - 1
+        hr = hc[r]
+        Fr = F[r]
         enter = Foff[p] + ho[p] + switch
-        for j in range(W):
-            h = hc[r, j]
+        for j in range(uW):
+            h = hr[j]
             v = U[j] + h
             x = enter + h
             E[j] = x if x < v else v
         if conn8 and W > 1:
-            x = Ud[1] + dg * hc[r, 0]
+            x = Ud[1] + dg * hr[0]
             E[0] = x if x < E[0] else E[0]
-            for j in range(1, W - 1):
-                dh = dg * hc[r, j]
-                x = Ud[j - 1] + dh
-                y = Ud[j + 1] + dh
+            for j in range(one, uW - one):
+                dh = dg * hr[j]
+                x = Ud[j - one] + dh
+                y = Ud[j + one] + dh
                 x = x if x < y else y
-                E[j] = x if x < E[j] else E[j]
-            x = Ud[W - 2] + dg * hc[r, W - 1]
+                e = E[j]
+                E[j] = x if x < e else e
+            x = Ud[W - 2] + dg * hr[W - 1]
             E[W - 1] = x if x < E[W - 1] else E[W - 1]
         S[0] = 0.0
-        for j in range(1, W):
-            S[j] = hw * (hc[r, j - 1] + hc[r, j])
+        for j in range(one, uW):
+            S[j] = hw * (hr[j - one] + hr[j])
         _scans(E, S, L, R, W)
-        for j in range(W):
+        for j in range(uW):
             x = L[j]
             y = R[j]
-            F[r, j] = x if x < y else y
+            Fr[j] = x if x < y else y
         a = Foff[p] + ho[p] + ho[r]
         b = leave + (ho[r] + switch)
         Foff[r] = a if a < b else b
-        leave = _row_exits(F, hc, r, dg, U, Ud)
+        leave = _row_exits(Fr, hr, dg, U, Ud)
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _row_exits(F, hc, r, dg, U, Ud):
+def _row_exits(Fr, hr, dg, U, Ud):
     """``U = F[r] + hc[r]`` and ``Ud = F[r] + dg * hc[r]`` (a row's values plus
     its half costs: the start of its vertical and diagonal edges down), and
     ``min(U)`` (the best way to leave for the off node below), kept in four
     accumulators so that the reduction is not one long dependency chain."""
-    W = F.shape[1]
+    W = Fr.shape[0]
+    uW = np.uint64(W)
     m0 = np.inf
     m1 = np.inf
     m2 = np.inf
     m3 = np.inf
-    j = 0
-    while j + 4 <= W:
-        u0 = F[r, j] + hc[r, j]
-        u1 = F[r, j + 1] + hc[r, j + 1]
-        u2 = F[r, j + 2] + hc[r, j + 2]
-        u3 = F[r, j + 3] + hc[r, j + 3]
+    n4 = uW // np.uint64(4)
+    for k in range(n4):
+        j = k * np.uint64(4)
+        u0 = Fr[j] + hr[j]
+        u1 = Fr[j + np.uint64(1)] + hr[j + np.uint64(1)]
+        u2 = Fr[j + np.uint64(2)] + hr[j + np.uint64(2)]
+        u3 = Fr[j + np.uint64(3)] + hr[j + np.uint64(3)]
         U[j] = u0
-        U[j + 1] = u1
-        U[j + 2] = u2
-        U[j + 3] = u3
+        U[j + np.uint64(1)] = u1
+        U[j + np.uint64(2)] = u2
+        U[j + np.uint64(3)] = u3
         m0 = u0 if u0 < m0 else m0
         m1 = u1 if u1 < m1 else m1
         m2 = u2 if u2 < m2 else m2
         m3 = u3 if u3 < m3 else m3
-        j += 4
-    while j < W:
-        u0 = F[r, j] + hc[r, j]
+    for j in range(n4 * np.uint64(4), uW):
+        u0 = Fr[j] + hr[j]
         U[j] = u0
         m0 = u0 if u0 < m0 else m0
-        j += 1
-    for j in range(W):
-        Ud[j] = F[r, j] + dg * hc[r, j]
+    for j in range(uW):
+        Ud[j] = Fr[j] + dg * hr[j]
     m0 = m1 if m1 < m0 else m0
     m2 = m3 if m3 < m2 else m2
     return m2 if m2 < m0 else m0
@@ -201,10 +215,12 @@ def _scans(E, S, L, R, W):
             b = y if y < e else e
             R[j] = b
         return
-    q = W // 4
+    one = np.uint64(1)
+    uW = np.uint64(W)
+    q = uW // np.uint64(4)
     s1 = q
-    s2 = 2 * q
-    s3 = 3 * q
+    s2 = np.uint64(2) * q
+    s3 = np.uint64(3) * q
     a0 = E[0]
     a1 = E[s1]
     a2 = E[s2]
@@ -213,15 +229,15 @@ def _scans(E, S, L, R, W):
     L[s1] = a1
     L[s2] = a2
     L[s3] = a3
-    b0 = E[s1 - 1]
-    b1 = E[s2 - 1]
-    b2 = E[s3 - 1]
-    b3 = E[W - 1]
-    R[s1 - 1] = b0
-    R[s2 - 1] = b1
-    R[s3 - 1] = b2
-    R[W - 1] = b3
-    for k in range(1, q):
+    b0 = E[s1 - one]
+    b1 = E[s2 - one]
+    b2 = E[s3 - one]
+    b3 = E[uW - one]
+    R[s1 - one] = b0
+    R[s2 - one] = b1
+    R[s3 - one] = b2
+    R[uW - one] = b3
+    for k in range(one, q):
         j = k
         y = a0 + S[j]
         e = E[j]
@@ -242,38 +258,38 @@ def _scans(E, S, L, R, W):
         e = E[j]
         a3 = y if y < e else e
         L[j] = a3
-        i = s1 - 1 - k
-        y = b0 + S[i + 1]
+        i = s1 - one - k
+        y = b0 + S[i + one]
         e = E[i]
         b0 = y if y < e else e
         R[i] = b0
-        i = s2 - 1 - k
-        y = b1 + S[i + 1]
+        i = s2 - one - k
+        y = b1 + S[i + one]
         e = E[i]
         b1 = y if y < e else e
         R[i] = b1
-        i = s3 - 1 - k
-        y = b2 + S[i + 1]
+        i = s3 - one - k
+        y = b2 + S[i + one]
         e = E[i]
         b2 = y if y < e else e
         R[i] = b2
-        i = W - 1 - k
-        y = b3 + S[i + 1]
+        i = uW - one - k
+        y = b3 + S[i + one]
         e = E[i]
         b3 = y if y < e else e
         R[i] = b3
-    for k in range(q, W - s3):  # the last segment's tail
+    for k in range(q, uW - s3):  # the last segment's tail
         j = s3 + k
         y = a3 + S[j]
         e = E[j]
         a3 = y if y < e else e
         L[j] = a3
-        i = W - 1 - k
-        y = b3 + S[i + 1]
+        i = uW - one - k
+        y = b3 + S[i + one]
         e = E[i]
         b3 = y if y < e else e
         R[i] = b3
-    for st in (s1, s2, s3):
+    for st in (np.int64(s1), np.int64(s2), np.int64(s3)):
         c = L[st - 1]
         for j in range(st, W):
             y = c + S[j]
@@ -282,7 +298,7 @@ def _scans(E, S, L, R, W):
                 c = y
             else:
                 break
-    for st in (s3, s2, s1):
+    for st in (np.int64(s3), np.int64(s2), np.int64(s1)):
         c = R[st]
         for j in range(st - 1, -1, -1):
             y = c + S[j + 1]

@@ -49,6 +49,24 @@ it is the cost of a real path for every ``w``; see :func:`accumulate`).
 
 With ``bound=False`` the sweeps run until nothing changes at all, which makes
 the whole field exact (used for figures of the accumulated cost).
+
+Implementation (speed, not the result): the relaxation of a row from its
+neighbour (:func:`_vertical`) has no data-dependent branch and unsigned loop
+indices (numba then drops the negative-index wraparound, and the loop runs
+on SIMD lanes); the walk along a row (:func:`_chains`) computes the two
+chains independently, each as two halves at once (four independent
+dependency chains instead of one), and takes their minimum. Every value is
+the same floating-point expression, evaluated in the same order, as in the
+straightforward loops: ``min(L, R)`` of the two chains equals the
+right-to-left chain run over the left-to-right one's result (a walk that
+turns back adds positive steps, and rounding is monotone), and a half's
+chain continued from the other half's last value while that improves it
+equals the chain run from the row's start (once a carried value does not
+beat the chain's own at one column, it cannot at the next: both add the
+same step). The fields are bit for bit those of the former scalar loops
+(``python scripts/dp_kernel_identity.py``: the perf frame set, both
+connectivities at ``h_weight`` 1 and 0.25, sweep counts, labels and paths
+included; docs/dp.md, Speed).
 """
 
 from __future__ import annotations
@@ -65,64 +83,269 @@ _DJ = np.array([0, -1, 1, -1, 1, 0, -1, 1])
 _DIAG = np.array([False, True, True, False, False, False, True, True])
 
 
+_U1 = np.uint64(1)
+_U2 = np.uint64(2)
+
+
 @njit(cache=True, nogil=True)
-def half_cost_u8(image, eps, out, rowmin, centre):
+def half_cost_u8(image, eps, out, rowmin, centre, rightc=None):
     """``out = 0.5 / (image + eps)`` for a uint8 image (a 256-entry table);
-    also each row's least half cost and its leftmost column."""
+    also each row's least half cost and its leftmost column (``centre``) and,
+    if given, its rightmost column (``rightc``)."""
     lut = np.empty(256)
     for v in range(256):
         lut[v] = 0.5 / (v + eps)
     H, W = image.shape
+    uW = np.uint64(W)
     for r in range(H):
-        for j in range(W):
-            out[r, j] = lut[image[r, j]]
-        m = image[r, 0]
-        for j in range(W):
-            x = image[r, j]
+        row = image[r]
+        o = out[r]
+        for j in range(uW):
+            o[j] = lut[row[j]]
+        m = row[0]
+        for j in range(uW):
+            x = row[j]
             m = x if x > m else m
-        k = 0
-        while image[r, k] != m:
-            k += 1
+        first = uW
+        last = np.uint64(0)
+        for j in range(uW):
+            eq = row[j] == m
+            first = min(first, j if eq else uW)
+            last = max(last, j if eq else np.uint64(0))
         rowmin[r] = lut[m]
-        centre[r] = k
+        centre[r] = first
+        if rightc is not None:
+            rightc[r] = last
 
 
 @njit(cache=True, nogil=True)
-def half_cost_float(image, eps, out, rowmin, centre):
+def half_cost_float(image, eps, out, rowmin, centre, rightc=None):
     """``out = 0.5 / (max(image, 0) + eps)`` for a float64 image; also each
-    row's least half cost and its leftmost column."""
+    row's least half cost and its leftmost column (``centre``) and, if given,
+    its rightmost column (``rightc``)."""
     H, W = image.shape
+    uW = np.uint64(W)
     for r in range(H):
-        for j in range(W):
-            v = image[r, j]
+        row = image[r]
+        o = out[r]
+        for j in range(uW):
+            v = row[j]
             v = v if v > 0.0 else 0.0
-            out[r, j] = 0.5 / (v + eps)
-        row_stats_into(out, r, rowmin, centre)
+            o[j] = 0.5 / (v + eps)
+        row_stats_into(out, r, rowmin, centre, rightc)
 
 
 @njit(cache=True, nogil=True)
-def row_stats_into(hc, r, rowmin, centre):
+def row_stats_into(hc, r, rowmin, centre, rightc=None):
+    """Row r's least half cost, its leftmost column and, if ``rightc`` is
+    given, its rightmost column."""
     W = hc.shape[1]
-    m = hc[r, 0]
-    for j in range(1, W):
-        x = hc[r, j]
+    uW = np.uint64(W)
+    row = hc[r]
+    m = row[0]
+    for j in range(uW):
+        x = row[j]
         m = x if x < m else m
-    k = 0
-    while hc[r, k] != m:
-        k += 1
+    first = uW
+    last = np.uint64(0)
+    for j in range(uW):
+        eq = row[j] == m
+        first = min(first, j if eq else uW)
+        last = max(last, j if eq else np.uint64(0))
     rowmin[r] = m
-    centre[r] = k
+    centre[r] = first
+    if rightc is not None:
+        rightc[r] = last
 
 
 @njit(cache=True, nogil=True)
-def row_stats(hc, rowmin, centre):
-    """Each row's least half cost and its leftmost column."""
+def row_stats(hc, rowmin, centre, rightc=None):
+    """Each row's least half cost, its leftmost column and, if ``rightc`` is
+    given, its rightmost column."""
     for r in range(hc.shape[0]):
-        row_stats_into(hc, r, rowmin, centre)
+        row_stats_into(hc, r, rowmin, centre, rightc)
 
 
 @njit(cache=True, nogil=True)
-def _relax_span(D, hc, r, s, conn8, hw, dg, W, a, b, limit, tol):
+def _vertical(Dr, Ds, hr, hs, conn8, dg, a, b, limit, keep):
+    """Relax nodes a..b of row r through the edges from row s (vertical and,
+    with ``conn8``, diagonal): ``D[r, j] = min(D[r, j], candidate)``.
+
+    Returns ``(n, nch, first, last)``: how many columns improved to below
+    ``limit``, how many of them by more than the relative tolerance
+    (``keep = 1 - tol``), and the first and last of them. Unsigned loop
+    indices (no negative-index wraparound) let the loops vectorise."""
+    W = hr.shape[0]
+    one = _U1
+    n = 0
+    nch = 0
+    first = np.uint64(W)
+    last = np.uint64(0)
+    if conn8 and W > 1:
+        lo = np.uint64(a if a > 0 else 1)
+        hi = np.uint64(b if b < W - 1 else W - 2)
+        if a == 0:
+            h = hr[0]
+            v = Ds[0] + (hs[0] + h)
+            w = Ds[1] + dg * (hs[1] + h)
+            v = w if w < v else v
+            o = Dr[0]
+            Dr[0] = v if v < o else o
+            rel = (v < o) & (v < limit)
+            n += rel
+            nch += rel & (v < o * keep)
+            first = np.uint64(0) if rel else first
+            last = one if rel else last
+        for j in range(lo, hi + one):
+            h = hr[j]
+            v = Ds[j] + (hs[j] + h)
+            w = Ds[j - one] + dg * (hs[j - one] + h)
+            v = w if w < v else v
+            w = Ds[j + one] + dg * (hs[j + one] + h)
+            v = w if w < v else v
+            o = Dr[j]
+            Dr[j] = v if v < o else o
+            rel = (v < o) & (v < limit)
+            n += rel
+            nch += rel & (v < o * keep)
+            first = min(first, j if rel else np.uint64(W))
+            last = max(last, j + one if rel else np.uint64(0))
+        if b == W - 1:
+            j = W - 1
+            h = hr[j]
+            v = Ds[j] + (hs[j] + h)
+            w = Ds[j - 1] + dg * (hs[j - 1] + h)
+            v = w if w < v else v
+            o = Dr[j]
+            Dr[j] = v if v < o else o
+            rel = (v < o) & (v < limit)
+            n += rel
+            nch += rel & (v < o * keep)
+            first = min(first, np.uint64(j) if rel else np.uint64(W))
+            last = np.uint64(W) if rel else last
+    else:
+        for j in range(np.uint64(a), np.uint64(b) + one):
+            v = Ds[j] + (hs[j] + hr[j])
+            o = Dr[j]
+            Dr[j] = v if v < o else o
+            rel = (v < o) & (v < limit)
+            n += rel
+            nch += rel & (v < o * keep)
+            first = min(first, j if rel else np.uint64(W))
+            last = max(last, j + one if rel else np.uint64(0))
+    return n, nch, np.int64(first), np.int64(last) - 1
+
+
+@njit(cache=True, nogil=True)
+def _chains(Dr, hr, hw, first, last, limit, keep, TL, TR, S):
+    """Walks along one row: ``Dr[first..last] = min(L, R)``, the
+    left-to-right and right-to-left chains ``L[j] = min(Dr[j], L[j-1] +
+    step(j-1, j))`` (and ``R`` likewise) started from the current values
+    (``first < last``). Returns how many values below ``limit`` improved by
+    more than the relative tolerance (``keep = 1 - tol``).
+
+    ``min(L, R)`` is the result of the two chains run one after the other
+    (a walk that turns back is never cheaper: the steps are positive and
+    rounding is monotone), and each chain runs as two halves at once (four
+    independent chains, which the latency of one chain would otherwise
+    leave idle), the second half then continued from the first half's last
+    value for as long as that improves it: once a carried value does not beat
+    the chain's own value at one column it cannot beat it at the next, both
+    adding the same step. The result is bit for bit the sequential chains'."""
+    one = _U1
+    f = np.uint64(first)
+    l = np.uint64(last)
+    for j in range(f + one, l + one):
+        S[j] = hw * (hr[j - one] + hr[j])
+    n = l - f + one
+    if n < 16:
+        xl = Dr[f]
+        xr = Dr[l]
+        TL[f] = xl
+        TR[l] = xr
+        for k in range(one, n):
+            j = f + k
+            y = xl + S[j]
+            o = Dr[j]
+            xl = y if y < o else o
+            TL[j] = xl
+            i = l - k
+            y = xr + S[i + one]
+            o = Dr[i]
+            xr = y if y < o else o
+            TR[i] = xr
+    else:
+        h = n // _U2
+        m = f + h  # halves f..m-1 and m..l (the second one longer by one if n is odd)
+        l0 = Dr[f]
+        l1 = Dr[m]
+        r0 = Dr[m - one]
+        r1 = Dr[l]
+        TL[f] = l0
+        TL[m] = l1
+        TR[m - one] = r0
+        TR[l] = r1
+        for k in range(one, h):
+            j = f + k
+            y = l0 + S[j]
+            o = Dr[j]
+            l0 = y if y < o else o
+            TL[j] = l0
+            j = m + k
+            y = l1 + S[j]
+            o = Dr[j]
+            l1 = y if y < o else o
+            TL[j] = l1
+            i = m - one - k
+            y = r0 + S[i + one]
+            o = Dr[i]
+            r0 = y if y < o else o
+            TR[i] = r0
+            i = l - k
+            y = r1 + S[i + one]
+            o = Dr[i]
+            r1 = y if y < o else o
+            TR[i] = r1
+        if n > h + h:  # the second half's last column
+            y = l1 + S[l]
+            o = Dr[l]
+            TL[l] = y if y < o else o
+            i = m
+            y = r1 + S[i + one]
+            o = Dr[i]
+            TR[i] = y if y < o else o
+        c = TL[m - one]
+        for j in range(m, l + one):
+            y = c + S[j]
+            if y < TL[j]:
+                TL[j] = y
+                c = y
+            else:
+                break
+        c = TR[m]
+        i = m - one
+        while True:
+            y = c + S[i + one]
+            if y < TR[i]:
+                TR[i] = y
+                c = y
+            else:
+                break
+            if i == f:
+                break
+            i -= one
+    nch = 0
+    for j in range(f, l + one):
+        x = TL[j]
+        y = TR[j]
+        v = x if x < y else y
+        nch += (v < limit) & (v < Dr[j] * keep)
+        Dr[j] = v
+    return nch
+
+
+@njit(cache=True, nogil=True)
+def _relax_span(D, hc, r, s, conn8, hw, dg, W, a, b, limit, tol, TL, TR, S):
     """Relax nodes a..b of row r through the edges from row s, then
     propagate along row r from the improved nodes.
 
@@ -130,77 +353,44 @@ def _relax_span(D, hc, r, s, conn8, hw, dg, W, a, b, limit, tol):
     past the improved range stops at the first node it cannot bring below
     ``limit``. Returns ``(changed, lo, hi, va, vb)``: whether a value below
     ``limit`` improved by more than the relative tolerance ``tol``; the hull
-    lo..hi of the columns of the visited range va..vb now below ``limit``
-    (lo > hi if none, or if nothing changed at all)."""
-    first = -1
-    last = -1
-    changed = False
-    for j in range(a, b + 1):
-        v = D[s, j] + (hc[s, j] + hc[r, j])
-        if conn8:
-            if j > 0:
-                w = D[s, j - 1] + dg * (hc[s, j - 1] + hc[r, j])
-                v = w if w < v else v
-            if j < W - 1:
-                w = D[s, j + 1] + dg * (hc[s, j + 1] + hc[r, j])
-                v = w if w < v else v
-        old = D[r, j]
-        if v < old:
-            D[r, j] = v
-            if v < limit:
-                if first < 0:
-                    first = j
-                last = j
-                if v < old * (1.0 - tol):
-                    changed = True
-    if first < 0:
+    lo..hi of the columns whose values this call brought below ``limit``
+    (lo > hi if none); the range va..vb it visited."""
+    keep = 1.0 - tol
+    Dr = D[r]
+    hr = hc[r]
+    n, nch, first, last = _vertical(Dr, D[s], hr, hc[s], conn8, dg, a, b, limit, keep)
+    if n == 0:
         return False, W, -1, a, b
-    # left-to-right chain over first..last, then onwards while it improves
-    x = D[r, first]
-    j = first + 1
+    if last > first:
+        nch += _chains(Dr, hr, hw, first, last, limit, keep, TL, TR, S)
+    # onwards past last while the chain improves below limit
+    x = Dr[last]
+    j = last + 1
     while j < W:
-        y = x + hw * (hc[r, j - 1] + hc[r, j])
-        old = D[r, j]
-        if j > last and not (y < limit and y < old):
+        y = x + hw * (hr[j - 1] + hr[j])
+        old = Dr[j]
+        if not (y < limit and y < old):
             break
-        if y < old:
-            D[r, j] = y
-            if y < limit and y < old * (1.0 - tol):
-                changed = True
-            x = y
-        else:
-            x = old
+        Dr[j] = y
+        nch += y < old * keep
+        x = y
         j += 1
-    vb = j - 1
-    # right-to-left chain over vb..first, then onwards while it improves
-    x = D[r, vb]
-    j = vb - 1
+    hi = j - 1
+    x = Dr[first]
+    j = first - 1
     while j >= 0:
-        y = x + hw * (hc[r, j] + hc[r, j + 1])
-        old = D[r, j]
-        if j < first and not (y < limit and y < old):
+        y = x + hw * (hr[j] + hr[j + 1])
+        old = Dr[j]
+        if not (y < limit and y < old):
             break
-        if y < old:
-            D[r, j] = y
-            if y < limit and y < old * (1.0 - tol):
-                changed = True
-            x = y
-        else:
-            x = old
+        Dr[j] = y
+        nch += y < old * keep
+        x = y
         j -= 1
-    va = j + 1
-    if va > a:
-        va = a
-    if vb < b:
-        vb = b
-    lo = W
-    hi = -1
-    for k in range(va, vb + 1):
-        if D[r, k] < limit:
-            if lo == W:
-                lo = k
-            hi = k
-    return changed, lo, hi, va, vb
+    lo = j + 1
+    va = lo if lo < a else a
+    vb = hi if hi > b else b
+    return nch > 0, lo, hi, va, vb
 
 
 @njit(cache=True, nogil=True)
@@ -215,7 +405,7 @@ def _span(lo, hi, r, W):
 
 
 @njit(cache=True, nogil=True)
-def _forward(D, hc, conn8, hw, dg, lb, limit0, tol, lo, hi, vlo, vhi):
+def _forward(D, hc, conn8, hw, dg, lb, limit0, tol, lo, hi, vlo, vhi, TL, TR, S):
     """Banded forward sweep: row r is relaxed from the relevant span of row
     r - 1 only (nodes with ``D < limit0 - lb``). Returns the least bottom value."""
     H, W = hc.shape
@@ -233,7 +423,7 @@ def _forward(D, hc, conn8, hw, dg, lb, limit0, tol, lo, hi, vlo, vhi):
             vlo[r] = W
             vhi[r] = -1
             continue
-        ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, hw, dg, W, a, b, limit0 - lb[r], tol)
+        ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, hw, dg, W, a, b, limit0 - lb[r], tol, TL, TR, S)
         lo[r] = l_
         hi[r] = h_
         vlo[r] = va
@@ -246,7 +436,7 @@ def _forward(D, hc, conn8, hw, dg, lb, limit0, tol, lo, hi, vlo, vhi):
 
 
 @njit(cache=True, nogil=True)
-def _corridor_bound(hc, conn8, hw, dg, left, right):
+def _corridor_bound(hc, conn8, hw, dg, left, right, TL, TR, S):
     """Cost of the best monotone path (down and along rows) confined to a
     corridor: row r may use columns ``left[r]..right[r]``; consecutive rows'
     ranges must overlap. It is the cost of a real path: an upper bound of
@@ -261,29 +451,12 @@ def _corridor_bound(hc, conn8, hw, dg, left, right):
     for r in range(1, H):
         a = left[r]
         b = right[r]
-        for j in range(a, b + 1):
-            v = prev[j] + (hc[r - 1, j] + hc[r, j])
-            if conn8:
-                if j > 0:
-                    w = prev[j - 1] + dg * (hc[r - 1, j - 1] + hc[r, j])
-                    v = w if w < v else v
-                if j < W - 1:
-                    w = prev[j + 1] + dg * (hc[r - 1, j + 1] + hc[r, j])
-                    v = w if w < v else v
-            cur[j] = v
-        for j in range(a + 1, b + 1):
-            y = cur[j - 1] + hw * (hc[r, j - 1] + hc[r, j])
-            if y < cur[j]:
-                cur[j] = y
-        for j in range(b - 1, a - 1, -1):
-            y = cur[j + 1] + hw * (hc[r, j] + hc[r, j + 1])
-            if y < cur[j]:
-                cur[j] = y
-        for j in range(pa, pb + 1):
+        _vertical(cur, prev, hc[r], hc[r - 1], conn8, dg, a, b, np.inf, 1.0)
+        if b > a:
+            _chains(cur, hc[r], hw, a, b, np.inf, 1.0, TL, TR, S)
+        for j in range(np.uint64(pa), np.uint64(pb) + _U1):
             prev[j] = np.inf
-        for j in range(a, b + 1):
-            prev[j] = cur[j]
-            cur[j] = np.inf
+        prev, cur = cur, prev
         pa = a
         pb = b
     best = np.inf
@@ -294,7 +467,7 @@ def _corridor_bound(hc, conn8, hw, dg, left, right):
 
 
 @njit(cache=True, nogil=True)
-def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
+def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0, rightc=None):
     """Fill ``D`` with distances from the top row; returns the sweep count.
 
     Parameters
@@ -315,6 +488,9 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
     hw : float, default 1.0
         ``h_weight``, the horizontal edge weight (> 0, finite); diagonal
         edges weigh ``sqrt(1 + hw**2)``.
+    rightc : (H,) int64, optional
+        Each row's rightmost column holding ``rowmin`` (the half cost kernels
+        give it with the row minima; computed here if omitted).
 
     Notes
     -----
@@ -339,9 +515,14 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
     vlo = np.empty(H, np.int64)
     vhi = np.empty(H, np.int64)
     lb = np.zeros(H)
+    TL = np.empty(W)
+    TR = np.empty(W)
+    S = np.empty(W)
+    uW = np.uint64(W)
     for r in range(H):
-        for j in range(W):
-            D[r, j] = np.inf
+        Dr = D[r]
+        for j in range(uW):
+            Dr[j] = np.inf
     if bound:
         for r in range(H - 2, -1, -1):
             lb[r] = lb[r + 1] + rowmin[r] + rowmin[r + 1]
@@ -351,12 +532,17 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
         # tied brightest pixels: a flat row, a cut, spans its whole width),
         # widened by 8 columns (wide where the brightest pixel jumps: cuts,
         # glints)
-        rightc = np.empty(H, np.int64)
-        for r in range(H):
-            k = W - 1
-            while hc[r, k] != rowmin[r] and k > centre[r]:
-                k -= 1
-            rightc[r] = k
+        if rightc is None:
+            rc = np.empty(H, np.int64)
+            for r in range(H):
+                row = hc[r]
+                m = rowmin[r]
+                k = np.uint64(0)
+                for j in range(uW):
+                    k = max(k, j if row[j] == m else np.uint64(0))
+                rc[r] = max(np.int64(k), centre[r])
+        else:
+            rc = rightc
         left = np.empty(H, np.int64)
         right = np.empty(H, np.int64)
         fc = centre.astype(np.float64)
@@ -372,20 +558,20 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
             a = r - 4 if r >= 4 else 0
             b = r + 4 if r + 4 < H else H - 1
             mn = med if med < centre[a] else centre[a]
-            mx = med if med > rightc[a] else rightc[a]
+            mx = med if med > rc[a] else rc[a]
             for i in range(a + 1, b + 1):
                 x = centre[i]
                 mn = x if x < mn else mn
-                x = rightc[i]
+                x = rc[i]
                 mx = x if x > mx else mx
             left[r] = mn - 8 if mn >= 8 else 0
             right[r] = mx + 8 if mx + 8 < W else W - 1
-        U0 = _corridor_bound(hc, conn8, hw, dg, left, right)
+        U0 = _corridor_bound(hc, conn8, hw, dg, left, right, TL, TR, S)
         slack = U0 * (1.0 + 1e-9) - lb[0]
         attempts = 0
         while True:
             limit0 = lb[0] + slack if attempts < 60 else np.inf
-            best = _forward(D, hc, conn8, hw, dg, lb, limit0, tol, lo, hi, vlo, vhi)
+            best = _forward(D, hc, conn8, hw, dg, lb, limit0, tol, lo, hi, vlo, vhi, TL, TR, S)
             attempts += 1
             if best < limit0:
                 break
@@ -396,20 +582,21 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
         U = best * (1.0 + 1e-9) + 1e-300
         # shrink the spans to the nodes relevant under the path just found
         for r in range(H):
-            l_ = W
-            h_ = -1
+            Dr = D[r]
             lim = U - lb[r]
-            for j in range(vlo[r], vhi[r] + 1):
-                if D[r, j] < lim:
-                    if l_ == W:
-                        l_ = j
-                    h_ = j
-            lo[r] = l_
-            hi[r] = h_
+            l_ = uW
+            h_ = np.uint64(0)
+            if vlo[r] <= vhi[r]:
+                for j in range(np.uint64(vlo[r]), np.uint64(vhi[r]) + _U1):
+                    inside = Dr[j] < lim
+                    l_ = min(l_, j if inside else uW)
+                    h_ = max(h_, j + _U1 if inside else np.uint64(0))
+            lo[r] = np.int64(l_)
+            hi[r] = np.int64(h_) - 1
     else:
         tol = 0.0
         U = np.inf
-        _forward(D, hc, conn8, hw, dg, lb, U, tol, lo, hi, vlo, vhi)
+        _forward(D, hc, conn8, hw, dg, lb, U, tol, lo, hi, vlo, vhi, TL, TR, S)
         attempts = 1
     sweeps = attempts
     if H < 3:
@@ -428,7 +615,7 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
                 continue
             dn[r] = ver[r + 1]
             a, b = _span(lo, hi, r + 1, W)
-            ch, l_, h_, va, vb = _relax_span(D, hc, r, r + 1, conn8, hw, dg, W, a, b, U - lb[r], tol)
+            ch, l_, h_, va, vb = _relax_span(D, hc, r, r + 1, conn8, hw, dg, W, a, b, U - lb[r], tol, TL, TR, S)
             if ch:
                 changed = True
                 ver[r] += 1
@@ -443,7 +630,7 @@ def accumulate(hc, conn8, bound, D, rowmin, centre, hw=1.0):
                 continue
             up[r] = ver[r - 1]
             a, b = _span(lo, hi, r - 1, W)
-            ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, hw, dg, W, a, b, U - lb[r], tol)
+            ch, l_, h_, va, vb = _relax_span(D, hc, r, r - 1, conn8, hw, dg, W, a, b, U - lb[r], tol, TL, TR, S)
             if ch:
                 changed = True
                 ver[r] += 1

@@ -32,6 +32,8 @@ Trackers ``dp4`` and ``dp8`` (:class:`DP4Tracker`, :class:`DP8Tracker`).
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from . import _dp_kernels as K
@@ -77,18 +79,40 @@ def _check_h_weight(h_weight) -> float:
     return float(h_weight)
 
 
-def _half_cost(image: np.ndarray, eps: float):
-    """Half node costs ``0.5 / (max(I, 0) + eps)`` and each row's least one
-    and its column (the kernels' inputs)."""
+_WORK = threading.local()
+
+
+def _work_arrays(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Two float64 work arrays of ``shape`` (the half costs and the distance
+    field of one solve) for the calling thread, the same ones again while the
+    frame size stays the same (and new ones when it changes).
+
+    Fresh pages of a large array cost a page fault each when first written,
+    and at 960x600 a new pair per frame cost the DP trackers more than the
+    solve itself (docs/dp.md, Speed). Only callers whose results keep
+    neither array use them.
+    """
+    arrays = getattr(_WORK, "arrays", None)
+    if arrays is None or arrays[0].shape != shape:
+        arrays = (np.empty(shape), np.empty(shape))
+        _WORK.arrays = arrays
+    return arrays
+
+
+def _half_cost(image: np.ndarray, eps: float, out: np.ndarray | None = None):
+    """Half node costs ``0.5 / (max(I, 0) + eps)`` (into ``out`` if given),
+    each row's least one and its leftmost and rightmost columns (the kernels'
+    inputs)."""
     H = image.shape[0]
-    hc = np.empty(image.shape, dtype=np.float64)
+    hc = np.empty(image.shape, dtype=np.float64) if out is None else out
     rowmin = np.empty(H)
     centre = np.empty(H, dtype=np.int64)
+    rightc = np.empty(H, dtype=np.int64)
     if image.dtype == np.uint8:
-        K.half_cost_u8(image, float(eps), hc, rowmin, centre)
+        K.half_cost_u8(image, float(eps), hc, rowmin, centre, rightc)
     else:
-        K.half_cost_float(image, float(eps), hc, rowmin, centre)
-    return hc, rowmin, centre
+        K.half_cost_float(image, float(eps), hc, rowmin, centre, rightc)
+    return hc, rowmin, centre, rightc
 
 
 def node_cost(image, eps: float = 1.0) -> np.ndarray:
@@ -124,10 +148,11 @@ def _check_cost(cost) -> np.ndarray:
     return c
 
 
-def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool, h_weight: float = 1.0):
+def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, rightc: np.ndarray, conn8: bool,
+           h_weight: float = 1.0, D: np.ndarray | None = None):
     H, W = hc.shape
-    D = np.empty_like(hc)
-    K.accumulate(hc, conn8, True, D, rowmin, centre, h_weight)
+    D = np.empty_like(hc) if D is None else D
+    K.accumulate(hc, conn8, True, D, rowmin, centre, h_weight, rightc)
     rows = np.empty(H * W, dtype=np.int64)
     cols = np.empty(H * W, dtype=np.int64)
     n = K.backtrack(D, hc, conn8, rows, cols, h_weight)
@@ -141,8 +166,9 @@ def _solve(hc: np.ndarray, rowmin: np.ndarray, centre: np.ndarray, conn8: bool, 
 def _stats(hc: np.ndarray):
     rowmin = np.empty(hc.shape[0])
     centre = np.empty(hc.shape[0], dtype=np.int64)
-    K.row_stats(hc, rowmin, centre)
-    return rowmin, centre
+    rightc = np.empty(hc.shape[0], dtype=np.int64)
+    K.row_stats(hc, rowmin, centre, rightc)
+    return rowmin, centre, rightc
 
 
 def shortest_path(cost, connectivity: int = 4, h_weight: float = 1.0):
@@ -214,9 +240,9 @@ def accumulated_cost(image, *, connectivity: int = 4, eps: float = 1.0, h_weight
     check_real("eps", eps, low=0, low_open=True)
     conn8 = _check_connectivity(connectivity)
     hw = _check_h_weight(h_weight)
-    hc, rowmin, centre = _half_cost(img, eps)
+    hc, rowmin, centre, rightc = _half_cost(img, eps)
     D = np.empty_like(hc)
-    K.accumulate(hc, conn8, False, D, rowmin, centre, hw)
+    K.accumulate(hc, conn8, False, D, rowmin, centre, hw, rightc)
     D[-1, :] = D[-1].min()
     return D
 
@@ -465,7 +491,8 @@ class DPTracker(Tracker):
         bg = check_background(background, img.shape)
         self._validate_params()
         img = self.seen_frame(img, bg)
-        rows, cols, D = _solve(*_half_cost(img, self.eps), self.connectivity == 8, float(self.h_weight))
+        hc, D = _work_arrays(img.shape)
+        rows, cols, D = _solve(*_half_cost(img, self.eps, hc), self.connectivity == 8, float(self.h_weight), D)
         return rows, cols, float(D[-1, cols[-1]])
 
     def _path_rows(self, image):
@@ -477,11 +504,11 @@ class DPTracker(Tracker):
         supporting the path, the rows to report.
         """
         H, W = image.shape
-        hc, rowmin, centre = _half_cost(image, self.eps)
+        hc, D = _work_arrays(image.shape)
+        hc, rowmin, centre, rightc = _half_cost(image, self.eps, hc)
         conn8 = self.connectivity == 8
         hw = float(self.h_weight)
-        D = np.empty_like(hc)
-        K.accumulate(hc, conn8, True, D, rowmin, centre, hw)
+        K.accumulate(hc, conn8, True, D, rowmin, centre, hw, rightc)
         mark = np.zeros((H, W), dtype=np.uint8)
         rows = np.empty(H * W, dtype=np.int64)
         cols = np.empty(H * W, dtype=np.int64)

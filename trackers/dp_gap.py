@@ -30,7 +30,7 @@ from . import _dp_rows as R
 from ._params import Choice, Real, check_real
 from ._validation import check_image
 from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight,
-                 _half_cost, _reporting_rule)
+                 _half_cost, _reporting_rule, _work_arrays)
 
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
@@ -70,18 +70,19 @@ def _check_switch(switch_cost) -> float:
     return float(switch_cost)
 
 
-def _fields(hc, ho, switch, conn8, hw):
+def _fields(hc, ho, switch, conn8, hw, F=None):
     H, W = hc.shape
-    F = np.empty((H, W))
+    F = np.empty((H, W)) if F is None else F
     Foff = np.empty(H)
     G.sweep(hc, ho, switch, conn8, hw, F, Foff)
     return F, Foff
 
 
-def _labels(hc, ho, switch, conn8, hw):
-    """The sweep and the labelling: ``(mark, off_opt, rows, cols, F, Foff)``."""
+def _labels(hc, ho, switch, conn8, hw, F=None):
+    """The sweep and the labelling: ``(mark, off_opt, rows, cols, F, Foff)``
+    (``F`` into the given array, if any)."""
     H, W = hc.shape
-    F, Foff = _fields(hc, ho, switch, conn8, hw)
+    F, Foff = _fields(hc, ho, switch, conn8, hw, F)
     mark = np.zeros((H, W), np.uint8)
     off_opt = np.empty(H, np.bool_)
     rows = np.empty(H * W, np.int64)
@@ -262,16 +263,17 @@ class DPGapTracker(DPTracker):
         bg = check_background(background, img.shape)
         self._validate_params()
         img = self.seen_frame(img, bg)
-        hc, rowmin, _ = _half_cost(img, self.eps)
+        hc, rowmin, _, _ = _half_cost(img, self.eps)
         off, s = self.off_costs(img, rowmin)
         return gap_path(2.0 * hc, off, s, self.connectivity, self.h_weight)
 
     def _path_rows(self, image):
         H, W = image.shape
-        hc, rowmin, _ = _half_cost(image, self.eps)
+        hc, F = _work_arrays(image.shape)  # neither is kept past this call
+        hc, rowmin, _, _ = _half_cost(image, self.eps, hc)
         off, s = self.off_costs(image, rowmin)
         ho = np.full(H, 0.5 * off)
-        mark, _, rows, cols, _, _ = _labels(hc, ho, s, self.connectivity == 8, float(self.h_weight))
+        mark, _, rows, cols, _, _ = _labels(hc, ho, s, self.connectivity == 8, float(self.h_weight), F)
         return _report(self, image, mark, rows, cols)
 
 

@@ -486,3 +486,34 @@ def test_the_path_of_a_pair_is_the_path_of_the_difference():
         t.path(on, background=off[:-1])
     with pytest.raises(ValueError, match="`use_background`"):
         DP8Tracker(use_background="yes").track(on)
+
+
+@pytest.mark.parametrize("name", ["dp4", "dp8", "dp8_subpixel", "dp_gap"])
+def test_reused_work_arrays_change_nothing(name):
+    # the trackers reuse their work arrays per thread while the frame size stays the same:
+    # results of a frame are the same after frames of another size and from other threads
+    import threading
+
+    import trackers
+
+    frames = [make_stripe_image(height=h, width=w, seed=s)[0] for s, h, w in [(0, 40, 50), (1, 30, 70), (0, 40, 50)]]
+    t = trackers.make(name)
+    first = [t.track(f) for f in frames]
+    assert first[0].columns.tobytes() == first[2].columns.tobytes()  # the same frame after another size
+    again = {}
+
+    def work(k):
+        again[k] = [t.track(f) for f in frames[::-1]][::-1]
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    for k in range(3):
+        for a, b in zip(first, again[k]):
+            assert a.columns.tobytes() == b.columns.tobytes() and a.score.tobytes() == b.score.tobytes()
+    if name != "dp_gap":
+        r1, c1, total = t.path(frames[0])
+        t.track(frames[1])
+        assert t.path(frames[0])[2] == total

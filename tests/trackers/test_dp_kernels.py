@@ -76,3 +76,89 @@ def test_half_cost_kernels_agree_and_report_row_minima():
     np.testing.assert_array_equal(ac, np.argmax(img, axis=1))
     assert ac[5] == 0
     np.testing.assert_array_equal(am, a.min(axis=1))
+
+
+def _sequential_walks(Dr, hr, hw, first, last):
+    """The walk along a row as the plain loops: the left-to-right chain, then
+    the right-to-left one over its result (the former kernel's order)."""
+    d = Dr.copy()
+    for j in range(first + 1, last + 1):
+        y = d[j - 1] + hw * (hr[j - 1] + hr[j])
+        d[j] = y if y < d[j] else d[j]
+    for j in range(last - 1, first - 1, -1):
+        y = d[j + 1] + hw * (hr[j] + hr[j + 1])
+        d[j] = y if y < d[j] else d[j]
+    return d
+
+
+def test_the_four_chain_walk_equals_the_plain_chains_bit_for_bit():
+    rng = np.random.default_rng(3)
+    W = 90
+    scratch = [np.empty(W) for _ in range(3)]
+    cases = 0
+    for n in list(range(2, 40)) + [64, 65, 89, 90]:  # short (two chains), even and odd halves
+        for _ in range(4):
+            first = int(rng.integers(0, W - n + 1))
+            last = first + n - 1
+            hw = float(rng.choice([1.0, 0.25, 0.01, 3.0]))
+            hr = 0.5 / (rng.integers(0, 256, W) + 1.0)
+            # values with improvements to carry far (steps cheaper than the gaps) and none at all
+            Dr = np.where(rng.random(W) < 0.3, rng.random(W), np.inf) * rng.choice([1.0, 50.0])
+            expected = _sequential_walks(Dr, hr, hw, first, last)
+            got = Dr.copy()
+            K._chains(got, hr, hw, first, last, np.inf, 1.0, *scratch)
+            assert got.tobytes() == expected.tobytes(), (n, first, hw)
+            cases += 1
+    assert cases == 4 * 42
+
+
+def test_the_vertical_relaxation_reports_its_improved_range():
+    rng = np.random.default_rng(4)
+    for conn8 in (False, True):
+        for _ in range(50):
+            W = int(rng.integers(1, 40))
+            a = int(rng.integers(0, W))
+            b = int(rng.integers(a, W))
+            hs, hr = 0.5 / (rng.integers(0, 256, (2, W)) + 1.0)
+            Ds = rng.random(W) * 5
+            Dr = np.where(rng.random(W) < 0.5, rng.random(W) * 5, np.inf)
+            limit = float(rng.choice([np.inf, 2.5]))
+            dg = np.sqrt(2.0)
+            cand = Ds + (hs + hr)
+            if conn8 and W > 1:
+                left = np.full(W, np.inf)
+                left[1:] = Ds[:-1] + dg * (hs[:-1] + hr[1:])
+                right = np.full(W, np.inf)
+                right[:-1] = Ds[1:] + dg * (hs[1:] + hr[:-1])
+                cand = np.minimum(np.minimum(cand, left), right)
+            improved = np.zeros(W, bool)
+            improved[a : b + 1] = (cand < Dr)[a : b + 1] & (cand < limit)[a : b + 1]
+            expected = Dr.copy()
+            expected[a : b + 1] = np.minimum(Dr, cand)[a : b + 1]
+            got = Dr.copy()
+            n, nch, first, last = K._vertical(got, Ds, hr, hs, conn8, dg, a, b, limit, 1.0 - 1e-12)
+            assert got.tobytes() == expected.tobytes()
+            assert n == improved.sum() and nch == n  # improvements here are far above the tolerance
+            if n:
+                assert (first, last) == (np.flatnonzero(improved)[0], np.flatnonzero(improved)[-1])
+
+
+def test_half_cost_kernels_give_the_rightmost_minimum():
+    rng = np.random.default_rng(5)
+    img = rng.integers(0, 8, (30, 25)).astype(np.uint8)  # many tied brightest pixels
+    img[4] = 3  # a constant row: its whole width
+    for arr, kernel in ((img, K.half_cost_u8), (img.astype(np.float64), K.half_cost_float)):
+        hc = np.empty(img.shape)
+        rowmin = np.empty(30)
+        centre = np.empty(30, np.int64)
+        rightc = np.empty(30, np.int64)
+        kernel(arr, 1.0, hc, rowmin, centre, rightc)
+        np.testing.assert_array_equal(centre, np.argmax(img, axis=1))
+        np.testing.assert_array_equal(rightc, 24 - np.argmax(img[:, ::-1], axis=1))
+        assert rightc[4] == 24 and centre[4] == 0
+        # accumulate finds the same columns itself when not given them
+        D1 = np.empty_like(hc)
+        D2 = np.empty_like(hc)
+        K.accumulate(hc, True, True, D1, rowmin, centre, 0.5, rightc)
+        K.accumulate(hc, True, True, D2, rowmin, centre, 0.5)
+        assert D1.tobytes() == D2.tobytes()

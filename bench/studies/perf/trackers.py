@@ -23,11 +23,14 @@ in a fresh process (numba's JIT compile with an empty cache, and the load
 from the on-disk cache) is reported separately.
 
 Targets (``--strict`` exits 1 if one is missed): the solver at
-``h_weight=1`` at least :data:`SOLVER_VS_MCP` times faster than MCP for both
-connectivities; the solver at :data:`TARGET_H_WEIGHT` at most
-:data:`H_WEIGHT_SLOWDOWN` times the isotropic solve (medians); ``dp4`` and
-``dp8`` and the trackers of :data:`MS_TARGETS` under their median ms at
-512x480; :data:`RATIO_TARGETS` relative to another tracker.
+``h_weight=1`` and at :data:`TARGET_H_WEIGHT` (the trackers' default) at
+least :data:`SOLVER_VS_MCP` times faster than MCP for both connectivities
+(the median over the MCP frames of MCP's time over the solver's, MCP always
+on its isotropic graph: the same frame solved by both); the solver at
+:data:`TARGET_H_WEIGHT` at most :data:`H_WEIGHT_SLOWDOWN` times the
+isotropic solve (medians); the trackers of :data:`MS_TARGETS` (``dp4`` and
+``dp8`` among them) under their median ms at 512x480; :data:`RATIO_TARGETS`
+relative to another tracker.
 
 Instead of the synthetic set: your own frames with ``--frames`` (``.npy`` or
 8-bit PNG files), or the photographs of a real set with ``--real [DIR]``
@@ -54,13 +57,14 @@ __all__ = ["add_arguments", "command", "frame_ms", "time_trackers", "time_solver
 #: The h_weight whose speed is checked against the isotropic solve: the DP
 #: trackers' default (chosen by ``stripebench tune dp``).
 TARGET_H_WEIGHT = DEFAULT_H_WEIGHT
-#: Least speed-up of the exact solver over MCP_Geometric (median over frames).
+#: Least speed-up of the exact solver over MCP_Geometric (median over frames), at
+#: ``h_weight=1`` and at :data:`TARGET_H_WEIGHT`, for both connectivities.
 SOLVER_VS_MCP = 100.0
 #: Most slowdown of the solver at TARGET_H_WEIGHT over h_weight=1 (medians).
 H_WEIGHT_SLOWDOWN = 1.5
 #: Upper bounds in median ms per frame at 512x480.
 MS_TARGETS = {"threshold": 1.0, "centroid": 1.0, "gauss3": 1.0, "parabolic": 1.0, "blais_rioux": 1.0, "com_bg": 1.0,
-              "steger": 20.0, "dp4": 1.5, "dp8": 1.5, "dp_gap": 1.0}
+              "steger": 20.0, "dp4": 1.0, "dp8": 1.0, "dp_gap": 1.0}
 #: Upper bounds as multiples of another tracker's median time in the same run.
 RATIO_TARGETS = {"dp8_subpixel": ("dp8", 1.5)}
 
@@ -272,9 +276,10 @@ def command(args) -> int:
 
     verdicts = []  # (text, ok)
     for conn in (4, 8):
-        ratio = float(np.median(mcp[conn] / solver[conn, 1.0][sub]))
-        verdicts.append((f"solver {conn}-conn h_weight=1: {ratio:.0f}x MCP (target >= {SOLVER_VS_MCP:g}x)",
-                         ratio >= SOLVER_VS_MCP))
+        for hw in (1.0, TARGET_H_WEIGHT):
+            ratio = float(np.median(mcp[conn] / solver[conn, hw][sub]))
+            text = f"solver {conn}-conn h_weight={hw:g}: {ratio:.0f}x MCP (target >= {SOLVER_VS_MCP:g}x)"
+            verdicts.append((text, ratio >= SOLVER_VS_MCP))
         slow = float(np.median(solver[conn, TARGET_H_WEIGHT]) / np.median(solver[conn, 1.0]))
         verdicts.append((f"solver {conn}-conn h_weight={TARGET_H_WEIGHT:g}: {slow:.2f}x the isotropic solve "
                          f"(target <= {H_WEIGHT_SLOWDOWN:g}x)", slow <= H_WEIGHT_SLOWDOWN))

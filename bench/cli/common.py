@@ -89,9 +89,10 @@ def _loader(c: Command):
                 default = next(s for s in c.subcommands if s.name == c.default_subcommand)
 
                 def run_default(args, _default=default):
-                    # `stripebench perf` alone: the default sub-command with its own defaults
+                    # `stripebench perf` alone: the default sub-command with its own defaults (and
+                    # `--strict` when the parent command has that flag and it was given)
                     p = LazyParser(prog=f"{parser.prog} {_default.name}", loader=_default.add_arguments)
-                    return _default.run(p.parse_args([]))
+                    return _default.run(p.parse_args(["--strict"] if getattr(args, "strict", False) else []))
 
                 parser.set_defaults(func=run_default, command_renders=default.renders)
 

@@ -43,7 +43,9 @@ COMMANDS = (
     _study("bench.studies.tune", "tune", "choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
            renders=True),
     Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`",
-            lambda parser: None, None,
+            lambda parser: parser.add_argument("--strict", action="store_true",
+                                               help="with no WHAT: `perf trackers --strict` (exit 1 if a target "
+                                                    "is missed)"), None,
             description="Speed benchmarks; `stripebench perf` alone runs `stripebench perf trackers`.",
             subcommands=PERF, default_subcommand="trackers"),
 )

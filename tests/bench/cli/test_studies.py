@@ -47,11 +47,23 @@ def test_perf_alone_is_perf_trackers_and_its_sub_commands_parse():
     alone = parser.parse_args(["perf"])
     assert alone.perf_command is None and alone.func.__name__ == "run_default"
     for what, option in (("trackers", "--strict"), ("scenes", "--frames=0"), ("sweep", "--trials=1"),
-                         ("shiny", "--cost")):
+                         ("shiny", "--cost"), ("sampling", "--angles=1"), ("scenes", "--strict")):
         args = build_parser().parse_args(["perf", what, option])
         assert args.perf_command == what
     with pytest.raises(SystemExit):
         build_parser().parse_args(["perf", "--scenes"])  # no longer an option
+
+
+def test_perf_strict_alone_runs_perf_trackers_strict(monkeypatch):
+    import bench.studies.perf.trackers as T
+
+    seen = {}
+    monkeypatch.setattr(T, "command", lambda args: seen.setdefault("strict", args.strict) and 0)
+    for argv, strict in ((["perf", "--strict"], True), (["perf"], False)):
+        seen.clear()
+        args = build_parser().parse_args(argv)
+        args.func(args)
+        assert seen == {"strict": strict}
 
 
 def test_perf_trackers_bad_frames_are_one_line(tmp_path):

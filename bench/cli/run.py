@@ -120,10 +120,10 @@ def _json_options(p, what: str) -> None:
     p.add_argument("--all", action="store_true", help="show every check, not only the changed ones")
 
 
-def _gate_rows(baseline: dict, current: dict, what: str):
+def _gate_rows(baseline: dict, current: dict, what: str, *, across_sampling: bool = False):
     from bench.run import gate
 
-    diff = gate.comparability(baseline.get("config"), current.get("config"))
+    diff = gate.comparability(baseline.get("config"), current.get("config"), across_sampling=across_sampling)
     if diff:
         raise UsageError(f"{what} are not comparable: they differ in {'; '.join(diff)} "
                          f"(compared: {', '.join(gate.COMPARED_KEYS)})")
@@ -175,6 +175,9 @@ def _check(args) -> int:
 def _add_compare(p) -> None:
     p.add_argument("run_a", metavar="RUN_A", type=Path, help="the reference run folder")
     p.add_argument("run_b", metavar="RUN_B", type=Path, help="the run folder compared with it")
+    p.add_argument("--across-sampling", action="store_true",
+                   help="compare runs whose [render] spp / ambient_spp differ (the same frames up to their Monte "
+                        "Carlo noise, e.g. a run at spp = 16 against one at spp = \"auto\")")
     _json_options(p, "the comparison")
 
 
@@ -182,7 +185,7 @@ def _compare(args) -> int:
     from bench.run import gate
 
     a, b = gate.baseline_from_run(args.run_a), gate.baseline_from_run(args.run_b)
-    rows = _gate_rows(a, b, f"runs {str(args.run_a)!r} and {str(args.run_b)!r}")
+    rows = _gate_rows(a, b, f"runs {str(args.run_a)!r} and {str(args.run_b)!r}", across_sampling=args.across_sampling)
     status = _print_rows(rows, args)
     if not args.json:
         print(f"stripebench compare: {args.run_b} against {args.run_a}: "
@@ -199,5 +202,5 @@ COMMANDS = (
     Command("check", "compare a run's metrics with a baseline; exit 1 on a regression", _add_check, _check),
     Command("compare", "compare two runs' metrics (RUN_B against RUN_A); exit 1 if RUN_B is worse", _add_compare,
             _compare, description="The same table as `check`, RUN_A taking the baseline's place. Refused when "
-                                  "the runs differ in render size/spp, experiments or seed."),
+                                  "the runs differ in render size/spp (spp alone: `--across-sampling`), experiments or seed."),
 )

@@ -34,7 +34,7 @@ from pathlib import Path
 from bench.errors import InputError
 
 __all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare", "format_table", "write_baseline", "load_baseline",
-           "validate_baseline", "comparability", "COMPARED_KEYS", "rows_to_json", "FORMAT", "renderer_difference"]
+           "validate_baseline", "comparability", "COMPARED_KEYS", "SAMPLING_KEYS", "rows_to_json", "FORMAT", "renderer_difference"]
 
 # what must agree between two runs (or a run and a baseline) for their metrics to be comparable
 COMPARED_KEYS = ("render", "experiments", "seed")
@@ -248,21 +248,33 @@ def load_baseline(path) -> dict:
     return validate_baseline(doc, f"baseline {str(path)!r}")
 
 
-def comparability(config_a: dict | None, config_b: dict | None) -> list[str]:
+SAMPLING_KEYS = ("spp", "ambient_spp")
+"""The ``[render]`` keys that set only the renders' sample counts (``compare --across-sampling`` ignores them)."""
+
+
+def comparability(config_a: dict | None, config_b: dict | None, *, across_sampling: bool = False) -> list[str]:
     """What differs between two runs' configurations among :data:`COMPARED_KEYS`
     (render size and spp, experiments, seed); empty when their metrics are comparable.
+
+    ``across_sampling``: the renders' sample counts (:data:`SAMPLING_KEYS`) may differ (the same
+    frames up to their Monte Carlo noise: a comparison of sampling choices).
 
     Examples
     --------
     >>> comparability({"seed": 0, "render": {"width": 64}, "experiments": []},
     ...               {"seed": 1, "render": {"width": 128}, "experiments": []})
     ["render ({'width': 64} vs {'width': 128})", 'seed (0 vs 1)']
+    >>> comparability({"render": {"width": 64, "spp": 16}}, {"render": {"width": 64, "spp": "auto"}},
+    ...               across_sampling=True)
+    []
     """
     if config_a is None or config_b is None:
         return []
     out = []
     for k in COMPARED_KEYS:
         a, b = config_a.get(k), config_b.get(k)
+        if k == "render" and across_sampling and isinstance(a, dict) and isinstance(b, dict):
+            a, b = ({kk: v for kk, v in d.items() if kk not in SAMPLING_KEYS} for d in (a, b))
         if a != b:
             if k == "experiments" and isinstance(a, list) and isinstance(b, list):
                 out.append(f"experiments ({len(a)} vs {len(b)}, or different scenes, materials, angles or overrides)")

@@ -195,6 +195,28 @@ def test_check_and_compare_refuse_runs_of_another_resolution(cli_run, tmp_path, 
 
 
 @pytest.mark.slow
+def test_compare_across_sampling_allows_only_other_sample_counts(cli_run, tmp_path, capsys):
+    run_dir, cfg = cli_run
+    more = tmp_path / "more.toml"
+    more.write_text(TOML.replace("spp = 1\nambient_spp = 1", 'spp = 2\nambient_spp = "auto"'))
+    other = tmp_path / "other"
+    assert main(["run", str(more), "--out", str(other), "--quiet", "--no-report"]) == 0
+    capsys.readouterr()
+    assert main(["compare", str(run_dir), str(other)]) == 2
+    one_line_err(capsys, "are not comparable", "render", "compared:")
+    assert main(["compare", str(run_dir), str(other), "--across-sampling"]) in (0, 1)
+    out = capsys.readouterr().out
+    assert "checks:" in out and f"{other} against {run_dir}" in out
+    big = tmp_path / "big.toml"
+    big.write_text(TOML.replace("width = 64", "width = 128").replace("height = 60", "height = 120"))
+    wide = tmp_path / "wide"
+    assert main(["run", str(big), "--out", str(wide), "--quiet", "--no-report"]) == 0
+    capsys.readouterr()
+    assert main(["compare", str(run_dir), str(wide), "--across-sampling"]) == 2
+    one_line_err(capsys, "are not comparable", "render")
+
+
+@pytest.mark.slow
 def test_compare_two_runs_of_the_same_configuration(cli_run, tmp_path, capsys):
     run_dir, cfg = cli_run
     again = tmp_path / "again"

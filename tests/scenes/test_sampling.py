@@ -29,8 +29,8 @@ def test_the_generated_block_is_well_formed_and_covers_only_known_materials():
     assert set(sampling.LASER_SPP) == set(sampling.LASER_KIND) <= set(scenes.MATERIALS)
     assert set(sampling.AMBIENT_SPP) <= set(scenes.MATERIALS)
     for m, kind in sampling.LASER_KIND.items():
-        n_passes = 2 if kind == "split" else 1
-        assert kind in ("path", "ptracer", "split") and len(sampling.LASER_SPP[m]) == n_passes, m
+        n_passes = {"path": 1, "ptracer": 1, "hybrid": 2, "split": 2, "split_hybrid": 3}[kind]
+        assert len(sampling.LASER_SPP[m]) == n_passes, m
         assert all(isinstance(n, int) and n >= 1 for n in sampling.LASER_SPP[m]), m
         assert not scenes.materials.is_translucent(m)
 

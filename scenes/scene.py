@@ -417,7 +417,8 @@ class Scene:
         others (the sheet the coat reflects onto the object, which a path tracer finds only as
         fireflies through the narrow lobe). Unbiased for the same reason as the shiny materials' split.
         """
-        passes = description.laser_passes(self.params["material"], self.params["translucency"])
+        mat = self.params["material"]
+        passes = description.laser_passes(mat, "profile") if self._profile_mode() else description.laser_passes(mat)
         plain = (description.LaserPass("path", description.MAX_DEPTH, "all"),)
         if passes == plain and self.params["support"] == "table" and self.params["support_finish"] == "polished":
             return (description.LaserPass("path", description.MAX_DEPTH, "support"),

@@ -541,7 +541,7 @@ def row_segments(points_cm: np.ndarray, on_object: np.ndarray, jump: float = 4.0
     --------
     >>> p = np.c_[np.arange(6.0), np.zeros(6), np.zeros(6)]
     >>> p[4:, 1] = 5.0                                   # a step of 5 cm between columns 3 and 4
-    >>> [list(s) for s in row_segments(p, np.array([1, 1, 1, 1, 1, 0], bool))]
+    >>> [s.tolist() for s in row_segments(p, np.array([1, 1, 1, 1, 1, 0], bool))]
     [[0, 1, 2, 3], [4]]
     """
     ok = np.asarray(on_object, bool) & np.all(np.isfinite(points_cm), axis=-1)

@@ -54,8 +54,8 @@ def test_median_difference_and_its_interval():
 def _path(bias, fwhm, z, s):
     n = 50
     return {"parabolic_mm": np.full(n, bias), "core_mm": np.full(n, bias), "window_mm": np.full(n, bias),
-            "theta_deg": np.repeat([0.0, 1.0], n // 2), "fwhm_px": np.full(n, fwhm),
-            "frames": 2, "render_noise_px": z * 0.1, "sensor_noise_px": 0.1, "z": z, "z_robust": z, "s_per_frame": s,
+            "theta_deg": np.repeat([0.0, 1.0], n // 2), "fwhm_px": np.full(n, fwhm), "fwhm_matched_px": np.full(n, fwhm),
+            "frames": 2, "jump_rows": 0, "z_pixel": z, "render_noise_px": z * 0.1, "sensor_noise_px": 0.1, "z": z, "z_robust": z, "s_per_frame": s,
             "cpu_s_per_frame": s, "first_s": s, "rendered": 2, "laser_energy": 1.0, "ambient_mean": 1.0}
 
 

@@ -82,7 +82,8 @@ _GRID_MFP = 0.1          # grid step of the table in u and z, mean free paths
 _Z_MAX_MFP = 10.0        # deepest emission tabulated (exp(-10) of the surface's)
 _U_MAX_MFP = 20.0        # half-width of the table, at least; at least two diffusion lengths too
 _FORMAT_KEY = "format_version"
-_KEY_STEP = 0.005        # the local directions are rounded to this (about 0.3 deg) before a kernel is made
+_KEY_STEP = 0.01         # the local directions are rounded to this (about 0.6 deg) before a kernel is made
+_SOURCE_FRACTION = 1e-2  # pixels of a run above this fraction of its maximum are spread (the stripe itself)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -556,10 +557,11 @@ def row_segments(points_cm: np.ndarray, on_object: np.ndarray, jump: float = 4.0
 
 
 def spread_row(values: np.ndarray, u_mm: np.ndarray, kernel: Kernel, gain: float = 1.0,
-               min_fraction: float = 1e-4) -> np.ndarray:
+               min_fraction: float = _SOURCE_FRACTION) -> np.ndarray:
     """Spread one run of radiance samples along the surface by ``kernel``.
 
-    Each source pixel ``c'`` (radiance above ``min_fraction`` of the run's maximum) sends its energy
+    Each source pixel ``c'`` (radiance above ``min_fraction`` of the run's maximum: the stripe, not the dim
+    light the stand-in's interreflections put around it) sends its energy
     ``L(c') du(c')`` to the pixels ``c`` of the run in proportion to the kernel's integral over their
     intervals ``u(c) ± du(c)/2`` relative to ``u(c')``, normalised over the run; the others keep their
     radiance; then the whole run is multiplied by ``gain``. With ``gain = 1`` the energy ``sum L du`` of the
@@ -643,7 +645,7 @@ def spread(laser: np.ndarray, points_cm: np.ndarray, normals: np.ndarray, on_obj
             vals = img[r, seg]
             if not np.any(vals > 0):
                 continue
-            src = vals > 1e-4 * vals.max()
+            src = vals > _SOURCE_FRACTION * vals.max()
             wts = vals[src]
             p = (points_cm[r, seg][src] * wts[:, None]).sum(0) / wts.sum()
             n = (nrm[r, seg][src] * wts[:, None]).sum(0)

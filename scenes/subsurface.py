@@ -35,9 +35,10 @@ the slab's back face at :data:`scenes.description.SLAB_THICKNESS_CM`):
   ``(1 + max |p|) * RayEpsilon`` along the surface normal (``p`` in scene units, metres here;
   ``RayEpsilon`` = 1500 * 2**-24): about 0.12 mm at the rig's 0.3-0.4 m. ``volpath``'s camera ray
   therefore resumes inside the medium 0.12 mm below the surface point it crossed, parallel to itself:
-  it skips the top 0.12 mm of the medium (measured: the single-scattered laser light is
-  ``exp(-0.12 mm sigma_t / omega_n)`` of Chandrasekhar's, e.g. 0.77 for marble) and sees the sheet
-  displaced by ``0.12 mm * omega_b / omega_n`` across the line. The kernel reproduces it
+  it skips the top 0.12 mm of the medium (its single-scattered laser light is
+  ``exp(-0.12 mm sigma_t / omega_n)`` of Chandrasekhar's, 0.77 for marble at normal incidence) and sees the
+  sheet displaced by ``0.12 mm * omega_b / omega_n`` across the line (measured by
+  ``python -m bench.studies.translucency_profile --single-scatter``). The kernel reproduces it
   (``offset_mm`` of :class:`Kernel`, from each row's own surface point), because ``volpath`` is the
   reference this path is validated against (docs/translucency.md).
 

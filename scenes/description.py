@@ -28,6 +28,9 @@ Two scenes share the geometry of one frame:
   medium as ``interior`` inside :func:`scenes.shapes.medium_boundary`: an open mesh
   (the ``plane``) is closed into a slab :data:`SLAB_THICKNESS_CM` deep behind its
   front face, the overlapping parts of the ``hand`` are joined into one surface.
+  With ``translucency = "profile"`` they are rendered instead as their opaque stand-in
+  (``stand_in_albedo``: :func:`scenes.materials.stand_in_bsdf` on the same boundary, without the medium,
+  ``path`` in both passes), whose laser stripe :mod:`scenes.subsurface` then spreads.
 
 Both use a box reconstruction filter (a pixel value is the mean radiance over the
 pixel) and the ``multijitter`` sampler; units are metres.
@@ -151,32 +154,33 @@ def _max_depth(kind: str) -> int:
     return materials.MEDIUM_MAX_DEPTH if kind == "volpath" else MAX_DEPTH
 
 
-def laser_passes(material: str) -> Tuple[LaserPass, ...]:
+def laser_passes(material: str, translucency: str = "volpath") -> Tuple[LaserPass, ...]:
     """The laser pass(es) of ``material`` (from :func:`scenes.materials.integrator_for`).
 
     Examples
     --------
     >>> [tuple(p) for p in laser_passes("polished")]
     [('path', 3, 'object'), ('ptracer', 3, 'other')]
-    >>> [tuple(p) for p in laser_passes("skin")]
-    [('volpath', 64, 'all')]
+    >>> [tuple(p) for p in laser_passes("skin")], [tuple(p) for p in laser_passes("skin", "profile")]
+    ([('volpath', 64, 'all')], [('path', 3, 'all')])
     """
-    mode = materials.integrator_for(material, "laser")
+    mode = materials.integrator_for(material, "laser", translucency)
     if mode == "split":
         return (LaserPass("path", MAX_DEPTH, "object"), LaserPass("ptracer", MAX_DEPTH, "other"))
     return (LaserPass(mode, _max_depth(mode), "all"),)
 
 
-def ambient_integrator(material: str) -> dict:
+def ambient_integrator(material: str, translucency: str = "volpath") -> dict:
     """Integrator dict of the ambient pass of ``material``: ``path`` (max depth 3), or ``volpath``
-    with :data:`scenes.materials.MEDIUM_MAX_DEPTH` for the translucent materials.
+    with :data:`scenes.materials.MEDIUM_MAX_DEPTH` for the translucent materials (unless
+    ``translucency = "profile"``).
 
     Examples
     --------
-    >>> ambient_integrator("polished"), ambient_integrator("wax")
-    ({'type': 'path', 'max_depth': 3}, {'type': 'volpath', 'max_depth': 64})
+    >>> ambient_integrator("polished"), ambient_integrator("wax"), ambient_integrator("wax", "profile")
+    ({'type': 'path', 'max_depth': 3}, {'type': 'volpath', 'max_depth': 64}, {'type': 'path', 'max_depth': 3})
     """
-    kind = materials.integrator_for(material, "ambient")
+    kind = materials.integrator_for(material, "ambient", translucency)
     return integrator(kind, _max_depth(kind))
 
 
@@ -189,7 +193,8 @@ def mesh_shape(mesh, bsdf: dict, interior: dict = None) -> dict:
 
 
 def _geometry(obj: SceneObject, material: str, background_albedo: float, support_albedo: float,
-              albedo_maps: Optional[Dict[str, dict]] = None, support_finish: str = "matte") -> Dict[str, dict]:
+              albedo_maps: Optional[Dict[str, dict]] = None, support_finish: str = "matte",
+              stand_in_albedo: Optional[float] = None) -> Dict[str, dict]:
     """Shapes keyed by their ids: ``backdrop`` (if any), ``object``, ``support`` (if any).
 
     A translucent material's object carries its medium as ``interior`` inside
@@ -200,15 +205,24 @@ def _geometry(obj: SceneObject, material: str, background_albedo: float, support
 
     ``albedo_maps`` (shape id -> a texture dict) replaces the albedo of those surfaces (the object's
     only for :data:`scenes.materials.TEXTURABLE` materials); ``support_finish`` is the table's
-    (:data:`scenes.materials.SUPPORT_FINISHES`).
+    (:data:`scenes.materials.SUPPORT_FINISHES`). ``stand_in_albedo`` (translucent materials only) makes the
+    boundary the opaque stand-in of ``translucency = "profile"``, without the medium: the same surface, hence
+    the same truth, as the reference (the slab's side walls included).
     """
     maps = albedo_maps or {}
-    medium = materials.medium(material)
-    mesh = obj.mesh if medium is None else shapes.medium_boundary(obj.mesh, SLAB_THICKNESS_CM)
+    translucent = materials.is_translucent(material)
+    stand_in = stand_in_albedo is not None and translucent
+    medium = None if stand_in else materials.medium(material)
+    mesh = shapes.medium_boundary(obj.mesh, SLAB_THICKNESS_CM) if translucent else obj.mesh
     out = {}
     if obj.backdrop is not None:
         out["backdrop"] = mesh_shape(obj.backdrop, materials.backdrop_bsdf(background_albedo, maps.get("backdrop")))
-    obj_bsdf = materials.bsdf(material) if "object" not in maps else materials.with_albedo(material, maps["object"])
+    if stand_in:
+        obj_bsdf = materials.stand_in_bsdf(stand_in_albedo)
+    elif "object" not in maps:
+        obj_bsdf = materials.bsdf(material)
+    else:
+        obj_bsdf = materials.with_albedo(material, maps["object"])
     out["object"] = mesh_shape(mesh, obj_bsdf, medium)
     if obj.support is not None:
         out["support"] = mesh_shape(obj.support, materials.support_bsdf(support_albedo, maps.get("support"),
@@ -219,35 +233,44 @@ def _geometry(obj: SceneObject, material: str, background_albedo: float, support
 def laser_scene(rig: _rig.Rig, obj: SceneObject, material: str, laser: LaserProfile, theta_deg: float,
                 spp: int, *, background_albedo: float = materials.BACKDROP_ALBEDO,
                 support_albedo: float = materials.SUPPORT_ALBEDO, albedo_maps: Optional[Dict[str, dict]] = None,
-                support_finish: str = "matte") -> dict:
+                support_finish: str = "matte", stand_in_albedo: Optional[float] = None) -> dict:
     """Laser-only scene (unit in-band power) at mirror angle ``theta_deg``.
 
     ``background_albedo`` and ``support_albedo`` are the wall's and the table's Lambertian
     albedos (used only when ``obj`` has them); ``albedo_maps`` and ``support_finish`` as in
     :func:`_geometry` (textures at the laser's wavelength). The scene's integrator is the first of
-    :func:`laser_passes` (a split pass renders each of its integrators by pixel).
+    :func:`laser_passes` (a split pass renders each of its integrators by pixel). ``stand_in_albedo``: a
+    translucent material's opaque stand-in (``translucency = "profile"``, see :func:`_geometry`).
     """
-    first = laser_passes(material)[0]
+    first = laser_passes(material, _translucency(stand_in_albedo))[0]
     return {"type": "scene", "integrator": integrator(first.kind, first.max_depth),
             "sensor": sensor(rig, theta_deg, spp),
-            **_geometry(obj, material, background_albedo, support_albedo, albedo_maps, support_finish),
+            **_geometry(obj, material, background_albedo, support_albedo, albedo_maps, support_finish,
+                        stand_in_albedo),
             "laser": projector(rig, theta_deg, laser)}
 
 
 def ambient_scene(rig: _rig.Rig, obj: SceneObject, material: str, theta_deg: float, spp: int, *,
                   background_albedo: float = materials.BACKDROP_ALBEDO,
                   support_albedo: float = materials.SUPPORT_ALBEDO, albedo_maps: Optional[Dict[str, dict]] = None,
-                  support_finish: str = "matte") -> dict:
+                  support_finish: str = "matte", stand_in_albedo: Optional[float] = None) -> dict:
     """Ambient-only scene (unit in-band sky radiance) at mirror angle ``theta_deg``.
 
     Without a wall the camera sees the sky itself where nothing is in front of it: radiance 1
     (unit), what a white Lambertian surface under the same sky would send (about 2 DN at 400 lux).
     The integrator is :func:`ambient_integrator`; ``albedo_maps`` and ``support_finish`` as in
-    :func:`_geometry` (textures weighted by one band of the ambient, see :mod:`scenes.textures`).
+    :func:`_geometry` (textures weighted by one band of the ambient, see :mod:`scenes.textures`);
+    ``stand_in_albedo`` as in :func:`laser_scene`.
     """
-    return {"type": "scene", "integrator": ambient_integrator(material), "sensor": sensor(rig, theta_deg, spp),
-            **_geometry(obj, material, background_albedo, support_albedo, albedo_maps, support_finish),
+    return {"type": "scene", "integrator": ambient_integrator(material, _translucency(stand_in_albedo)),
+            "sensor": sensor(rig, theta_deg, spp),
+            **_geometry(obj, material, background_albedo, support_albedo, albedo_maps, support_finish,
+                        stand_in_albedo),
             "sky": sky(1.0)}
+
+
+def _translucency(stand_in_albedo: Optional[float]) -> str:
+    return "volpath" if stand_in_albedo is None else "profile"
 
 
 def pose_updates(rig: _rig.Rig, theta_deg: float) -> Dict[str, np.ndarray]:

@@ -45,7 +45,8 @@ import numpy as np
 
 __all__ = ["MATERIALS", "BACKDROP_ALBEDO", "bsdf", "backdrop_bsdf", "support_bsdf", "patchy_texture", "uses_delta_bsdf",
            "TEXTURABLE", "SUPPORT_FINISHES", "POLISHED_FLOOR_ALPHA", "with_albedo",
-           "integrator_for", "SHINY", "Translucent", "TRANSLUCENT", "medium", "is_translucent", "MEDIUM_MAX_DEPTH"]
+           "integrator_for", "SHINY", "Translucent", "TRANSLUCENT", "medium", "is_translucent", "MEDIUM_MAX_DEPTH",
+           "TRANSLUCENCY", "stand_in_bsdf"]
 
 MATERIALS = ("matte", "absorbing", "glossy", "specular", "patchy", "polished", "glazed", "skin", "marble", "wax")
 BACKDROP_ALBEDO = 0.5
@@ -248,14 +249,29 @@ def medium(material: str):
             "phase": {"type": "hg", "g": PHASE_G}}
 
 
-def integrator_for(material: str, light: str = "laser") -> str:
+#: How a translucent material is rendered (scene parameter ``translucency``): ``"volpath"``, the medium
+#: path traced (the reference), or ``"profile"``, an opaque stand-in whose laser stripe is spread by the
+#: material's line-spread profile (:mod:`scenes.subsurface`).
+TRANSLUCENCY = ("volpath", "profile")
+
+
+def stand_in_bsdf(albedo: float) -> dict:
+    """The ``translucency = "profile"`` stand-in of a translucent object: Lambertian of ``albedo`` (the
+    material's :attr:`scenes.subsurface.LineSpread.diffuse_reflectance`)."""
+    return {"type": "diffuse", "reflectance": float(albedo)}
+
+
+def integrator_for(material: str, light: str = "laser", translucency: str = "volpath") -> str:
     """How one pass (``light``: ``"laser"`` or ``"ambient"``) renders ``material``.
+
+    ``translucency`` (:data:`TRANSLUCENCY`) applies to the translucent materials only: ``"profile"``
+    renders them as their opaque stand-in, with ``"path"`` in both passes.
 
     Returns
     -------
     str
-        * ``"volpath"``: the translucent materials (:data:`TRANSLUCENT`), both passes, with
-          :data:`MEDIUM_MAX_DEPTH`. The boundary is ``null`` (index-matched) because ``volpath``'s
+        * ``"volpath"``: the translucent materials (:data:`TRANSLUCENT`) with ``translucency = "volpath"``,
+          both passes, with :data:`MEDIUM_MAX_DEPTH`. The boundary is ``null`` (index-matched) because ``volpath``'s
           next-event estimation reaches a delta light (the pinhole projector) from a point inside a
           medium only through null interfaces: a ``dielectric`` or ``roughdielectric`` boundary
           blocks the shadow ray, leaving only the connection from the boundary's last vertex (rough)
@@ -275,13 +291,17 @@ def integrator_for(material: str, light: str = "laser") -> str:
     ('path', 'ptracer', 'split')
     >>> integrator_for("polished", "ambient"), integrator_for("skin"), integrator_for("skin", "ambient")
     ('path', 'volpath', 'volpath')
+    >>> integrator_for("skin", translucency="profile"), integrator_for("matte", translucency="profile")
+    ('path', 'path')
     """
     if light not in ("laser", "ambient"):
         raise ValueError(f"`light` must be 'laser' or 'ambient', got {light!r}")
     if material not in MATERIALS:
         raise KeyError(f"unknown `material` {material!r}; valid: {', '.join(MATERIALS)}")
+    if translucency not in TRANSLUCENCY:
+        raise ValueError(f"`translucency` must be one of {', '.join(map(repr, TRANSLUCENCY))}, got {translucency!r}")
     if is_translucent(material):
-        return "volpath"
+        return "volpath" if translucency == "volpath" else "path"
     if light == "ambient":
         return "path"
     if uses_delta_bsdf(material):

@@ -51,6 +51,13 @@ Sample counts: ``spp`` (every laser pass, default 16) and ``ambient_spp`` (defau
 
 ``ambient_illuminant`` also accepts ``"daylight"`` (CIE D75, :data:`scenes.radiometry.ALIASES`).
 
+Translucent materials (``skin``, ``marble``, ``wax``; :data:`scenes.materials.TRANSLUCENCY`):
+
+* ``translucency``: ``"volpath"`` (default: the medium, path traced with ``volpath``, the reference) or
+  ``"profile"`` (an opaque stand-in whose laser stripe is spread by the material's line-spread profile,
+  :mod:`scenes.subsurface`; several times cheaper). It enters the render cache key only as ``"profile"``
+  and only for a translucent material (every other key stays what it was); the opaque materials ignore it.
+
 ``width`` x ``height`` must keep the default 16:15 square-pixel aspect (64x60,
 128x120, 256x240, 512x480, ...): Mitsuba's pinhole camera has square pixels.
 """
@@ -63,7 +70,7 @@ from typing import Any, Dict
 
 from . import _checks, radiometry
 from .colour_camera import CAMERAS, FILTERS
-from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO, SUPPORT_FINISHES, TEXTURABLE
+from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO, SUPPORT_FINISHES, TEXTURABLE, TRANSLUCENCY
 from .textures import TEXTURES
 from .objects import BACKDROP_DISTANCE_CM, BACKGROUNDS, SUPPORTS
 from .rig import Rig
@@ -128,6 +135,7 @@ DEFAULTS: Dict[str, Any] = {
     "filter": "bandpass",
     "jpeg_quality": None,
     "defocus_px": 0.0,
+    "translucency": "volpath",
     "cache": True,
     "cache_dir": None,
 }
@@ -224,6 +232,7 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
         raise ValueError(f"`jpeg_quality` must be None (lossless) or an integer in [1, 95], got {q!r}")
     p["jpeg_quality"] = None if q is None else int(q)
     p["defocus_px"] = _checks.in_range("defocus_px", p["defocus_px"], 0.0, MAX_DEFOCUS_PX)
+    p["translucency"] = _choice("translucency", p["translucency"], TRANSLUCENCY)
     if p["camera"] == "rgb" and (p["width"] % 2 or p["height"] % 2):
         raise ValueError(f"`camera` \"rgb\" needs an even `width` and `height` (a whole Bayer pattern), "
                          f"got {p['width']}x{p['height']}")

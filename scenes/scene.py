@@ -14,6 +14,11 @@ A frame is a pure function of (parameters, mirror angle, spp, seed):
 with independent noise draws; both share the ambient render (its Monte Carlo
 noise is therefore common to both, like a fixed pattern).
 
+``translucency = "profile"`` (translucent materials): both passes render the opaque stand-in
+(:func:`scenes.materials.stand_in_bsdf` of the material's total diffuse reflectance), and the laser pass is then
+spread along each row by the material's line-spread kernels (:func:`scenes.subsurface.spread`, with the
+surface point and normal of every pixel from one batched ray cast).
+
 Textures and the colour camera (``*_texture``, ``camera="rgb"``): the laser pass sees each
 textured surface's albedo at the laser's wavelength; the ambient pass is rendered once per
 *band*: one band (the filter's, or, without textures, the one render every channel shares,
@@ -32,7 +37,8 @@ from typing import Any, Dict, Iterable, Iterator, Optional, Tuple
 
 import numpy as np
 
-from . import _checks, cache as _cache, colour_camera, description, materials, objects, radiometry, sampling, textures
+from . import (_checks, cache as _cache, colour_camera, description, materials, objects, radiometry, sampling,
+               subsurface, textures)
 from . import variant as _variant
 from .frame import Frame, Truth
 from .laser import profile as _laser_profile
@@ -206,6 +212,8 @@ class Scene:
                        "support_albedo": self.params["support_albedo"]}
             if self.params["support_finish"] != "matte":
                 albedos["support_finish"] = self.params["support_finish"]
+            if self._profile_mode():
+                albedos["stand_in_albedo"] = self._line_spread().diffuse_reflectance
             weights = self.band_weights()
             if not weights:
                 self._loaded = (
@@ -262,13 +270,29 @@ class Scene:
             **self._optics_fields(),
         }
 
+    def _profile_mode(self) -> bool:
+        """True for a translucent material rendered with ``translucency = "profile"``."""
+        return materials.is_translucent(self.params["material"]) and self.params["translucency"] == "profile"
+
+    def _line_spread(self) -> "subsurface.LineSpread":
+        """The material's line-spread table (:func:`scenes.subsurface.table_for`; computed once, a few seconds)."""
+        return subsurface.table_for(self.params["material"], self.params["cache_dir"], use_cache=self.params["cache"])
+
     def _optics_fields(self) -> Dict[str, Any]:
         """Cache-key fields of a translucent material: its boundary, medium (coefficients) and
-        integrators, so a change of any coefficient re-renders. Empty for the opaque and shiny
+        integrators, so a change of any coefficient re-renders; with ``translucency = "profile"`` the
+        profile's spec and the spreading's version instead. Empty for the opaque and shiny
         materials (their keys stay what they were)."""
         mat = self.params["material"]
         if not materials.is_translucent(mat):
             return {}
+        if self._profile_mode():
+            return {"optics": {"translucency": "profile", "profile": subsurface.spec_for(mat).key_fields(),
+                               "spread_version": subsurface.SPREAD_VERSION,
+                               "stand_in": "diffuse, total diffuse reflectance of the profile, on the medium's boundary",
+                               "slab_thickness_cm": description.SLAB_THICKNESS_CM,
+                               "laser_passes": [list(p) for p in description.laser_passes(mat, "profile")],
+                               "ambient_integrator": description.ambient_integrator(mat, "profile")}}
         return {"optics": {"bsdf": materials.bsdf(mat), "medium": materials.medium(mat),
                            "laser_passes": [list(p) for p in description.laser_passes(mat)],
                            "ambient_integrator": description.ambient_integrator(mat),
@@ -292,7 +316,7 @@ class Scene:
         pose = description.pose_updates(self.rig, theta)
         laser_seed = int(seeds[0].generate_state(1)[0])
         passes, counts, ambient_spp = self.sample_counts(spp)
-        if passes == description.laser_passes(self.params["material"])[:1] and passes[0].pixels == "all":
+        if len(passes) == 1 and passes == self._own_passes() and passes[0].pixels == "all":
             laser = laser_scene.render(pose, counts[0], laser_seed)  # the scene's own integrator
         elif all(p.pixels == "all" for p in passes):
             acc = np.zeros((self.params["height"], self.params["width"]), np.float64)
@@ -311,6 +335,8 @@ class Scene:
                 img = laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth))
                 acc += np.where(masks[p.pixels], img, 0.0)
             laser = acc.astype(np.float32)
+        if self._profile_mode():
+            laser = self._spread(laser_scene, theta, laser)
         ambient_seed = int(seeds[1].generate_state(1)[0])
         bands = [a.render(pose, ambient_spp, ambient_seed) for a in ambient_scenes]
         ambient = bands[0] if len(bands) == 1 else np.stack(bands, axis=-1)
@@ -323,6 +349,23 @@ class Scene:
         if use_cache:
             _cache.store(root, k, out)
         return out
+
+    def _spread(self, laser_scene, theta: float, laser: np.ndarray) -> np.ndarray:
+        """``translucency = "profile"``: the stand-in's laser pass spread by the line-spread kernels."""
+        rig = self.rig
+        rows, cols = np.meshgrid(np.arange(rig.height, dtype=float), np.arange(rig.width, dtype=float),
+                                 indexing="ij")
+        o, d = rig.pixel_rays(cols, rows, theta)
+        t, part, nrm = laser_scene.cast_normals(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
+        shape = (rig.height, rig.width)
+        with np.errstate(invalid="ignore"):
+            points = o + np.where(np.isfinite(t), t, np.nan).reshape(shape)[..., None] * d
+        on_object = part.reshape(shape) == _PARTS.index("object")
+        table = self._line_spread()
+        _, sheet_normal = rig.laser_plane(theta)
+        return subsurface.spread(laser, points, nrm.reshape(shape + (3,)), on_object, sheet_normal=sheet_normal,
+                                 laser_origin_cm=rig.laser_origin_cm(theta), camera_cm=rig.camera_center_cm(theta),
+                                 table=table, albedo=table.diffuse_reflectance)
 
     def _truth(self, laser_scene, theta: float) -> Truth:
         def cast(o, d):
@@ -386,7 +429,8 @@ class Scene:
         return self.sample_counts()[0]
 
     def _own_passes(self) -> tuple:
-        passes = description.laser_passes(self.params["material"])
+        mat = self.params["material"]
+        passes = description.laser_passes(mat, "profile") if self._profile_mode() else description.laser_passes(mat)
         plain = (description.LaserPass("path", description.MAX_DEPTH, "all"),)
         if passes == plain and self.params["support"] == "table" and self.params["support_finish"] == "polished":
             return (description.LaserPass("path", description.MAX_DEPTH, "support"),

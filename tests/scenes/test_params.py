@@ -97,3 +97,13 @@ def test_texture_and_camera_defaults():
     ok = P.validate({"camera": "rgb", "filter": "none", "jpeg_quality": 80, "ambient_illuminant": "daylight"})
     assert ok["jpeg_quality"] == 80 and ok["ambient_illuminant"] == "daylight"
     assert not set(P.TEXTURE_KEYS + P.CAMERA_KEYS) & set(P.RENDER_KEYS + P.SCALE_KEYS + P.SENSOR_KEYS)
+
+
+def test_translucency_defaults_to_the_reference_and_is_checked():
+    assert P.validate({})["translucency"] == "volpath"
+    assert P.validate({"translucency": "profile", "material": "skin"})["translucency"] == "profile"
+    assert P.validate({"translucency": "profile"})["translucency"] == "profile"  # opaque materials ignore it
+    assert "translucency" not in P.RENDER_KEYS  # in the cache key only as "profile" (scenes.Scene._optics_fields)
+    for bad in ("mc", None, True):
+        with pytest.raises(ValueError, match=rf"`translucency` must be one of 'volpath', 'profile', got {bad!r}"):
+            P.validate({"translucency": bad})

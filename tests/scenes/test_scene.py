@@ -496,3 +496,56 @@ def test_polished_table_splits_the_laser_pass_by_the_tables_pixels(tmp_path):
     matte = scenes.make("sphere", support="table", background="none", cache=False, **TINY).render(0.0)
     assert np.array_equal(f.truth.columns, matte.truth.columns, equal_nan=True)
     assert np.isfinite(f.laser_radiance).all() and not np.array_equal(f.radiance, matte.radiance)
+
+
+# -- translucency = "profile" --------------------------------------------------------------------------------------
+
+def test_translucency_enters_the_cache_key_only_as_profile_of_a_translucent_material(monkeypatch):
+    from scenes import materials, subsurface
+
+    kw = dict(width=64, height=60, spp=4, ambient_spp=2, cache=False)
+    skin = scenes.make("sphere", material="skin", **kw)
+    fields = skin._cache_fields(0.0, 4, 0, "v")
+    # the reference's key is what it was: no new field, the same optics
+    assert fields == scenes.make("sphere", material="skin", translucency="volpath", **kw)._cache_fields(0.0, 4, 0, "v")
+    assert "translucency" not in fields and set(fields["optics"]) == {"bsdf", "medium", "laser_passes",
+                                                                       "ambient_integrator", "slab_thickness_cm",
+                                                                       "boundary"}
+    matte = scenes.make("sphere", material="matte", **kw)._cache_fields(0.0, 4, 0, "v")
+    assert scenes.make("sphere", material="matte", translucency="profile", **kw)._cache_fields(0.0, 4, 0, "v") == matte
+    prof = scenes.make("sphere", material="skin", translucency="profile", **kw)._cache_fields(0.0, 4, 0, "v")
+    assert C.key(prof) != C.key(fields) and "laser_passes" not in prof
+    assert prof["optics"]["translucency"] == "profile"
+    assert prof["optics"]["profile"] == subsurface.spec_for("skin").key_fields()
+    assert prof["optics"]["spread_version"] == subsurface.SPREAD_VERSION
+    t = materials.TRANSLUCENT["skin"]
+    monkeypatch.setitem(materials.TRANSLUCENT, "skin", materials.Translucent(t.sigma_s_reduced_per_mm, 2 * t.sigma_a_per_mm,
+                                                                              t.source))
+    other = scenes.make("sphere", material="skin", translucency="profile", **kw)._cache_fields(0.0, 4, 0, "v")
+    assert C.key(other) != C.key(prof)  # a coefficient of the medium: another profile, another render
+
+
+def test_profile_path_spreads_its_opaque_stand_in_into_a_wider_dimmer_stripe(tmp_path, monkeypatch):
+    from scenes import subsurface
+
+    kw = dict(width=64, height=60, spp=8, ambient_spp=2, cache=False, cache_dir=str(tmp_path), seed=1)
+    s = scenes.make("plane", material="skin", translucency="profile", **kw)
+    theta = float(s.default_angles()[24])
+    f = s.render(theta)
+    again = scenes.make("plane", material="skin", translucency="profile", **kw).render(theta)
+    assert np.array_equal(f.radiance, again.radiance) and np.array_equal(f.image, again.image)
+    monkeypatch.setattr(subsurface, "spread", lambda laser, *a, **k: laser)
+    opaque = scenes.make("plane", material="skin", translucency="profile", **kw).render(theta)
+    assert np.array_equal(f.truth.columns, opaque.truth.columns, equal_nan=True)
+    amb, amb0 = f.radiance - f.laser_radiance, opaque.radiance - opaque.laser_radiance
+    assert np.allclose(amb, amb0, rtol=0, atol=1e-6 * float(f.radiance.max()))  # the same ambient pass
+    rows = np.nonzero(f.truth.on_object)[0]
+    assert rows.size > 50
+    _, w, p = _row_fwhm(f.laser_radiance, f.truth.columns, rows, half=6)
+    _, w0, p0 = _row_fwhm(opaque.laser_radiance, f.truth.columns, rows, half=6)
+    assert w > 1.2 * w0 and p < 0.8 * p0  # the glow: wider, lower peak
+    # the stand-in's albedo is the medium's total diffuse reflectance, between Chandrasekhar's single
+    # scattering (albedo / 8) and the albedo
+    r = subsurface.table_for("skin").diffuse_reflectance
+    a = scenes.materials.TRANSLUCENT["skin"].albedo_reduced
+    assert a / 8 < r < a

@@ -318,22 +318,18 @@ class Scene:
         passes, counts, ambient_spp = self.sample_counts(spp)
         if len(passes) == 1 and passes == self._own_passes() and passes[0].pixels == "all":
             laser = laser_scene.render(pose, counts[0], laser_seed)  # the scene's own integrator
-        elif all(p.pixels == "all" for p in passes):
+        else:  # the passes' sum, each on its pixels
+            masks = {"all": None}
+            if any(p.pixels == "support" for p in passes):
+                on_support = self.support_pixels(theta)
+                masks.update(support=on_support, rest=~on_support)
+            if any(p.pixels == "object" for p in passes):
+                on_object = self.split_pixels(theta)
+                masks.update(object=on_object, other=~on_object)
             acc = np.zeros((self.params["height"], self.params["width"]), np.float64)
             for p, n in zip(passes, counts):
-                acc += laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth))
-            laser = acc.astype(np.float32)
-        else:
-            if passes[0].pixels == "support":
-                on_support = self.support_pixels(theta)
-                masks = {"support": on_support, "rest": ~on_support}
-            else:
-                on_object = self.split_pixels(theta)
-                masks = {"object": on_object, "other": ~on_object}
-            acc = np.zeros(next(iter(masks.values())).shape, np.float64)
-            for p, n in zip(passes, counts):
                 img = laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth))
-                acc += np.where(masks[p.pixels], img, 0.0)
+                acc += img if masks[p.pixels] is None else np.where(masks[p.pixels], img, 0.0)
             laser = acc.astype(np.float32)
         if self._profile_mode():
             laser = self._spread(laser_scene, theta, laser)

@@ -99,6 +99,29 @@ class SensorModel:
         e = np.minimum(self.mean_electrons(radiance), self.full_well_e)
         return np.clip(e / self.gain_e_per_dn + self.black_level_dn, 0.0, 255.0)
 
+    def noise_dn(self, level_dn) -> np.ndarray:
+        """The noise (DN rms) of a capture at a noise-free level above black: shot and read noise plus
+        the ADC's quantisation, 1/sqrt(12) DN. The unit in which render noise is compared with the
+        sensor's (``stripebench perf sampling``, ``perf shiny``, the translucency studies).
+
+        Parameters
+        ----------
+        level_dn : array_like
+            Noise-free level above the black level (DN), any shape; negative values count as 0.
+
+        Returns
+        -------
+        ndarray of float64, the shape of ``level_dn``
+
+        Examples
+        --------
+        >>> s = SensorModel()
+        >>> bool(abs(s.noise_dn(0.0) - (s.read_noise_e / s.gain_e_per_dn + 12 ** -0.5)) < 1e-12)
+        True
+        """
+        e = np.clip(np.asarray(level_dn, float), 0.0, None) * self.gain_e_per_dn
+        return np.sqrt(e + self.read_noise_e ** 2) / self.gain_e_per_dn + 1.0 / math.sqrt(12.0)
+
     def capture(self, radiance, rng: np.random.Generator) -> np.ndarray:
         """One noisy 8-bit exposure.
 

@@ -87,6 +87,17 @@ def positive_int(name: str, value, high: int | None = None) -> int:
     return int_in_range(name, value, 1, high)
 
 
+def spp_value(name: str, value):
+    """A sample count: ``"auto"`` (the per-material counts of :mod:`scenes.sampling`) or an integer
+    1 .. 65536."""
+    if value == "auto":
+        return value
+    try:
+        return positive_int(name, value, 65536)
+    except ConfigError:
+        raise ConfigError(f"{name} must be \"auto\" or an integer 1 .. 65536, got {value!r}") from None
+
+
 def finite_float(name: str, value, *, low: float | None = None, high: float | None = None,
                  low_open: bool = False) -> float:
     """A finite number (text or number) within the bounds, else :class:`ConfigError`."""

@@ -191,8 +191,7 @@ def _pixel_z(lasers, ambient, sensor, truth_cols, rows, half) -> np.ndarray:
     images over the shot, read and quantisation noise at their mean level (``bench.studies.perf.shiny``'s
     ``z`` with the second seed in place of a reference)."""
     a, b = (sensor.expected_dn(ambient + l) - sensor.black_level_dn for l in lasers)
-    e = np.clip(0.5 * (a + b), 0.0, None) * sensor.gain_e_per_dn
-    noise = np.sqrt(e + sensor.read_noise_e ** 2) / sensor.gain_e_per_dn + 1.0 / np.sqrt(12.0)
+    noise = sensor.noise_dn(0.5 * (a + b))
     out = []
     w = a.shape[1]
     for r in rows:

@@ -65,3 +65,11 @@ def test_default_levels_of_a_stripe_and_the_ambient():
 def test_invalid_parameters_are_named(name, value, pattern):
     with pytest.raises(ValueError, match=pattern):
         SensorModel(**{name: value})
+
+
+def test_sensor_noise_grows_with_the_level():
+    sensor = SensorModel()
+    n = sensor.noise_dn(np.array([0.0, 10.0, 100.0]))
+    assert np.all(np.diff(n) > 0)
+    assert math.isclose(n[2], math.sqrt(100 * sensor.gain_e_per_dn + sensor.read_noise_e ** 2)
+                        / sensor.gain_e_per_dn + 12 ** -0.5)

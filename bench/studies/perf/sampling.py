@@ -24,7 +24,7 @@ stripe's energy ratio and ``z_off``), for the split the split (each reference pi
 converges there).  All
 renders are converted to noise-free DN by the default sensor at the scene's laser power and ambient, and
 measured in units of the **sensor noise** (shot + read noise at the reference level plus the ADC's
-1/sqrt(12) DN, :func:`sensor_noise_dn`):
+1/sqrt(12) DN, :meth:`scenes.sensor.SensorModel.noise_dn`):
 
 ``z_stripe``, ``z_off``
     rms of (render - reference) / sensor noise over the pixels within 3 px of the true stripe, and over
@@ -68,7 +68,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 __all__ = ["MATERIALS", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "calibration_angles",
-           "laser_candidates", "sensor_noise_dn", "centroid_sd_px", "add_arguments", "command", "main"]
+           "laser_candidates", "centroid_sd_px", "add_arguments", "command", "main"]
 
 MATERIALS = ("matte", "patchy", "absorbing", "glossy", "polished", "glazed", "specular")
 """The materials the procedure measures (every opaque and shiny one)."""
@@ -152,30 +152,6 @@ def laser_candidates(material: str) -> List[Tuple[str, Tuple[int, ...]]]:
                 + [("hybrid", (a, b)) for a in _HYBRID_DIRECT_SPP for b in _HYBRID_INDIRECT_SPP])
     return ([("path", (k,)) for k in _PATH_SPP] + [("ptracer", (k,)) for k in _PTRACER_SPP]
             + [("hybrid", (a, b)) for a in _HYBRID_DIRECT_SPP for b in _HYBRID_INDIRECT_SPP])
-
-
-def sensor_noise_dn(sensor, level_dn: np.ndarray) -> np.ndarray:
-    """The sensor's noise (DN rms) at a noise-free level: shot + read noise plus the ADC's 1/sqrt(12).
-
-    Parameters
-    ----------
-    sensor : scenes.sensor.SensorModel
-    level_dn : ndarray
-        Noise-free level (DN), any shape.
-
-    Returns
-    -------
-    ndarray, the shape of ``level_dn``
-
-    Examples
-    --------
-    >>> from scenes.sensor import SensorModel
-    >>> s = SensorModel()
-    >>> bool(abs(sensor_noise_dn(s, np.array(0.0)) - (s.read_noise_e / s.gain_e_per_dn + 12 ** -0.5)) < 1e-12)
-    True
-    """
-    e = np.clip(level_dn, 0, None) * sensor.gain_e_per_dn
-    return np.sqrt(e + sensor.read_noise_e ** 2) / sensor.gain_e_per_dn + 1.0 / math.sqrt(12.0)
 
 
 def _windows(columns: np.ndarray, width: int):
@@ -269,7 +245,7 @@ class _Case:
             # each half by the integrator that converges there; the material's own integrator at the
             # same count is kept as a check that the two agree (:attr:`check`)
             self.laser_ref = self.laser("hybrid", (ref_spp, ref_spp), 1002)
-        self.sigma = sensor_noise_dn(self.sensor, self.laser_ref + self.ambient_ref)
+        self.sigma = self.sensor.noise_dn(self.laser_ref + self.ambient_ref)
         if kinds != ["path", "ptracer"]:
             path_ref = self.laser(kinds[0], (ref_spp,), 1003)
             stripe = self.regions["stripe"]
@@ -332,7 +308,7 @@ class _Case:
         return out
 
     def ambient_metrics(self, img: np.ndarray) -> float:
-        z = (img - self.ambient_ref) / sensor_noise_dn(self.sensor, self.ambient_ref)
+        z = (img - self.ambient_ref) / self.sensor.noise_dn(self.ambient_ref)
         return float(np.sqrt(np.mean(z[self.surface] ** 2)))
 
 

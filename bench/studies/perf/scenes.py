@@ -106,15 +106,9 @@ def _materials(name, text):
     return materials
 
 
-def _count(name, text):
-    from bench.config.options import positive_int
-
-    return text if text == "auto" else positive_int(name, text, 65536)
-
-
 def add_arguments(parser) -> None:
     """The benchmark's options (``stripebench perf scenes``)."""
-    from bench.config.options import arg_type, int_in_range, positive_int
+    from bench.config.options import arg_type, int_in_range, positive_int, spp_value
 
     parser.add_argument("--object", type=arg_type(_object, "--object"), default="hand",
                         help="the scanned object (default hand)")
@@ -124,9 +118,9 @@ def add_arguments(parser) -> None:
                         default=6, metavar="N", help="frames timed per material (default 6)")
     parser.add_argument("--materials", type=arg_type(_materials, "--materials"), default=list(scenes.MATERIALS),
                         metavar="LIST", help="comma-separated materials (default: all; the translucent ones cost ~15x matte)")
-    parser.add_argument("--spp", type=arg_type(_count, "--spp"), default="auto", metavar="auto|N",
+    parser.add_argument("--spp", type=arg_type(spp_value, "--spp"), default="auto", metavar="auto|N",
                         help="laser-pass samples per pixel (default auto: scenes.sampling)")
-    parser.add_argument("--ambient-spp", type=arg_type(_count, "--ambient-spp"), default="auto", metavar="auto|N",
+    parser.add_argument("--ambient-spp", type=arg_type(spp_value, "--ambient-spp"), default="auto", metavar="auto|N",
                         help="ambient-pass samples per pixel (default auto)")
     parser.add_argument("--strict", action="store_true", help=f"exit 1 if frame / bare > {FRAME_VS_BARE}")
     parser.add_argument("--background", default="wall", choices=("wall", "none"))

@@ -76,11 +76,6 @@ def _renders(name, material, theta, width, height, spps, ref_spp):
     return s, out, {"object": on_obj, "wall": wall, "wall-off": off}
 
 
-def _noise_dn(sensor, ref_dn):
-    e = np.clip(ref_dn, 0, None) * sensor.gain_e_per_dn
-    return np.sqrt(e + sensor.read_noise_e ** 2) / sensor.gain_e_per_dn + 1.0 / np.sqrt(12.0)
-
-
 def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
     """``mask`` grown by up to ``k`` px along rows and columns (a plus-shaped structuring element)."""
     plus = np.zeros((2 * k + 1, 2 * k + 1), bool)
@@ -173,7 +168,7 @@ def command(args) -> int:
     for name, material, theta in CASES[:args.cases]:
         s, out, regions = _renders(name, material, theta, width, height, args.spp, args.ref_spp)
         ref = out["ref"]
-        sigma = _noise_dn(s.sensor, ref)
+        sigma = s.sensor.noise_dn(ref)
         print(f"\n{name}/{material} at {theta} deg, {width}x{height}, reference split@{args.ref_spp} "
               f"(peak {ref[regions['object']].max(initial=0):.0f} DN on the object, "
               f"{ref[regions['wall-off']].max(initial=0):.1f} DN on the wall off the plane)")

@@ -61,7 +61,7 @@ def _timed_sweep(config_text: str, out: Path, tmp: Path, label: str) -> tuple[fl
 
 def add_arguments(parser) -> None:
     """The benchmark's options (``stripebench perf sweep``)."""
-    from bench.config.options import add_trackers, arg_type, finite_floats, positive_int, size_value
+    from bench.config.options import add_trackers, arg_type, finite_floats, positive_int, size_value, spp_value
 
     def nonneg(name):
         return arg_type(lambda n, v: finite_floats(n, v, low=0), name)
@@ -72,7 +72,7 @@ def add_arguments(parser) -> None:
                         help="WIDTHxHEIGHT (16:15; default 256x240)")
     parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, 10000), "--angles"), default=10,
                         metavar="N", help="mirror angles (default 10)")
-    parser.add_argument("--spp", type=arg_type(lambda n, v: v if v == "auto" else positive_int(n, v, 65536), "--spp"),
+    parser.add_argument("--spp", type=arg_type(spp_value, "--spp"),
                         default="auto", metavar="auto|N",
                         help="laser-pass samples per pixel, or auto (scenes.sampling; the ambient pass then too) "
                              "(default auto)")

@@ -97,3 +97,12 @@ def test_real_defaults_are_the_real_commands_defaults():
     O.add_n_boot(p)
     args = p.parse_args([])
     assert args.tol == O.REAL_DEFAULTS["tol_px"] and args.n_boot == O.REAL_DEFAULTS["n_boot"]
+
+
+def test_spp_value_takes_auto_or_a_count():
+    from bench.config.options import spp_value
+
+    assert spp_value("--spp", "auto") == "auto" and spp_value("--spp", "16") == 16
+    for bad in ("0", "65537", "Auto", "x", "1.5"):
+        with pytest.raises(ConfigError, match=r'--spp must be "auto" or an integer 1 \.\. 65536, got'):
+            spp_value("--spp", bad)

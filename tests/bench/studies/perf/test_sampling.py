@@ -1,10 +1,8 @@
 """The sampling procedure's pieces: angles, noise units, the choice and the generated table."""
 
-import math
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 import scenes
 from bench.studies.perf import sampling as S
@@ -32,14 +30,6 @@ def test_centroid_sd_matches_a_monte_carlo_of_the_sensor_noise():
     assert abs(c.std() / predicted - 1) < 0.05
     assert np.isnan(S.centroid_sd_px(laser, sigma, np.array([np.nan]))[0])
     assert np.isnan(S.centroid_sd_px(laser, sigma, np.array([2.0]))[0])  # window off the image
-
-
-def test_sensor_noise_grows_with_the_level():
-    sensor = scenes.sensor.SensorModel()
-    n = S.sensor_noise_dn(sensor, np.array([0.0, 10.0, 100.0]))
-    assert np.all(np.diff(n) > 0)
-    assert math.isclose(n[2], math.sqrt(100 * sensor.gain_e_per_dn + sensor.read_noise_e ** 2)
-                        / sensor.gain_e_per_dn + 12 ** -0.5)
 
 
 def test_the_cheapest_qualifying_candidate_is_chosen():

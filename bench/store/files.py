@@ -142,12 +142,9 @@ def array_checksum(arrays: dict[str, np.ndarray]) -> str:
     >>> a == array_checksum({"x": np.arange(3.0)}), a == array_checksum({"x": np.arange(3.0) + 1e-12})
     (True, False)
     """
-    h = hashlib.sha256()
-    for name in sorted(arrays):
-        v = np.ascontiguousarray(arrays[name])
-        h.update(f"{name}\0{v.dtype.str}\0{v.shape}\0".encode())
-        h.update(v.tobytes())
-    return h.hexdigest()
+    from scenes.cache import checksum  # the render cache's checksum: one definition of the bytes hashed
+
+    return checksum(arrays)
 
 
 def json_checksum(doc: Any) -> str:

@@ -8,11 +8,12 @@ and never on the frames rendered before (loading is only a cache).
 
 Reproducibility: ``path`` renders are bit-identical run to run on LLVM, and across
 x86-64 machines with AVX2 since :mod:`scenes.variant` fixes the LLVM target; the
-``ptracer`` renders (``specular``; the light-traced half of ``polished`` and
+``ptracer`` renders (the fixed-count passes of ``specular``, ``polished`` and
 ``glazed``) run on one LLVM thread because their
 atomic splatting order otherwise changes the last float bits.  On CUDA the
 ``ptracer`` pass is reproducible only to float32 rounding (the disk cache makes
-reruns identical).
+reruns identical).  :func:`light_indirect` (the ``auto`` passes' interreflected light)
+splats on the host instead, so it is reproducible on any number of threads.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import numpy as np
 from . import variant as _variant
 from .rig import CM_TO_M
 
-__all__ = ["materialise", "LoadedScene", "interrupted"]
+__all__ = ["materialise", "LoadedScene", "interrupted", "light_indirect"]
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -49,6 +50,94 @@ def interrupted(exc: BaseException) -> bool:
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
     return False
+
+
+def _adjoint_shading(mi, dr, si, d_world, d_local, wi_geo):
+    """Veach's adjoint correction for shading normals (light travelling along ``si.wi`` -> ``d``) and
+    the light-leak test, as ``ptracer`` does: 0 where the geometric and shading normals disagree about
+    the side of either direction."""
+    wo_geo = dr.dot(si.n, d_world)
+    cos_i, cos_o = mi.Frame3f.cos_theta(si.wi), mi.Frame3f.cos_theta(d_local)
+    valid = (wi_geo * cos_i > 0) & (wo_geo * cos_o > 0)
+    return dr.select(valid, dr.abs((cos_i * wo_geo) / (cos_o * wi_geo)), 0.0)
+
+
+def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
+    """The light paths of exactly ``depth`` segments (projector, ``depth - 1`` surface vertices,
+    camera), light traced: float32 (H, W) radiance.
+
+    Each of the ``spp x W x H`` light paths starts at the projector
+    (``Scene.sample_emitter_ray``), is extended by BSDF sampling in importance transport
+    ``depth - 2`` times and splats only at its last vertex, connected to the camera
+    (``Sensor.sample_direction``, a shadow ray, the BSDF towards the camera). This is term for
+    term Mitsuba's ``ptracer`` (its shading-normal correction and leak test, the weight
+    ``1 / spp``, the box filter's one pixel per splat) restricted to the splat at that vertex, so
+    its expectation is ``ptracer`` at ``depth`` minus ``ptracer`` at ``depth - 1``: the interreflected
+    light alone, at the cost of one connection per path instead of ``2 depth - 3``
+    (``tests/scenes/test_backend.py`` checks the expectation against both integrators).
+
+    Reproducible on any number of threads: every path is one independent lane of the kernel (no
+    atomic splats, whose order ``ptracer`` leaves to the scheduler), and the splats are summed by
+    pixel in float64 on the host (``numpy.bincount``, in lane order).
+
+    Parameters
+    ----------
+    mi : module
+        ``mitsuba`` with a JIT variant set (``llvm_*`` or ``cuda_*``).
+    scene : mitsuba.Scene
+        A loaded, posed scene: the first sensor's film (box filter) and sampler are used.
+    spp : int
+        Light paths per pixel (>= 1).
+    seed : int
+        Seed of the sampler.
+    depth : int
+        Segments of the paths (>= 2; 2 is the direct light, 3 one bounce).
+    """
+    import drjit as dr
+
+    if int(depth) < 2:
+        raise ValueError(f"`depth` must be >= 2 (projector, a surface, the camera), got {depth!r}")
+    if int(spp) < 1:
+        raise ValueError(f"`spp` must be >= 1, got {spp!r}")
+    sensor = scene.sensors()[0]
+    width, height = (int(v) for v in sensor.film().size())
+    sampler = sensor.sampler().clone()
+    sampler.set_sample_count(int(spp))
+    spp = sampler.sample_count()  # as ptracer: the sampler's own count (``multijitter`` rounds it to a grid)
+    sampler.set_samples_per_wavefront(spp)
+    sampler.seed(int(seed), width * height * spp)
+    ctx = mi.BSDFContext(mi.TransportMode.Importance)
+    ray, throughput, _ = scene.sample_emitter_ray(mi.Float(0.0), sampler.next_1d(), sampler.next_2d(),
+                                                  sampler.next_2d(), mi.Bool(True))
+    active = dr.max(throughput) != 0
+    si = scene.ray_intersect(ray, active)
+    active &= si.is_valid()
+    for _ in range(int(depth) - 2):  # the bounces before the last vertex
+        bs, value = si.bsdf(ray).sample(ctx, si, sampler.next_1d(active), sampler.next_2d(active), active)
+        d_world = si.to_world(bs.wo)
+        throughput *= value * _adjoint_shading(mi, dr, si, d_world, bs.wo, dr.dot(si.n, -ray.d))
+        active &= dr.max(throughput) != 0
+        ray = si.spawn_ray(d_world)
+        si = scene.ray_intersect(ray, active)
+        active &= si.is_valid()
+    # the last vertex, connected to the camera
+    ds, sensor_weight = sensor.sample_direction(si, sampler.next_2d(), active)
+    active &= ds.pdf > 0
+    to_camera = si.spawn_ray_to(ds.p)
+    active &= ~scene.ray_test(to_camera, active)
+    local = si.to_local(to_camera.d)
+    wi_geo = dr.dot(si.n, si.to_world(si.wi))
+    value = (throughput * sensor_weight * _adjoint_shading(mi, dr, si, to_camera.d, local, wi_geo)
+             * si.bsdf(ray).eval(ctx, si, local, active) / spp)
+    value = dr.select(active, value, 0.0)
+    x = mi.Int32(dr.floor(ds.uv.x))
+    y = mi.Int32(dr.floor(ds.uv.y))
+    dr.eval(value, x, y)
+    v = np.array(value, dtype=np.float64).reshape(-1) if not hasattr(value, "x") else np.array(value.x, dtype=np.float64)
+    x, y = np.array(x).reshape(-1), np.array(y).reshape(-1)
+    keep = (v != 0) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    image = np.bincount(y[keep] * width + x[keep], weights=v[keep], minlength=width * height)
+    return image.reshape(height, width).astype(np.float32)
 
 
 def _mesh(mi, name: str, mesh, bsdf, interior=None):
@@ -133,18 +222,11 @@ class LoadedScene:
         """Pose, then render; returns float32 (H, W) radiance (one channel).
 
         ``integrator`` ``(kind, max_depth)`` (e.g. ``("ptracer", 2)``) renders with that integrator
-        instead of the scene's own (``("ptracer_indirect", d)``: ``ptracer`` at ``d`` minus ``ptracer``
-        at ``d - 1``, see :class:`scenes.description.LaserPass`); the same ``seed`` then draws the same random numbers for the
-        vertices the integrators share (so ``ptracer`` at depths 3 and 2 differ by exactly the
-        depth-3 paths).
+        instead of the scene's own; ``("light_indirect", d)`` renders the light paths of exactly ``d``
+        segments (:func:`light_indirect`, see :class:`scenes.description.LaserPass`).
         """
-        if integrator is not None and integrator[0] == "ptracer_indirect":
-            # the light paths with a bounce before the camera: the same seed draws the same numbers
-            # for the vertices both depths share, so the difference is the longer paths' splats
-            depth = int(integrator[1])
-            longer = self.render(updates, spp, seed, integrator=("ptracer", depth))
-            shorter = self.render(updates, spp, seed, integrator=("ptracer", depth - 1))
-            return (longer.astype(np.float64) - shorter).astype(np.float32)
+        if integrator is not None and integrator[0] == "light_indirect":
+            return self._light_indirect(updates, spp, seed, int(integrator[1]))
         self.set_pose(updates)
         kwargs = {}
         kind = self._scene_kind
@@ -167,6 +249,23 @@ class LoadedScene:
         if img.ndim == 3:
             img = img[..., 0]
         return np.ascontiguousarray(img)
+
+    def _light_indirect(self, updates, spp: int, seed: int, depth: int) -> np.ndarray:
+        """``("light_indirect", depth)``: :func:`light_indirect` on JIT variants; on ``scalar_*`` (one
+        sample at a time in Python would crawl) the same light as ``ptracer`` at ``depth`` minus
+        ``ptracer`` at ``depth - 1`` with the same seed, which draw the same random numbers for the
+        vertices they share."""
+        if self.variant.startswith("scalar"):
+            longer = self.render(updates, spp, seed, integrator=("ptracer", depth))
+            shorter = self.render(updates, spp, seed, integrator=("ptracer", depth - 1))
+            return (longer.astype(np.float64) - shorter).astype(np.float32)
+        self.set_pose(updates)
+        try:
+            return light_indirect(self._mi, self._scene, spp, seed, depth)
+        except RuntimeError as exc:
+            if interrupted(exc):
+                raise KeyboardInterrupt from exc
+            raise
 
     def _render(self, spp: int, seed: int, kwargs: dict):
         """``mi.render``, with Ctrl-C always a :class:`KeyboardInterrupt`: Dr.Jit wraps one that arrives

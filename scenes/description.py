@@ -98,11 +98,11 @@ def integrator(kind: str, max_depth: int = MAX_DEPTH) -> dict:
 class LaserPass(NamedTuple):
     """One render of the laser scene: integrator, depth and the pixels it contributes to.
 
-    ``kind`` is a Mitsuba integrator (``path``, ``ptracer``, ``volpath``) or ``"ptracer_indirect"``:
-    the light paths that bounce at least once between the projector and the camera, rendered as
-    ``ptracer`` at ``max_depth`` minus ``ptracer`` at ``max_depth - 1`` with the same seed (the two
-    draw the same random numbers for the vertices they share, so the difference is exactly the
-    longer paths' splats, up to float32 rounding; :meth:`scenes.backend.LoadedScene.render`).
+    ``kind`` is a Mitsuba integrator (``path``, ``ptracer``, ``volpath``) or ``"light_indirect"``:
+    the light paths of exactly ``max_depth`` segments (at ``MAX_DEPTH``, those that bounce once between
+    the projector and the camera), light traced with a splat only at the last vertex
+    (:func:`scenes.backend.light_indirect`; its expectation is ``ptracer`` at ``max_depth`` minus
+    ``ptracer`` at ``max_depth - 1``).
 
     ``pixels`` is ``"all"``, ``"object"`` (pixels that see the object, see
     :meth:`scenes.Scene.split_pixels`) or ``"other"`` (the rest); or ``"support"`` (pixels that
@@ -129,9 +129,9 @@ def hybrid_passes() -> Tuple[LaserPass, ...]:
     Examples
     --------
     >>> [tuple(p) for p in hybrid_passes()]
-    [('path', 2, 'all'), ('ptracer_indirect', 3, 'all')]
+    [('path', 2, 'all'), ('light_indirect', 3, 'all')]
     """
-    return (LaserPass("path", DIRECT_DEPTH, "all"), LaserPass("ptracer_indirect", MAX_DEPTH, "all"))
+    return (LaserPass("path", DIRECT_DEPTH, "all"), LaserPass("light_indirect", MAX_DEPTH, "all"))
 
 
 def split_hybrid_passes() -> Tuple[LaserPass, ...]:
@@ -143,10 +143,10 @@ def split_hybrid_passes() -> Tuple[LaserPass, ...]:
     Examples
     --------
     >>> [tuple(p) for p in split_hybrid_passes()]
-    [('path', 3, 'object'), ('path', 2, 'other'), ('ptracer_indirect', 3, 'other')]
+    [('path', 3, 'object'), ('path', 2, 'other'), ('light_indirect', 3, 'other')]
     """
     return (LaserPass("path", MAX_DEPTH, "object"), LaserPass("path", DIRECT_DEPTH, "other"),
-            LaserPass("ptracer_indirect", MAX_DEPTH, "other"))
+            LaserPass("light_indirect", MAX_DEPTH, "other"))
 
 
 def _max_depth(kind: str) -> int:

@@ -111,7 +111,7 @@ def test_the_light_traced_interreflections_are_the_path_tracers_bounce_light():
     s = scenes.make("hand", material="matte", background="none", support="table", **TINY)
     loaded = s._load()[0]
     pose = description.pose_updates(s.rig, 0.0)
-    indirect = np.mean([loaded.render(pose, 8, seed, integrator=("ptracer_indirect", 3)) for seed in range(4)], axis=0)
+    indirect = np.mean([loaded.render(pose, 8, seed, integrator=("light_indirect", 3)) for seed in range(4)], axis=0)
     first = loaded.render(pose, 8, 0, integrator=("ptracer", 3))
     assert indirect.min() >= -1e-6 * first.max()
     by_path = np.mean([loaded.render(pose, 64, 10 + seed, integrator=("path", 3))
@@ -132,7 +132,7 @@ def test_a_hybrid_choice_sums_its_two_passes(table):
     seed = int(np.random.SeedSequence([0, *scenes.scene._angle_words(0.3)]).spawn(4)[0].generate_state(1)[0])
     pose = description.pose_updates(s.rig, 0.3)
     parts = (loaded.render(pose, 2, seed, integrator=("path", 2)).astype(np.float64)
-             + loaded.render(pose, 1, seed, integrator=("ptracer_indirect", 3)))
+             + loaded.render(pose, 1, seed, integrator=("light_indirect", 3)))
     assert np.array_equal(laser, (parts.astype(np.float32).astype(np.float64) * s.laser_power_inband_w())
                           .astype(np.float32))
     assert "laser_passes" in s._cache_fields(0.3, "auto", 0, "v")

@@ -273,9 +273,9 @@ class _Case:
             return [("path", d, spps[0]), ("ptracer", d, spps[1])]
         if label == "split_hybrid":
             return [("path", d, spps[0]), ("path", description.DIRECT_DEPTH, spps[1]),
-                    ("ptracer_indirect", d, spps[2])]
+                    ("light_indirect", d, spps[2])]
         if label == "hybrid":
-            return [("path", description.DIRECT_DEPTH, spps[0]), ("ptracer_indirect", d, spps[1])]
+            return [("path", description.DIRECT_DEPTH, spps[0]), ("light_indirect", d, spps[1])]
         return [(label, d, spps[0])]
 
     def combine(self, label: str, parts) -> np.ndarray:

@@ -345,15 +345,22 @@ class LoadedScene:
         dr = __import__("drjit")
         o32, d32 = o.astype(np.float32), d.astype(np.float32)
         ray = mi.Ray3f(mi.Point3f(o32[:, 0], o32[:, 1], o32[:, 2]), mi.Vector3f(d32[:, 0], d32[:, 1], d32[:, 2]))
-        si = self._scene.ray_intersect(ray)
-        valid = np.array(si.is_valid(), dtype=bool)
-        tt = np.array(si.t, dtype=np.float64)
-        sid = np.array(dr.reinterpret_array(mi.UInt32, si.shape), dtype=np.int64)
+        # one kernel for every field read back (each separate read would re-run the intersection);
+        # the preliminary record has the hit distance and shape, the normals need the interaction
+        pi = self._scene.ray_intersect_preliminary(ray)
+        fields = [pi.is_valid(), pi.t, dr.reinterpret_array(mi.UInt32, pi.shape)]
+        if normals:
+            n_sh = pi.compute_surface_interaction(ray).sh_frame.n
+            fields += [n_sh.x, n_sh.y, n_sh.z]
+        dr.eval(*fields)
+        valid = np.array(fields[0], dtype=bool)
+        tt = np.array(fields[1], dtype=np.float64)
+        sid = np.array(fields[2], dtype=np.int64)
         t[valid] = tt[valid] / CM_TO_M
         for k, name in enumerate(names):
             if name in ids:
                 part[valid & (sid == ids[name])] = k
         if normals:
-            sn = np.stack([np.array(si.sh_frame.n[k], dtype=np.float64) for k in range(3)], axis=-1)
+            sn = np.stack([np.array(f, dtype=np.float64) for f in fields[3:]], axis=-1)
             nrm[valid] = sn[valid] / np.linalg.norm(sn[valid], axis=1, keepdims=True)
         return t, part, nrm

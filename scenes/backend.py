@@ -25,7 +25,7 @@ import numpy as np
 from . import variant as _variant
 from .rig import CM_TO_M
 
-__all__ = ["materialise", "LoadedScene", "interrupted", "light_indirect"]
+__all__ = ["materialise", "LoadedScene", "interrupted", "light_indirect", "camera_paths"]
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -140,6 +140,63 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
     return image.reshape(height, width).astype(np.float32)
 
 
+def camera_paths(mi, scene, integrator, pixels: np.ndarray, spp: int, seed: int) -> np.ndarray:
+    """A camera-path integrator (``path``, ``volpath``) on some pixels only: float32 (H, W) radiance, 0
+    outside ``pixels``.
+
+    Each pixel of ``pixels`` gets ``spp`` camera rays through uniformly random points of its
+    footprint (``Sensor.sample_ray_differential``, differentials scaled by ``1 / sqrt(spp)``), each
+    estimated by the integrator's own ``sample`` and weighted by the ray's weight; the pixel is their
+    mean. That is what ``mi.render`` computes for a pixel with the box filter, so the result has the
+    same expectation (and noise) per pixel as the whole-image render masked to ``pixels``, at the
+    cost of those pixels only. Reproducible on any number of threads (independent lanes, the mean
+    taken on the host in lane order).
+
+    Parameters
+    ----------
+    mi : module
+        ``mitsuba`` with a JIT variant set.
+    scene : mitsuba.Scene
+        A loaded, posed scene (first sensor: film with a box filter, and its sampler).
+    integrator : mitsuba.SamplingIntegrator
+    pixels : ndarray (H, W), bool
+        The pixels to render (the film's size).
+    spp : int
+        Samples per pixel (>= 1; the sampler may round it, e.g. ``multijitter`` to a grid).
+    seed : int
+    """
+    import drjit as dr
+
+    sensor = scene.sensors()[0]
+    width, height = (int(v) for v in sensor.film().size())
+    pixels = np.asarray(pixels, bool)
+    if pixels.shape != (height, width):
+        raise ValueError(f"`pixels` must have the film's shape {(height, width)}, got {pixels.shape}")
+    if int(spp) < 1:
+        raise ValueError(f"`spp` must be >= 1, got {spp!r}")
+    index = np.flatnonzero(pixels).astype(np.uint32)
+    image = np.zeros(width * height)
+    if len(index) == 0:
+        return image.reshape(height, width).astype(np.float32)
+    sampler = sensor.sampler().clone()
+    sampler.set_sample_count(int(spp))
+    spp = sampler.sample_count()
+    sampler.set_samples_per_wavefront(spp)
+    lanes = np.repeat(index, spp)
+    sampler.seed(int(seed), len(lanes))
+    pixel = mi.UInt32(lanes)
+    position = mi.Point2f(mi.Float(pixel % width), mi.Float(pixel // width)) + sampler.next_2d()
+    ray, weight = sensor.sample_ray_differential(mi.Float(0.0), mi.Float(0.0),
+                                                 position / mi.ScalarVector2f(width, height), mi.Point2f(0.5))
+    ray.scale_differential(dr.rsqrt(spp))
+    radiance, _, _ = integrator.sample(scene, sampler, ray, None, mi.Bool(True))
+    value = radiance * weight
+    value = value.x if hasattr(value, "x") else value
+    dr.eval(value)
+    image += np.bincount(lanes, weights=np.array(value, dtype=np.float64).reshape(-1), minlength=width * height)
+    return (image / spp).reshape(height, width).astype(np.float32)
+
+
 def _mesh(mi, name: str, mesh, bsdf, interior=None):
     props = mi.Properties()
     props["bsdf"] = bsdf
@@ -218,12 +275,16 @@ class LoadedScene:
             self._params.update()
 
     def render(self, updates: Dict[str, np.ndarray], spp: int, seed: int,
-               integrator: Optional[Tuple[str, int]] = None) -> np.ndarray:
+               integrator: Optional[Tuple[str, int]] = None, pixels: Optional[np.ndarray] = None) -> np.ndarray:
         """Pose, then render; returns float32 (H, W) radiance (one channel).
 
         ``integrator`` ``(kind, max_depth)`` (e.g. ``("ptracer", 2)``) renders with that integrator
         instead of the scene's own; ``("light_indirect", d)`` renders the light paths of exactly ``d``
         segments (:func:`light_indirect`, see :class:`scenes.description.LaserPass`).
+
+        ``pixels`` (H, W) bool renders only those pixels (zero elsewhere) with a camera-path integrator
+        (``path``, ``volpath``): :func:`camera_paths` on JIT variants, the whole image masked on
+        ``scalar_*``. The light tracers ignore it (their paths land anywhere).
         """
         if integrator is not None and integrator[0] == "light_indirect":
             return self._light_indirect(updates, spp, seed, int(integrator[1]))
@@ -236,6 +297,17 @@ class LoadedScene:
                 self._integrators[integrator] = self._mi.load_dict(
                     {"type": integrator[0], "max_depth": int(integrator[1])})
             kwargs["integrator"] = self._integrators[integrator]
+        if pixels is not None and kind in ("path", "volpath"):
+            pixels = np.asarray(pixels, bool)
+            if self.variant.startswith("scalar"):
+                return np.where(pixels, self.render(updates, spp, seed, integrator), 0.0).astype(np.float32)
+            try:
+                return camera_paths(self._mi, self._scene, kwargs.get("integrator", self._scene.integrator()),
+                                    pixels, spp, seed)
+            except RuntimeError as exc:
+                if interrupted(exc):
+                    raise KeyboardInterrupt from exc
+                raise
         if kind == "ptracer" and self.variant.startswith("llvm"):
             dr = __import__("drjit")
             threads = dr.thread_count()

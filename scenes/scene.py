@@ -66,6 +66,22 @@ def _angle_words(theta: float):
     return [bits & 0xFFFFFFFF, bits >> 32]
 
 
+#: :meth:`Scene.lit_pixels`: a depth step (cm) between neighbouring pixel centres that makes a silhouette.
+SILHOUETTE_JUMP_CM = 1.0
+#: :meth:`Scene.lit_pixels`: silhouette pixels within this many frustum half-widths of the sheet are rendered.
+SILHOUETTE_MARGIN = 5.0
+
+#: Version of the camera-path passes rendered on their pixels only (:func:`_on_pixels`; cache key).
+CAMERA_PATHS_VERSION = 1
+
+
+def _on_pixels(p: description.LaserPass) -> bool:
+    """True when laser pass ``p`` is rendered on its pixels only (:func:`scenes.backend.camera_paths`):
+    a ``path`` pass on a part of the image, or one of :data:`scenes.description.DIRECT_DEPTH`, whose
+    light is only where the laser's frustum meets a visible surface (:meth:`Scene.lit_pixels`)."""
+    return p.kind == "path" and (p.pixels != "all" or p.max_depth == description.DIRECT_DEPTH)
+
+
 def _grow(mask: np.ndarray) -> np.ndarray:
     """``mask`` grown by one pixel (8-neighbourhood)."""
     grown = mask.copy()
@@ -98,6 +114,7 @@ class Scene:
     def __getstate__(self):
         state = self.__dict__.copy()
         state["_loaded"] = None
+        state.pop("_visible_memo", None)
         return state
 
     def __repr__(self) -> str:
@@ -252,6 +269,8 @@ class Scene:
         if passes != (description.LaserPass("path", description.MAX_DEPTH, "all"),):
             # keys of plain path-traced materials stay as they were (warm caches survive)
             extra["laser_passes"] = [list(p) for p in passes]
+        if any(_on_pixels(p) for p in passes):
+            extra["camera_paths"] = CAMERA_PATHS_VERSION
         extra.update(self._texture_fields())
         return {
             **extra,
@@ -319,17 +338,11 @@ class Scene:
         if len(passes) == 1 and passes == self._own_passes() and passes[0].pixels == "all":
             laser = laser_scene.render(pose, counts[0], laser_seed)  # the scene's own integrator
         else:  # the passes' sum, each on its pixels
-            masks = {"all": None}
-            if any(p.pixels == "support" for p in passes):
-                on_support = self.support_pixels(theta)
-                masks.update(support=on_support, rest=~on_support)
-            if any(p.pixels == "object" for p in passes):
-                on_object = self.split_pixels(theta)
-                masks.update(object=on_object, other=~on_object)
             acc = np.zeros((self.params["height"], self.params["width"]), np.float64)
-            for p, n in zip(passes, counts):
-                img = laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth))
-                acc += img if masks[p.pixels] is None else np.where(masks[p.pixels], img, 0.0)
+            for p, n, mask in zip(passes, counts, self.pass_pixels(theta, passes)):
+                img = laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth),
+                                         pixels=mask if _on_pixels(p) else None)
+                acc += img if mask is None else np.where(mask, img, 0.0)
             laser = acc.astype(np.float32)
         if self._profile_mode():
             laser = self._spread(laser_scene, theta, laser)
@@ -367,8 +380,9 @@ class Scene:
         def cast(o, d):
             return laser_scene.cast(o, d, _PARTS)
 
+        points = self._visible(theta)[0] if laser_scene is self._load()[0] else None
         return ground_truth(self.rig, theta, cast, fan_deg=self.params["laser_fan_deg"],
-                            object_part=_PARTS.index("object"))
+                            object_part=_PARTS.index("object"), centre_points_cm=points)
 
     def _false_mask(self, laser_scene, theta: float) -> np.ndarray:
         return false_stripe_mask(self.rig, theta, lambda o, d: laser_scene.cast_normals(o, d, _PARTS),
@@ -397,12 +411,18 @@ class Scene:
             NaN where the ray hits nothing.
         on_object : ndarray (H, W), bool
         """
-        points, part = self._visible(mirror_angle_deg)
+        points, part, _ = self._visible(mirror_angle_deg)
         return points, part == _PARTS.index("object")
 
     def _visible(self, mirror_angle_deg: float):
-        """First hits through every pixel centre: points (H, W, 3) cm and the index into ``_PARTS`` (H, W)."""
+        """First hits through every pixel centre: points (H, W, 3) cm and the index into ``_PARTS`` (H, W).
+
+        The last angle's result is kept (read-only arrays): a frame asks for it up to three times
+        (:meth:`split_pixels`, :meth:`lit_pixels`, the truth)."""
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        memo = self.__dict__.get("_visible_memo")
+        if memo is not None and memo[0] == theta:
+            return memo[1]
         rig = self.rig
         laser_scene = self._load()[0]
         laser_scene.set_pose(description.pose_updates(rig, theta))
@@ -410,8 +430,59 @@ class Scene:
                                  indexing="ij")
         o, d = rig.pixel_rays(cols, rows, theta)
         t, part = laser_scene.cast(o.reshape(-1, 3), d.reshape(-1, 3), _PARTS)
-        t = np.where(np.isfinite(t), t, np.nan).reshape(rig.height, rig.width)
-        return o + t[..., None] * d, part.reshape(rig.height, rig.width)
+        t = t.reshape(rig.height, rig.width)
+        part = part.reshape(rig.height, rig.width)
+        with np.errstate(invalid="ignore"):
+            points = o + np.where(np.isfinite(t), t, np.nan)[..., None] * d
+        result = (points, part, t)
+        for a in result:
+            a.flags.writeable = False
+        self._visible_memo = (theta, result)
+        return result
+
+    def lit_pixels(self, mirror_angle_deg: float) -> np.ndarray:
+        """Pixels that can see a point inside the laser's frustum, (H, W) bool: a superset of those with
+        direct laser light, where a pass of :data:`scenes.description.DIRECT_DEPTH` is rendered.
+
+        With ``u = s / |z|`` at each pixel centre's first hit (``s`` the signed distance to the sheet's
+        plane, ``z`` the distance along the beam; the frustum is ``|u| <= tan_half_x`` of the
+        projector), a pixel is marked when
+
+        * its own ``u`` is inside;
+        * ``u`` of it and of one of its 8 neighbours straddle the frustum (the surface between the two
+          centres sweeps every ``u`` between theirs: steep and grazing surfaces);
+        * it is a silhouette pixel (a neighbour's centre misses, hits another part, or hits more than
+          :data:`SILHOUETTE_JUMP_CM` nearer or farther) and ``|u|`` is within
+          :data:`SILHOUETTE_MARGIN` frustum widths: the limb between its centre and the silhouette,
+          which no centre sees, curves away fast;
+
+        and the marks are grown by two pixels (footprints reaching a surface no centre hits).
+        ``stripebench perf scenes --check-lit`` renders whole images and counts the direct light that
+        falls outside (none on the measured frames: docs/scenes.md).
+        """
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        points, part, t = self._visible(theta)
+        rig = self.rig
+        rel = points - rig.laser_origin_cm(theta)
+        _, normal = rig.laser_plane(theta)
+        tan_x = _laser_profile(self.params["line_fwhm_mrad"], self.params["laser_fan_deg"]).tan_half_x
+        h, w = part.shape
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = (rel @ normal) / np.abs(rel @ rig.laser_direction(theta))
+            lit = np.abs(u) <= tan_x
+            edge = np.zeros((h, w), bool)
+            for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
+                a = (slice(0, h - dy), slice(max(0, -dx), w - max(0, dx)))
+                b = (slice(dy, None), slice(max(0, dx), w + min(0, dx)))
+                ua, ub = u[a], u[b]
+                both = (np.minimum(ua, ub) <= tan_x) & (np.maximum(ua, ub) >= -tan_x)  # False with a miss
+                lit[a] |= both
+                lit[b] |= both
+                jump = (part[a] != part[b]) | ~(np.abs(t[a] - t[b]) <= SILHOUETTE_JUMP_CM)
+                edge[a] |= jump
+                edge[b] |= jump
+            lit |= edge & (np.abs(u) <= SILHOUETTE_MARGIN * tan_x)
+        return _grow(_grow(lit))
 
     def laser_passes(self) -> tuple:
         """The laser pass(es) of this scene (:class:`scenes.description.LaserPass`).
@@ -484,9 +555,43 @@ class Scene:
         ambient_spp = sampling.ambient_spp(material) if amb == sampling.AUTO else int(amb)
         return passes, tuple(counts), ambient_spp
 
+    def pass_pixels(self, mirror_angle_deg: float, passes: Optional[tuple] = None) -> list:
+        """The pixels each laser pass contributes to at ``mirror_angle_deg``: one (H, W) bool mask per
+        pass, or None for the whole image.
+
+        A pass's ``pixels`` (:class:`scenes.description.LaserPass`: :meth:`split_pixels`,
+        :meth:`support_pixels` or their complements), intersected for a pass of
+        :data:`scenes.description.DIRECT_DEPTH` with :meth:`lit_pixels`. ``path`` passes with a mask
+        are rendered on those pixels only (:func:`scenes.backend.camera_paths`); the light tracers'
+        renders are masked.
+
+        Parameters
+        ----------
+        mirror_angle_deg : float
+        passes : tuple of LaserPass, optional
+            Default :meth:`laser_passes`.
+        """
+        theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
+        passes = self.laser_passes() if passes is None else passes
+        masks = {"all": None}
+        if any(p.pixels in ("support", "rest") for p in passes):
+            on_support = self.support_pixels(theta)
+            masks.update(support=on_support, rest=~on_support)
+        if any(p.pixels in ("object", "other") for p in passes):
+            on_object = self.split_pixels(theta)
+            masks.update(object=on_object, other=~on_object)
+        out = []
+        for p in passes:
+            mask = masks[p.pixels]
+            if p.kind == "path" and p.max_depth == description.DIRECT_DEPTH:
+                lit = self.lit_pixels(theta)
+                mask = lit if mask is None else mask & lit
+            out.append(mask)
+        return out
+
     def support_pixels(self, mirror_angle_deg: float) -> np.ndarray:
         """Pixels whose centre ray hits the table, grown by one pixel (8-neighbourhood), (H, W) bool."""
-        _, part = self._visible(mirror_angle_deg)
+        _, part, _ = self._visible(mirror_angle_deg)
         return _grow(part == _PARTS.index("support"))
 
     def split_pixels(self, mirror_angle_deg: float) -> np.ndarray:

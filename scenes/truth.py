@@ -30,7 +30,7 @@ geometry without Mitsuba.
 
 from __future__ import annotations
 
-from typing import Callable, Tuple
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
@@ -56,7 +56,7 @@ def _signed(rig: Rig, theta_deg: float, cast: CastFn, cols: np.ndarray, rows: np
 
 def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, object_part: int = 1,
                  tol_px: float = 1e-6, g_tol_cm: float = 1e-6, max_iter: int = 40, plane_tol_cm: float = 1e-3,
-                 shadow_tol_cm: float = 0.02) -> Truth:
+                 shadow_tol_cm: float = 0.02, centre_points_cm: Optional[np.ndarray] = None) -> Truth:
     """Ground truth of one frame.
 
     Parameters
@@ -75,6 +75,9 @@ def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, ob
         Iteration stops when the bracket is below ``tol_px`` or the hit is within ``g_tol_cm`` of the
         plane (float32 ray casting resolves about 1e-6 cm); iteration cap; silhouette and shadow
         tolerances.
+    centre_points_cm : ndarray (H, W, 3), optional
+        The first hits of the rays through the pixel centres (``rig.pixel_rays``, NaN on a miss) when
+        the caller has cast them already: step 1 then uses them instead of casting.
 
     Returns
     -------
@@ -82,7 +85,10 @@ def ground_truth(rig: Rig, theta_deg: float, cast: CastFn, *, fan_deg: float, ob
     """
     h, w = rig.height, rig.width
     rows_grid, cols_grid = np.meshgrid(np.arange(h, dtype=float), np.arange(w, dtype=float), indexing="ij")
-    s, _ = _signed(rig, theta_deg, cast, cols_grid, rows_grid)
+    if centre_points_cm is None:
+        s, _ = _signed(rig, theta_deg, cast, cols_grid, rows_grid)
+    else:
+        s = np.asarray(centre_points_cm, float).reshape(h, w, 3) @ rig.laser_plane(theta_deg)[1]
     a, b = s[:, :-1], s[:, 1:]
     with np.errstate(invalid="ignore"):
         cand = np.isfinite(a) & np.isfinite(b) & ((a * b < 0) | ((a == 0) & (b != 0)))

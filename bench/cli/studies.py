@@ -35,6 +35,8 @@ PERF = (
     _study("bench.studies.perf.sampling", "sampling",
            "choose each material's integrator and sample counts by the render noise (spp = \"auto\")",
            renders=True),
+    _study("bench.studies.perf.lit", "lit", "check that Scene.lit_pixels holds every pixel with direct laser light",
+           renders=True),
 )
 
 COMMANDS = (
@@ -42,7 +44,7 @@ COMMANDS = (
     _study("bench.studies.translucency", "translucency", "the subsurface-scattering bias study", renders=True),
     _study("bench.studies.tune", "tune", "choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
            renders=True),
-    Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`",
+    Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`, `perf lit`",
             lambda parser: parser.add_argument("--strict", action="store_true",
                                                help="with no WHAT: `perf trackers --strict` (exit 1 if a target "
                                                     "is missed)"), None,

@@ -131,7 +131,7 @@ def test_a_hybrid_choice_sums_its_two_passes(table):
     loaded = s._load()[0]
     seed = int(np.random.SeedSequence([0, *scenes.scene._angle_words(0.3)]).spawn(4)[0].generate_state(1)[0])
     pose = description.pose_updates(s.rig, 0.3)
-    parts = (loaded.render(pose, 2, seed, integrator=("path", 2)).astype(np.float64)
+    parts = (loaded.render(pose, 2, seed, integrator=("path", 2), pixels=s.lit_pixels(0.3)).astype(np.float64)
              + loaded.render(pose, 1, seed, integrator=("light_indirect", 3)))
     assert np.array_equal(laser, (parts.astype(np.float32).astype(np.float64) * s.laser_power_inband_w())
                           .astype(np.float32))

@@ -423,7 +423,7 @@ def test_new_parameters_at_their_defaults_keep_the_mono_scene_and_its_key(tmp_pa
 def untextured(tmp_path_factory):
     d = str(tmp_path_factory.mktemp("untextured"))
     cone = scenes.make("cone", support="table", cache_dir=d, **TINY)
-    _, part = cone._visible(0.0)
+    _, part, _ = cone._visible(0.0)
     return cone.render(0.0), part, scenes.make("plane", cache_dir=d, **TINY).render(0.0)
 
 
@@ -496,6 +496,42 @@ def test_polished_table_splits_the_laser_pass_by_the_tables_pixels(tmp_path):
     matte = scenes.make("sphere", support="table", background="none", cache=False, **TINY).render(0.0)
     assert np.array_equal(f.truth.columns, matte.truth.columns, equal_nan=True)
     assert np.isfinite(f.laser_radiance).all() and not np.array_equal(f.radiance, matte.radiance)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, background, support", [("sphere", "none", "table"), ("hand", "none", "table"),
+                                                        ("plane", "wall", "none"), ("cone", "wall", "table")])
+def test_lit_pixels_hold_every_pixel_with_direct_laser_light(name, background, support):
+    # the whole-image direct light (bench.studies.perf.lit, here on a few frames at 128x120, among them
+    # the limbs against the sky and the wall that a rule on the pixel centres alone missed)
+    from bench.studies.perf.lit import check_frame
+
+    s = scenes.make(name, background=background, support=support, width=128, height=120, cache=False)
+    for theta in s.default_angles()[::3]:
+        outside, share, lit_share = check_frame(s, float(theta), 16)
+        assert outside == 0, (theta, share)
+        assert 0.0 < lit_share < 0.25
+
+
+def test_direct_light_passes_render_their_lit_pixels_only(monkeypatch):
+    from scenes import backend
+
+    s = scenes.make("cone", support="table", background="none", spp="auto", ambient_spp="auto", cache=False,
+                    width=64, height=60)
+    seen = []
+    real = backend.LoadedScene.render
+
+    def spy(self, updates, spp, seed, integrator=None, pixels=None):
+        seen.append((integrator, None if pixels is None else pixels.copy()))
+        return real(self, updates, spp, seed, integrator, pixels)
+
+    monkeypatch.setattr(backend.LoadedScene, "render", spy)
+    s.render(0.0)
+    direct = [px for integ, px in seen if integ == ("path", 2)]
+    assert len(direct) == 1 and np.array_equal(direct[0], s.lit_pixels(0.0))
+    assert [px for integ, px in seen if integ == ("light_indirect", 3)] == [None]
+    assert s._cache_fields(0.0, "auto", 0, "v")["camera_paths"] == scenes.scene.CAMERA_PATHS_VERSION
+    assert "camera_paths" not in scenes.make("cone", cache=False, width=64, height=60)._cache_fields(0.0, 4, 0, "v")
 
 
 # -- translucency = "profile" --------------------------------------------------------------------------------------

@@ -34,7 +34,6 @@ import numpy as np
 
 import scenes
 from scenes import description
-from scenes.truth import ground_truth
 
 __all__ = ["add_arguments", "command", "main"]
 
@@ -73,14 +72,13 @@ def _per_material(obj: str, material: str, n: int, geometry: dict, spp, ambient_
     for a in picks:
         pose = description.pose_updates(s.rig, float(a))
         t = [time.perf_counter()]
-        for lp, k in zip(passes, counts):  # split materials render two passes
-            laser.render(pose, k, 1, integrator=(lp.kind, lp.max_depth))
+        for lp, k, mask in zip(passes, counts, s.pass_pixels(float(a), passes)):  # as Scene.render: each on its pixels
+            laser.render(pose, k, 1, integrator=(lp.kind, lp.max_depth), pixels=mask)
         t.append(time.perf_counter())
         for amb in ambient:
             amb.render(pose, amb_spp, 2)
         t.append(time.perf_counter())
-        ground_truth(s.rig, float(a), lambda o, d: laser.cast(o, d, ("backdrop", "object", "support")),
-                     fan_deg=s.params["laser_fan_deg"])
+        s._truth(laser, float(a))
         t.append(time.perf_counter())
         split += np.diff(t)
     ratio = (float(np.median(np.asarray(frame_cpu) / np.asarray(bare_cpu))),

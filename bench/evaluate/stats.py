@@ -3,10 +3,13 @@ Wilson and Student-t intervals, robust summaries and scales, the bootstrap mean 
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
-__all__ = ["spread", "improvement", "bootstrap_improvement", "wilson_interval", "robust_summary", "bootstrap_mean",
-           "t_interval", "mad_scale", "STATISTICS", "WITHIN_MM", "GROSS_MM"]
+__all__ = ["spread", "improvement", "bootstrap_improvement", "resample_indices", "spread_resampled",
+           "improvement_interval", "wilson_interval", "robust_summary", "bootstrap_mean", "t_interval", "mad_scale",
+           "STATISTICS", "WITHIN_MM", "GROSS_MM"]
 
 STATISTICS = ("rmse", "mae", "std")
 WITHIN_MM = 5.0  # the paper's Fig. 10 band: "most samples locate within the range from -5 to +5 millimeter"
@@ -103,6 +106,21 @@ def improvement(errors_dp, errors_base, statistic: str = "rmse") -> float:
     return 1.0 - spread(a, statistic) / base
 
 
+@functools.lru_cache(maxsize=4)
+def resample_indices(seed: int, n: int, n_boot: int) -> np.ndarray:
+    """The (n_boot, n) resampling indices of ``numpy.random.default_rng(seed)`` (read-only, the last
+    few kept: a run asks for the same ones for every tracker pair of a group and statistic).
+
+    Examples
+    --------
+    >>> resample_indices(0, 3, 2).shape
+    (2, 3)
+    """
+    idx = np.random.default_rng(seed).integers(0, n, size=(n_boot, n))
+    idx.flags.writeable = False
+    return idx
+
+
 def bootstrap_improvement(errors_dp, errors_base, statistic: str = "rmse", *, n_boot: int = 2000, seed: int = 0,
                           level: float = 0.95) -> dict[str, float]:
     """The improvement and its percentile bootstrap confidence interval.
@@ -116,23 +134,38 @@ def bootstrap_improvement(errors_dp, errors_base, statistic: str = "rmse", *, n_
     """
     a = np.asarray(errors_dp, dtype=np.float64)
     b = np.asarray(errors_base, dtype=np.float64)
-    value = improvement(a, b, statistic)
+    improvement(a, b, statistic)  # validates the pair
     n = a.size
-    rng = np.random.default_rng(seed)
-    idx = rng.integers(0, n, size=(n_boot, n))
-    A, B = a[idx], b[idx]
-    if statistic == "rmse":
-        sa, sb = np.sqrt((A * A).mean(1)), np.sqrt((B * B).mean(1))
+    idx = resample_indices(int(seed), int(n), int(n_boot))
+    return improvement_interval(spread_resampled(a, statistic, idx), spread_resampled(b, statistic, idx), n, level)
+
+
+def spread_resampled(errors, statistic: str, idx: np.ndarray) -> tuple[float, np.ndarray]:
+    """``(S(errors), S of each resample)``: the spread (:func:`spread`) of ``errors`` (n,) and of each
+    row of ``errors[idx]`` (``idx`` (n_boot, n) resampling indices), for :func:`improvement_interval`.
+    One tracker's resampled spreads serve every pair it is in (same points, same indices)."""
+    e = np.asarray(errors, dtype=np.float64)
+    if statistic == "rmse":  # (x * x)[idx] is x[idx] * x[idx], bit for bit, at one gather
+        boots = np.sqrt((e * e)[idx].mean(1))
     elif statistic == "mae":
-        sa, sb = np.abs(A).mean(1), np.abs(B).mean(1)
+        boots = np.abs(e)[idx].mean(1)
     else:
-        sa, sb = A.std(1, ddof=1), B.std(1, ddof=1)
+        boots = e[idx].std(1, ddof=1)
+    return spread(e, statistic), boots
+
+
+def improvement_interval(dp, base, n: int, level: float = 0.95) -> dict[str, float]:
+    """:func:`bootstrap_improvement`'s result from the two trackers' :func:`spread_resampled` over the
+    same ``n`` points."""
+    (s_dp, boot_dp), (s_base, boot_base) = dp, base
+    value = float("nan") if s_base == 0 else 1.0 - s_dp / s_base
     with np.errstate(divide="ignore", invalid="ignore"):
-        boots = 1.0 - sa / sb
+        boots = 1.0 - boot_dp / boot_base
     boots = boots[np.isfinite(boots)]
     alpha = (1.0 - level) / 2.0
     low, high = (np.quantile(boots, [alpha, 1 - alpha]) if boots.size else (np.nan, np.nan))
-    return {"value": value, "low": float(low), "high": float(high), "level": level, "n": int(n), "n_boot": int(n_boot)}
+    return {"value": value, "low": float(low), "high": float(high), "level": level, "n": int(n),
+            "n_boot": int(boot_dp.size)}
 
 
 def bootstrap_mean(values, *, n_boot: int = 2000, seed: int = 0, level: float = 0.95) -> dict[str, float]:

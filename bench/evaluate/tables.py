@@ -11,7 +11,8 @@ import numpy as np
 
 from bench.evaluate.metrics import frame_record
 from bench.evaluate.restore import restore_depth_map
-from bench.evaluate.stats import GROSS_MM, STATISTICS, WITHIN_MM, bootstrap_improvement, robust_summary
+from bench.evaluate.stats import (GROSS_MM, STATISTICS, WITHIN_MM, resample_indices, improvement_interval, robust_summary,
+                                  spread_resampled)
 from bench.evaluate.triangulation import depth_cm
 
 __all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "draw_samples", "sample_table", "sample_columns",
@@ -199,6 +200,16 @@ def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group
         groups += [(str(k), g) for k, g in samples.groupby(group_by, sort=True)]
     out = []
     for gi, (label, g) in enumerate(groups):
+        resampled = {}  # (tracker, statistic, pair's points) -> spread_resampled: shared by its pairs
+
+        def spreads(name, errors, ok, si, stat):
+            key = (name, si, ok.tobytes())
+            if key not in resampled:
+                idx = resample_indices(int(np.random.SeedSequence([seed, gi, si]).generate_state(1)[0]),
+                                        int(ok.sum()), int(n_boot))
+                resampled[key] = spread_resampled(errors[ok], stat, idx)
+            return resampled[key]
+
         for dp in dp_names:
             for base in base_names:
                 if len(g) == 0:
@@ -212,9 +223,9 @@ def improvements(samples, dp_names, base_names, *, n_boot: int, seed: int, group
                 for si, stat in enumerate(STATISTICS):
                     if ok.sum() < 2:
                         res = {"value": np.nan, "low": np.nan, "high": np.nan, "n": int(ok.sum())}
-                    else:
-                        res = bootstrap_improvement(a[ok], b[ok], stat, n_boot=n_boot,
-                                                    seed=int(np.random.SeedSequence([seed, gi, si]).generate_state(1)[0]))
+                    else:  # bootstrap_improvement(a[ok], b[ok], stat, ...), each side's resamples once
+                        res = improvement_interval(spreads(dp, a, ok, si, stat), spreads(base, b, ok, si, stat),
+                                                   int(ok.sum()))
                     out.append({"group": label, "dp": dp, "baseline": base, "statistic": stat, "value": res["value"],
                                 "low": res["low"], "high": res["high"], "n": res["n"], **counts})
     return out

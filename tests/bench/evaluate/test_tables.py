@@ -118,3 +118,31 @@ def test_the_ratio_over_both_valued_pairs_counts_what_each_side_could_not_restor
         assert (r["n"], r["n_samples"], r["n_missing_dp"], r["n_missing_baseline"]) == (3, 6, 2, 2)
     one = improvements(s.iloc[[1, 2, 5]], ["dp"], ["gaps"], n_boot=50, seed=0, group_by=None)[0]
     assert one["n"] == 0 and np.isnan(one["value"]) and (one["n_missing_dp"], one["n_missing_baseline"]) == (2, 2)
+
+
+def test_improvements_are_bootstrap_improvement_of_each_pair_bit_for_bit():
+    # improvements shares one tracker's resamples among its pairs; every number must be what
+    # bootstrap_improvement gives the pair alone (same seed per group and statistic)
+    import pandas as pd
+
+    from bench.evaluate.stats import STATISTICS, bootstrap_improvement
+    from bench.evaluate.tables import improvements
+
+    rng = np.random.default_rng(3)
+    n = 40
+    s = pd.DataFrame({"experiment": np.repeat(["e1", "e2"], n // 2),
+                      **{f"error_mm_{k}": rng.normal(0, w, n) for k, w in (("d1", 1.0), ("d2", 2.0), ("b1", 3.0),
+                                                                         ("b2", 1.5))}})
+    s.loc[[3, 25], "error_mm_b2"] = np.nan  # a pair over fewer points
+    out = improvements(s, ["d1", "d2"], ["b1", "b2"], n_boot=50, seed=7)
+    assert len(out) == 3 * 2 * 2 * len(STATISTICS)
+    groups = [("all", s)] + [(k, g) for k, g in s.groupby("experiment", sort=True)]
+    for r in out:
+        gi = [label for label, _ in groups].index(r["group"])
+        g = groups[gi][1]
+        a, b = g[f"error_mm_{r['dp']}"].to_numpy(), g[f"error_mm_{r['baseline']}"].to_numpy()
+        ok = ~np.isnan(a) & ~np.isnan(b)
+        si = STATISTICS.index(r["statistic"])
+        alone = bootstrap_improvement(a[ok], b[ok], r["statistic"], n_boot=50,
+                                      seed=int(np.random.SeedSequence([7, gi, si]).generate_state(1)[0]))
+        assert (r["value"], r["low"], r["high"], r["n"]) == (alone["value"], alone["low"], alone["high"], alone["n"])

@@ -9,6 +9,7 @@ the figure data in :mod:`bench.store.figdata`, the summary's builder in
 
 from __future__ import annotations
 
+import concurrent.futures
 import time
 from pathlib import Path
 
@@ -206,25 +207,20 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(labels))
     if samples_df.empty:
         say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
-    stats = analysis.improvements(samples_df, dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
-    robust = analysis.robust_table(samples_df, labels)
     conditions = _conditions(config)
-    if len(samples_df):
-        cond_of = {e.key: (e.condition or e.key) for e in config.experiments}
-        by_cond = samples_df.assign(condition=samples_df["experiment"].map(cond_of))
-        if by_cond["condition"].nunique() < by_cond["experiment"].nunique():  # conditions group experiments
-            stats += [dict(s, group=f"condition:{s['group']}") for s in analysis.improvements(
-                by_cond, dp, config.baselines, n_boot=config.n_boot, seed=config.seed, group_by="condition")
-                if s["group"] != "all"]
-            robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
-                by_cond, labels, group_by="condition") if r["group"] != "all"]
-    write_tables(out, metrics, samples_df)
-    write_gallery(out, gallery)
-    if fig7 is not None:
-        write_figdata(out, fig7)
-    extra = dict(extra or {})
-    if config.real_set and kind == "run":
-        extra["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)
+    # the statistics (bootstrap intervals: seconds of numpy, much of it without the GIL) in a thread
+    # while this one writes the tables and tracks the real set (whose tracker time-outs need the main
+    # thread's signals); the results are the same as one after the other
+    with concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="stripebench-stats") as pool:
+        statistics = pool.submit(_statistics, config, samples_df, labels, dp)
+        write_tables(out, metrics, samples_df)
+        write_gallery(out, gallery)
+        if fig7 is not None:
+            write_figdata(out, fig7)
+        extra = dict(extra or {})
+        if config.real_set and kind == "run":
+            extra["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)
+        stats, robust = statistics.result()
     verdicts = analysis.verdicts(robust, stats, dp, config.baselines)
     claims = readings.paper_claims(config.to_dict(), robust, stats, verdicts, conditions, samples_df,
                                    paper_improvement=PAPER_IMPROVEMENT, within_mm=WITHIN_MM)
@@ -241,6 +237,23 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
         render_ahead=render_ahead, **extra)
     write_summary(out, summary)
     return out
+
+
+def _statistics(config: Config, samples_df, labels, dp) -> tuple[list, list]:
+    """The improvement intervals and robust figures of a run's samples, pooled, per experiment and
+    (where conditions group experiments) per condition: ``(stats, robust)``."""
+    stats = analysis.improvements(samples_df, dp, config.baselines, n_boot=config.n_boot, seed=config.seed)
+    robust = analysis.robust_table(samples_df, labels)
+    if len(samples_df):
+        cond_of = {e.key: (e.condition or e.key) for e in config.experiments}
+        by_cond = samples_df.assign(condition=samples_df["experiment"].map(cond_of))
+        if by_cond["condition"].nunique() < by_cond["experiment"].nunique():  # conditions group experiments
+            stats += [dict(s, group=f"condition:{s['group']}") for s in analysis.improvements(
+                by_cond, dp, config.baselines, n_boot=config.n_boot, seed=config.seed, group_by="condition")
+                if s["group"] != "all"]
+            robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
+                by_cond, labels, group_by="condition") if r["group"] != "all"]
+    return stats, robust
 
 
 def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:

@@ -212,6 +212,7 @@ class _Case:
 
         self.label = f"{obj}/{material}/{geometry['background']}-{geometry['support']}@{theta:.2f}"
         self.scene = s = scenes.make(obj, material=material, cache=False, seed=SEED, **geometry)
+        self.theta = theta
         self.laser_scene, self.ambient_scene = s._load(16)
         self.pose = description.pose_updates(s.rig, theta)
         self.sensor = s.sensor
@@ -262,7 +263,20 @@ class _Case:
         self._rows, self._cols = rows, cols_w
 
     def render(self, kind: str, depth: int, spp: int, seed: int) -> np.ndarray:
-        return self.laser_scene.render(self.pose, spp, seed, integrator=(kind, depth)).astype(np.float64)
+        return self.laser_scene.render(self.pose, spp, seed, integrator=(kind, depth),
+                                       pixels=self._pixels(kind, depth)).astype(np.float64)
+
+    def _pixels(self, kind: str, depth: int):
+        """The pixels ``Scene.render`` renders such a pass on (:meth:`scenes.Scene.pass_pixels`):
+        :meth:`scenes.Scene.lit_pixels` for the direct light (elsewhere it is exactly 0), the object's
+        pixels for a shiny object's pass; None (every pixel) otherwise."""
+        from scenes import description
+
+        if kind == "path" and depth == description.DIRECT_DEPTH:
+            return self.scene.lit_pixels(self.theta)
+        if kind == "path" and self.split is not None:
+            return self.split  # combine() keeps only these pixels of it
+        return None
 
     def components(self, label: str, spps: Tuple[int, ...]):
         """The renders ``(kind, depth, spp)`` a candidate is made of."""

@@ -37,7 +37,7 @@ FIXED_AMBIENT_SPP = 8
 # by `stripebench perf sampling --from results/sampling.json --write`
 LASER_KIND = {'matte': 'hybrid', 'patchy': 'hybrid', 'absorbing': 'hybrid', 'glossy': 'hybrid', 'polished': 'split_hybrid', 'glazed': 'split_hybrid', 'specular': 'hybrid'}
 LASER_SPP = {'matte': (4, 4), 'patchy': (4, 2), 'absorbing': (2, 1), 'glossy': (4, 1), 'polished': (16, 2, 2), 'glazed': (16, 2, 2), 'specular': (2, 1)}
-AMBIENT_SPP = {'matte': 2, 'patchy': 2, 'absorbing': 1, 'glossy': 1, 'polished': 2, 'glazed': 2, 'specular': 1}
+AMBIENT_SPP = {'matte': 2, 'patchy': 2, 'absorbing': 1, 'glossy': 1, 'polished': 2, 'glazed': 2, 'specular': 1, 'skin': 4}
 MEASURED = {'matte': {'z_stripe': 0.976, 'z_off': 0.58, 'centre': 0.66, 'energy': 0.9959, 'z_ambient': 0.692, 'cases': 4}, 'patchy': {'z_stripe': 0.971, 'z_off': 0.599, 'centre': 0.854, 'energy': 0.9965, 'z_ambient': 0.597, 'cases': 8}, 'absorbing': {'z_stripe': 0.313, 'z_off': 0.059, 'centre': 0.469, 'energy': 1.0034, 'z_ambient': 0.569, 'cases': 4}, 'glossy': {'z_stripe': 0.607, 'z_off': 0.672, 'centre': 0.608, 'energy': 0.9976, 'z_ambient': 0.775, 'cases': 4}, 'polished': {'z_stripe': 0.633, 'z_off': 0.296, 'centre': 0.687, 'energy': 1.0114, 'z_ambient': 0.759, 'cases': 4}, 'glazed': {'z_stripe': 0.659, 'z_off': 0.288, 'centre': 0.625, 'energy': 1.0142, 'z_ambient': 0.7, 'cases': 4}, 'specular': {'z_stripe': 0.335, 'z_off': 0.204, 'centre': 0.601, 'energy': 1.0071, 'z_ambient': 0.703, 'cases': 4}}
 # --- generated: end ---
 

@@ -51,9 +51,11 @@ count in every pass (:func:`choose`); the cheapest qualifying one (mean CPU seco
 kernels compiled beforehand) is chosen. ``--save FILE`` keeps every measurement as JSON and
 ``--from FILE`` chooses (and writes) from such a file without rendering.
 ``--write`` writes the choices and their worst-case numbers into :mod:`scenes.sampling`, which
-``spp = "auto"`` and ``ambient_spp = "auto"`` read.  The translucent materials are not measured here
-(``volpath``'s render noise stays above the sensor's at any affordable count: docs/translucency.md);
-``auto`` keeps their fixed counts.
+``spp = "auto"`` and ``ambient_spp = "auto"`` read.  Of the translucent materials
+(:data:`AMBIENT_ONLY`) only the ambient pass (``volpath``) is measured, by the same rule; their laser
+pass keeps its fixed count (``volpath``'s render noise on the stripe stays above the sensor's at any
+affordable count: docs/translucency.md). ``--write`` needs every opaque and shiny material and writes
+the ambient count of each translucent one measured.
 """
 
 from __future__ import annotations
@@ -67,7 +69,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-__all__ = ["MATERIALS", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "calibration_angles",
+__all__ = ["MATERIALS", "AMBIENT_ONLY", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "calibration_angles",
            "laser_candidates", "centroid_sd_px", "add_arguments", "command", "main"]
 
 MATERIALS = ("matte", "patchy", "absorbing", "glossy", "polished", "glazed", "specular")
@@ -75,8 +77,11 @@ MATERIALS = ("matte", "patchy", "absorbing", "glossy", "polished", "glazed", "sp
 
 _TABLE = {"background": "none", "support": "table"}
 _WALL = {"background": "wall", "support": "none"}
+AMBIENT_ONLY = ("skin", "marble", "wax")
+"""The translucent materials: only their ambient pass is measured (their laser pass keeps its fixed
+count: module docstring)."""
 CASES = {m: (("cone", _TABLE), ("hand", _TABLE)) + ((("cone", _WALL), ("hand", _WALL)) if m == "patchy" else ())
-         for m in MATERIALS}
+         for m in MATERIALS + AMBIENT_ONLY}
 """Per material, the (object, geometry) cases: the paper profile's geometries."""
 
 SEED = 1
@@ -221,6 +226,12 @@ class _Case:
         self.ambient_scale = s.sky_radiance_inband() * per_unit
         kinds = [p.kind for p in description.laser_passes(material)]
         self.split = s.split_pixels(theta) if kinds == ["path", "ptracer"] else None
+        if material in AMBIENT_ONLY:  # the ambient pass alone, on every surface pixel
+            points, _ = s.visible_points(theta)
+            self.surface = np.isfinite(points[..., 0])
+            self.ambient_ref = self.ambient(ref_ambient_spp, 1001)
+            self.check, self.lit, self.centroid_sd = None, np.zeros(0, bool), math.nan
+            return
         truth = s.truth(theta)
         self.columns = truth.columns
         points, _ = s.visible_points(theta)
@@ -357,7 +368,9 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
         for theta in calibration_angles(probe, n_angles):
             case = _Case(material, obj, geometry, float(theta), ref_spp, ref_ambient_spp)
             labels.append(case.label)
-            if progress:
+            if progress and material in AMBIENT_ONLY:
+                print(f"  {case.label}: ambient pass only", file=sys.stderr, flush=True)
+            elif progress:
                 check = ("" if case.check is None else
                          f"; own integrator @ref / reference: stripe energy {case.check['energy']:.4f}, z off "
                          f"{case.check['z_off']:.2f}")
@@ -365,7 +378,7 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
                       f"{case.centroid_sd:.3f} px{check}", file=sys.stderr, flush=True)
             checks.append(case.check)
             done: Dict[tuple, tuple] = {}  # component render -> (image, CPU s), shared by the candidates
-            for cand in laser_candidates(material):
+            for cand in (() if material in AMBIENT_ONLY else laser_candidates(material)):
                 for comp in case.components(*cand):
                     if comp not in done:
                         case.render(*comp, 7)  # compile the kernels first
@@ -480,8 +493,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--ref-ambient-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536),
                                                            "--ref-ambient-spp"),
                         default=144, metavar="N", help="spp of the ambient references (default 144)")
-    parser.add_argument("--materials", default=",".join(MATERIALS), metavar="LIST",
-                        help=f"comma-separated materials (default {','.join(MATERIALS)})")
+    parser.add_argument("--materials", default=None, metavar="LIST",
+                        help=f"comma-separated materials (default {','.join(MATERIALS + AMBIENT_ONLY)}; with --from, "
+                             "those the file has)")
     parser.add_argument("--write", action="store_true", help="write the choices into scenes/sampling.py")
     parser.add_argument("--save", metavar="FILE", default=None,
                         help="also write the measurements (every candidate, every material) as JSON")
@@ -494,13 +508,7 @@ def command(args) -> int:
     from bench.errors import InputError
     from scenes import sampling
 
-    materials = [m for m in args.materials.split(",") if m]
-    bad = [m for m in materials if m not in MATERIALS]
-    if bad or not materials:
-        raise InputError(f"--materials must name some of {', '.join(MATERIALS)}, got {args.materials!r}")
-    if args.write and tuple(materials) != MATERIALS:
-        raise InputError("--write needs every material (leave --materials at its default)")
-    results, chosen = {}, {}
+    known = MATERIALS + AMBIENT_ONLY
     saved = None
     if args.from_file:
         try:
@@ -509,6 +517,17 @@ def command(args) -> int:
             saved_results = {m: _from_jsonable(r) for m, r in saved["results"].items()}
         except (OSError, ValueError, KeyError, TypeError) as exc:
             raise InputError(f"--from {args.from_file}: not a file of `stripebench perf sampling --save` ({exc})")
+    if args.materials is None:
+        args.materials = ",".join(m for m in known if saved is None or m in saved_results)
+    materials = [m for m in args.materials.split(",") if m]
+    bad = [m for m in materials if m not in known]
+    if bad or not materials:
+        raise InputError(f"--materials must name some of {', '.join(MATERIALS + AMBIENT_ONLY)}, "
+                         f"got {args.materials!r}")
+    if args.write and not set(MATERIALS) <= set(materials):
+        raise InputError(f"--write needs every one of {', '.join(MATERIALS)} in --materials")
+    results, chosen = {}, {}
+    if saved is not None:
         args.angles, args.ref_spp, args.ref_ambient_spp = options["angles"], options["ref_spp"], options["ref_ambient_spp"]
         missing = [m for m in materials if m not in saved_results]
         if missing:

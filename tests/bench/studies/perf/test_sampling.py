@@ -99,4 +99,4 @@ def test_bad_options_are_one_line_errors(capsys):
 
 def test_write_needs_every_material(capsys):
     assert S.main(["--materials", "matte", "--write"]) == 2
-    assert "--write needs every material" in capsys.readouterr().err
+    assert "--write needs every one of matte, patchy" in capsys.readouterr().err

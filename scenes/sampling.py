@@ -9,10 +9,11 @@ cheapest candidate whose render noise stays at most the sensor's (stripe, the re
 the frame and the stripe's centroid) with the stripe's energy within 2 %. ``MEASURED`` holds the
 chosen candidates' worst-case numbers over the procedure's cases.
 
-A material the table lacks (the translucent ones, whose ``volpath`` noise stays above the sensor's at
-any affordable count: docs/translucency.md), and any scene whose laser passes are not the material's own
-(a path-traced material on a polished table), keeps the fixed counts :data:`FIXED_SPP` and
-:data:`FIXED_AMBIENT_SPP`. The counts were measured at 512x480; at other sizes ``auto`` gives the same
+Of the translucent materials only the ambient pass is measured (their laser pass's ``volpath`` noise
+stays above the sensor's at any affordable count: docs/translucency.md), so ``LASER_SPP`` lacks them.
+A material a table lacks, and any scene whose laser passes are not the material's own (a path-traced
+material on a polished table), keeps the fixed counts :data:`FIXED_SPP` and :data:`FIXED_AMBIENT_SPP`
+for that pass. The counts were measured at 512x480; at other sizes ``auto`` gives the same
 counts (a smaller image has wider pixels, so its stripe is sharper per pixel; rerun the procedure
 there before relying on the noise claim).
 """

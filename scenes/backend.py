@@ -130,10 +130,11 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
     value = (throughput * sensor_weight * _adjoint_shading(mi, dr, si, to_camera.d, local, wi_geo)
              * si.bsdf(ray).eval(ctx, si, local, active) / spp)
     value = dr.select(active, value, 0.0)
+    value = value.x if hasattr(value, "x") else value  # the first channel, as the renders are read back
     x = mi.Int32(dr.floor(ds.uv.x))
     y = mi.Int32(dr.floor(ds.uv.y))
     dr.eval(value, x, y)
-    v = np.array(value, dtype=np.float64).reshape(-1) if not hasattr(value, "x") else np.array(value.x, dtype=np.float64)
+    v = np.array(value, dtype=np.float64).reshape(-1)
     x, y = np.array(x).reshape(-1), np.array(y).reshape(-1)
     keep = (v != 0) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
     image = np.bincount(y[keep] * width + x[keep], weights=v[keep], minlength=width * height)

@@ -18,6 +18,7 @@ splats on the host instead, so it is reproducible on any number of threads.
 
 from __future__ import annotations
 
+import contextlib
 from typing import Dict, Optional, Tuple
 
 import numpy as np
@@ -50,6 +51,51 @@ def interrupted(exc: BaseException) -> bool:
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
     return False
+
+
+@contextlib.contextmanager
+def _ctrl_c():
+    """Ctrl-C always a :class:`KeyboardInterrupt`: Dr.Jit wraps one that arrives inside some kernels
+    (e.g. the light-traced pass) in a ``RuntimeError``, which the CLI would otherwise report as a
+    crash instead of an interruption; other errors pass unchanged."""
+    try:
+        yield
+    except RuntimeError as exc:
+        if interrupted(exc):
+            raise KeyboardInterrupt from exc
+        raise
+
+
+def _wavefront_sampler(sensor, spp: int, seed: int, lanes: int):
+    """The sensor's sampler, cloned and seeded for a wavefront of ``lanes`` samples at ``spp`` per
+    pixel, as Mitsuba's own renders seed it; returns ``(sampler, spp)`` with the sampler's own count
+    (``multijitter`` rounds it to a grid). ``lanes`` is a function of that count."""
+    _check_spp(spp)
+    sampler = sensor.sampler().clone()
+    sampler.set_sample_count(int(spp))
+    spp = sampler.sample_count()
+    sampler.set_samples_per_wavefront(spp)
+    sampler.seed(int(seed), int(lanes(spp)))
+    return sampler, spp
+
+
+def _check_spp(spp) -> None:
+    if int(spp) < 1:
+        raise ValueError(f"`spp` must be >= 1, got {spp!r}")
+
+
+def _first_channel(value):
+    """A spectrum's first channel (as the renders are read back); a plain array as is."""
+    return value.x if hasattr(value, "x") else value
+
+
+def _splat(value, pixel: np.ndarray, width: int, height: int) -> np.ndarray:
+    """Per-pixel float64 sums (H, W) of one value per lane (a one-channel Dr.Jit array, evaluated with
+    everything else the kernel computes) at flat pixel indices ``pixel`` (lanes outside the image:
+    -1, dropped), in lane order: the same bytes on any number of threads."""
+    v = np.array(value, dtype=np.float64).reshape(-1)
+    keep = (v != 0) & (pixel >= 0) & (pixel < width * height)
+    return np.bincount(pixel[keep], weights=v[keep], minlength=width * height).reshape(height, width)
 
 
 def _adjoint_shading(mi, dr, si, d_world, d_local, wi_geo):
@@ -97,15 +143,9 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
 
     if int(depth) < 2:
         raise ValueError(f"`depth` must be >= 2 (projector, a surface, the camera), got {depth!r}")
-    if int(spp) < 1:
-        raise ValueError(f"`spp` must be >= 1, got {spp!r}")
     sensor = scene.sensors()[0]
     width, height = (int(v) for v in sensor.film().size())
-    sampler = sensor.sampler().clone()
-    sampler.set_sample_count(int(spp))
-    spp = sampler.sample_count()  # as ptracer: the sampler's own count (``multijitter`` rounds it to a grid)
-    sampler.set_samples_per_wavefront(spp)
-    sampler.seed(int(seed), width * height * spp)
+    sampler, spp = _wavefront_sampler(sensor, spp, seed, lambda n: width * height * n)
     ctx = mi.BSDFContext(mi.TransportMode.Importance)
     ray, throughput, _ = scene.sample_emitter_ray(mi.Float(0.0), sampler.next_1d(), sampler.next_2d(),
                                                   sampler.next_2d(), mi.Bool(True))
@@ -129,16 +169,13 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
     wi_geo = dr.dot(si.n, si.to_world(si.wi))
     value = (throughput * sensor_weight * _adjoint_shading(mi, dr, si, to_camera.d, local, wi_geo)
              * si.bsdf(ray).eval(ctx, si, local, active) / spp)
-    value = dr.select(active, value, 0.0)
-    value = value.x if hasattr(value, "x") else value  # the first channel, as the renders are read back
+    value = _first_channel(dr.select(active, value, 0.0))
     x = mi.Int32(dr.floor(ds.uv.x))
     y = mi.Int32(dr.floor(ds.uv.y))
-    dr.eval(value, x, y)
-    v = np.array(value, dtype=np.float64).reshape(-1)
-    x, y = np.array(x).reshape(-1), np.array(y).reshape(-1)
-    keep = (v != 0) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
-    image = np.bincount(y[keep] * width + x[keep], weights=v[keep], minlength=width * height)
-    return image.reshape(height, width).astype(np.float32)
+    dr.eval(value, x, y)  # one kernel for all three
+    x, y = np.array(x).reshape(-1).astype(np.int64), np.array(y).reshape(-1).astype(np.int64)
+    pixel = np.where((x >= 0) & (x < width) & (y >= 0) & (y < height), y * width + x, -1)
+    return _splat(value, pixel, width, height).astype(np.float32)
 
 
 def camera_paths(mi, scene, integrator, pixels: np.ndarray, spp: int, seed: int) -> np.ndarray:
@@ -173,29 +210,21 @@ def camera_paths(mi, scene, integrator, pixels: np.ndarray, spp: int, seed: int)
     pixels = np.asarray(pixels, bool)
     if pixels.shape != (height, width):
         raise ValueError(f"`pixels` must have the film's shape {(height, width)}, got {pixels.shape}")
-    if int(spp) < 1:
-        raise ValueError(f"`spp` must be >= 1, got {spp!r}")
     index = np.flatnonzero(pixels).astype(np.uint32)
-    image = np.zeros(width * height)
     if len(index) == 0:
-        return image.reshape(height, width).astype(np.float32)
-    sampler = sensor.sampler().clone()
-    sampler.set_sample_count(int(spp))
-    spp = sampler.sample_count()
-    sampler.set_samples_per_wavefront(spp)
+        _check_spp(spp)
+        return np.zeros((height, width), np.float32)
+    sampler, spp = _wavefront_sampler(sensor, spp, seed, lambda n: len(index) * n)
     lanes = np.repeat(index, spp)
-    sampler.seed(int(seed), len(lanes))
     pixel = mi.UInt32(lanes)
     position = mi.Point2f(mi.Float(pixel % width), mi.Float(pixel // width)) + sampler.next_2d()
     ray, weight = sensor.sample_ray_differential(mi.Float(0.0), mi.Float(0.0),
                                                  position / mi.ScalarVector2f(width, height), mi.Point2f(0.5))
     ray.scale_differential(dr.rsqrt(spp))
     radiance, _, _ = integrator.sample(scene, sampler, ray, None, mi.Bool(True))
-    value = radiance * weight
-    value = value.x if hasattr(value, "x") else value
+    value = _first_channel(radiance * weight)
     dr.eval(value)
-    image += np.bincount(lanes, weights=np.array(value, dtype=np.float64).reshape(-1), minlength=width * height)
-    return (image / spp).reshape(height, width).astype(np.float32)
+    return (_splat(value, lanes.astype(np.int64), width, height) / spp).astype(np.float32)
 
 
 def _mesh(mi, name: str, mesh, bsdf, interior=None):
@@ -302,13 +331,9 @@ class LoadedScene:
             pixels = np.asarray(pixels, bool)
             if self.variant.startswith("scalar"):
                 return np.where(pixels, self.render(updates, spp, seed, integrator), 0.0).astype(np.float32)
-            try:
+            with _ctrl_c():
                 return camera_paths(self._mi, self._scene, kwargs.get("integrator", self._scene.integrator()),
                                     pixels, spp, seed)
-            except RuntimeError as exc:
-                if interrupted(exc):
-                    raise KeyboardInterrupt from exc
-                raise
         if kind == "ptracer" and self.variant.startswith("llvm"):
             dr = __import__("drjit")
             threads = dr.thread_count()
@@ -333,23 +358,13 @@ class LoadedScene:
             shorter = self.render(updates, spp, seed, integrator=("ptracer", depth - 1))
             return (longer.astype(np.float64) - shorter).astype(np.float32)
         self.set_pose(updates)
-        try:
+        with _ctrl_c():
             return light_indirect(self._mi, self._scene, spp, seed, depth)
-        except RuntimeError as exc:
-            if interrupted(exc):
-                raise KeyboardInterrupt from exc
-            raise
 
     def _render(self, spp: int, seed: int, kwargs: dict):
-        """``mi.render``, with Ctrl-C always a :class:`KeyboardInterrupt`: Dr.Jit wraps one that arrives
-        inside some renders (e.g. the light-traced pass) in a ``RuntimeError``, which the CLI would
-        otherwise report as a crash instead of an interruption."""
-        try:
+        """``mi.render``, with Ctrl-C always a :class:`KeyboardInterrupt` (:func:`_ctrl_c`)."""
+        with _ctrl_c():
             return self._mi.render(self._scene, spp=int(spp), seed=int(seed), **kwargs)
-        except RuntimeError as exc:
-            if interrupted(exc):
-                raise KeyboardInterrupt from exc
-            raise
 
     # -- ray casting --------------------------------------------------------------
     def _ids(self):

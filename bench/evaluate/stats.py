@@ -96,14 +96,22 @@ def improvement(errors_dp, errors_base, statistic: str = "rmse") -> float:
     Positive when DP's errors are smaller. Both arrays are errors at the same
     sample points (paired).
     """
+    a, b = _paired(errors_dp, errors_base)
+    base = spread(b, statistic)
+    return float("nan") if base == 0 else _ratio(spread(a, statistic), base)
+
+
+def _paired(errors_dp, errors_base) -> tuple[np.ndarray, np.ndarray]:
     a = np.asarray(errors_dp, dtype=np.float64)
     b = np.asarray(errors_base, dtype=np.float64)
     if a.shape != b.shape or a.ndim != 1:
         raise ValueError(f"`errors_dp` and `errors_base` must be 1-D of one length, got {a.shape} and {b.shape}")
-    base = spread(b, statistic)
-    if base == 0:
-        return float("nan")
-    return 1.0 - spread(a, statistic) / base
+    return a, b
+
+
+def _ratio(s_dp: float, s_base: float) -> float:
+    """``1 - s_dp / s_base`` (NaN when the baseline's spread is 0)."""
+    return float("nan") if s_base == 0 else 1.0 - s_dp / s_base
 
 
 @functools.lru_cache(maxsize=4)
@@ -132,9 +140,7 @@ def bootstrap_improvement(errors_dp, errors_base, statistic: str = "rmse", *, n_
     -------
     dict with ``value``, ``low``, ``high``, ``level``, ``n``, ``n_boot``.
     """
-    a = np.asarray(errors_dp, dtype=np.float64)
-    b = np.asarray(errors_base, dtype=np.float64)
-    improvement(a, b, statistic)  # validates the pair
+    a, b = _paired(errors_dp, errors_base)
     n = a.size
     idx = resample_indices(int(seed), int(n), int(n_boot))
     return improvement_interval(spread_resampled(a, statistic, idx), spread_resampled(b, statistic, idx), n, level)
@@ -158,7 +164,7 @@ def improvement_interval(dp, base, n: int, level: float = 0.95) -> dict[str, flo
     """:func:`bootstrap_improvement`'s result from the two trackers' :func:`spread_resampled` over the
     same ``n`` points."""
     (s_dp, boot_dp), (s_base, boot_base) = dp, base
-    value = float("nan") if s_base == 0 else 1.0 - s_dp / s_base
+    value = _ratio(s_dp, s_base)
     with np.errstate(divide="ignore", invalid="ignore"):
         boots = 1.0 - boot_dp / boot_base
     boots = boots[np.isfinite(boots)]

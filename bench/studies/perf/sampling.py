@@ -273,49 +273,41 @@ class _Case:
         self.centroid_ref = _centroids(self.laser_ref, rows, cols_w)
         self._rows, self._cols = rows, cols_w
 
-    def render(self, kind: str, depth: int, spp: int, seed: int) -> np.ndarray:
-        return self.laser_scene.render(self.pose, spp, seed, integrator=(kind, depth),
-                                       pixels=self._pixels(kind, depth)).astype(np.float64)
-
-    def _pixels(self, kind: str, depth: int):
-        """The pixels ``Scene.render`` renders such a pass on (:meth:`scenes.Scene.pass_pixels`):
-        :meth:`scenes.Scene.lit_pixels` for the direct light (elsewhere it is exactly 0), the object's
-        pixels for a shiny object's pass; None (every pixel) otherwise."""
-        from scenes import description
-
-        if kind == "path" and depth == description.DIRECT_DEPTH:
-            return self.scene.lit_pixels(self.theta)
-        if kind == "path" and self.split is not None:
-            return self.split  # combine() keeps only these pixels of it
-        return None
+    def render(self, laser_pass, spp: int, seed: int) -> np.ndarray:
+        """One laser pass (:class:`scenes.description.LaserPass`) as ``Scene.render`` renders it: on
+        its pixels (:meth:`scenes.Scene.pass_pixels`), zero elsewhere."""
+        mask = self.scene.pass_pixels(self.theta, (laser_pass,))[0]
+        img = self.laser_scene.render(self.pose, spp, seed, integrator=(laser_pass.kind, laser_pass.max_depth),
+                                      pixels=mask)
+        img = img.astype(np.float64)
+        return img if mask is None else np.where(mask, img, 0.0)
 
     def components(self, label: str, spps: Tuple[int, ...]):
-        """The renders ``(kind, depth, spp)`` a candidate is made of."""
+        """The renders ``(laser pass, spp)`` a candidate is made of: its
+        :class:`scenes.description.LaserPass` es, as ``Scene.render`` makes them."""
         from scenes import description
 
-        d = description.MAX_DEPTH
         if label == "split":
-            return [("path", d, spps[0]), ("ptracer", d, spps[1])]
-        if label == "split_hybrid":
-            return [("path", d, spps[0]), ("path", description.DIRECT_DEPTH, spps[1]),
-                    ("light_indirect", d, spps[2])]
-        if label == "hybrid":
-            return [("path", description.DIRECT_DEPTH, spps[0]), ("light_indirect", d, spps[1])]
-        return [(label, d, spps[0])]
+            passes = description.laser_passes(self.scene.params["material"])
+        elif label == "split_hybrid":
+            passes = description.split_hybrid_passes()
+        elif label == "hybrid":
+            passes = description.hybrid_passes()
+        else:
+            passes = (description.LaserPass(label, description.MAX_DEPTH, "all"),)
+        return list(zip(passes, spps))
 
     def combine(self, label: str, parts) -> np.ndarray:
-        """Noise-free laser DN of a candidate from its component renders."""
-        if label == "split":
-            img = np.where(self.split, parts[0], parts[1])
-        elif label == "split_hybrid":
-            img = np.where(self.split, parts[0], parts[1] + parts[2])
-        else:
-            img = sum(parts)
+        """Noise-free laser DN of a candidate from its component renders (each zero off its pixels):
+        their sum, as ``Scene.render`` sums its passes."""
+        img = np.zeros_like(parts[0])
+        for part in parts:
+            img += part
         return img * self.laser_scale
 
     def laser(self, label: str, spps: Tuple[int, ...], seed: int) -> np.ndarray:
         """Noise-free laser DN of a candidate."""
-        return self.combine(label, [self.render(k, d, n, seed) for k, d, n in self.components(label, spps)])
+        return self.combine(label, [self.render(p, n, seed) for p, n in self.components(label, spps)])
 
     def ambient(self, spp: int, seed: int) -> np.ndarray:
         return self.ambient_scene.render(self.pose, spp, seed).astype(np.float64) * self.ambient_scale

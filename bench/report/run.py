@@ -343,10 +343,65 @@ def _sweeps(cfg) -> list[tuple[str, str, list[str]]]:
     return [(f"{s}/{m}", k, keys) for (s, m, k, _), keys in fams.items() if len(keys) >= 3]
 
 
-def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> dict[str, list[Path]]:
+FIGURE_WORKERS_MIN_JOBS = 8
+"""The fewest 2-D figures worth drawing in worker processes (each worker's start and imports cost
+about a second of CPU; a run of the ``paper`` profile has 47 figures, about 12 s of drawing)."""
+
+
+def figure_workers(n_jobs: int, workers: int | None = None) -> int:
+    """How many worker processes draw ``n_jobs`` 2-D figures: 0 (draw them in this process) or more.
+
+    ``workers`` None (the default) takes every usable core when there are at least
+    :data:`FIGURE_WORKERS_MIN_JOBS` figures and 2 cores, else 0; an integer is taken as given
+    (capped at ``n_jobs``).
+
+    Examples
+    --------
+    >>> figure_workers(3, 4), figure_workers(47, 0), figure_workers(47, 2)
+    (3, 0, 2)
+    """
+    from bench.run.renderahead import usable_cores
+
+    if workers is None:
+        cores = usable_cores()
+        workers = cores if cores >= 2 and n_jobs >= FIGURE_WORKERS_MIN_JOBS else 0
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
+        raise ValueError(f"`workers` must be an integer >= 0 or None, got {workers!r}")
+    return min(workers, n_jobs)
+
+
+def _draw(jobs: list, workers: int, meanwhile) -> list[Path]:
+    """Run the figure ``jobs`` (``(function, args, kwargs)``, each writing one PNG and returning its
+    path), in ``workers`` processes (0: here, in order), calling ``meanwhile()`` in this process while
+    they draw; returns the paths in the jobs' order. A figure is a pure function of its arguments, so
+    the files are the same bytes either way (tested)."""
+    if workers == 0:
+        paths = [f(*a, **k) for f, a, k in jobs]
+        meanwhile()
+        return paths
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    # forkserver: a clean child (no Dr.Jit or Dask threads of a run forked mid-flight)
+    ctx = multiprocessing.get_context("forkserver" if "forkserver" in multiprocessing.get_all_start_methods()
+                                      else "spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        try:
+            futures = [pool.submit(f, *a, **k) for f, a, k in jobs]
+            meanwhile()
+            return [fut.result() for fut in futures]
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+
+
+def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
+                 workers: int | None = None) -> dict[str, list[Path]]:
     """Write every figure of a run into ``run_dir/figures``; returns them by
     section. ``data`` is the run's :func:`~bench.run.experiment.load_run` if the
-    caller already has it."""
+    caller already has it. The 2-D figures are drawn in ``workers`` processes
+    (:func:`figure_workers`; default: every usable core when there are enough figures) while
+    this process draws the 3-D ones."""
     import pandas as pd
 
     import scenes
@@ -365,15 +420,19 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
         old.unlink()
     out: dict[str, list[Path]] = {"tracking": [], "samples": [], "gallery": [], "bars": [], "curves": [],
                                   "shapes": []}
+    jobs: list[tuple[str, tuple]] = []  # (section, (function, args, kwargs)): the 2-D figures, drawn below
+
+    def later(section, function, *args, **kwargs):
+        jobs.append((section, (function, args, kwargs)))
+
     fd = data["figdata"]
     if fd is not None:
         from trackers.dp import accumulated_cost
 
-        p = figures.fig_tracking(fd.image, accumulated_cost(fd.image, connectivity=4), fd.columns,
-                                 fd.truth_columns, figdir / "fig7_tracking.png",
-                                 title=f"{fd.experiment} at mirror angle {fd.mirror_angle_deg:.2f} deg "
-                                       "(the frame where the trackers miss most)")
-        out["tracking"].append(p)
+        later("tracking", figures.fig_tracking, fd.image, accumulated_cost(fd.image, connectivity=4), fd.columns,
+              fd.truth_columns, figdir / "fig7_tracking.png",
+              title=f"{fd.experiment} at mirror angle {fd.mirror_angle_deg:.2f} deg "
+                    "(the frame where the trackers miss most)")
     stats = {(s["group"], s["dp"], s["baseline"], s["statistic"]): s for s in summary["improvement"]}
     rob = {(r["group"], r["tracker"]): r for r in summary.get("robust", [])}
     dp0 = cfg["dp"][0] if cfg["dp"] else None
@@ -390,51 +449,57 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None) -> d
             st = {b: stats.get((key, dp0, b, "rmse")) for b in bases}
             r = {n: rob[(key, n)] for n in (dp0, *bases) if (key, n) in rob}
             und = g[f"filled_{filled}"].to_numpy(bool) if filled is not None and len(bases) > 1 else None
-            out["samples"].append(figures.fig_samples(
-                g, dp0, bases, figdir / f"fig10_{key}.png", title=f"{key}: {len(g)} samples", stat=st, robust=r,
-                within_mm=summary.get("within_mm", 5.0), undetectable=und,
-                readings={b: readings.READINGS[kinds[b]] for b in bases if kinds.get(b)}))
+            later("samples", figures.fig_samples,
+                  g, dp0, bases, figdir / f"fig10_{key}.png", title=f"{key}: {len(g)} samples", stat=st, robust=r,
+                  within_mm=summary.get("within_mm", 5.0), undetectable=und,
+                  readings={b: readings.READINGS[kinds[b]] for b in bases if kinds.get(b)})
     gal = data.get("gallery")
     if gal is not None:
         for k, g in enumerate(gal):
             tracks, truth = g.columns, g.truth_columns
             rate = {n: hit_rate(tracks[n], truth) for n in tracks}
             worst = ", ".join(f"{n} {rate[n]:.2f}" for n in sorted(rate, key=lambda n: rate[n])[:4])
-            out["gallery"].append(figures.fig_gallery(g.image, truth, tracks,
-                                                      figdir / f"gallery_{k:02d}.png",
-                                                      title=f"{g.experiment}, frame {g.frame}: lowest hit rates {worst}"))
+            later("gallery", figures.fig_gallery, g.image, truth, tracks, figdir / f"gallery_{k:02d}.png",
+                  title=f"{g.experiment}, frame {g.frame}: lowest hit rates {worst}")
     if len(metrics):
-        out["bars"].append(figures.fig_bars(metrics, figdir / "bars_hit_rate.png", "hit_rate"))
+        later("bars", figures.fig_bars, metrics, figdir / "bars_hit_rate.png", "hit_rate")
         for title, key, keys in _sweeps(cfg):
             m = metrics[(metrics["region"] == "object") & metrics["experiment"].isin(keys)]
             val = {e.key: e.overrides[key] for e in config.experiments if e.key in keys}
             t = pd.DataFrame({key: m["experiment"].map(val), "tracker": m["tracker"], "hit_rate": m["hit_rate"]})
             mark = {"ambient_lux": 400.0, "laser_power_mw": 3.0}.get(key)
-            out["curves"].append(figures.fig_curves(t, key, figdir / f"curve_{title.replace('/', '-')}_{key}.png",
-                                                    title=f"{title}: hit rate on the object against {key}",
-                                                    mark=mark))
-    # 3-D restored shapes: the first experiment of each scene
-    done = set()
-    # the first two DP settings and the first two baselines (each surface costs about 1 s of off-screen rendering)
-    show = list(cfg["dp"])[:2] + list(cfg["baselines"])[:2] or list(config.trackers)[:4]
-    for exp in config.experiments:
-        if exp.scene in done or exp.key not in data["scans"]:
-            continue
-        done.add(exp.scene)
-        scan = data["scans"][exp.key]
-        rig = scenes.make(exp.scene, width=int(cfg["render"].get("width", 512)),
-                          height=int(cfg["render"].get("height", 480))).rig
-        names = [n for n in show if n in scan.columns]
-        surf = {"ground truth": restored_points(scan, None, rig)[0]}
-        errs = {}
-        for n in names:
-            surf[n], errs[n] = restored_points(scan, n, rig, _restore_of(summary, n))
-        try:
-            out["shapes"].append(figures.fig_shapes(surf, figdir / f"shape_{exp.key}.png", title=exp.key,
-                                                    errors_mm=errs))
-        except Exception as exc:  # a missing OpenGL must not lose the rest of the report
-            if not quiet:
-                print(f"stripebench: 3-D figure of {exp.key} skipped: {type(exc).__name__}: {exc}", file=sys.stderr)
+            later("curves", figures.fig_curves, t, key, figdir / f"curve_{title.replace('/', '-')}_{key}.png",
+                  title=f"{title}: hit rate on the object against {key}", mark=mark)
+
+    def shapes():
+        """3-D restored shapes (VTK, in this process): the first experiment of each scene."""
+        done = set()
+        # the first two DP settings and the first two baselines (each surface costs about 1 s of off-screen
+        # rendering)
+        show = list(cfg["dp"])[:2] + list(cfg["baselines"])[:2] or list(config.trackers)[:4]
+        for exp in config.experiments:
+            if exp.scene in done or exp.key not in data["scans"]:
+                continue
+            done.add(exp.scene)
+            scan = data["scans"][exp.key]
+            rig = scenes.make(exp.scene, width=int(cfg["render"].get("width", 512)),
+                              height=int(cfg["render"].get("height", 480))).rig
+            names = [n for n in show if n in scan.columns]
+            surf = {"ground truth": restored_points(scan, None, rig)[0]}
+            errs = {}
+            for n in names:
+                surf[n], errs[n] = restored_points(scan, n, rig, _restore_of(summary, n))
+            try:
+                out["shapes"].append(figures.fig_shapes(surf, figdir / f"shape_{exp.key}.png", title=exp.key,
+                                                        errors_mm=errs))
+            except Exception as exc:  # a missing OpenGL must not lose the rest of the report
+                if not quiet:
+                    print(f"stripebench: 3-D figure of {exp.key} skipped: {type(exc).__name__}: {exc}",
+                          file=sys.stderr)
+
+    paths = _draw([job for _, job in jobs], figure_workers(len(jobs), workers), shapes)
+    for (section, _), path in zip(jobs, paths):
+        out[section].append(path)
     return out
 
 

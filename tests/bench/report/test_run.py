@@ -126,3 +126,32 @@ def test_glance_table_escapes_condition_titles_and_says_each_settings_restoratio
     assert "<script>" not in page and "&lt;script&gt;" in page
     assert "<code>none</code> for <code>threshold_gaps</code>" in page
     assert 'title="threshold, missed rows have no depth; restoration none"' in page
+
+
+def test_figures_drawn_in_worker_processes_are_the_same_files(tiny_run, tmp_path):
+    """The 2-D figures drawn in worker processes are byte for byte those drawn in this process, in the
+    same sections and order."""
+    import shutil
+
+    from bench.report.run import make_figures
+
+    out, _ = tiny_run
+    here, there = tmp_path / "here", tmp_path / "there"
+    shutil.copytree(out, here)
+    shutil.copytree(out, there)
+    serial = make_figures(here, quiet=True, workers=0)
+    parallel = make_figures(there, quiet=True, workers=2)
+    assert {k: [p.name for p in v] for k, v in serial.items()} == {k: [p.name for p in v] for k, v in parallel.items()}
+    flat = [p for k, v in serial.items() if k != "shapes" for p in v]
+    assert len(flat) >= 3
+    for p in flat:
+        assert p.read_bytes() == (there / "figures" / p.name).read_bytes(), p.name
+
+
+def test_figure_workers_validates_its_argument():
+    from bench.report.run import figure_workers
+
+    assert figure_workers(0, 2) == 0
+    for bad in (-1, 1.5, True, "2"):
+        with pytest.raises(ValueError, match="`workers` must be an integer >= 0 or None"):
+            figure_workers(10, bad)

@@ -379,20 +379,29 @@ def _draw(jobs: list, workers: int, meanwhile) -> list[Path]:
         paths = [f(*a, **k) for f, a, k in jobs]
         meanwhile()
         return paths
+    import concurrent.futures
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
 
     # forkserver: a clean child (no Dr.Jit or Dask threads of a run forked mid-flight)
     ctx = multiprocessing.get_context("forkserver" if "forkserver" in multiprocessing.get_all_start_methods()
                                       else "spawn")
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        try:
-            futures = [pool.submit(f, *a, **k) for f, a, k in jobs]
+    done = False
+    try:
+        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+            try:
+                futures = [pool.submit(f, *a, **k) for f, a, k in jobs]
+                meanwhile()
+                done = True
+                return [fut.result() for fut in futures]
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+    except (OSError, concurrent.futures.process.BrokenProcessPool) as exc:  # no worker could start or one died
+        _warn(f"figures drawn in this process: the worker processes failed ({type(exc).__name__}: {exc})")
+        paths = [f(*a, **k) for f, a, k in jobs]
+        if not done:
             meanwhile()
-            return [fut.result() for fut in futures]
-        except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
+        return paths
 
 
 def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,

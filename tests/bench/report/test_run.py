@@ -155,3 +155,23 @@ def test_figure_workers_validates_its_argument():
     for bad in (-1, 1.5, True, "2"):
         with pytest.raises(ValueError, match="`workers` must be an integer >= 0 or None"):
             figure_workers(10, bad)
+
+
+def test_figures_are_drawn_here_when_no_worker_process_starts(tiny_run, tmp_path, monkeypatch, capsys):
+    import concurrent.futures
+    import shutil
+
+    from bench.report.run import make_figures
+
+    class NoProcesses:
+        def __init__(self, *args, **kwargs):
+            raise OSError("no semaphores here")
+
+    out, _ = tiny_run
+    here = tmp_path / "here"
+    shutil.copytree(out, here)
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", NoProcesses)
+    figs = make_figures(here, quiet=True, workers=2)
+    assert figs["gallery"] and all(p.is_file() for p in figs["gallery"])
+    assert "figures drawn in this process: the worker processes failed (OSError: no semaphores here)" in \
+        capsys.readouterr().err

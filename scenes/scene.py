@@ -47,7 +47,7 @@ from .rig import Rig
 from .sensor import SensorModel
 from .truth import false_stripe_mask, ground_truth
 
-__all__ = ["Scene"]
+__all__ = ["Scene", "render_pass"]
 
 _PARTS = ("backdrop", "object", "support")  # Mitsuba shape ids, in the order of frame.PARTS
 
@@ -80,6 +80,30 @@ def _on_pixels(p: description.LaserPass) -> bool:
     a ``path`` pass on a part of the image, or one of :data:`scenes.description.DIRECT_DEPTH`, whose
     light is only where the laser's frustum meets a visible surface (:meth:`Scene.lit_pixels`)."""
     return p.kind == "path" and (p.pixels != "all" or p.max_depth == description.DIRECT_DEPTH)
+
+
+def render_pass(laser_scene, pose: Dict[str, np.ndarray], laser_pass: description.LaserPass,
+                pixels: Optional[np.ndarray], spp: int, seed: int) -> np.ndarray:
+    """One laser pass as :meth:`Scene.render` renders it, float64 (H, W), zero off ``pixels``.
+
+    A camera-path pass with ``pixels`` (:meth:`Scene.pass_pixels`) is rendered on those pixels only
+    (:func:`scenes.backend.camera_paths`); a light tracer's paths land anywhere, so its whole image is
+    rendered and masked. The frame's laser radiance is the sum of its passes; the sampling procedure
+    (``stripebench perf sampling``) and ``stripebench perf scenes`` render a pass through here too.
+
+    Parameters
+    ----------
+    laser_scene : scenes.backend.LoadedScene
+    pose : dict
+        :func:`scenes.description.pose_updates` of the frame.
+    laser_pass : scenes.description.LaserPass
+    pixels : ndarray (H, W) of bool, or None
+        The pass's pixels (None: the whole image).
+    spp, seed : int
+    """
+    img = laser_scene.render(pose, spp, seed, integrator=(laser_pass.kind, laser_pass.max_depth),
+                             pixels=pixels if _on_pixels(laser_pass) else None).astype(np.float64)
+    return img if pixels is None else np.where(pixels, img, 0.0)
 
 
 def _grow(mask: np.ndarray) -> np.ndarray:
@@ -340,9 +364,7 @@ class Scene:
         else:  # the passes' sum, each on its pixels
             acc = np.zeros((self.params["height"], self.params["width"]), np.float64)
             for p, n, mask in zip(passes, counts, self.pass_pixels(theta, passes)):
-                img = laser_scene.render(pose, n, laser_seed, integrator=(p.kind, p.max_depth),
-                                         pixels=mask if _on_pixels(p) else None)
-                acc += img if mask is None else np.where(mask, img, 0.0)
+                acc += render_pass(laser_scene, pose, p, mask, n, laser_seed)
             laser = acc.astype(np.float32)
         if self._profile_mode():
             laser = self._spread(laser_scene, theta, laser)
@@ -457,8 +479,8 @@ class Scene:
           which no centre sees, curves away fast;
 
         and the marks are grown by two pixels (footprints reaching a surface no centre hits).
-        ``stripebench perf scenes --check-lit`` renders whole images and counts the direct light that
-        falls outside (none on the measured frames: docs/scenes.md).
+        ``stripebench perf lit`` renders whole images and counts the direct light that falls outside
+        (none on the measured frames: docs/scenes.md).
         """
         theta = _checks.real("mirror_angle_deg", mirror_angle_deg)
         points, part, t = self._visible(theta)

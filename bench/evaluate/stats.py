@@ -97,8 +97,7 @@ def improvement(errors_dp, errors_base, statistic: str = "rmse") -> float:
     sample points (paired).
     """
     a, b = _paired(errors_dp, errors_base)
-    base = spread(b, statistic)
-    return float("nan") if base == 0 else _ratio(spread(a, statistic), base)
+    return _ratio(spread(a, statistic), spread(b, statistic))
 
 
 def _paired(errors_dp, errors_base) -> tuple[np.ndarray, np.ndarray]:

@@ -382,26 +382,33 @@ def _draw(jobs: list, workers: int, meanwhile) -> list[Path]:
     import concurrent.futures
     import multiprocessing
 
+    def here(why: BaseException) -> list[Path]:
+        _warn(f"figures drawn in this process: the worker processes failed ({type(why).__name__}: {why})")
+        return [f(*a, **k) for f, a, k in jobs]
+
     # forkserver: a clean child (no Dr.Jit or Dask threads of a run forked mid-flight)
     ctx = multiprocessing.get_context("forkserver" if "forkserver" in multiprocessing.get_all_start_methods()
                                       else "spawn")
-    done = False
+    pool = None
     try:
-        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-            try:
-                futures = [pool.submit(f, *a, **k) for f, a, k in jobs]
-                meanwhile()
-                done = True
-                return [fut.result() for fut in futures]
-            except BaseException:
-                pool.shutdown(wait=False, cancel_futures=True)
-                raise
-    except (OSError, concurrent.futures.process.BrokenProcessPool) as exc:  # no worker could start or one died
-        _warn(f"figures drawn in this process: the worker processes failed ({type(exc).__name__}: {exc})")
-        paths = [f(*a, **k) for f, a, k in jobs]
-        if not done:
-            meanwhile()
+        pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+        futures = [pool.submit(f, *a, **k) for f, a, k in jobs]
+    except OSError as exc:  # no worker process could start: everything here
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
+        paths = here(exc)
+        meanwhile()
         return paths
+    with pool:
+        try:
+            meanwhile()
+            try:
+                return [fut.result() for fut in futures]
+            except concurrent.futures.process.BrokenProcessPool as exc:  # a worker died: draw them again here
+                return here(exc)
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
 
 
 def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,

@@ -534,6 +534,35 @@ def test_direct_light_passes_render_their_lit_pixels_only(monkeypatch):
     assert "camera_paths" not in scenes.make("cone", cache=False, width=64, height=60)._cache_fields(0.0, 4, 0, "v")
 
 
+
+def test_a_frames_laser_light_is_the_sum_of_its_passes_each_on_its_pixels():
+    """``render_pass`` is how ``Scene.render`` renders a pass (the sampling procedure and ``perf scenes``
+    use it too): a split frame's laser radiance is the sum over ``pass_pixels``, bit for bit, and each
+    pass is zero off its pixels, the light tracer's whole-image render included."""
+    from scenes import description
+    from scenes.scene import render_pass
+
+    s = scenes.make("cone", material="polished", support="table", background="none", spp="auto",
+                    ambient_spp="auto", cache=False, width=64, height=60)
+    theta = float(s.default_angles()[4])
+    frame = s.render(theta)
+    passes, counts, _ = s.sample_counts()
+    masks = s.pass_pixels(theta, passes)
+    assert [p.kind for p in passes] == ["path", "path", "light_indirect"] and all(m is not None for m in masks)
+    laser = s._load()[0]
+    pose = description.pose_updates(s.rig, theta)
+    seeds = np.random.SeedSequence([s.params["seed"], *scenes.scene._angle_words(theta)]).spawn(4)
+    seed = int(seeds[0].generate_state(1)[0])
+    parts = [render_pass(laser, pose, p, m, n, seed) for p, m, n in zip(passes, masks, counts)]
+    for part, mask in zip(parts, masks):
+        assert part.dtype == np.float64 and not part[~mask].any()
+    assert parts[2].any()  # the light tracer's bounce light lands on the other pixels
+    total = np.zeros_like(parts[0])
+    for part in parts:
+        total += part
+    unit = (total.astype(np.float32).astype(np.float64) * s.laser_power_inband_w()).astype(np.float32)
+    assert np.array_equal(unit, frame.laser_radiance)
+
 # -- translucency = "profile" --------------------------------------------------------------------------------------
 
 def test_translucency_enters_the_cache_key_only_as_profile_of_a_translucent_material(monkeypatch):

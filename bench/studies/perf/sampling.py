@@ -276,11 +276,10 @@ class _Case:
     def render(self, laser_pass, spp: int, seed: int) -> np.ndarray:
         """One laser pass (:class:`scenes.description.LaserPass`) as ``Scene.render`` renders it: on
         its pixels (:meth:`scenes.Scene.pass_pixels`), zero elsewhere."""
+        from scenes.scene import render_pass
+
         mask = self.scene.pass_pixels(self.theta, (laser_pass,))[0]
-        img = self.laser_scene.render(self.pose, spp, seed, integrator=(laser_pass.kind, laser_pass.max_depth),
-                                      pixels=mask)
-        img = img.astype(np.float64)
-        return img if mask is None else np.where(mask, img, 0.0)
+        return render_pass(self.laser_scene, self.pose, laser_pass, mask, spp, seed)
 
     def components(self, label: str, spps: Tuple[int, ...]):
         """The renders ``(laser pass, spp)`` a candidate is made of: its

@@ -34,6 +34,7 @@ import numpy as np
 
 import scenes
 from scenes import description
+from scenes.scene import render_pass
 
 __all__ = ["add_arguments", "command", "main"]
 
@@ -73,7 +74,7 @@ def _per_material(obj: str, material: str, n: int, geometry: dict, spp, ambient_
         pose = description.pose_updates(s.rig, float(a))
         t = [time.perf_counter()]
         for lp, k, mask in zip(passes, counts, s.pass_pixels(float(a), passes)):  # as Scene.render: each on its pixels
-            laser.render(pose, k, 1, integrator=(lp.kind, lp.max_depth), pixels=mask)
+            render_pass(laser, pose, lp, mask, k, 1)
         t.append(time.perf_counter())
         for amb in ambient:
             amb.render(pose, amb_spp, 2)

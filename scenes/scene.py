@@ -535,7 +535,9 @@ class Scene:
             :meth:`render`'s ``spp`` (default ``params['spp']``). An integer gives every laser pass
             that count; ``"auto"`` takes the material's integrator and counts from
             :mod:`scenes.sampling` (the fixed counts where its table lacks the material or the scene's
-            passes are not the material's own). ``ambient_spp`` likewise from ``params``.
+            passes are not the material's own; a shiny object's own pass at
+            :func:`scenes.sampling.object_spp` where the table has this object and geometry).
+            ``ambient_spp`` likewise from ``params``.
 
         Returns
         -------
@@ -560,6 +562,10 @@ class Scene:
             choice = sampling.laser_choice(material)
             if choice is not None and passes == description.laser_passes(material):
                 kind, counts = choice
+                if kind in ("split", "split_hybrid"):
+                    n = sampling.object_spp(material, sampling.case_key(self.name, self.params["background"],
+                                                                         self.params["support"]))
+                    counts = counts if n is None else (n,) + counts[1:]
                 if kind == "hybrid":
                     passes = description.hybrid_passes()
                 elif kind == "split_hybrid":

@@ -33,6 +33,35 @@ def test_the_generated_block_is_well_formed_and_covers_only_known_materials():
         assert len(sampling.LASER_SPP[m]) == n_passes, m
         assert all(isinstance(n, int) and n >= 1 for n in sampling.LASER_SPP[m]), m
         assert not scenes.materials.is_translucent(m)
+    split = {m for m, kind in sampling.LASER_KIND.items() if kind in ("split", "split_hybrid")}
+    assert set(sampling.OBJECT_SPP) <= split and set(sampling.MEASURED_OBJECT) <= split
+    for m, per_object in sampling.OBJECT_SPP.items():
+        for key, n in per_object.items():
+            assert key.count("/") == 1 and isinstance(n, int) and n >= 1, (m, key)
+            assert sampling.MEASURED_OBJECT[m][key]["spp"] == n and sampling.MEASURED_OBJECT[m][key]["certified"]
+    for m, per_object in sampling.MEASURED_OBJECT.items():
+        for key, rec in per_object.items():  # an uncertified object renders with the table's count
+            assert rec["certified"] or rec["spp"] == sampling.LASER_SPP[m][0], (m, key)
+
+
+def test_a_shiny_objects_own_count_applies_to_its_object_and_geometry_only(table, monkeypatch):
+    table({"polished": "split_hybrid"}, {"polished": (16, 2, 2)}, {"polished": 2})
+    monkeypatch.setattr(sampling, "OBJECT_SPP", {"polished": {sampling.case_key("cone", "none", "table"): 4}})
+    assert sampling.object_spp("polished", "cone/none-table") == 4
+    assert sampling.object_spp("polished", "cone/wall-table") is None and sampling.object_spp("glazed", "x") is None
+
+    def counts(obj, **geometry):
+        s = scenes.make(obj, material="polished", spp="auto", ambient_spp="auto", **geometry, **TINY)
+        return s.sample_counts()[1], s
+
+    on_table, cone = counts("cone", background="none", support="table")
+    assert on_table == (4, 2, 2)
+    assert counts("cone", background="wall", support="table")[0] == (16, 2, 2)
+    assert counts("hand", background="none", support="table")[0] == (16, 2, 2)
+    assert cone.sample_counts(8)[1] == (8, 8)  # an integer spp: the own passes (the split), each at it
+    fixed = C.key(cone._cache_fields(0.1, "auto", 0, "v"))
+    monkeypatch.setattr(sampling, "OBJECT_SPP", {})
+    assert C.key(cone._cache_fields(0.1, "auto", 0, "v")) != fixed
 
 
 def test_lookups_fall_back_to_the_fixed_counts(table):

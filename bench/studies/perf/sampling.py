@@ -1,6 +1,7 @@
 """The committed procedure that chooses each material's sample counts (``spp = "auto"``).
 
-Usage: ``stripebench perf sampling [--angles 2] [--ref-spp 144] [--ref-ambient-spp 144] [--write]``
+Usage: ``stripebench perf sampling [--angles 2] [--ref-spp 144] [--ref-ambient-spp 144] [--ref-object-spp 1024]
+[--write]``
 
 For every opaque and shiny material (:data:`MATERIALS`) and each case of :data:`CASES` (the cone and
 the hand on the table, and for ``patchy`` also before the in-range wall: the paper profile's
@@ -36,11 +37,17 @@ measured in units of the **sensor noise** (shot + read noise at the reference le
     (11-px window on the true column) against the reference, divided by the rms of the centroid's
     standard deviation that the sensor noise alone causes (:func:`centroid_sd_px`).
 
-For ``polished`` and ``glazed`` the object's pixels keep the fixed 16 spp of ``path``: their glossy
-highlight's rare bright paths dominate any rms there at affordable reference counts (a first run of
-this procedure measured every count on all pixels and could certify none, not even 16 + 16), so the
-candidates vary only the passes of the other pixels (the table's stripe, the mirrored sheet) and are
-measured on those pixels and on the rows whose truth is not on the object.
+For ``polished`` and ``glazed`` the laser candidates vary only the passes of the pixels that do not see
+the object (the table's stripe, the mirrored sheet), measured on those pixels and on the rows whose
+truth is not on the object: the object's glossy highlight's rare bright paths dominate any rms there at
+the references' count (a first run of this procedure measured every count on all pixels and could
+certify none, not even 16 + 16). The **object pass** (``path`` on the object's pixels, the first of
+the split's passes) is measured on its own, per object and geometry (:func:`scenes.sampling.case_key`):
+at :data:`OBJECT_SPP` samples, on the object's pixels (within 3 px of the truth, the rest) and the
+rows whose truth is on the object, against the same pass at ``--ref-object-spp`` (default
+:data:`REF_OBJECT_SPP`, affordable on those pixels alone), the other pixels at their reference. Its
+count is chosen per object by the same rule (:func:`choose_objects`), since the light an object mirrors
+into itself depends on its shape; an object where no count passes keeps the table's.
 
 A candidate passes when, on every case, ``z_stripe``, ``z_off`` and ``centre`` are at most
 :data:`Z_MAX` (1: the render noise at most the sensor's; the total noise then at most sqrt(2) times
@@ -69,7 +76,8 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-__all__ = ["MATERIALS", "AMBIENT_ONLY", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "calibration_angles",
+__all__ = ["MATERIALS", "AMBIENT_ONLY", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "REF_OBJECT_SPP",
+           "OBJECT_SPP", "calibration_angles",
            "laser_candidates", "centroid_sd_px", "add_arguments", "command", "main"]
 
 MATERIALS = ("matte", "patchy", "absorbing", "glossy", "polished", "glazed", "specular")
@@ -95,6 +103,12 @@ ENERGY_TOL = 0.02
 
 AMBIENT_CANDIDATES = (1, 2, 4, 8)
 """Samples per pixel tried for the ambient pass."""
+
+REF_OBJECT_SPP = 1024
+"""Default ``--ref-object-spp``: the shiny object's own reference (module docstring)."""
+
+OBJECT_SPP = (2, 4, 8, 16)
+"""Samples per pixel tried for a shiny material's object pass."""
 
 _PATH_SPP = (4, 8, 16)
 _PTRACER_SPP = (16,)
@@ -208,14 +222,56 @@ def centroid_sd_px(laser_dn: np.ndarray, sigma_dn: np.ndarray, columns: np.ndarr
     return out
 
 
+class _Measure:
+    """A reference laser image and the regions it is measured on (:meth:`metrics`).
+
+    Parameters
+    ----------
+    ref : ndarray (H, W)
+        Reference laser DN (noise-free).
+    sigma : ndarray (H, W)
+        Sensor noise (DN rms) at the reference level.
+    regions : dict of str to ndarray (H, W) bool
+        ``stripe`` (within 3 px of the truth) and ``off`` (the other measured surface pixels).
+    columns : ndarray (H,)
+        True stripe column of the rows whose centroid is measured (NaN: not measured).
+    """
+
+    def __init__(self, ref, sigma, regions, columns):
+        self.ref, self.sigma, self.regions = ref, sigma, regions
+        h, w = ref.shape
+        sd = centroid_sd_px(ref, sigma, columns)
+        rows, cols_w = _windows(columns, w)
+        lit = np.zeros(h, bool)
+        lit[rows] = ref[rows[:, None], cols_w].max(axis=1) >= _LIT_DN
+        self.lit = lit & np.isfinite(sd)
+        self.centroid_sd = float(np.sqrt(np.mean(sd[self.lit] ** 2))) if self.lit.any() else math.nan
+        self.centroid_ref = _centroids(ref, rows, cols_w)
+        self._rows, self._cols = rows, cols_w
+
+    def metrics(self, img: np.ndarray) -> Dict[str, float]:
+        """``stripe``, ``off``, ``energy`` and ``centre`` of ``img`` (laser DN) against the reference."""
+        z = (img - self.ref) / self.sigma
+        out = {name: float(np.sqrt(np.mean(z[m] ** 2))) if m.any() else 0.0 for name, m in self.regions.items()}
+        e_ref = self.ref[self.regions["stripe"]].sum()
+        out["energy"] = float(img[self.regions["stripe"]].sum() / e_ref) if e_ref > 0 else 1.0
+        c = _centroids(img, self._rows, self._cols)
+        lit = self.lit[self._rows]
+        shift = c[lit] - self.centroid_ref[lit]
+        out["centre"] = (float(np.sqrt(np.mean(shift ** 2)) / self.centroid_sd)
+                         if lit.any() and self.centroid_sd > 0 else 0.0)
+        return out
+
+
 class _Case:
     """One (material, object, geometry, angle): its loaded scene, references and regions."""
 
-    def __init__(self, material, obj, geometry, theta, ref_spp, ref_ambient_spp):
+    def __init__(self, material, obj, geometry, theta, ref_spp, ref_ambient_spp, ref_object_spp=REF_OBJECT_SPP):
         import scenes
-        from scenes import description
+        from scenes import description, sampling
 
         self.label = f"{obj}/{material}/{geometry['background']}-{geometry['support']}@{theta:.2f}"
+        self.key = sampling.case_key(obj, geometry["background"], geometry["support"])
         self.scene = s = scenes.make(obj, material=material, cache=False, seed=SEED, **geometry)
         self.theta = theta
         self.laser_scene, self.ambient_scene = s._load(16)
@@ -226,52 +282,60 @@ class _Case:
         self.ambient_scale = s.sky_radiance_inband() * per_unit
         kinds = [p.kind for p in description.laser_passes(material)]
         self.split = s.split_pixels(theta) if kinds == ["path", "ptracer"] else None
+        self.object = None
         if material in AMBIENT_ONLY:  # the ambient pass alone, on every surface pixel
             points, _ = s.visible_points(theta)
             self.surface = np.isfinite(points[..., 0])
             self.ambient_ref = self.ambient(ref_ambient_spp, 1001)
-            self.check, self.lit, self.centroid_sd = None, np.zeros(0, bool), math.nan
+            self.check, self.others = None, None
             return
         truth = s.truth(theta)
-        self.columns = truth.columns
+        columns = truth.columns
         points, _ = s.visible_points(theta)
         surface = np.isfinite(points[..., 0])
         h, w = surface.shape
-        near = np.zeros((h, w), bool)
         cols = np.arange(w)[None, :]
         with np.errstate(invalid="ignore"):
-            near |= np.abs(cols - self.columns[:, None]) <= _STRIPE_PX
+            near = np.abs(cols - columns[:, None]) <= _STRIPE_PX
         self.surface = surface  # the ambient pass is measured on every surface pixel
-        if self.split is not None:
-            # the object's pixels keep the fixed count (no count can be certified there: module
-            # docstring); the others' passes are measured on the others' pixels only
-            near &= ~self.split
-            surface = surface & ~self.split
-            self.columns = np.where(truth.part == 1, np.nan, self.columns)
-        self.regions = {"stripe": near, "off": surface & ~near}
         self.ambient_ref = self.ambient(ref_ambient_spp, 1001)
         self.check = None
-        if kinds == ["path", "ptracer"]:
+        if self.split is not None:
+            # the others' passes are measured on the others' pixels and rows, the object's pass on the
+            # object's (module docstring)
             self.laser_ref = self.laser("split", (ref_spp, ref_spp), 1002)
+            on_object = truth.part == 1
+            others = np.where(self.split, 0.0, self.laser_ref)
+            self.object_pass = description.laser_passes(material)[0]
+            object_ref = others + self.render(self.object_pass, ref_object_spp, 1004) * self.laser_scale
+            sigma = self.sensor.noise_dn(object_ref + self.ambient_ref)
+            self.object = _Measure(object_ref, sigma,
+                                   {"stripe": near & self.split, "off": surface & self.split & ~near},
+                                   np.where(on_object, columns, np.nan))
+            self._others_ref = others
+            near, surface = near & ~self.split, surface & ~self.split
+            columns = np.where(on_object, np.nan, columns)
         else:
             # each half by the integrator that converges there; the material's own integrator at the
             # same count is kept as a check that the two agree (:attr:`check`)
             self.laser_ref = self.laser("hybrid", (ref_spp, ref_spp), 1002)
         self.sigma = self.sensor.noise_dn(self.laser_ref + self.ambient_ref)
-        if kinds != ["path", "ptracer"]:
+        self.others = _Measure(self.laser_ref, self.sigma, {"stripe": near, "off": surface & ~near}, columns)
+        if self.split is None:
             path_ref = self.laser(kinds[0], (ref_spp,), 1003)
-            stripe = self.regions["stripe"]
+            stripe = self.others.regions["stripe"]
             self.check = {"energy": float(path_ref[stripe].sum() / self.laser_ref[stripe].sum()),
                           "z_off": float(np.sqrt(np.mean(((path_ref - self.laser_ref) / self.sigma)[
-                              self.regions["off"]] ** 2)))}
-        sd = centroid_sd_px(self.laser_ref, self.sigma, self.columns)
-        rows, cols_w = _windows(self.columns, w)
-        lit = np.zeros(h, bool)
-        lit[rows] = self.laser_ref[rows[:, None], cols_w].max(axis=1) >= _LIT_DN
-        self.lit = lit & np.isfinite(sd)
-        self.centroid_sd = float(np.sqrt(np.mean(sd[self.lit] ** 2))) if self.lit.any() else math.nan
-        self.centroid_ref = _centroids(self.laser_ref, rows, cols_w)
-        self._rows, self._cols = rows, cols_w
+                              self.others.regions["off"]] ** 2)))}
+
+    @property
+    def lit(self) -> np.ndarray:
+        """Rows whose stripe centroid the laser candidates are measured on."""
+        return np.zeros(0, bool) if self.others is None else self.others.lit
+
+    @property
+    def centroid_sd(self) -> float:
+        return math.nan if self.others is None else self.others.centroid_sd
 
     def render(self, laser_pass, spp: int, seed: int) -> np.ndarray:
         """One laser pass (:class:`scenes.description.LaserPass`) as ``Scene.render`` renders it: on
@@ -312,16 +376,13 @@ class _Case:
         return self.ambient_scene.render(self.pose, spp, seed).astype(np.float64) * self.ambient_scale
 
     def laser_metrics(self, img: np.ndarray) -> Dict[str, float]:
-        z = (img - self.laser_ref) / self.sigma
-        out = {name: float(np.sqrt(np.mean(z[m] ** 2))) if m.any() else 0.0 for name, m in self.regions.items()}
-        e_ref = self.laser_ref[self.regions["stripe"]].sum()
-        out["energy"] = float(img[self.regions["stripe"]].sum() / e_ref) if e_ref > 0 else 1.0
-        c = _centroids(img, self._rows, self._cols)
-        lit = self.lit[self._rows]
-        shift = c[lit] - self.centroid_ref[lit]
-        out["centre"] = (float(np.sqrt(np.mean(shift ** 2)) / self.centroid_sd)
-                         if lit.any() and self.centroid_sd > 0 else 0.0)
-        return out
+        """A laser candidate's metrics (for a shiny material on the others' pixels and rows)."""
+        return self.others.metrics(img)
+
+    def object_metrics(self, render: np.ndarray) -> Dict[str, float]:
+        """The object pass's metrics (shiny materials): ``render`` (unit radiance, zero off the object's
+        pixels) with the others' pixels at their reference, on the object's pixels and rows."""
+        return self.object.metrics(self._others_ref + render * self.laser_scale)
 
     def ambient_metrics(self, img: np.ndarray) -> float:
         z = (img - self.ambient_ref) / self.sensor.noise_dn(self.ambient_ref)
@@ -339,25 +400,38 @@ def _passes(metrics: Dict[str, float]) -> bool:
             and abs(metrics["energy"] - 1.0) <= ENERGY_TOL)
 
 
-def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, progress: bool = True) -> dict:
+def _worst(w: Optional[dict], m: dict) -> dict:
+    """The worst of two metric records: the largest z's, the energy farthest from 1."""
+    if w is None:
+        return m
+    return {"stripe": max(w["stripe"], m["stripe"]), "off": max(w["off"], m["off"]),
+            "centre": max(w["centre"], m["centre"]),
+            "energy": max(w["energy"], m["energy"], key=lambda e: abs(e - 1.0))}
+
+
+def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, progress: bool = True,
+            ref_object_spp: int = REF_OBJECT_SPP) -> dict:
     """Every candidate of one material on its cases.
 
     Returns
     -------
     dict
         ``{"laser": {(label, spps): {"worst": metrics, "cost_s": float, "pass": bool}}, "ambient":
-        {spp: {"z": float, "cost_s": float, "pass": bool}}, "cases": [labels]}``; ``worst`` holds the
-        largest ``stripe``/``off``/``centre`` and the energy farthest from 1 over the cases.
+        {spp: {"z": float, "cost_s": float, "pass": bool}}, "object": {case key: {("path", (spp,)):
+        {...}}}, "cases": [labels]}``; ``worst`` holds the largest ``stripe``/``off``/``centre`` and the
+        energy farthest from 1 over the cases (``object``, the shiny materials' object pass, over each
+        object's cases: :func:`scenes.sampling.case_key`; empty for the others).
     """
     import scenes
 
     laser: Dict[tuple, dict] = {}
     ambient: Dict[int, dict] = {}
+    objects: Dict[str, Dict[tuple, dict]] = {}
     labels, checks = [], []
     for obj, geometry in CASES[material]:
         probe = scenes.make(obj, material=material, cache=False, seed=SEED, **geometry)
         for theta in calibration_angles(probe, n_angles):
-            case = _Case(material, obj, geometry, float(theta), ref_spp, ref_ambient_spp)
+            case = _Case(material, obj, geometry, float(theta), ref_spp, ref_ambient_spp, ref_object_spp)
             labels.append(case.label)
             if progress and material in AMBIENT_ONLY:
                 print(f"  {case.label}: ambient pass only", file=sys.stderr, flush=True)
@@ -365,6 +439,9 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
                 check = ("" if case.check is None else
                          f"; own integrator @ref / reference: stripe energy {case.check['energy']:.4f}, z off "
                          f"{case.check['z_off']:.2f}")
+                if case.object is not None:
+                    check += (f"; object: {int(case.object.lit.sum())} lit rows, sensor centroid sd "
+                              f"{case.object.centroid_sd:.3f} px")
                 print(f"  {case.label}: {int(case.lit.sum())} lit rows, sensor centroid sd "
                       f"{case.centroid_sd:.3f} px{check}", file=sys.stderr, flush=True)
             checks.append(case.check)
@@ -376,27 +453,32 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
                         done[comp] = _timed(lambda: case.render(*comp, 11))
                 parts = [done[c] for c in case.components(*cand)]
                 img, cost = case.combine(cand[0], [p[0] for p in parts]), sum(p[1] for p in parts)
-                m = case.laser_metrics(img)
                 rec = laser.setdefault(cand, {"worst": None, "costs": []})
                 rec["costs"].append(cost)
-                w = rec["worst"]
-                rec["worst"] = m if w is None else {
-                    "stripe": max(w["stripe"], m["stripe"]), "off": max(w["off"], m["off"]),
-                    "centre": max(w["centre"], m["centre"]),
-                    "energy": max(w["energy"], m["energy"], key=lambda e: abs(e - 1.0))}
+                rec["worst"] = _worst(rec["worst"], case.laser_metrics(img))
+            if case.object is not None:
+                for spp in OBJECT_SPP:
+                    comp = (case.object_pass, spp)
+                    if comp not in done:
+                        case.render(*comp, 7)
+                        done[comp] = _timed(lambda: case.render(*comp, 11))
+                    img, cost = done[comp]
+                    rec = objects.setdefault(case.key, {}).setdefault(("path", (spp,)), {"worst": None, "costs": []})
+                    rec["costs"].append(cost)
+                    rec["worst"] = _worst(rec["worst"], case.object_metrics(img))
             for spp in AMBIENT_CANDIDATES:
                 case.ambient(spp, 7)
                 img, cost = _timed(lambda: case.ambient(spp, 11))
                 rec = ambient.setdefault(spp, {"z": 0.0, "costs": []})
                 rec["z"] = max(rec["z"], case.ambient_metrics(img))
                 rec["costs"].append(cost)
-    for rec in laser.values():
+    for rec in list(laser.values()) + [r for o in objects.values() for r in o.values()]:
         rec["cost_s"] = float(np.mean(rec.pop("costs")))
         rec["pass"] = _passes(rec["worst"])
     for rec in ambient.values():
         rec["cost_s"] = float(np.mean(rec.pop("costs")))
         rec["pass"] = rec["z"] <= Z_MAX
-    return {"laser": laser, "ambient": ambient, "cases": labels, "checks": checks}
+    return {"laser": laser, "ambient": ambient, "object": objects, "cases": labels, "checks": checks}
 
 
 def _dominates(a, b) -> bool:
@@ -404,32 +486,57 @@ def _dominates(a, b) -> bool:
     return a[0] == b[0] and all(x >= y for x, y in zip(a[1], b[1]))
 
 
-def choose(result: dict):
-    """The chosen laser candidate and ambient count of :func:`measure`'s result (None where none qualifies).
+def _cheapest(cands: dict):
+    """The cheapest qualifying key of ``{candidate: {"cost_s", "pass"}}`` (None where none qualifies).
 
     A candidate qualifies when it passes and so does every candidate with the same integrators and
     at least its count in every pass (a pass that more samples would lose is the measurement's noise,
-    not a margin); the cheapest qualifying one is chosen.
+    not a margin).
     """
-    laser = result["laser"]
-    ok = [(rec["cost_s"], cand) for cand, rec in laser.items()
-          if all(laser[c]["pass"] for c in laser if _dominates(c, cand))]
-    amb = result["ambient"]
-    ok_amb = [(rec["cost_s"], spp) for spp, rec in amb.items() if all(amb[n]["pass"] for n in amb if n >= spp)]
-    return (min(ok)[1] if ok else None), (min(ok_amb)[1] if ok_amb else None)
+    ok = [(rec["cost_s"], cand) for cand, rec in cands.items()
+          if all(cands[c]["pass"] for c in cands if _dominates(c, cand))]
+    return min(ok)[1] if ok else None
+
+
+def choose(result: dict):
+    """The chosen laser candidate and ambient count of :func:`measure`'s result (None where none
+    qualifies): the cheapest qualifying one of each (:func:`_cheapest`)."""
+    amb = {("path", (n,)): rec for n, rec in result["ambient"].items()}
+    chosen_amb = _cheapest(amb)
+    return _cheapest(result["laser"]), (None if chosen_amb is None else chosen_amb[1][0])
+
+
+def choose_objects(result: dict) -> Dict[str, Optional[int]]:
+    """Per case key (:func:`scenes.sampling.case_key`), the object pass's chosen count of a shiny
+    material (None where none qualifies: the object keeps :data:`scenes.sampling.FIXED_SPP`)."""
+    out = {}
+    for key, cands in result.get("object", {}).items():
+        chosen = _cheapest(cands)
+        out[key] = None if chosen is None else chosen[1][0]
+    return out
+
+
+def _records(cands: dict) -> list:
+    return [{"label": c[0], "spp": list(c[1]), **rec} for c, rec in cands.items()]
+
+
+def _from_records(records: list) -> dict:
+    return {(r["label"], tuple(r["spp"])): {k: v for k, v in r.items() if k not in ("label", "spp")}
+            for r in records}
 
 
 def _jsonable(result: dict) -> dict:
-    return {"laser": [{"label": c[0], "spp": list(c[1]), **rec} for c, rec in result["laser"].items()],
+    return {"laser": _records(result["laser"]),
             "ambient": [{"spp": n, **rec} for n, rec in result["ambient"].items()],
+            "object": {key: _records(c) for key, c in result.get("object", {}).items()},
             "cases": result["cases"], "checks": result.get("checks", [])}
 
 
 def _from_jsonable(d: dict) -> dict:
-    laser = {(r["label"], tuple(r["spp"])): {k: v for k, v in r.items() if k not in ("label", "spp")}
-             for r in d["laser"]}
     ambient = {int(r["spp"]): {k: v for k, v in r.items() if k != "spp"} for r in d["ambient"]}
-    return {"laser": laser, "ambient": ambient, "cases": d["cases"], "checks": d.get("checks", [])}
+    return {"laser": _from_records(d["laser"]), "ambient": ambient,
+            "object": {key: _from_records(r) for key, r in d.get("object", {}).items()},
+            "cases": d["cases"], "checks": d.get("checks", [])}
 
 
 def _table(material: str, result: dict, chosen) -> str:
@@ -444,6 +551,14 @@ def _table(material: str, result: dict, chosen) -> str:
         mark = " **chosen**" if spp == chosen[1] else ""
         lines.append(f"| ambient path {spp} spp{mark} | z {rec['z']:.2f} | | | | {rec['cost_s']:.2f} | "
                      f"{'yes' if rec['pass'] else 'no'} |")
+    objects = choose_objects(result)
+    for key, cands in result.get("object", {}).items():
+        for cand, rec in cands.items():
+            w = rec["worst"]
+            mark = " **chosen**" if cand[1][0] == objects[key] else ""
+            lines.append(f"| object pass {key}: {cand[0]} {cand[1][0]} spp{mark} | {w['stripe']:.2f} | "
+                         f"{w['off']:.2f} | {w['centre']:.2f} | {w['energy']:.3f} | {rec['cost_s']:.2f} | "
+                         f"{'yes' if rec['pass'] else 'no'} |")
     return "\n".join(lines)
 
 
@@ -461,6 +576,20 @@ def _write(path: Path, results: Dict[str, dict], chosen: Dict[str, tuple], argv_
         measured[m] = {"z_stripe": round(w["stripe"], 3), "z_off": round(w["off"], 3),
                        "centre": round(w["centre"], 3), "energy": round(w["energy"], 4),
                        "z_ambient": round(results[m]["ambient"][c[1]]["z"], 3), "cases": len(results[m]["cases"])}
+    from scenes.sampling import FIXED_SPP
+
+    object_spp, measured_object = {}, {}
+    for m in chosen:
+        for key, n in choose_objects(results[m]).items():
+            if n is not None:
+                object_spp.setdefault(m, {})[key] = n
+            shown = FIXED_SPP if n is None else n
+            rec = results[m]["object"][key].get(("path", (shown,)))
+            if rec is not None:
+                w = rec["worst"]
+                measured_object.setdefault(m, {})[key] = {
+                    "spp": shown, "certified": n is not None, "z_stripe": round(w["stripe"], 3),
+                    "z_off": round(w["off"], 3), "centre": round(w["centre"], 3), "energy": round(w["energy"], 4)}
     text = path.read_text()
     start, end = "# --- generated: begin ---\n", "# --- generated: end ---\n"
     head, rest = text.split(start)
@@ -469,7 +598,9 @@ def _write(path: Path, results: Dict[str, dict], chosen: Dict[str, tuple], argv_
             f"LASER_KIND = {kinds!r}\n"
             f"LASER_SPP = {laser!r}\n"
             f"AMBIENT_SPP = {ambient!r}\n"
-            f"MEASURED = {measured!r}\n")
+            f"MEASURED = {measured!r}\n"
+            f"OBJECT_SPP = {object_spp!r}\n"
+            f"MEASURED_OBJECT = {measured_object!r}\n")
     atomic_write_text(path, head + start + body + end + tail)
 
 
@@ -484,6 +615,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--ref-ambient-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536),
                                                            "--ref-ambient-spp"),
                         default=144, metavar="N", help="spp of the ambient references (default 144)")
+    parser.add_argument("--ref-object-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--ref-object-spp"),
+                        default=REF_OBJECT_SPP, metavar="N",
+                        help=f"spp of a shiny object's own reference, on its pixels (default {REF_OBJECT_SPP})")
     parser.add_argument("--materials", default=None, metavar="LIST",
                         help=f"comma-separated materials (default {','.join(MATERIALS + AMBIENT_ONLY)}; with --from, "
                              "those the file has)")
@@ -520,6 +654,7 @@ def command(args) -> int:
     results, chosen = {}, {}
     if saved is not None:
         args.angles, args.ref_spp, args.ref_ambient_spp = options["angles"], options["ref_spp"], options["ref_ambient_spp"]
+        args.ref_object_spp = options.get("ref_object_spp")
         missing = [m for m in materials if m not in saved_results]
         if missing:
             raise InputError(f"--from {args.from_file} lacks the material(s) {', '.join(missing)}")
@@ -528,14 +663,16 @@ def command(args) -> int:
             results[material] = saved_results[material]
         else:
             print(f"{material}:", file=sys.stderr, flush=True)
-            results[material] = measure(material, args.angles, args.ref_spp, args.ref_ambient_spp)
+            results[material] = measure(material, args.angles, args.ref_spp, args.ref_ambient_spp,
+                                        ref_object_spp=args.ref_object_spp)
         chosen[material] = choose(results[material])
         print(_table(material, results[material], chosen[material]) + "\n", flush=True)
     if args.save:
         from bench.store.files import atomic_write_text
 
         doc = {"format": 1, "options": {"angles": args.angles, "ref_spp": args.ref_spp,
-                                        "ref_ambient_spp": args.ref_ambient_spp},
+                                        "ref_ambient_spp": args.ref_ambient_spp,
+                                        "ref_object_spp": args.ref_object_spp},
                "results": {m: _jsonable(r) for m, r in results.items()}}
         if saved is not None and "provenance" in saved:
             doc["provenance"] = saved["provenance"]
@@ -544,10 +681,14 @@ def command(args) -> int:
     for m, (laser, amb) in chosen.items():
         text = "none passes (fixed counts kept)" if laser is None else f"{laser[0]} {'+'.join(map(str, laser[1]))}"
         print(f"| `{m}` | {text} | {amb if amb is not None else 'none passes'} |")
+    for m in chosen:
+        for key, n in choose_objects(results[m]).items():
+            print(f"| `{m}` object pass, {key} | "
+                  f"{'none passes (fixed count kept)' if n is None else f'path {n}'} | |")
     if args.write:
         argv = (f"stripebench perf sampling --from {args.from_file} --write" if args.from_file else
                 f"stripebench perf sampling --angles {args.angles} --ref-spp {args.ref_spp} "
-                f"--ref-ambient-spp {args.ref_ambient_spp} --write")
+                f"--ref-ambient-spp {args.ref_ambient_spp} --ref-object-spp {args.ref_object_spp} --write")
         _write(Path(sampling.__file__), results, chosen, argv)
         print(f"wrote {sampling.__file__}", file=sys.stderr)
     return 0

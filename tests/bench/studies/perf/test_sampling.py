@@ -52,6 +52,35 @@ def test_the_cheapest_qualifying_candidate_is_chosen():
     assert not S._passes({**ok, "off": S.Z_MAX + 0.01})
 
 
+def test_the_measure_is_zero_on_its_reference_and_sees_a_shifted_stripe():
+    u = np.arange(40.0)
+    ref = np.repeat((80.0 * np.exp(-0.5 * ((u - 20.2) / 1.4) ** 2))[None, :], 6, axis=0)
+    columns = np.full(6, 20.2)
+    near = np.abs(u[None, :] - columns[:, None]) <= 3
+    m = S._Measure(ref, np.full(ref.shape, 2.0), {"stripe": near, "off": ~near}, columns)
+    assert m.lit.all() and m.centroid_sd > 0
+    assert m.metrics(ref) == {"stripe": 0.0, "off": 0.0, "energy": 1.0, "centre": 0.0}
+    shifted = np.roll(ref, 1, axis=1)
+    out = m.metrics(shifted)
+    assert out["centre"] > 1 and out["stripe"] > 1 and out["off"] > 0
+    dim = m.metrics(0.5 * ref)
+    assert dim["energy"] == 0.5 and dim["centre"] < 1e-9
+
+
+def test_each_objects_count_is_the_cheapest_qualifying_one():
+    ok = {"stripe": 0.5, "off": 0.5, "centre": 0.5, "energy": 1.0}
+    bad = {**ok, "stripe": 3.0}
+    result = {"object": {"cone/none-table": {("path", (n,)): {"worst": ok, "cost_s": n / 10, "pass": True}
+                                             for n in (2, 4, 8, 16)},
+                         "hand/none-table": {("path", (n,)): {"worst": bad, "cost_s": n / 10, "pass": False}
+                                             for n in (2, 4, 8, 16)}}}
+    result["object"]["cone/none-table"][("path", (2,))].update(worst=bad, **{"pass": False})
+    assert S.choose_objects(result) == {"cone/none-table": 4, "hand/none-table": None}
+    result["object"]["cone/none-table"][("path", (8,))]["pass"] = False  # lost by more samples: not a margin
+    assert S.choose_objects(result)["cone/none-table"] == 16
+    assert S.choose_objects({"laser": {}}) == {}
+
+
 def test_saved_measurements_choose_and_write_without_rendering(tmp_path, capsys):
     ok = {"stripe": 0.5, "off": 0.4, "centre": 0.3, "energy": 0.999}
     results = {m: {"laser": {("path", (8,)): {"worst": ok, "cost_s": 0.3, "pass": True}},
@@ -89,6 +118,24 @@ def test_write_replaces_only_the_generated_block(tmp_path):
     exec(after[1].split("# --- generated: end ---\n")[0], ns)
     assert ns["LASER_KIND"] == {"matte": "hybrid"} and ns["LASER_SPP"] == {"matte": (4, 2)}
     assert ns["AMBIENT_SPP"] == {"matte": 2} and ns["MEASURED"]["matte"]["cases"] == 2
+    assert ns["OBJECT_SPP"] == {} and ns["MEASURED_OBJECT"] == {}
+    # a shiny material: the counts certified per object, and the numbers of each object's count
+    bad = {**ok, "stripe": 4.0}
+    results["polished"] = {
+        "laser": {("split_hybrid", (16, 2, 2)): {"worst": ok, "cost_s": 0.7, "pass": True}},
+        "ambient": {2: {"z": 0.6, "cost_s": 0.1, "pass": True}}, "cases": ["a", "b"],
+        "object": {"cone/none-table": {("path", (n,)): {"worst": ok, "cost_s": n, "pass": True} for n in (4, 16)},
+                   "hand/none-table": {("path", (n,)): {"worst": bad, "cost_s": n, "pass": False} for n in (4, 16)}}}
+    S._write(path, results, {"matte": (("hybrid", (4, 2)), 2), "specular": (None, None),
+                             "polished": (("split_hybrid", (16, 2, 2)), 2)}, "cmd")
+    ns = {}
+    exec(path.read_text().split("# --- generated: begin ---\n")[1].split("# --- generated: end ---\n")[0], ns)
+    assert ns["OBJECT_SPP"] == {"polished": {"cone/none-table": 4}}
+    assert ns["MEASURED_OBJECT"]["polished"]["cone/none-table"]["spp"] == 4
+    hand = ns["MEASURED_OBJECT"]["polished"]["hand/none-table"]
+    assert hand["spp"] == scenes.sampling.FIXED_SPP and not hand["certified"] and hand["z_stripe"] == 4.0
+    back = S._from_jsonable(S._jsonable(results["polished"]))
+    assert back["object"] == results["polished"]["object"]
 
 
 def test_bad_options_are_one_line_errors(capsys):

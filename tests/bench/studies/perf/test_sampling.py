@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import scenes
 from bench.studies.perf import sampling as S
@@ -147,3 +148,25 @@ def test_bad_options_are_one_line_errors(capsys):
 def test_write_needs_every_material(capsys):
     assert S.main(["--materials", "matte", "--write"]) == 2
     assert "--write needs every one of matte, patchy" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_a_shiny_materials_measurement_has_its_objects_passes(monkeypatch):
+    # the procedure on tiny frames (its renders and bookkeeping, not its numbers): every laser
+    # candidate and, per object on its geometry, every object count, each with its metrics
+    real_make = scenes.make
+    monkeypatch.setattr(scenes, "make", lambda *a, **k: real_make(*a, **{**k, "width": 48, "height": 45}))
+    monkeypatch.setattr(S, "OBJECT_SPP", (1, 2))
+    monkeypatch.setattr(S, "laser_candidates", lambda m: [("split_hybrid", (2, 1, 1))])
+    monkeypatch.setattr(S, "AMBIENT_CANDIDATES", (1,))
+    result = S.measure("polished", 1, 2, 2, progress=False, ref_object_spp=4)
+    assert list(result["laser"]) == [("split_hybrid", (2, 1, 1))] and list(result["ambient"]) == [1]
+    assert set(result["object"]) == {"cone/none-table", "hand/none-table"}
+    for cands in result["object"].values():
+        assert list(cands) == [("path", (1,)), ("path", (2,))]
+        for rec in cands.values():
+            assert set(rec["worst"]) == {"stripe", "off", "centre", "energy"} and rec["cost_s"] >= 0
+            assert all(np.isfinite(v) for v in rec["worst"].values()) and isinstance(rec["pass"], bool)
+    assert set(S.choose_objects(result)) == {"cone/none-table", "hand/none-table"}
+    back = S._from_jsonable(S._jsonable(result))
+    assert back["object"] == result["object"]

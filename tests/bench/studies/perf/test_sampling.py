@@ -80,6 +80,17 @@ def test_each_objects_count_is_the_cheapest_qualifying_one():
     result["object"]["cone/none-table"][("path", (8,))]["pass"] = False  # lost by more samples: not a margin
     assert S.choose_objects(result)["cone/none-table"] == 16
     assert S.choose_objects({"laser": {}}) == {}
+    # fewer samples in every pass is cheaper, whatever the measured seconds say
+    result["object"]["cone/none-table"][("path", (8,))]["pass"] = True
+    result["object"]["cone/none-table"][("path", (4,))]["cost_s"] = 9.0
+    assert S.choose_objects(result)["cone/none-table"] == 4
+    laser = {("split_hybrid", (16, 2, 2)): {"cost_s": 0.46, "pass": True},
+             ("split_hybrid", (16, 4, 2)): {"cost_s": 0.42, "pass": True},
+             ("split_hybrid", (16, 2, 4)): {"cost_s": 0.52, "pass": True},
+             ("split", (16, 16)): {"cost_s": 0.40, "pass": True}}
+    assert S._cheapest(laser) == ("split", (16, 16))  # other integrators: the measured cost decides
+    del laser[("split", (16, 16))]
+    assert S._cheapest(laser) == ("split_hybrid", (16, 2, 2))
 
 
 def test_saved_measurements_choose_and_write_without_rendering(tmp_path, capsys):

@@ -14,6 +14,8 @@ atomic splatting order otherwise changes the last float bits.  On CUDA the
 ``ptracer`` pass is reproducible only to float32 rounding (the disk cache makes
 reruns identical).  :func:`light_indirect` (the ``auto`` passes' interreflected light)
 splats on the host instead, so it is reproducible on any number of threads.
+:func:`bounce_mis` with ``light_indirect(..., mis=...)`` is the one-bounce light by multiple
+importance sampling of camera and light paths (a study, ``stripebench perf mis``; no frame uses it yet).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import numpy as np
 from . import variant as _variant
 from .rig import CM_TO_M
 
-__all__ = ["materialise", "LoadedScene", "interrupted", "light_indirect", "camera_paths"]
+__all__ = ["materialise", "LoadedScene", "interrupted", "light_indirect", "camera_paths", "bounce_mis"]
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -108,7 +110,159 @@ def _adjoint_shading(mi, dr, si, d_world, d_local, wi_geo):
     return dr.select(valid, dr.abs((cos_i * wo_geo) / (cos_o * wi_geo)), 0.0)
 
 
-def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
+def _pixel_rays(mi, dr, sensor, pixels: np.ndarray, spp: int, seed: int):
+    """``spp`` camera rays through uniformly random points of the footprint of each pixel of ``pixels``
+    ((H, W) bool, the film's shape), differentials scaled by ``1 / sqrt(spp)``: ``(sampler, spp, lanes,
+    ray, weight)``, ``lanes`` the pixel index of each ray; None when ``pixels`` is empty."""
+    width, height = (int(v) for v in sensor.film().size())
+    pixels = np.asarray(pixels, bool)
+    if pixels.shape != (height, width):
+        raise ValueError(f"`pixels` must have the film's shape {(height, width)}, got {pixels.shape}")
+    index = np.flatnonzero(pixels).astype(np.uint32)
+    if len(index) == 0:
+        _check_spp(spp)
+        return None
+    sampler, spp = _wavefront_sampler(sensor, spp, seed, lambda n: len(index) * n)
+    lanes = np.repeat(index, spp)
+    pixel = mi.UInt32(lanes)
+    position = mi.Point2f(mi.Float(pixel % width), mi.Float(pixel // width)) + sampler.next_2d()
+    ray, weight = sensor.sample_ray_differential(mi.Float(0.0), mi.Float(0.0),
+                                                 position / mi.ScalarVector2f(width, height), mi.Point2f(0.5))
+    ray.scale_differential(dr.rsqrt(spp))
+    return sampler, spp, lanes, ray, weight
+
+
+class _BounceDensities:
+    """The sample densities of a one-bounce laser path (projector, ``x2``, ``x1``, camera) under its two
+    unidirectional strategies, for their multiple importance sampling (:func:`bounce_mis`).
+
+    * camera paths (``spp`` per pixel): ``x1`` through the pixel footprint, ``x2`` by sampling
+      ``x1``'s BSDF, the projector connected to ``x2``; in area measure, per sample,
+      ``Npix / (A_c cos^3 t_c) |cos t_1c| / d_c1^2 * pdf_1(w_12) * |cos t_2| / d_12^2``;
+    * light paths (``light_spp`` per pixel, ``W H light_spp`` in all): ``x2`` by sampling the
+      projector's texture (``Texture.pdf_position`` on its image plane of area ``A_p`` at z = 1),
+      ``x1`` by sampling ``x2``'s BSDF, ``x1`` connected to the camera:
+      ``pdf_uv / (A_p cos^3 t_p) |cos t_2p| / d_p2^2 * pdf_2(w_21) * |cos t_1| / d_12^2``.
+
+    ``A_c``, ``A_p``: the image planes' areas at unit distance (``(2 tan(fov_x / 2))^2 H / W``);
+    ``t_c``, ``t_p``: the angle of the ray to each pinhole's axis. The common ``1 / d_12^2`` is left out
+    of both (:meth:`camera` and :meth:`light` return the rest), as is ``|cos t_2|`` / ``|cos t_1|``
+    where the caller multiplies them in.
+    """
+
+    def __init__(self, mi, dr, scene, projector_fov_x_deg: float):
+        import math
+
+        self.mi, self.dr = mi, dr
+        sensor, emitter = scene.sensors()[0], scene.emitters()[0]
+        width, height = (int(v) for v in sensor.film().size())
+        self.n_pixels = width * height
+        cam = sensor.world_transform()
+        self.cam_o, self.cam_z = cam @ mi.Point3f(0.0, 0.0, 0.0), dr.normalize(cam @ mi.Vector3f(0.0, 0.0, 1.0))
+        tx = math.tan(math.radians(float(dr.slice(mi.traverse(sensor)["x_fov"], 0))) / 2.0)
+        self.a_cam = (2.0 * tx) ** 2 * height / width
+        data = np.array(mi.traverse(emitter)["irradiance.data"], dtype=np.float32)
+        th, tw = data.shape[:2]
+        self.texture = mi.load_dict({"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(data)), "raw": True})
+        tp = math.tan(math.radians(float(projector_fov_x_deg)) / 2.0)
+        self.a_proj = (2.0 * tp) ** 2 * th / tw
+        proj = emitter.world_transform()
+        self.proj_o, self.proj_z = proj @ mi.Point3f(0.0, 0.0, 0.0), dr.normalize(proj @ mi.Vector3f(0.0, 0.0, 1.0))
+        self.proj_inv = proj.inverse()
+        self.to_sample = mi.perspective_projection(mi.ScalarVector2i(tw, th), mi.ScalarVector2i(tw, th),
+                                                   mi.ScalarVector2i(0, 0), float(projector_fov_x_deg), 1e-4, 1e4)
+
+    def camera(self, x1, n1):
+        """Per camera sample per pixel: ``Npix / (A_c cos^3 t_c) |cos t_1c| / d_c1^2`` at ``x1``."""
+        dr = self.dr
+        d = self.cam_o - x1
+        dist2 = dr.squared_norm(d)
+        dn = d * dr.rsqrt(dist2)
+        cos_c = dr.maximum(dr.abs(dr.dot(dn, self.cam_z)), 1e-6)
+        return self.n_pixels / (self.a_cam * cos_c ** 3) * dr.abs(dr.dot(n1, dn)) / dist2
+
+    def light(self, x2, n2):
+        """Per light path: ``pdf_uv / (A_p cos^3 t_p) |cos t_2p| / d_p2^2`` at ``x2`` (0 outside the texture)."""
+        mi, dr = self.mi, self.dr
+        d = self.proj_o - x2
+        dist2 = dr.squared_norm(d)
+        dn = d * dr.rsqrt(dist2)
+        cos_p = dr.maximum(dr.abs(dr.dot(dn, self.proj_z)), 1e-6)
+        local = self.proj_inv @ x2
+        uvw = self.to_sample @ local
+        uv = mi.Point2f(uvw.x, uvw.y)
+        inside = (uv.x >= 0) & (uv.x <= 1) & (uv.y >= 0) & (uv.y <= 1) & (local.z > 0)
+        pdf_uv = self.texture.pdf_position(uv, inside)
+        return dr.select(inside, pdf_uv / (self.a_proj * cos_p ** 3) * dr.abs(dr.dot(n2, dn)) / dist2, 0.0)
+
+
+def bounce_mis(mi, scene, pixels: np.ndarray, spp: int, seed: int, light_spp: int,
+               projector_fov_x_deg: float) -> np.ndarray:
+    """The one-bounce laser light (projector, two surface vertices, camera) on ``pixels`` by camera paths,
+    each weighted for multiple importance sampling against :func:`light_indirect` at ``light_spp``
+    (balance heuristic: :class:`_BounceDensities`): float32 (H, W) radiance, 0 outside ``pixels``.
+
+    Each pixel of ``pixels`` gets ``spp`` camera rays through random points of its footprint; at the
+    first surface ``x1`` the BSDF is sampled, at the hit ``x2`` the projector is connected (next-event
+    estimation), and the path's value is multiplied by ``c / (c + l)``, ``c`` and ``l`` the path's
+    densities under this strategy and under the light tracer. ``light_indirect(..., mis=(pixels, spp,
+    fov))`` weights its splats on ``pixels`` by ``l / (c + l)``, so the two sum to the one-bounce light
+    with the noise of whichever strategy samples a path better: a glossy ``x1`` (its lobe sampled from
+    the camera) or a glossy ``x2`` (its lobe sampled from the projector), where each alone has
+    fireflies. The direct light (camera, ``x1``, projector) is not included.
+
+    Parameters
+    ----------
+    mi : module
+        ``mitsuba`` with a JIT variant set.
+    scene : mitsuba.Scene
+        A loaded, posed laser scene (its first sensor and its projector).
+    pixels : ndarray (H, W), bool
+    spp : int
+        Camera samples per pixel (>= 1).
+    seed : int
+    light_spp : int
+        Light paths per pixel of the :func:`light_indirect` pass it is combined with (>= 1).
+    projector_fov_x_deg : float
+        The projector's horizontal field of view (``fov`` with ``fov_axis = 'x'``).
+    """
+    import drjit as dr
+
+    sensor = scene.sensors()[0]
+    width, height = (int(v) for v in sensor.film().size())
+    if isinstance(light_spp, bool) or not isinstance(light_spp, (int, np.integer)) or light_spp < 1:
+        raise ValueError(f"`light_spp` must be an integer >= 1, got {light_spp!r}")
+    rays = _pixel_rays(mi, dr, sensor, pixels, spp, seed)
+    if rays is None:
+        return np.zeros((height, width), np.float32)
+    sampler, spp, lanes, ray, ray_weight = rays
+    dens = _BounceDensities(mi, dr, scene, projector_fov_x_deg)
+    ctx = mi.BSDFContext()
+    si = scene.ray_intersect(ray, mi.RayFlags.All, coherent=True)
+    active = si.is_valid()
+    bsdf = si.bsdf(ray)
+    bs, bsdf_weight = bsdf.sample(ctx, si, sampler.next_1d(active), sampler.next_2d(active), active)
+    d12 = si.to_world(bs.wo)
+    ray2 = si.spawn_ray(d12)
+    active &= dr.max(bsdf_weight) != 0
+    si2 = scene.ray_intersect(ray2, active)
+    active &= si2.is_valid()
+    bsdf2 = si2.bsdf(ray2)
+    ds, emitted = scene.sample_emitter_direction(si2, sampler.next_2d(active), True, active)
+    active &= ds.pdf != 0
+    value = _first_channel(bsdf_weight * emitted * bsdf2.eval(ctx, si2, si2.to_local(ds.d), active))
+    camera = spp * dens.camera(si.p, si.n) * bs.pdf * dr.abs(dr.dot(si2.n, d12))
+    at_x2 = mi.SurfaceInteraction3f(si2)
+    at_x2.wi = si2.to_local(ds.d)  # the light path arrives from the projector
+    pdf2 = bsdf2.pdf(mi.BSDFContext(mi.TransportMode.Importance), at_x2, si2.to_local(-d12), active)
+    light = int(light_spp) * dens.n_pixels * dens.light(si2.p, si2.n) * pdf2 * dr.abs(dr.dot(si.n, d12))
+    weight = dr.select(camera + light > 0, camera / (camera + light), 1.0)
+    value = dr.select(active, value * weight, 0.0) * _first_channel(ray_weight)
+    dr.eval(value)
+    return (_splat(value, lanes.astype(np.int64), width, height) / spp).astype(np.float32)
+
+
+def light_indirect(mi, scene, spp: int, seed: int, depth: int, mis: Optional[tuple] = None) -> np.ndarray:
     """The light paths of exactly ``depth`` segments (projector, ``depth - 1`` surface vertices,
     camera), light traced: float32 (H, W) radiance.
 
@@ -138,11 +292,17 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
         Seed of the sampler.
     depth : int
         Segments of the paths (>= 2; 2 is the direct light, 3 one bounce).
+    mis : (pixels, camera_spp, projector_fov_x_deg), optional
+        At ``depth = 3`` only: weight the splats on ``pixels`` ((H, W) bool) for multiple importance
+        sampling against :func:`bounce_mis` at ``camera_spp`` there (the other pixels' splats are
+        unchanged, bit for bit).
     """
     import drjit as dr
 
     if int(depth) < 2:
         raise ValueError(f"`depth` must be >= 2 (projector, a surface, the camera), got {depth!r}")
+    if mis is not None and int(depth) != 3:
+        raise ValueError(f"`mis` needs `depth` = 3 (one bounce), got {depth!r}")
     sensor = scene.sensors()[0]
     width, height = (int(v) for v in sensor.film().size())
     sampler, spp = _wavefront_sampler(sensor, spp, seed, lambda n: width * height * n)
@@ -157,6 +317,7 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
         d_world = si.to_world(bs.wo)
         throughput *= value * _adjoint_shading(mi, dr, si, d_world, bs.wo, dr.dot(si.n, -ray.d))
         active &= dr.max(throughput) != 0
+        previous, pdf_previous, d_previous = si, bs.pdf, d_world
         ray = si.spawn_ray(d_world)
         si = scene.ray_intersect(ray, active)
         active &= si.is_valid()
@@ -172,6 +333,22 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int) -> np.ndarray:
     value = _first_channel(dr.select(active, value, 0.0))
     x = mi.Int32(dr.floor(ds.uv.x))
     y = mi.Int32(dr.floor(ds.uv.y))
+    if mis is not None:
+        mis_pixels, camera_spp, fov = mis
+        mis_pixels = np.asarray(mis_pixels, bool)
+        if mis_pixels.shape != (height, width):
+            raise ValueError(f"`mis` pixels must have shape {(height, width)}, got {mis_pixels.shape}")
+        dens = _BounceDensities(mi, dr, scene, fov)
+        inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+        on_mis = inside & dr.gather(mi.Bool, mi.Bool(mis_pixels.reshape(-1)),
+                                    mi.UInt32(dr.select(inside, y * width + x, 0)), inside)
+        at_x1 = mi.SurfaceInteraction3f(si)
+        at_x1.wi = local  # the camera path arrives from the camera
+        pdf1 = si.bsdf(ray).pdf(mi.BSDFContext(), at_x1, si.to_local(-d_previous), on_mis)
+        camera = int(camera_spp) * dens.camera(si.p, si.n) * pdf1 * dr.abs(dr.dot(previous.n, d_previous))
+        light = (spp * dens.n_pixels * dens.light(previous.p, previous.n) * pdf_previous
+                 * dr.abs(dr.dot(si.n, d_previous)))
+        value = dr.select(on_mis & (camera + light > 0), value * light / (camera + light), value)
     dr.eval(value, x, y)  # one kernel for all three
     x, y = np.array(x).reshape(-1).astype(np.int64), np.array(y).reshape(-1).astype(np.int64)
     pixel = np.where((x >= 0) & (x < width) & (y >= 0) & (y < height), y * width + x, -1)
@@ -207,20 +384,10 @@ def camera_paths(mi, scene, integrator, pixels: np.ndarray, spp: int, seed: int)
 
     sensor = scene.sensors()[0]
     width, height = (int(v) for v in sensor.film().size())
-    pixels = np.asarray(pixels, bool)
-    if pixels.shape != (height, width):
-        raise ValueError(f"`pixels` must have the film's shape {(height, width)}, got {pixels.shape}")
-    index = np.flatnonzero(pixels).astype(np.uint32)
-    if len(index) == 0:
-        _check_spp(spp)
+    rays = _pixel_rays(mi, dr, sensor, pixels, spp, seed)
+    if rays is None:
         return np.zeros((height, width), np.float32)
-    sampler, spp = _wavefront_sampler(sensor, spp, seed, lambda n: len(index) * n)
-    lanes = np.repeat(index, spp)
-    pixel = mi.UInt32(lanes)
-    position = mi.Point2f(mi.Float(pixel % width), mi.Float(pixel // width)) + sampler.next_2d()
-    ray, weight = sensor.sample_ray_differential(mi.Float(0.0), mi.Float(0.0),
-                                                 position / mi.ScalarVector2f(width, height), mi.Point2f(0.5))
-    ray.scale_differential(dr.rsqrt(spp))
+    sampler, spp, lanes, ray, weight = rays
     radiance, _, _ = integrator.sample(scene, sampler, ray, None, mi.Bool(True))
     value = _first_channel(radiance * weight)
     dr.eval(value)

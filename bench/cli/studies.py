@@ -1,4 +1,4 @@
-"""The study commands: ``estimators``, ``translucency``, ``tune``, ``perf {trackers,scenes,sweep,shiny}``.
+"""The study commands: ``estimators``, ``translucency``, ``tune``, ``perf {trackers,scenes,sweep,shiny,sampling,lit,mis}``.
 
 Each study keeps its options and its work in its own module
 (:mod:`bench.studies`: ``add_arguments(parser)`` and ``command(args)``, from which
@@ -37,6 +37,8 @@ PERF = (
            renders=True),
     _study("bench.studies.perf.lit", "lit", "check that Scene.lit_pixels holds every pixel with direct laser light",
            renders=True),
+    _study("bench.studies.perf.mis", "mis",
+           "shiny objects' bounce light by camera and light paths with MIS, against their own pass", renders=True),
 )
 
 COMMANDS = (
@@ -44,7 +46,7 @@ COMMANDS = (
     _study("bench.studies.translucency", "translucency", "the subsurface-scattering bias study", renders=True),
     _study("bench.studies.tune", "tune", "choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
            renders=True),
-    Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`, `perf lit`",
+    Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`, `perf lit`, `perf mis`",
             lambda parser: parser.add_argument("--strict", action="store_true",
                                                help="with no WHAT: `perf trackers --strict` (exit 1 if a target "
                                                     "is missed)"), None,

@@ -443,7 +443,8 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
                 if case.object is not None:
                     n_lit = int(case.object.lit.sum())
                     check += f"; object: {n_lit} lit rows" + (
-                        f", sensor centroid sd {case.object.centroid_sd:.3f} px" if n_lit else " (no centroid measured)")
+                        f", sensor centroid sd {case.object.centroid_sd:.3f} px" if n_lit
+                        else " (no centroid measured)")
                 print(f"  {case.label}: {int(case.lit.sum())} lit rows, sensor centroid sd "
                       f"{case.centroid_sd:.3f} px{check}", file=sys.stderr, flush=True)
             checks.append(case.check)

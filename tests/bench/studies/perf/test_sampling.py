@@ -166,7 +166,7 @@ def test_a_shiny_materials_measurement_has_its_objects_passes(monkeypatch):
     # the procedure on tiny frames (its renders and bookkeeping, not its numbers): every laser
     # candidate and, per object on its geometry, every object count, each with its metrics
     real_make = scenes.make
-    monkeypatch.setattr(scenes, "make", lambda *a, **k: real_make(*a, **{**k, "width": 48, "height": 45}))
+    monkeypatch.setattr(scenes, "make", lambda *a, **k: real_make(*a, **{**k, "width": 64, "height": 60}))
     monkeypatch.setattr(S, "OBJECT_SPP", (1, 2))
     monkeypatch.setattr(S, "laser_candidates", lambda m: [("split_hybrid", (2, 1, 1))])
     monkeypatch.setattr(S, "AMBIENT_CANDIDATES", (1,))

@@ -328,8 +328,9 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int, mis: Optional[tup
     active &= ~scene.ray_test(to_camera, active)
     local = si.to_local(to_camera.d)
     wi_geo = dr.dot(si.n, si.to_world(si.wi))
+    bsdf = si.bsdf(ray)
     value = (throughput * sensor_weight * _adjoint_shading(mi, dr, si, to_camera.d, local, wi_geo)
-             * si.bsdf(ray).eval(ctx, si, local, active) / spp)
+             * bsdf.eval(ctx, si, local, active) / spp)
     value = _first_channel(dr.select(active, value, 0.0))
     x = mi.Int32(dr.floor(ds.uv.x))
     y = mi.Int32(dr.floor(ds.uv.y))
@@ -344,7 +345,7 @@ def light_indirect(mi, scene, spp: int, seed: int, depth: int, mis: Optional[tup
                                     mi.UInt32(dr.select(inside, y * width + x, 0)), inside)
         at_x1 = mi.SurfaceInteraction3f(si)
         at_x1.wi = local  # the camera path arrives from the camera
-        pdf1 = si.bsdf(ray).pdf(mi.BSDFContext(), at_x1, si.to_local(-d_previous), on_mis)
+        pdf1 = bsdf.pdf(mi.BSDFContext(), at_x1, si.to_local(-d_previous), on_mis)
         camera = int(camera_spp) * dens.camera(si.p, si.n) * pdf1 * dr.abs(dr.dot(previous.n, d_previous))
         light = (spp * dens.n_pixels * dens.light(previous.p, previous.n) * pdf_previous
                  * dr.abs(dr.dot(si.n, d_previous)))
@@ -460,6 +461,7 @@ class LoadedScene:
         # ptracer splats with atomic adds: their order (hence the float sum) varies between
         # threads; one LLVM thread makes it bit-reproducible (about 2x slower on 2 cores).
         self._scene_kind = scene_dict.get("integrator", {}).get("type")
+        self._projector_fov = scene_dict.get("laser", {}).get("fov")  # a laser scene's projector
 
     def set_pose(self, updates: Dict[str, np.ndarray]) -> None:
         """Apply ``{traverse key: 4x4 matrix}`` updates (keys the scene lacks are skipped)."""
@@ -527,6 +529,22 @@ class LoadedScene:
         self.set_pose(updates)
         with _ctrl_c():
             return light_indirect(self._mi, self._scene, spp, seed, depth)
+
+    def bounce_mis(self, updates: Dict[str, np.ndarray], pixels: np.ndarray, camera_spp: int, light_spp: int,
+                   seed: int) -> np.ndarray:
+        """The one-bounce laser light on ``pixels`` by camera paths and light paths weighted by the balance
+        heuristic (:func:`bounce_mis` at ``camera_spp`` with seed ``seed``, :func:`light_indirect` with
+        ``mis`` at ``light_spp`` with seed ``seed + 1``): float32 (H, W) radiance, 0 off ``pixels``. JIT
+        variants of a laser scene (its projector) only.
+        """
+        if self._projector_fov is None or self.variant.startswith("scalar"):
+            raise ValueError(f"bounce_mis needs a laser scene on a JIT variant, this is {self.variant}")
+        self.set_pose(updates)
+        with _ctrl_c():
+            camera = bounce_mis(self._mi, self._scene, pixels, camera_spp, seed, light_spp, self._projector_fov)
+            light = light_indirect(self._mi, self._scene, light_spp, seed + 1, 3,
+                                   mis=(pixels, camera_spp, self._projector_fov))
+        return camera + np.where(np.asarray(pixels, bool), light, 0.0).astype(np.float32)
 
     def _render(self, spp: int, seed: int, kwargs: dict):
         """``mi.render``, with Ctrl-C always a :class:`KeyboardInterrupt` (:func:`_ctrl_c`)."""

@@ -267,3 +267,23 @@ def test_the_mis_passes_name_a_bad_argument(polished_hand, call, match):
     loaded, _, objpx, fov = polished_hand
     with pytest.raises(ValueError, match=match):
         call(backend, loaded._mi, loaded._scene, objpx, fov)
+
+
+def test_a_loaded_scene_renders_both_halves_of_the_mis_bounce_light(polished_hand):
+    from scenes.backend import bounce_mis, light_indirect
+
+    loaded, pose, objpx, fov = polished_hand
+    both = loaded.bounce_mis(pose, objpx, 4, 2, 5)
+    camera = bounce_mis(loaded._mi, loaded._scene, objpx, 4, 5, 2, fov)
+    light = light_indirect(loaded._mi, loaded._scene, 2, 6, 3, mis=(objpx, 4, fov))
+    assert np.array_equal(both, camera + np.where(objpx, light, 0.0).astype(np.float32))
+    assert both[objpx].any() and not both[~objpx].any()
+
+
+def test_only_a_laser_scene_renders_the_mis_bounce_light():
+    import scenes
+
+    s = scenes.make("cone", material="polished", width=64, height=60, cache=False)
+    ambient = s._load(4)[1]
+    with pytest.raises(ValueError, match="bounce_mis needs a laser scene on a JIT variant"):
+        ambient.bounce_mis(D.pose_updates(s.rig, 0.0), np.ones((60, 64), bool), 4, 2, 0)

@@ -20,7 +20,6 @@ z off, centroid shift in units of the sensor's; stripe energy), the other pixels
 
 from __future__ import annotations
 
-import sys
 import time
 from typing import Optional, Sequence
 
@@ -31,21 +30,15 @@ __all__ = ["add_arguments", "command", "main", "render_mis"]
 
 def render_mis(case, camera_spp: int, light_spp: int, seed: int) -> np.ndarray:
     """The object's pixels of ``case`` (:class:`bench.studies.perf.sampling._Case` of a shiny material) by
-    the direct light plus the MIS-weighted bounce light: unit radiance (H, W), 0 off the object's pixels."""
-    from scenes import backend, description
-    from scenes.scene import _laser_profile, render_pass
+    the direct light plus the MIS-weighted bounce light (:meth:`scenes.backend.LoadedScene.bounce_mis`):
+    unit radiance (H, W), 0 off the object's pixels."""
+    from scenes import description
+    from scenes.scene import render_pass
 
-    s, theta, objpx = case.scene, case.theta, case.split
+    objpx = case.split
     direct = render_pass(case.laser_scene, case.pose, description.LaserPass("path", description.DIRECT_DEPTH, "all"),
-                         objpx & s.lit_pixels(theta), camera_spp, seed)
-    fov = _laser_profile(s.params["line_fwhm_mrad"], s.params["laser_fan_deg"]).fov_x_deg
-    loaded = case.laser_scene
-    loaded.set_pose(case.pose)
-    mi, scene = loaded._mi, loaded._scene
-    camera = backend.bounce_mis(mi, scene, objpx, camera_spp, seed + 1, light_spp, fov)
-    light = backend.light_indirect(mi, scene, light_spp, seed + 2, description.MAX_DEPTH,
-                                   mis=(objpx, camera_spp, fov))
-    return direct + camera + np.where(objpx, light, 0.0).astype(np.float32)
+                         objpx & case.scene.lit_pixels(case.theta), camera_spp, seed)
+    return direct + case.laser_scene.bounce_mis(case.pose, objpx, camera_spp, light_spp, seed + 1)
 
 
 def add_arguments(parser) -> None:

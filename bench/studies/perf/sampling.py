@@ -361,17 +361,14 @@ class _Case:
             passes = (description.LaserPass(label, description.MAX_DEPTH, "all"),)
         return list(zip(passes, spps))
 
-    def combine(self, label: str, parts) -> np.ndarray:
+    def combine(self, parts) -> np.ndarray:
         """Noise-free laser DN of a candidate from its component renders (each zero off its pixels):
         their sum, as ``Scene.render`` sums its passes."""
-        img = np.zeros_like(parts[0])
-        for part in parts:
-            img += part
-        return img * self.laser_scale
+        return np.add.reduce(parts) * self.laser_scale
 
     def laser(self, label: str, spps: Tuple[int, ...], seed: int) -> np.ndarray:
         """Noise-free laser DN of a candidate."""
-        return self.combine(label, [self.render(p, n, seed) for p, n in self.components(label, spps)])
+        return self.combine([self.render(p, n, seed) for p, n in self.components(label, spps)])
 
     def ambient(self, spp: int, seed: int) -> np.ndarray:
         return self.ambient_scene.render(self.pose, spp, seed).astype(np.float64) * self.ambient_scale
@@ -449,23 +446,22 @@ def measure(material: str, n_angles: int, ref_spp: int, ref_ambient_spp: int, pr
                       f"{case.centroid_sd:.3f} px{check}", file=sys.stderr, flush=True)
             checks.append(case.check)
             done: Dict[tuple, tuple] = {}  # component render -> (image, CPU s), shared by the candidates
+
+            def rendered(comp):
+                if comp not in done:
+                    case.render(*comp, 7)  # compile the kernels first
+                    done[comp] = _timed(lambda: case.render(*comp, 11))
+                return done[comp]
+
             for cand in (() if material in AMBIENT_ONLY else laser_candidates(material)):
-                for comp in case.components(*cand):
-                    if comp not in done:
-                        case.render(*comp, 7)  # compile the kernels first
-                        done[comp] = _timed(lambda: case.render(*comp, 11))
-                parts = [done[c] for c in case.components(*cand)]
-                img, cost = case.combine(cand[0], [p[0] for p in parts]), sum(p[1] for p in parts)
+                parts = [rendered(c) for c in case.components(*cand)]
+                img, cost = case.combine([p[0] for p in parts]), sum(p[1] for p in parts)
                 rec = laser.setdefault(cand, {"worst": None, "costs": []})
                 rec["costs"].append(cost)
                 rec["worst"] = _worst(rec["worst"], case.laser_metrics(img))
             if case.object is not None:
                 for spp in OBJECT_SPP:
-                    comp = (case.object_pass, spp)
-                    if comp not in done:
-                        case.render(*comp, 7)
-                        done[comp] = _timed(lambda: case.render(*comp, 11))
-                    img, cost = done[comp]
+                    img, cost = rendered((case.object_pass, spp))
                     rec = objects.setdefault(case.key, {}).setdefault(("path", (spp,)), {"worst": None, "costs": []})
                     rec["costs"].append(cost)
                     rec["worst"] = _worst(rec["worst"], case.object_metrics(img))

@@ -13,9 +13,10 @@ A real set is a folder::
                       any other column is ignored (:func:`ignored_columns`)
     NAME.png          the laser-on photograph
     NAME_off.png      optional laser-off frame of the same view (has_background = 1)
-    NAME_ref.csv      header ``row,col``: one line per row of the tracker's frame
+    NAME_ref.csv      header ``row,col[,state]``: one line per row of the tracker's frame
                       (NAME.png turned by ``rotate``), ``col`` in px, empty where
-                      there is no reference
+                      there is no reference; ``state`` stripe, none or unknown
+                      (:func:`read_reference_states`; without it, the fallback rule)
 
 Coordinates follow the trackers: row 0 at the top, an integer column is the
 centre of that pixel.
@@ -31,10 +32,12 @@ from pathlib import Path
 import numpy as np
 
 from bench.errors import StripebenchError
+from bench.evaluate.outcomes import GAP_ROWS, NO_STRIPE, STATES, fallback_states
 
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
-           "load_dataset", "ignored_columns", "validate_dataset", "read_reference", "synthetic_hit_rates"]
+           "load_dataset", "ignored_columns", "validate_dataset", "read_reference", "read_reference_states",
+           "synthetic_hit_rates"]
 
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
@@ -308,17 +311,45 @@ class RealImage:
         ref = read_reference(self.reference_path, frame.shape)
         return frame, bg, original, ref
 
+    def reference(self, shape, gap_rows: int = GAP_ROWS) -> tuple[np.ndarray, np.ndarray]:
+        """The reference's columns and row states for the tracker frame's ``shape``
+        (:func:`read_reference_states`)."""
+        cols, states, _ = read_reference_states(self.reference_path, shape, gap_rows)
+        return cols, states
+
 
 def read_reference(path, shape) -> np.ndarray:
-    """The reference columns of ``NAME_ref.csv`` for a frame of ``shape`` (H, W).
-
-    The file has the header ``row,col`` and one line per row ``0 .. H-1`` in
-    order; ``col`` is a number in ``[-0.5, W - 0.5]`` or empty (no reference).
+    """The reference columns of ``NAME_ref.csv`` for a frame of ``shape`` (H, W):
+    :func:`read_reference_states` without the states.
 
     Returns
     -------
     ndarray of float64, shape (H,)
         NaN where there is no reference.
+    """
+    return read_reference_states(path, shape)[0]
+
+
+def read_reference_states(path, shape, gap_rows: int = GAP_ROWS) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The reference of ``NAME_ref.csv`` for a frame of ``shape`` (H, W): columns and row states.
+
+    The file has the header ``row,col`` or ``row,col,state`` and one line per row
+    ``0 .. H-1`` in order; ``col`` is a number in ``[-0.5, W - 0.5]`` or empty. ``state``
+    is ``stripe`` (``col`` given), ``none`` (the row has no stripe: a report there is a
+    false one) or ``unknown`` (ambiguous, or occluded and unsure: not scored); ``none``
+    and ``unknown`` rows leave ``col`` empty. A file without the ``state`` column is read
+    with the fallback rule (:func:`bench.evaluate.outcomes.fallback_states`: a row without
+    a column at least ``gap_rows`` rows from every row with one has no stripe, any
+    other such row is unknown).
+
+    Returns
+    -------
+    columns : ndarray of float64, shape (H,)
+        NaN where there is no reference.
+    states : ndarray of int8, shape (H,)
+        :data:`bench.evaluate.outcomes.STRIPE`, ``NO_STRIPE`` or ``UNSURE`` per row.
+    explicit : bool
+        Whether the file gives the states (else they are the fallback's).
 
     Raises
     ------
@@ -334,22 +365,34 @@ def read_reference(path, shape) -> np.ndarray:
     except UnicodeDecodeError as exc:
         raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
     rows = list(csv.reader(text.splitlines()))
-    if not rows or [h.strip() for h in rows[0]] != ["row", "col"]:
-        raise DatasetError([f"{p.name}: header must be 'row,col', got {','.join(rows[0]) if rows else ''!r}"])
+    header = [h.strip() for h in rows[0]] if rows else []
+    if header not in (["row", "col"], ["row", "col", "state"]):
+        raise DatasetError([f"{p.name}: header must be 'row,col' or 'row,col,state', "
+                            f"got {','.join(rows[0]) if rows else ''!r}"])
+    explicit = len(header) == 3
     body = [r for r in rows[1:] if r]
     if len(body) != H:
         raise DatasetError([f"{p.name}: {len(body)} rows for an image of height {H} (one line per row expected)"])
     out = np.full(H, np.nan)
+    states = np.full(H, NO_STRIPE, dtype=np.int8)
     for i, r in enumerate(body):
         line = i + 2
-        if len(r) != 2:
-            raise DatasetError([f"{p.name} line {line}: expected 2 fields, got {r!r}"])
+        if len(r) != len(header):
+            raise DatasetError([f"{p.name} line {line}: expected {len(header)} fields, got {r!r}"])
         try:
             row = int(r[0])
         except ValueError:
             raise DatasetError([f"{p.name} line {line}: row must be an integer, got {r[0]!r}"]) from None
         if row != i:
             raise DatasetError([f"{p.name} line {line}: rows must run 0..{H - 1} in order, got {row}"])
+        if explicit:
+            st = r[2].strip()
+            if st not in STATES:
+                raise DatasetError([f"{p.name} line {line}: state must be one of {', '.join(STATES)}, got {r[2]!r}"])
+            states[i] = STATES[st]
+            if (st == "stripe") != (r[1].strip() != ""):
+                raise DatasetError([f"{p.name} line {line}: a {st!r} row must {'' if st == 'stripe' else 'not '}"
+                                    f"have a col, got {r[1]!r}"])
         if r[1].strip() == "":
             continue
         try:
@@ -359,7 +402,9 @@ def read_reference(path, shape) -> np.ndarray:
         if not math.isfinite(col) or not -0.5 <= col <= W - 0.5:
             raise DatasetError([f"{p.name} line {line}: col must lie in [-0.5, {W - 0.5}], got {r[1]!r}"])
         out[i] = col
-    return out
+    if not explicit:
+        states = fallback_states(out, gap_rows)
+    return out, states, explicit
 
 
 def _manifest(root: Path) -> tuple[list[dict], list[str]]:

@@ -1,0 +1,451 @@
+"""Row outcomes: both halves of detection, scored on every row.
+
+Every row of every frame is one of five outcomes (:data:`OUTCOMES`), decided by the
+row's *state* (does it have a stripe?) and by what the tracker reported there:
+
+============  =====================  ===============================================
+outcome       state                  the tracker
+============  =====================  ===============================================
+``hit``       stripe                 reports a column within ``tol_px`` of the truth
+``wrong``     stripe                 reports a column further off (a false lock is one)
+``missed``    stripe                 reports nothing
+``false``     no stripe              reports a column: a false 3-D point
+``quiet``     no stripe              reports nothing
+``unknown``   unknown                (a real reference that is not sure: not scored)
+============  =====================  ===============================================
+
+From the counts: ``precision = hit / (hit + wrong + false)`` (reports that are right),
+``recall = hit / (hit + wrong + missed)`` (stripe rows found: the hit rate),
+``f1`` their harmonic mean (``2 hit / (2 hit + wrong + false + wrong + missed)``: a wrong
+row is a false positive and a miss at once) and the ``false_report_rate = false / (false +
+quiet)`` (stripe-less rows that get a column). :func:`average_precision` ranks the
+reports by the tracker's per-row ``score`` (the threshold-free figure) and
+:func:`bootstrap_frames` gives any of these an interval over frames or photographs.
+
+Row states: a render's truth is exact (a column where a lit visible stripe is, NaN
+where none is). A real set's reference has an explicit third state, *unknown*
+(ambiguous, or occluded and unsure); a reference with columns only is read with
+:func:`fallback_states` (a NaN row at least ``gap_rows`` rows from any stripe row is
+*no stripe*, any other NaN row *unknown*).
+
+Pure functions: arrays in, numbers out.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from bench.evaluate.metrics import HIT_PX, hits
+
+__all__ = ["HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
+           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "row_outcomes",
+           "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
+           "COUNT_KEYS", "FIGURE_KEYS"]
+
+# outcome codes (int8): the index into OUTCOMES
+HIT, WRONG, MISSED, FALSE, QUIET, UNKNOWN = range(6)
+#: The outcome names, by code.
+OUTCOMES = ("hit", "wrong", "missed", "false", "quiet", "unknown")
+#: The count columns of a record: ``n_hit``, ``n_wrong``, ... (``n_unknown`` last).
+COUNT_KEYS = tuple(f"n_{o}" for o in OUTCOMES)
+#: The detection figures of :func:`detection_figures`.
+FIGURE_KEYS = ("precision", "recall", "f1", "false_report_rate")
+
+# row states (int8)
+NO_STRIPE, STRIPE, UNSURE = 0, 1, -1
+#: A state's name in a reference file -> its code.
+STATES = {"stripe": STRIPE, "none": NO_STRIPE, "unknown": UNSURE}
+#: A state's code -> its name.
+STATE_NAMES = {v: k for k, v in STATES.items()}
+#: The fallback's distance (rows) from any stripe row beyond which a NaN reference row has no stripe.
+GAP_ROWS = 15
+
+
+def truth_states(truth) -> np.ndarray:
+    """The states of exact truth: :data:`STRIPE` where ``truth`` has a column, :data:`NO_STRIPE` where NaN.
+
+    Examples
+    --------
+    >>> truth_states([3.0, np.nan]).tolist()
+    [1, 0]
+    """
+    t = np.asarray(truth, dtype=np.float64)
+    return np.where(np.isnan(t), NO_STRIPE, STRIPE).astype(np.int8)
+
+
+def fallback_states(reference, gap_rows: int = GAP_ROWS) -> np.ndarray:
+    """The states of a reference that has columns only (NaN where it has none).
+
+    A row with a column is :data:`STRIPE`; a NaN row at least ``gap_rows`` rows from
+    every stripe row (``|r - s| >= gap_rows``) is :data:`NO_STRIPE`; every other NaN row
+    is :data:`UNSURE` (the stripe may fade there without the reference saying so). A
+    reference with no column at all has no stripe anywhere.
+
+    Parameters
+    ----------
+    reference : array_like, shape (H,) or (F, H)
+        Reference columns (px), NaN where there is none; rows along the last axis.
+    gap_rows : int
+        The least distance, in rows, >= 1.
+
+    Returns
+    -------
+    numpy.ndarray of int8, the shape of ``reference``
+
+    Examples
+    --------
+    >>> ref = np.full(40, np.nan); ref[10:20] = 5.0
+    >>> s = fallback_states(ref, gap_rows=15)
+    >>> s[:10].tolist() == [-1] * 10, s[10:20].tolist() == [1] * 10, s[20:34].tolist() == [-1] * 14, s[34:].tolist()
+    (True, True, True, [0, 0, 0, 0, 0, 0])
+    """
+    if isinstance(gap_rows, bool) or not isinstance(gap_rows, (int, np.integer)) or gap_rows < 1:
+        raise ValueError(f"`gap_rows` must be an integer >= 1, got {gap_rows!r}")
+    ref = np.asarray(reference, dtype=np.float64)
+    if ref.ndim == 0:
+        raise ValueError(f"`reference` must have at least one axis, got shape {ref.shape}")
+    has = ~np.isnan(ref)
+    H = ref.shape[-1]
+    idx = np.arange(H)
+    # distance to the nearest stripe row along the last axis: a forward and a backward sweep
+    big = np.iinfo(np.int64).max // 4
+    last = np.where(has, idx, -big)
+    last = np.maximum.accumulate(last, axis=-1)
+    nxt = np.where(has, idx, big)
+    nxt = np.flip(np.minimum.accumulate(np.flip(nxt, axis=-1), axis=-1), axis=-1)
+    dist = np.minimum(idx - last, nxt - idx)
+    out = np.where(has, STRIPE, np.where(dist >= gap_rows, NO_STRIPE, UNSURE))
+    return out.astype(np.int8)
+
+
+def _states(truth, state) -> np.ndarray:
+    if state is None:
+        return truth_states(truth)
+    s = np.asarray(state)
+    if s.shape != np.shape(truth):
+        raise ValueError(f"`state` must have the shape of `truth` {np.shape(truth)}, got {s.shape}")
+    bad = ~np.isin(s, (NO_STRIPE, STRIPE, UNSURE))
+    if bad.any():
+        raise ValueError(f"`state` must hold {NO_STRIPE} (no stripe), {STRIPE} (stripe) or {UNSURE} (unknown), "
+                         f"got {s[bad].flat[0]!r}")
+    if np.any((s == STRIPE) & np.isnan(np.asarray(truth, dtype=np.float64))):
+        raise ValueError("`state` says stripe where `truth` has no column")
+    return s.astype(np.int8)
+
+
+def row_outcomes(pred, truth, state=None, tol_px: float = HIT_PX) -> np.ndarray:
+    """Each row's outcome code (:data:`HIT` ... :data:`UNKNOWN`).
+
+    Parameters
+    ----------
+    pred : array_like, float, px
+        Reported columns, NaN where the tracker reports nothing; any shape.
+    truth : array_like, float, px
+        True (or reference) columns, the shape of ``pred``; NaN where there is none.
+    state : array_like of int, optional
+        The rows' states (:data:`STRIPE`, :data:`NO_STRIPE`, :data:`UNSURE`); default
+        :func:`truth_states` (exact truth: NaN means no stripe). A stripe row must have
+        a column in ``truth``.
+    tol_px : float
+        The hit rule's distance (:func:`bench.evaluate.metrics.hits`).
+
+    Returns
+    -------
+    numpy.ndarray of int8, the shape of ``pred``
+
+    Examples
+    --------
+    >>> t = [10.0, 10.0, 10.0, np.nan, np.nan, np.nan]
+    >>> p = [11.0, 20.0, np.nan, 4.0, np.nan, 3.0]
+    >>> [OUTCOMES[c] for c in row_outcomes(p, t, [1, 1, 1, 0, 0, -1])]
+    ['hit', 'wrong', 'missed', 'false', 'quiet', 'unknown']
+    """
+    p = np.asarray(pred, dtype=np.float64)
+    t = np.asarray(truth, dtype=np.float64)
+    if p.shape != t.shape:
+        raise ValueError(f"`pred` {p.shape} and `truth` {t.shape} must have one shape")
+    s = _states(t, state)
+    reported = ~np.isnan(p)
+    out = np.full(p.shape, UNKNOWN, dtype=np.int8)
+    stripe = s == STRIPE
+    none = s == NO_STRIPE
+    hit = hits(p, t, tol_px)
+    out[stripe & hit] = HIT
+    out[stripe & reported & ~hit] = WRONG
+    out[stripe & ~reported] = MISSED
+    out[none & reported] = FALSE
+    out[none & ~reported] = QUIET
+    return out
+
+
+def outcome_counts(codes, axis=None):
+    """How many rows have each outcome: a dict ``n_hit, n_wrong, n_missed, n_false, n_quiet,
+    n_unknown`` (ints), or with ``axis`` an int array with the outcomes along a new last axis.
+
+    Examples
+    --------
+    >>> outcome_counts(np.array([0, 0, 3, 4], np.int8))["n_hit"]
+    2
+    >>> outcome_counts(np.array([[0, 3], [4, 4]], np.int8), axis=1).tolist()
+    [[1, 0, 0, 1, 0, 0], [0, 0, 0, 0, 2, 0]]
+    """
+    c = np.asarray(codes)
+    if axis is None:
+        n = np.bincount(c.ravel().astype(np.intp), minlength=len(OUTCOMES))
+        return {k: int(v) for k, v in zip(COUNT_KEYS, n)}
+    return np.stack([np.count_nonzero(c == k, axis=axis) for k in range(len(OUTCOMES))], axis=-1)
+
+
+def _div(a, b):
+    return float(a / b) if b else float("nan")
+
+
+def detection_figures(counts) -> dict[str, float]:
+    """Precision, recall, F1 and the false-report rate of outcome counts (NaN where undefined).
+
+    Parameters
+    ----------
+    counts : dict or array_like
+        :func:`outcome_counts` (a dict with the ``n_*`` keys, or the 6 counts in
+        :data:`OUTCOMES` order).
+
+    Examples
+    --------
+    >>> f = detection_figures({"n_hit": 8, "n_wrong": 1, "n_missed": 1, "n_false": 2, "n_quiet": 8})
+    >>> f["precision"], f["recall"], round(f["f1"], 4), f["false_report_rate"]
+    (0.7272727272727273, 0.8, 0.7619, 0.2)
+    """
+    if isinstance(counts, dict):
+        h, w, m, f, q = (int(counts.get(k, 0)) for k in COUNT_KEYS[:5])
+    else:
+        h, w, m, f, q = (int(v) for v in np.asarray(counts)[:5])
+    return {"precision": _div(h, h + w + f), "recall": _div(h, h + w + m),
+            "f1": _div(2 * h, 2 * h + 2 * w + f + m), "false_report_rate": _div(f, f + q)}
+
+
+def _ranked(scores, codes):
+    """The reported rows of known state, by score, best first: ``(scores, is_hit)`` and the
+    number of stripe rows."""
+    s = np.asarray(scores, dtype=np.float64).ravel()
+    c = np.asarray(codes).ravel()
+    if s.shape != c.shape:
+        raise ValueError(f"`scores` and `codes` must have one size, got {s.size} and {c.size}")
+    n_pos = int(np.count_nonzero((c == HIT) | (c == WRONG) | (c == MISSED)))
+    ranked = (c == HIT) | (c == WRONG) | (c == FALSE)
+    s = s[ranked]
+    tp = c[ranked] == HIT
+    if np.isinf(s).any():
+        raise ValueError("`scores` must be finite where a column is reported, got an infinite score")
+    return s, tp, n_pos
+
+
+def pr_curve(scores, codes) -> dict:
+    """The precision-recall curve over rows, reports ranked by score.
+
+    A report is a true positive when it is a hit and a false positive when it is wrong
+    or false; the positives are the stripe rows (a missed row is never retrieved, so
+    recall ends at the hit rate). Tied scores form one threshold (as
+    :func:`sklearn.metrics.precision_recall_curve`). Reports with a NaN score (a
+    tracker or submission that gives none) all tie below every finite score.
+
+    Parameters
+    ----------
+    scores : array_like, float
+        The tracker's per-row score (higher is more confident), any shape.
+    codes : array_like, int
+        :func:`row_outcomes` of the same rows.
+
+    Returns
+    -------
+    dict
+        ``recall``, ``precision``, ``threshold`` (arrays, one entry per distinct score,
+        best first), ``n_pos`` (stripe rows), ``constant`` (True when every report has
+        the same score, or there is none: a single operating point).
+
+    Examples
+    --------
+    >>> c = pr_curve([3.0, 2.0, 2.0, 1.0], [HIT, HIT, FALSE, HIT])
+    >>> c["recall"].tolist(), c["precision"].tolist()
+    ([0.3333333333333333, 0.6666666666666666, 1.0], [1.0, 0.6666666666666666, 0.75])
+    """
+    s, tp, n_pos = _ranked(scores, codes)
+    nan = np.isnan(s)
+    key = np.where(nan, -np.inf, s)
+    order = np.argsort(-key, kind="stable")
+    key = key[order]
+    tp = tp[order]
+    ctp = np.cumsum(tp)
+    cfp = np.cumsum(~tp)
+    last = np.r_[np.flatnonzero(np.diff(key) != 0), key.size - 1] if key.size else np.zeros(0, np.intp)
+    tps = ctp[last].astype(np.float64)
+    fps = cfp[last].astype(np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        precision = tps / (tps + fps)
+        recall = tps / n_pos if n_pos else np.full(tps.shape, np.nan)
+    return {"recall": recall, "precision": precision, "threshold": key[last] if key.size else np.zeros(0),
+            "n_pos": n_pos, "constant": bool(last.size <= 1)}
+
+
+def _ap_from_steps(recall, precision) -> float:
+    """All-point interpolated AP (PASCAL VOC 2010+, COCO): the area under the precision
+    envelope ``max_{r' >= r} P(r')``, from recall 0."""
+    if recall.size == 0:
+        return 0.0
+    env = np.maximum.accumulate(precision[::-1])[::-1]
+    dr = np.diff(np.r_[0.0, recall])
+    return float(np.sum(dr * env))
+
+
+def average_precision(scores, codes) -> dict:
+    """Average precision of a tracker's reports over rows (all-point interpolation).
+
+    Reports are ranked by ``scores`` (:func:`pr_curve`); AP is the area under the
+    interpolated precision-recall curve from recall 0 to the tracker's last report,
+    ``sum_k (R_k - R_{k-1}) max_{j >= k} P_j`` as in PASCAL VOC (2010 on) and COCO. A
+    stripe row that is never reported adds nothing, so AP <= the hit rate. Where every
+    report has the same score the curve is one point and AP = recall x precision of
+    that single operating point (``constant`` says so).
+
+    Parameters
+    ----------
+    scores : array_like, float
+        Per-row scores, higher is more confident (finite where reported; NaN scores
+        rank last, all tied).
+    codes : array_like, int
+        :func:`row_outcomes` of the same rows.
+
+    Returns
+    -------
+    dict
+        ``ap`` (NaN when there is no stripe row), ``constant`` (bool), ``n_pos``,
+        ``n_reports``.
+
+    Examples
+    --------
+    >>> average_precision([3.0, 2.0, 2.0, 1.0], [HIT, HIT, FALSE, HIT])["ap"]
+    0.8333333333333333
+    >>> r = average_precision([5.0, 5.0, np.nan], [HIT, FALSE, MISSED])
+    >>> r["ap"], r["constant"]
+    (0.25, True)
+    """
+    c = pr_curve(scores, codes)
+    n_rep = int(np.count_nonzero(np.isin(np.asarray(codes), (HIT, WRONG, FALSE))))
+    if not c["n_pos"]:
+        return {"ap": float("nan"), "constant": c["constant"], "n_pos": 0, "n_reports": n_rep}
+    return {"ap": _ap_from_steps(c["recall"], c["precision"]), "constant": c["constant"], "n_pos": c["n_pos"],
+            "n_reports": n_rep}
+
+
+def bootstrap_frames(codes, scores=None, *, n_boot: int = 1000, seed: int = 0, level: float = 0.95) -> dict:
+    """Detection figures and AP of a set of frames, with percentile bootstrap intervals over frames.
+
+    Frames (or photographs) are resampled with replacement (``numpy.random.default_rng(seed)``);
+    each resample pools its frames' rows, so a frame drawn twice counts twice.
+
+    Parameters
+    ----------
+    codes : sequence of array_like, or array_like (F, H)
+        :func:`row_outcomes` of each frame (frames may differ in height).
+    scores : like ``codes``, optional
+        The per-row scores; without them AP is not computed.
+    n_boot : int
+        Resamples, >= 1.
+    seed : int
+    level : float
+        Interval coverage in (0, 1).
+
+    Returns
+    -------
+    dict
+        For each of ``precision, recall, f1, false_report_rate`` (and ``ap`` with
+        scores): the value on all frames and ``<key>_lo``, ``<key>_hi``; the pooled
+        counts (``n_hit`` ...), ``n_frames``, ``ap_constant`` (with scores). Intervals
+        are NaN with fewer than 2 frames.
+
+    Examples
+    --------
+    >>> fr = [np.array([HIT, HIT, QUIET]), np.array([HIT, FALSE, MISSED])]
+    >>> r = bootstrap_frames(fr, n_boot=200, seed=1)
+    >>> r["recall"], r["false_report_rate"], r["n_frames"], r["recall_lo"] <= r["recall"] <= r["recall_hi"]
+    (0.75, 0.5, 2, True)
+    """
+    if isinstance(n_boot, bool) or not isinstance(n_boot, (int, np.integer)) or n_boot < 1:
+        raise ValueError(f"`n_boot` must be an integer >= 1, got {n_boot!r}")
+    if not (isinstance(level, float) and 0 < level < 1):
+        raise ValueError(f"`level` must be a float in (0, 1), got {level!r}")
+    frames = [np.asarray(c).ravel() for c in codes]
+    F = len(frames)
+    counts = np.array([np.bincount(c.astype(np.intp), minlength=len(OUTCOMES)) for c in frames],
+                      dtype=np.int64).reshape(F, len(OUTCOMES))
+    total = counts.sum(axis=0)
+    out: dict = {k: int(v) for k, v in zip(COUNT_KEYS, total)}
+    out["n_frames"] = F
+    fig = detection_figures(total)
+    keys = list(FIGURE_KEYS)
+    if scores is not None:
+        svals = [np.asarray(s, dtype=np.float64).ravel() for s in scores]
+        if len(svals) != F or any(a.size != b.size for a, b in zip(svals, frames)):
+            raise ValueError("`scores` must have one array per frame, each the size of its `codes`")
+        allc = np.concatenate(frames) if F else np.zeros(0, np.int8)
+        alls = np.concatenate(svals) if F else np.zeros(0)
+        ap = average_precision(alls, allc)
+        fig["ap"] = ap["ap"]
+        out["ap_constant"] = ap["constant"]
+        keys.append("ap")
+    out.update(fig)
+    a = (1.0 - level) / 2.0
+    if F < 2:
+        for k in keys:
+            out[f"{k}_lo"] = out[f"{k}_hi"] = float("nan")
+        return out
+    rng = np.random.default_rng(seed)
+    draws = rng.integers(0, F, size=(n_boot, F))
+    weights = np.stack([np.bincount(d, minlength=F) for d in draws])  # (n_boot, F) times each frame is drawn
+    boot_counts = weights @ counts  # (n_boot, 6)
+    h, w, m, f, q = (boot_counts[:, k].astype(np.float64) for k in range(5))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        boots = {"precision": h / (h + w + f), "recall": h / (h + w + m), "f1": 2 * h / (2 * h + 2 * w + f + m),
+                 "false_report_rate": f / (f + q)}
+    if scores is not None:
+        boots["ap"] = _bootstrap_ap(frames, svals, weights)
+    for k in keys:
+        b = boots[k][np.isfinite(boots[k])]
+        lo, hi = (np.quantile(b, [a, 1 - a]) if b.size and math.isfinite(out[k]) else (np.nan, np.nan))
+        out[f"{k}_lo"], out[f"{k}_hi"] = float(lo), float(hi)
+    return out
+
+
+def _bootstrap_ap(frames, scores, weights) -> np.ndarray:
+    """AP of each resample (rows weighted by their frame's draw count), all resamples at once."""
+    frame_of = np.concatenate([np.full(c.size, i) for i, c in enumerate(frames)])
+    c = np.concatenate(frames)
+    s = np.concatenate(scores)
+    pos_rows = np.isin(c, (HIT, WRONG, MISSED))
+    n_pos = weights @ np.bincount(frame_of[pos_rows], minlength=len(frames))  # (n_boot,)
+    ranked = np.isin(c, (HIT, WRONG, FALSE))
+    key = np.where(np.isnan(s[ranked]), -np.inf, s[ranked])
+    order = np.argsort(-key, kind="stable")
+    key = key[order]
+    tp = (c[ranked] == HIT)[order]
+    fr = frame_of[ranked][order]
+    out = np.full(weights.shape[0], np.nan)
+    if key.size == 0:
+        out[n_pos > 0] = 0.0
+        return out
+    last = np.r_[np.flatnonzero(np.diff(key) != 0), key.size - 1]
+    for lo in range(0, weights.shape[0], 256):  # bounded memory: 256 resamples x reports at a time
+        wt = weights[lo:lo + 256][:, fr].astype(np.float64)  # (b, n_reports)
+        ctp = np.cumsum(wt * tp, axis=1)[:, last]
+        cfp = np.cumsum(wt * ~tp, axis=1)[:, last]
+        npos = n_pos[lo:lo + 256].astype(np.float64)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            prec = np.where(ctp + cfp > 0, ctp / (ctp + cfp), 0.0)
+            rec = ctp / npos[:, None]
+        env = np.flip(np.maximum.accumulate(np.flip(prec, axis=1), axis=1), axis=1)
+        dr = np.diff(np.concatenate([np.zeros((rec.shape[0], 1)), rec], axis=1), axis=1)
+        ap = np.sum(dr * env, axis=1)
+        ap[npos == 0] = np.nan
+        out[lo:lo + 256] = ap
+    return out

@@ -25,8 +25,11 @@ class Track:
         pixel units where an integer is the centre of that pixel. NaN where the
         tracker reports no stripe.
     score : ndarray of float64, shape (H,)
-        The tracker's own confidence per row, higher is more confident, NaN
-        exactly where ``columns`` is NaN. Its meaning is documented per tracker.
+        The tracker's own confidence per row: higher is more confident, finite
+        wherever a column is reported and NaN exactly where ``columns`` is NaN.
+        The benchmark ranks a tracker's reports by it (average precision over
+        rows), so only its order matters; its units are documented per tracker
+        (the conformance suite checks the order: ``check_score_meaning``).
 
     Both arrays are stored read-only.
     """
@@ -43,6 +46,8 @@ class Track:
             raise ValueError(f"`score` must have the shape of `columns` {cols.shape}, got {score.shape}")
         if np.isinf(cols).any():
             raise ValueError("`columns` must be finite or NaN, got infinite value(s)")
+        if np.isinf(score).any():
+            raise ValueError("`score` must be finite or NaN, got infinite value(s)")
         missing = np.isnan(cols)
         if not np.array_equal(missing, np.isnan(score)):
             raise ValueError("`score` must be NaN exactly where `columns` is NaN")

@@ -11,10 +11,14 @@ cannot inflate (see :func:`row_statistics` and
   frame. Smooth texture (shading, print, gradients, walls) changes little
   from one pixel to the next and edges are few, so the median difference
   measures the sensor's noise, not the scene (unlike the spread of the
-  pixel values themselves, which measures the texture);
+  pixel values themselves, which measures the texture); the quantisation's
+  own noise is added to it (:func:`detect_rows`);
 * the *runner-up* ``q``: the brightest pixel of the row outside the peak's
   exclusion zone (the contiguous run around the peak above half its contrast
-  over ``b``, widened on each side by that run's length, at least 2 px).
+  over ``b``, widened on each side by that run's length, at least 2 px);
+* the *chain*: rows that pass are kept only where enough of them line up
+  vertically (``min_run``), since a stripe is a curve and the brightest
+  pixels of stripe-less rows scatter.
 
 Conventions as in :mod:`trackers._subpixel`: the image is ``uint8`` or
 ``float64`` (H, W) and every arithmetic is float64, so a ``uint8`` frame and
@@ -29,13 +33,19 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["MAX_SAMPLES", "NOISE_SAMPLES", "RowDetection", "row_statistics", "detect_rows"]
+__all__ = ["MAX_SAMPLES", "NOISE_SAMPLES", "RUN_STEP_PX", "RUN_SKIP", "RowDetection", "row_statistics", "detect_rows"]
 
 #: At most this many pixels of a row enter its median; wider rows are
 #: sampled with a fixed stride.
 MAX_SAMPLES = 64
 #: About this many adjacent-pixel differences of a frame enter its noise.
 NOISE_SAMPLES = 4096
+#: Two candidate rows link into a chain when their half-contrast runs overlap once
+#: widened by this many px per row between them (a stripe tilted up to about 70
+#: degrees from the vertical stays one chain).
+RUN_STEP_PX = 3
+#: A chain may skip this many rows that are not candidates (a dim row inside a stripe).
+RUN_SKIP = 1
 _DIFF_TO_SIGMA = 1.482602218505602 / math.sqrt(2.0)
 
 
@@ -108,6 +118,13 @@ def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
     lo_out, hi_out : (H,) int64
         Output: the half-contrast run around the peak, ``lo..hi`` (inclusive):
         contiguous pixels brighter than ``bg + (peak - bg) / 2``.
+
+    Returns
+    -------
+    bool
+        Whether every pixel of the noise sample is a whole number (an 8- or
+        16-bit frame, a float copy of one, or the difference of two): the
+        frame is then quantised in steps of 1 (see :func:`detect_rows`).
     """
     H, W = image.shape
     step = (W + MAX_SAMPLES - 1) // MAX_SAMPLES
@@ -166,14 +183,62 @@ def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
         total += len(range(0, W - 1, dstep))
     dbuf = np.empty(max(total, 1))
     n = 0
+    integral = True
     for r in range(H):
         row = image[r]
         for j in range(0, W - 1, dstep):
-            dbuf[n] = abs(float(row[j + 1]) - float(row[j]))
+            a = float(row[j])
+            dbuf[n] = abs(float(row[j + 1]) - a)
+            if integral and a != math.floor(a):
+                integral = False
             n += 1
     s = _DIFF_TO_SIGMA * _median(dbuf, n) if n > 0 else 0.0
     for r in range(H):
         noise[r] = s
+    return integral
+
+
+@njit(cache=True, nogil=True)
+def _link_runs(hit, lo, hi, min_run, step, skip, keep):
+    """``keep[r]``: ``hit[r]`` and the chain of hit rows through ``r`` has at least ``min_run`` rows.
+
+    Two hit rows ``r < r'`` with ``r' - r <= skip + 1`` are linked when their runs
+    ``lo..hi`` overlap once widened by ``step * (r' - r)`` px; chains are the
+    connected components of the links (union-find), so the result does not depend
+    on the direction of the rows.
+    """
+    H = hit.shape[0]
+    parent = np.arange(H)
+    for r in range(H):
+        if not hit[r]:
+            continue
+        for d in range(1, skip + 2):
+            q = r + d
+            if q >= H:
+                break
+            if hit[q] and lo[q] - step * d <= hi[r] and lo[r] - step * d <= hi[q]:
+                a = r
+                while parent[a] != a:
+                    a = parent[a]
+                b = q
+                while parent[b] != b:
+                    b = parent[b]
+                if a != b:
+                    if a < b:
+                        parent[b] = a
+                    else:
+                        parent[a] = b
+    size = np.zeros(H, np.int64)
+    root = np.empty(H, np.int64)
+    for r in range(H):
+        a = r
+        while parent[a] != a:
+            a = parent[a]
+        root[r] = a
+        if hit[r]:
+            size[a] += 1
+    for r in range(H):
+        keep[r] = hit[r] and size[root[r]] >= min_run
 
 
 @dataclass(frozen=True)
@@ -187,9 +252,10 @@ class RowDetection:
     peak, bg, runner_up : float64
         Image units.
     noise : float64
-        The frame's pixel noise (the same in every row), floored (image units, > 0).
+        The frame's pixel noise with the quantisation's (the same in every row),
+        floored (image units, > 0).
     hit : bool
-        Whether the row reports a stripe.
+        Whether the row reports a stripe (a candidate in a long enough chain).
     score : float64
         ``(peak - bg) / noise``: the peak's contrast in noise units.
     """
@@ -204,10 +270,11 @@ class RowDetection:
     score: np.ndarray
 
 
-def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=None) -> RowDetection:
+def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=None, *, min_run: int = 1,
+                quantum=None) -> RowDetection:
     """Decide per row whether its brightest pixel is a stripe.
 
-    A row is reported iff its peak's contrast over the row's background,
+    A row is a *candidate* iff its peak's contrast over the row's background,
     ``c = peak - bg``, is positive and
 
     * ``c > k_sigma * noise`` (the peak stands out of the pixel noise), and
@@ -215,11 +282,23 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
       the brightest pixel outside the peak's exclusion zone has less than
       ``1 / prominence`` of its contrast),
 
-    with the statistics of :func:`row_statistics`; ``noise`` is floored at
-    1e-3 of the frame's range (largest peak minus smallest row median) and at
-    the smallest positive float, so noise-free and quantised rows have a
-    finite score. With an explicit ``threshold`` (image units) a row is
-    reported iff ``peak > threshold`` instead.
+    with the statistics of :func:`row_statistics`. ``noise`` is the frame's pixel
+    noise with the quantisation's own noise added, ``sqrt(s^2 + quantum^2 / 12)``
+    (a quantiser of step ``q`` adds a uniform error of standard deviation
+    ``q / sqrt(12)``; in a dark 8-bit frame most adjacent pixels are equal, the
+    median difference is 0, and without this term every one-level excursion of
+    a stripe-less row would stand "infinitely" far out of the noise), floored at
+    1e-3 of the frame's range (largest peak minus smallest row median) and at the
+    smallest positive float, so noise-free rows have a finite score.
+
+    A candidate is reported iff it belongs to a *chain* of at least ``min_run``
+    candidates: two candidates at most :data:`RUN_SKIP` + 1 rows apart are linked
+    when their half-contrast runs overlap once widened by :data:`RUN_STEP_PX` px
+    per row between them (a stripe is a curve; the brightest pixels of stripe-less
+    rows scatter). ``min_run = 1`` reports every candidate.
+
+    With an explicit ``threshold`` (image units) a row is reported iff its peak
+    exceeds it, and nothing else is applied.
 
     Parameters
     ----------
@@ -230,6 +309,12 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
         Least ratio of the peak's contrast to the runner-up's, >= 0 (0 or 1: the
         runner-up never or only when it is as bright rejects the row).
     threshold : float or None
+    min_run : int
+        Least number of linked candidate rows, >= 1.
+    quantum : float or None
+        The frame's quantisation step (image units, >= 0); None: 1 where every
+        sampled pixel is a whole number (an 8- or 16-bit frame, a float copy of one,
+        a difference of two), else 0.
 
     Returns
     -------
@@ -243,6 +328,12 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     [True, False, False]
     >>> detect_rows(img, 5.0, 1.5, threshold=30).hit.tolist()
     [True, True, False]
+    >>> dark = np.full((6, 50), 2, np.uint8); dark[:, 30] = 5; dark[2, 7] = 3  # a dim stripe, one stray level
+    >>> detect_rows(dark, 4.0, 0.0).hit.tolist()
+    [True, True, True, True, True, True]
+    >>> dark[4:, 30] = 2; dark[4:, 9] = 5  # rows 4-5: the peak jumps far away
+    >>> detect_rows(dark, 4.0, 0.0, min_run=3).hit.tolist()
+    [True, True, True, True, False, False]
     """
     H = image.shape[0]
     col = np.empty(H, np.int64)
@@ -250,12 +341,17 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     lo = np.empty(H, np.int64)
     hi = np.empty(H, np.int64)
     peak, bg, noise, runner = (np.empty(H) for _ in range(4))
-    row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
+    integral = row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
+    q = (1.0 if integral else 0.0) if quantum is None else float(quantum)
     floor = max(1e-3 * (float(peak.max()) - float(bg.min())), np.finfo(np.float64).tiny)
-    noise = np.maximum(noise, floor)
+    noise = np.maximum(np.sqrt(noise * noise + q * q / 12.0), floor)
     contrast = peak - bg
     if threshold is None:
         hit = (contrast > 0) & (contrast > k_sigma * noise) & (contrast > prominence * (runner - bg))
+        if min_run > 1:
+            keep = np.empty(H, np.bool_)
+            _link_runs(hit, lo, hi, int(min_run), RUN_STEP_PX, RUN_SKIP, keep)
+            hit = keep
     else:
         hit = peak > float(threshold)
     return RowDetection(col, mid, peak, bg, noise, runner, hit, contrast / noise)

@@ -29,7 +29,7 @@ class BlaisRiouxTracker(PeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, prominence
+    threshold, k_sigma, prominence, min_run
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes

@@ -47,6 +47,8 @@ ROW_RULES = {"crossing": R.RULE_CROSSING, "mean": R.RULE_MEAN, "brightest": R.RU
 
 __all__ = [
     "DEFAULT_H_WEIGHT",
+    "DEFAULT_REPORT",
+    "PAPER_REPORT",
     "node_cost",
     "shortest_path",
     "shortest_path_reference",
@@ -64,6 +66,12 @@ _TIE_TOL = 1e-11  # relative tolerance deciding that two path costs tie
 #: to the larger h_weight). Measured: 1: 0.944, 0.5: 0.957, 0.25: 0.969, 0.1: 0.974,
 #: 0.05: 0.974, 0.025: 0.970, 0.01: 0.965 (docs/tune_dp.png).
 DEFAULT_H_WEIGHT = 0.25
+#: The DP trackers' reporting rule (``k_sigma``, ``max_gap``, ``min_run``): the paper's
+#: bridging of every row between the first and the last supporting one.
+DEFAULT_REPORT = {"k_sigma": 3.0, "max_gap": None, "min_run": 1}
+#: The paper's own reporting: every row between the first and the last supporting one
+#: (``dp4_oneframe`` in the paper run, with ``use_background = False``).
+PAPER_REPORT = {"k_sigma": 3.0, "max_gap": None, "min_run": 1}
 
 
 def _check_connectivity(connectivity) -> bool:
@@ -326,8 +334,9 @@ def _reporting_rule(image, contrast, side_sd, span, tracker):
     *supports* the path when its contrast is above ``tracker.k_sigma`` times the frame's
     median side spread; too few supporting rows (``tracker.min_support``) mean no stripe
     (None). Otherwise the rows from the first to the last supporting one are reported,
-    less gaps of unsupported rows longer than ``tracker.max_gap`` and rows walking more
-    than ``tracker.max_walk`` columns. Returns ``(z, support, report)``, all (H,).
+    less gaps of unsupported rows longer than ``tracker.max_gap``, less stretches (runs of
+    reported rows) with fewer than ``tracker.min_run`` supporting rows, and less rows
+    walking more than ``tracker.max_walk`` columns. Returns ``(z, support, report)``, all (H,).
     """
     H = image.shape[0]
     vmax = float(image.max())
@@ -353,6 +362,11 @@ def _reporting_rule(image, contrast, side_sd, span, tracker):
                 if r - gap_start > tracker.max_gap:
                     report[gap_start:r] = False
                 gap_start = None
+    if tracker.min_run > 1:
+        edges = np.flatnonzero(np.diff(np.r_[0, report.astype(np.int8), 0]))
+        for a, b in zip(edges[::2], edges[1::2]):  # each stretch report[a:b]
+            if int(np.count_nonzero(support[a:b])) < tracker.min_run:
+                report[a:b] = False
     if tracker.max_walk is not None:
         report &= span <= tracker.max_walk
     return z, support, report
@@ -398,8 +412,15 @@ class DPTracker(Tracker):
       no stripe and nothing is reported (so a blank frame gives all-NaN);
     * otherwise every row from the first to the last supporting row is
       reported: the path's strength is to bridge the rows in between where the
-      stripe is dim or cut (gaps longer than ``max_gap`` rows, if set, are not
-      reported). Rows above the first and below the last supporting row are not.
+      stripe is dim or cut, except gaps of more than ``max_gap`` unsupported
+      rows (if set) and stretches of reported rows with fewer than ``min_run``
+      supporting rows (a path crossing the dark picks up a few noise peaks
+      that support it by chance). Rows above the first and below the last
+      supporting row are not reported. The defaults of ``k_sigma``,
+      ``max_gap`` and ``min_run`` are the operating point chosen by
+      ``stripebench tune dp_gap`` (:data:`DEFAULT_REPORT`); ``k_sigma = 3,
+      max_gap = None, min_run = 1`` bridges every row between the first and the
+      last supporting row, as the paper's DP crosses every row.
 
     ``score`` is the contrast ``(I_p - b_r) / s`` in noise units (low or
     negative in bridged rows).
@@ -422,11 +443,14 @@ class DPTracker(Tracker):
     ----------
     eps : float, default 1.0
         Node-cost offset in image units (1 DN for 8-bit frames), > 0.
-    k_sigma : float, default 3.0
+    k_sigma : float, default ``DEFAULT_REPORT["k_sigma"]``
+        A row supports the path when its contrast exceeds ``k_sigma`` noise units (>= 0).
     min_support : float, default 0.05
         Least fraction of rows that must support the path.
-    max_gap : int or None, default None
-        Longest run of unsupported rows reported between supported rows.
+    max_gap : int or None, default ``DEFAULT_REPORT["max_gap"]``
+        Longest run of unsupported rows reported between supported rows (None: any).
+    min_run : int, default ``DEFAULT_REPORT["min_run"]``
+        Least number of supporting rows in a reported stretch (>= 1).
     side_inner, side_outer : int, default 4 and 12
         The background pixels' distance from the path, in columns.
     h_weight : float, default :data:`DEFAULT_H_WEIGHT` (0.25)
@@ -450,13 +474,15 @@ class DPTracker(Tracker):
     connectivity = 4
     uses_background = True
 
-    def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 h_weight=DEFAULT_H_WEIGHT, use_background=True, row_rule="crossing", max_walk=None):
+    def __init__(self, eps=1.0, k_sigma=DEFAULT_REPORT["k_sigma"], min_support=0.05,
+                 max_gap=DEFAULT_REPORT["max_gap"], side_inner=4, side_outer=12, h_weight=DEFAULT_H_WEIGHT,
+                 use_background=True, row_rule="crossing", max_walk=None, min_run=DEFAULT_REPORT["min_run"]):
         self.eps = eps
         self.h_weight = h_weight
         self.k_sigma = k_sigma
         self.min_support = min_support
         self.max_gap = max_gap
+        self.min_run = min_run
         self.side_inner = side_inner
         self.side_outer = side_outer
         self.use_background = use_background
@@ -467,7 +493,8 @@ class DPTracker(Tracker):
                              "min_support": Real(low=0, high=1), "max_gap": Int(low=0, optional=True),
                              "side_inner": Int(low=1), "side_outer": Int(low=1),
                              "h_weight": Real(low=0, low_open=True), "use_background": Bool(),
-                             "row_rule": Choice(frozenset(ROW_RULES)), "max_walk": Int(low=0, optional=True)}
+                             "row_rule": Choice(frozenset(ROW_RULES)), "max_walk": Int(low=0, optional=True),
+                             "min_run": Int(low=1)}
 
     def validate_params(self):
         """The parameters' constraints (:attr:`parameter_constraints`), then ``side_outer >= side_inner``."""

@@ -29,8 +29,8 @@ from . import _dp_gap as G
 from . import _dp_rows as R
 from ._params import Choice, Real, check_real
 from ._validation import check_image
-from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, ROW_RULES, DPTracker, _check_connectivity, _check_cost, _check_h_weight,
-                 _half_cost, _reporting_rule, _work_arrays)
+from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, PAPER_REPORT, ROW_RULES, DPTracker, _check_connectivity, _check_cost,
+                 _check_h_weight, _half_cost, _reporting_rule, _work_arrays)
 
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
@@ -200,8 +200,10 @@ class DPGapTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
-        As for :class:`~trackers.dp.DPTracker`.
+    eps, k_sigma, min_support, max_gap, min_run, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
+        As for :class:`~trackers.dp.DPTracker`, except that ``k_sigma``, ``max_gap`` and ``min_run``
+        default to the paper's bridging (:data:`trackers.dp.PAPER_REPORT`): the off state is
+        what leaves rows out.
     connectivity : {4, 8}, default 8
     off_rel : float, default :data:`DEFAULT_OFF_REL`
         The off level's place between the background (0) and the typical row
@@ -220,12 +222,14 @@ class DPGapTracker(DPTracker):
 
     name = "dp_gap"
 
-    def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
+    def __init__(self, eps=1.0, k_sigma=PAPER_REPORT["k_sigma"], min_support=0.05, max_gap=PAPER_REPORT["max_gap"],
+                 side_inner=4, side_outer=12,
                  h_weight=DEFAULT_H_WEIGHT, use_background=True, connectivity=8, off_rel=DEFAULT_OFF_REL,
-                 switch_rows=DEFAULT_SWITCH_ROWS, row_rule="crossing", max_walk=None):
+                 switch_rows=DEFAULT_SWITCH_ROWS, row_rule="crossing", max_walk=None,
+                 min_run=PAPER_REPORT["min_run"]):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
-                         use_background=use_background, row_rule=row_rule, max_walk=max_walk)
+                         use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run)
         self.connectivity = connectivity
         self.off_rel = off_rel
         self.switch_rows = switch_rows

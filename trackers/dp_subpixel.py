@@ -8,7 +8,7 @@ from ._base import Track
 from ._params import Choice, Int, Real
 from ._stats import robust_level
 from ._subpixel import ESTIMATORS, refine
-from .dp import DEFAULT_H_WEIGHT, DPTracker
+from .dp import DEFAULT_H_WEIGHT, DEFAULT_REPORT, DPTracker
 
 __all__ = ["DPSubpixelTracker", "DP8SubpixelTracker"]
 
@@ -40,7 +40,7 @@ class DPSubpixelTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
+    eps, k_sigma, min_support, max_gap, min_run, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
         As for :class:`~trackers.dp.DPTracker`.
     estimator : {'gauss3', 'parabolic', 'blais_rioux', 'centroid'}, default 'blais_rioux'
         The sub-pixel estimator (see ``docs/estimators.png``).
@@ -60,12 +60,13 @@ class DPSubpixelTracker(DPTracker):
     close to 0.
     """
 
-    def __init__(self, eps=1.0, k_sigma=3.0, min_support=0.05, max_gap=None, side_inner=4, side_outer=12,
-                 estimator="blais_rioux", search=2, frac=0.5, half_window=7, h_weight=DEFAULT_H_WEIGHT,
-                 use_background=True, row_rule="crossing", max_walk=None):
+    def __init__(self, eps=1.0, k_sigma=DEFAULT_REPORT["k_sigma"], min_support=0.05, max_gap=DEFAULT_REPORT["max_gap"],
+                 side_inner=4, side_outer=12, estimator="blais_rioux", search=2, frac=0.5, half_window=7,
+                 h_weight=DEFAULT_H_WEIGHT, use_background=True, row_rule="crossing", max_walk=None,
+                 min_run=DEFAULT_REPORT["min_run"]):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
-                         use_background=use_background, row_rule=row_rule, max_walk=max_walk)
+                         use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run)
         self.estimator = estimator
         self.search = search
         self.frac = frac

@@ -26,7 +26,7 @@ class ParabolicTracker(PeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, prominence
+    threshold, k_sigma, prominence, min_run
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes

@@ -12,7 +12,12 @@ from ._base import Track
 from ._params import Real
 from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE, ThresholdTracker
 
-__all__ = ["StegerTracker", "gaussian_derivatives", "default_sigma", "acceptance", "estimate_width",
+#: Steger's detection defaults: the noise multiple and prominence of its per-row rule on
+#: the ridge strength and the intensity, and the least chain of rows (chosen by
+#: ``stripebench tune threshold``, its Steger stage).
+DEFAULT_STEGER = {"k_sigma": DEFAULT_K_SIGMA, "prominence": DEFAULT_PROMINENCE, "min_run": 1}
+
+__all__ = ["StegerTracker", "DEFAULT_STEGER", "gaussian_derivatives", "default_sigma", "acceptance", "estimate_width",
            "WIDTH_RANGE", "FALLBACK_WIDTH", "SCALE_PER_WIDTH"]
 
 #: Range of the stripe width (px) that :func:`estimate_width` returns.
@@ -39,11 +44,11 @@ def default_sigma(width: float) -> float:
 
 
 def estimate_width(image: np.ndarray, k_sigma: float = DEFAULT_K_SIGMA,
-                   prominence: float = DEFAULT_PROMINENCE) -> float:
+                   prominence: float = DEFAULT_PROMINENCE, quantum=None) -> float:
     """The stripe's full width at half its contrast, px, measured on a frame.
 
     The median, over the rows that the threshold trackers' per-row rule
-    (:func:`trackers._detect.detect_rows`) reports, of the length of the run
+    (:func:`trackers._detect.detect_rows`, every candidate row) reports, of the length of the run
     of pixels around the row's peak brighter than half its contrast over the
     row's median (a clipped plateau and its flanks included), clipped to
     :data:`WIDTH_RANGE`; :data:`FALLBACK_WIDTH` if no row is reported.
@@ -53,6 +58,8 @@ def estimate_width(image: np.ndarray, k_sigma: float = DEFAULT_K_SIGMA,
     image : ndarray, shape (H, W), uint8 or float64
     k_sigma, prominence : float
         As for :class:`~trackers.threshold.ThresholdTracker`.
+    quantum : float or None
+        The frame's quantisation step (:func:`trackers._detect.detect_rows`).
 
     Examples
     --------
@@ -65,10 +72,12 @@ def estimate_width(image: np.ndarray, k_sigma: float = DEFAULT_K_SIGMA,
     H = image.shape[0]
     col, mid, lo, hi = (np.empty(H, np.int64) for _ in range(4))
     peak, bg, noise, runner = (np.empty(H) for _ in range(4))
-    row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
+    integral = row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
+    q = (1.0 if integral else 0.0) if quantum is None else float(quantum)
     floor = max(1e-3 * (float(peak.max()) - float(bg.min())), np.finfo(np.float64).tiny)
     c = peak - bg
-    hit = (c > 0) & (c > k_sigma * np.maximum(noise, floor)) & (c > prominence * (runner - bg))
+    hit = (c > 0) & (c > k_sigma * np.maximum(np.sqrt(noise * noise + q * q / 12.0), floor)) & \
+        (c > prominence * (runner - bg))
     if not hit.any():
         return FALLBACK_WIDTH
     return float(np.clip(np.median((hi - lo + 1)[hit]), *WIDTH_RANGE))
@@ -261,7 +270,8 @@ class StegerTracker(ThresholdTracker):
     * the ridge strength passes the threshold trackers' per-row rule
       (:func:`trackers._detect.detect_rows`) on the row of the strength
       image: above the row's median by ``k_sigma`` times the pixel noise
-      and ``prominence`` times above any ridge elsewhere in the row;
+      and ``prominence`` times above any ridge elsewhere in the row, in a
+      chain of at least ``min_run`` such rows;
     * the pixel's intensity stands ``k_sigma`` times the pixel noise
       above the row's median (an explicit ``threshold``: exceeds it), which
       also keeps flat frames, where the filters leave rounding-level
@@ -277,9 +287,10 @@ class StegerTracker(ThresholdTracker):
     threshold : float or None, default None
         Explicit intensity threshold in image units (the per-row intensity
         test otherwise).
-    k_sigma, prominence : float
+    k_sigma, prominence, min_run
         As for :class:`~trackers.threshold.ThresholdTracker` (for the
-        intensity and the strength tests).
+        intensity and the strength tests; ``min_run`` for the strength);
+        defaults :data:`DEFAULT_STEGER`.
     sigma : float or None, default None
         Scale of the Gaussian derivatives in pixels, in (0.5, 64].
     width : float or None, default None
@@ -300,9 +311,9 @@ class StegerTracker(ThresholdTracker):
     name = "steger"
     subpixel = True
 
-    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, sigma=None,
-                 width=None, max_tilt=60.0):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence)
+    def __init__(self, threshold=None, k_sigma=DEFAULT_STEGER["k_sigma"], prominence=DEFAULT_STEGER["prominence"],
+                 sigma=None, width=None, max_tilt=60.0, min_run=DEFAULT_STEGER["min_run"]):
+        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run)
         self.sigma = sigma
         self.width = width
         self.max_tilt = max_tilt
@@ -312,17 +323,17 @@ class StegerTracker(ThresholdTracker):
                              "width": Real(low=0, low_open=True, high=256, optional=True),
                              "max_tilt": Real(low=0, high=90, high_open=True)}
 
-    def scale(self, image=None) -> float:
+    def scale(self, image=None, quantum=None) -> float:
         """The derivative filters' scale in pixels (for ``image``, a validated
-        frame, when neither ``sigma`` nor ``width`` is set; else
-        :data:`FALLBACK_WIDTH` is assumed)."""
+        frame with quantisation step ``quantum``, when neither ``sigma`` nor
+        ``width`` is set; else :data:`FALLBACK_WIDTH` is assumed)."""
         if self.sigma is not None:
             return float(self.sigma)
         if self.width is not None:
             return max(0.6, default_sigma(float(self.width)))
         if image is None:
             return max(0.6, default_sigma(FALLBACK_WIDTH))
-        return max(0.6, SCALE_PER_WIDTH * estimate_width(image, float(self.k_sigma), float(self.prominence)))
+        return max(0.6, SCALE_PER_WIDTH * estimate_width(image, float(self.k_sigma), float(self.prominence), quantum))
 
     def find_stripe(self, image, background):
         from ._detect import detect_rows
@@ -335,15 +346,19 @@ class StegerTracker(ThresholdTracker):
         top = float(np.abs(f).max())
         if top == 0.0:
             return Track.empty(H)
+        whole = image.dtype.kind in "ui" and (background is None or background.dtype.kind in "ui") \
+            or bool(np.array_equal(f, np.floor(f)))
         f = f / top
+        quantum = 1.0 / top if whole else 0.0  # the frame's quantisation step, scaled as the frame
         k, prom = float(self.k_sigma), float(self.prominence)
-        sigma = self.scale(f)
+        sigma = self.scale(f, quantum)
         d = gaussian_derivatives(f, sigma)
         strength = np.empty((W, H), np.float32)
         best_col = np.empty(H, np.int64)
         ridge_strength(d, strength, best_col)
-        ds = detect_rows(np.ascontiguousarray(strength.T, dtype=np.float64), k, prom)
-        di = detect_rows(f, k, prom)
+        ds = detect_rows(np.ascontiguousarray(strength.T, dtype=np.float64), k, prom, min_run=int(self.min_run),
+                         quantum=0.0)
+        di = detect_rows(f, k, prom, quantum=quantum)
         img_thr = di.bg + k * di.noise if self.threshold is None else np.full(H, float(self.threshold) / top)
         columns = np.empty(H)
         score = np.empty(H)

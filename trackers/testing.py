@@ -29,7 +29,8 @@ from scipy.special import erf
 from ._base import Track, Tracker
 
 __all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "make_ambient_pair",
-           "stripe_profile", "check_background_use", "check_parameter_constraints"]
+           "make_score_image", "stripe_profile", "check_background_use", "check_parameter_constraints",
+           "check_score_meaning"]
 
 
 def stripe_profile(centre, width: int, sigma_px: float, peak: float) -> np.ndarray:
@@ -254,6 +255,59 @@ def check_vertical_flip(tracker: Tracker) -> None:
     )
 
 
+def make_score_image(height: int = 120, width: int = 128, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """A synthetic 8-bit frame for the score contract, and its true columns.
+
+    The stripe is bright (peak 180 DN) in the top third of the rows, faint (peak
+    45 DN) in the middle third and absent in the bottom third (truth NaN), on a
+    10 DN background with 2 DN of Gaussian noise.
+
+    Examples
+    --------
+    >>> img, truth = make_score_image()
+    >>> img.shape, int(np.isnan(truth).sum())
+    ((120, 128), 40)
+    """
+    rng = np.random.default_rng(seed)
+    rows = np.arange(height)
+    centre = width / 2 + 0.1 * width * np.sin(2 * np.pi * rows / height) + rng.uniform(-0.5, 0.5)
+    peak = np.where(rows < height // 3, 180.0, 45.0)
+    present = rows < 2 * (height // 3)
+    prof = stripe_profile(centre, width, 1.5, 1.0) * (peak * present)[:, None]
+    img = 10.0 + prof + rng.normal(0.0, 2.0, (height, width))
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8), np.where(present, centre, np.nan)
+
+
+def check_score_meaning(tracker: Tracker) -> None:
+    """The score contract: finite wherever a column is reported, higher is more
+    confident. On :func:`make_score_image` (bright, faint and no stripe), unless
+    every report has the same score (allowed: a single operating point), the
+    median score of the reported bright rows exceeds that of the reported faint
+    rows, and a reported stripe row outscores a reported stripe-less row in at
+    least 90 % of such pairs (the ranking average precision is built on)."""
+    img, truth = make_score_image(seed=3)
+    out = tracker.track(img)
+    rep = ~np.isnan(out.columns)
+    assert np.all(np.isfinite(out.score[rep])), f"{_name(tracker)}: a reported row has a non-finite score"
+    if not rep.any() or np.ptp(out.score[rep]) == 0:
+        return
+    H = img.shape[0]
+    rows = np.arange(H)
+    bright = rep & (rows < H // 3)
+    faint = rep & (rows >= H // 3) & (rows < 2 * (H // 3))
+    if bright.sum() >= 5 and faint.sum() >= 5:
+        sb, sf = float(np.median(out.score[bright])), float(np.median(out.score[faint]))
+        assert sb > sf, (f"{_name(tracker)}: the median score of bright stripe rows ({sb:.4g}) is not above that of "
+                         f"faint ones ({sf:.4g}); higher must mean more confident")
+    empty = rep & np.isnan(truth)
+    stripe = rep & ~np.isnan(truth)
+    if empty.any() and stripe.any():
+        a, b = out.score[stripe], out.score[empty]
+        auc = float(np.mean(a[:, None] > b[None, :]) + 0.5 * np.mean(a[:, None] == b[None, :]))
+        assert auc >= 0.9, (f"{_name(tracker)}: a reported stripe row outscores a reported stripe-less row in only "
+                            f"{auc:.0%} of pairs")
+
+
 def check_parameter_constraints(tracker: Tracker) -> None:
     """Every parameter has a constraint in ``parameter_constraints``, the tracker's own
     values satisfy it, and each value the constraint calls invalid is refused by
@@ -367,6 +421,7 @@ _CHECKS: tuple[Callable[[Tracker], None], ...] = (
     check_get_params,
     check_synthetic_accuracy,
     check_vertical_flip,
+    check_score_meaning,
 )
 
 

@@ -5,14 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import Track, Tracker
-from ._params import Real
+from ._params import Int, Real
 
-__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE"]
+__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN"]
 
 #: Default noise multiple of the per-row detection (chosen by ``stripebench tune threshold``).
 DEFAULT_K_SIGMA = 4.0
 #: Default least ratio of the peak's contrast to the runner-up's (chosen by ``stripebench tune threshold``).
 DEFAULT_PROMINENCE = 0.0
+#: Default least number of vertically linked candidate rows (chosen by ``stripebench tune threshold``).
+DEFAULT_MIN_RUN = 1
 
 
 class ThresholdTracker(Tracker):
@@ -28,7 +30,13 @@ class ThresholdTracker(Tracker):
     smooth texture does not inflate) and ``q`` the brightest pixel of the row
     outside the peak's exclusion zone (the run above half the peak's contrast,
     widened by its own length on each side), the row's peak ``m`` is reported
-    iff ``m - b > k_sigma * s`` and ``m - b > prominence * (q - b)``.
+    iff ``m - b > k_sigma * s`` and ``m - b > prominence * (q - b)`` (``s``
+    includes the quantisation's own noise, so a one-level excursion of a dark
+    8-bit row is not a stripe) and it lines up with at least ``min_run - 1``
+    other such rows (a stripe is a curve: :func:`trackers._detect.detect_rows`).
+    Rows where no stripe stands out report nothing, as in the paper: "for
+    those rows with the laser light undetectable, the depth of the
+    corresponding point could not be computed".
 
     Parameters
     ----------
@@ -40,6 +48,9 @@ class ThresholdTracker(Tracker):
     prominence : float, default :data:`DEFAULT_PROMINENCE`
         Least ratio of the peak's contrast to the runner-up's (>= 0; 0 turns
         the test off).
+    min_run : int, default :data:`DEFAULT_MIN_RUN`
+        Least number of vertically linked rows that pass (>= 1; 1 turns the
+        test off); not used with an explicit ``threshold``.
 
     Notes
     -----
@@ -59,19 +70,22 @@ class ThresholdTracker(Tracker):
     name = "threshold"
     subpixel = False
 
-    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE):
+    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE,
+                 min_run=DEFAULT_MIN_RUN):
         self.threshold = threshold
         self.k_sigma = k_sigma
         self.prominence = prominence
+        self.min_run = min_run
 
     parameter_constraints = {"threshold": Real(optional=True), "k_sigma": Real(low=0, high=1e6),
-                             "prominence": Real(low=0, high=1e6)}
+                             "prominence": Real(low=0, high=1e6), "min_run": Int(low=1, high=100000)}
 
     def detect(self, image):
         """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`)."""
         from ._detect import detect_rows
 
-        return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold)
+        return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold,
+                           min_run=int(self.min_run))
 
     def find_stripe(self, image, background):
         d = self.detect(image)

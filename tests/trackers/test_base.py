@@ -45,6 +45,7 @@ def test_track_copies_its_inputs():
         (np.zeros((2, 2)), np.zeros((2, 2)), r"`columns` must be 1-D, got shape \(2, 2\)"),
         (np.zeros(3), np.zeros(2), r"`score` must have the shape of `columns` \(3,\), got \(2,\)"),
         ([1.0, np.inf], [1.0, 1.0], "`columns` must be finite or NaN"),
+        ([1.0, 2.0], [1.0, -np.inf], "`score` must be finite or NaN"),
         ([1.0, np.nan], [1.0, 1.0], "`score` must be NaN exactly where `columns` is NaN"),
         ([1.0, 2.0], [1.0, np.nan], "`score` must be NaN exactly where `columns` is NaN"),
     ],

@@ -26,7 +26,7 @@ def test_window_is_contiguous_and_bounded():
     img[0, 10:13] = [60, 100, 60]
     img[0, 16] = 90  # a separate glint above the level, beyond a dark gap
     assert CentroidTracker().track(img).columns[0] == pytest.approx(11.0)
-    wide = np.zeros((1, 30))
+    wide = np.zeros((1, 60))  # a plateau above the level, wider than the window
     wide[0, 5:26] = 100
     wide[0, 15] = 101
     assert CentroidTracker(half_window=2).track(wide).columns[0] == pytest.approx(15.0, abs=0.01)

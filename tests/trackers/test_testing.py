@@ -47,6 +47,10 @@ def test_a_correct_tracker_passes():
     check_tracker(_Good())
 
 
+def _negated(track, image):
+    return Track(track.columns, np.where(np.isnan(track.columns), np.nan, -image.max(1).astype(float)))
+
+
 def _broken(params=None, **overrides):
     return type("Broken", (_Good,), overrides)(**(params or {}))
 
@@ -69,6 +73,18 @@ def _broken(params=None, **overrides):
             _broken(_validate_params=lambda self: setattr(self, "half", self.half + 1)),
             "check_no_state_change",
             "changed the tracker's state",
+        ),
+        (  # lower means more confident: the score is the peak's darkness
+            _broken(_track=lambda self, image, background: _negated(_Good._track(self, image, background), image)),
+            "check_score_meaning",
+            "higher must mean more confident",
+        ),
+        (  # every row reported, stripe-less rows scored as high as stripe rows
+            _broken(_track=lambda self, image, background: Track(np.full(image.shape[0], 3.0), np.select(
+                [np.arange(image.shape[0]) < image.shape[0] // 3, np.arange(image.shape[0]) < 2 * (image.shape[0] // 3)],
+                [100.0, 50.0], 200.0))),
+            "check_score_meaning",
+            "outscores a reported stripe-less row",
         ),
     ],
 )

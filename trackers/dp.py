@@ -372,6 +372,19 @@ def _reporting_rule(image, contrast, side_sd, span, tracker):
     return z, support, report
 
 
+def _marked_readings(tracker, image, mark, rows, cols):
+    """Each row's column by ``tracker.row_rule``, contrast, side spread and span from the labelled
+    optimal-path nodes ``mark`` (their ``rows``, ``cols``): :func:`trackers._dp_rows.marked_rows`."""
+    H = image.shape[0]
+    col = np.empty(H)
+    contrast = np.empty(H)
+    side_sd = np.empty(H)
+    span = np.empty(H, dtype=np.int64)
+    R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer),
+                  ROW_RULES[tracker.row_rule], col, contrast, side_sd, span)
+    return col, contrast, side_sd, span
+
+
 class DPTracker(Tracker):
     """Minimum-cost path tracker; use :class:`DP4Tracker` or :class:`DP8Tracker`.
 
@@ -522,14 +535,32 @@ class DPTracker(Tracker):
         rows, cols, D = _solve(*_half_cost(img, self.eps, hc), self.connectivity == 8, float(self.h_weight), D)
         return rows, cols, float(D[-1, cols[-1]])
 
-    def _path_rows(self, image):
-        """The reporting rule's pieces for one frame.
+    def readings(self, image, background=None):
+        """The optimal path's readings of each row of a frame, the reporting rule's inputs.
 
-        Returns ``None`` when the frame has no stripe (too few supporting
-        rows), else ``(col, z, support, report)``, all (H,): each row's
-        column by the row rule, the contrast in noise units, the rows
-        supporting the path, the rows to report.
+        The frame is validated, and ``image - background`` taken as in :meth:`seen_frame`.
+
+        Returns
+        -------
+        frame : ndarray, shape (H, W)
+            The frame the DP saw.
+        col, contrast, side_sd : ndarray of float64, shape (H,)
+            Each row's column by the row rule (NaN where the path has no node), the
+            contrast of the path's pixel over its sides and the sides' spread (image units).
+        span : ndarray of int64, shape (H,)
+            The columns the path walks in the row.
+
+        :meth:`report` applies the reporting rule to them; ``track`` is the two in turn
+        (the tuning procedure reads a frame once and tries many rules).
         """
+        img = check_image(image)
+        bg = check_background(background, img.shape)
+        self._validate_params()
+        frame = self.seen_frame(img, bg)
+        return (frame,) + self._readings(frame)
+
+    def _readings(self, image):
+        """``(col, contrast, side_sd, span)`` of :meth:`readings` for a frame the DP sees."""
         H, W = image.shape
         hc, D = _work_arrays(image.shape)
         hc, rowmin, centre, rightc = _half_cost(image, self.eps, hc)
@@ -540,14 +571,32 @@ class DPTracker(Tracker):
         rows = np.empty(H * W, dtype=np.int64)
         cols = np.empty(H * W, dtype=np.int64)
         n = K.optimal_nodes(D, hc, conn8, _TIE_TOL, mark, rows, cols, hw)
-        col = np.empty(H)
-        contrast = np.empty(H)
-        side_sd = np.empty(H)
-        span = np.empty(H, dtype=np.int64)
-        R.marked_rows(image, mark, rows[:n], cols[:n], int(self.side_inner), int(self.side_outer),
-                      ROW_RULES[self.row_rule], col, contrast, side_sd, span)
+        return _marked_readings(self, image, mark, rows[:n], cols[:n])
+
+    def report(self, frame, col, contrast, side_sd, span) -> Track:
+        """The reporting rule (see the class notes) on the readings of :meth:`readings`, with this
+        tracker's ``k_sigma``, ``min_support``, ``max_gap``, ``min_run`` and ``max_walk``."""
+        rule = _reporting_rule(frame, contrast, side_sd, span, self)
+        if rule is None:
+            return Track.empty(frame.shape[0])
+        z, _, rep = rule
+        rep = rep & ~np.isnan(col)
+        return Track(np.where(rep, col, np.nan), np.where(rep, z, np.nan))
+
+    def _path_rows(self, image):
+        """The reporting rule's pieces for one frame.
+
+        Returns ``None`` when the frame has no stripe (too few supporting
+        rows), else ``(col, z, support, report)``, all (H,): each row's
+        column by the row rule, the contrast in noise units, the rows
+        supporting the path, the rows to report.
+        """
+        col, contrast, side_sd, span = self._readings(image)
         rule = _reporting_rule(image, contrast, side_sd, span, self)
-        return None if rule is None else (col,) + rule
+        if rule is None:
+            return None
+        z, support, report = rule
+        return col, z, support, report & ~np.isnan(col)
 
     def find_stripe(self, image, background):
         rows = self._path_rows(self.seen_frame(image, background))

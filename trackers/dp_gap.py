@@ -26,11 +26,10 @@ from math import gcd
 import numpy as np
 
 from . import _dp_gap as G
-from . import _dp_rows as R
 from ._params import Choice, Real, check_real
 from ._validation import check_image
-from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, PAPER_REPORT, ROW_RULES, DPTracker, _check_connectivity, _check_cost,
-                 _check_h_weight, _half_cost, _reporting_rule, _work_arrays)
+from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, PAPER_REPORT, DPTracker, _check_connectivity, _check_cost,
+                 _check_h_weight, _half_cost, _marked_readings, _work_arrays)
 
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
@@ -271,30 +270,11 @@ class DPGapTracker(DPTracker):
         off, s = self.off_costs(img, rowmin)
         return gap_path(2.0 * hc, off, s, self.connectivity, self.h_weight)
 
-    def _path_rows(self, image):
+    def _readings(self, image):
         H, W = image.shape
         hc, F = _work_arrays(image.shape)  # neither is kept past this call
         hc, rowmin, _, _ = _half_cost(image, self.eps, hc)
         off, s = self.off_costs(image, rowmin)
         ho = np.full(H, 0.5 * off)
         mark, _, rows, cols, _, _ = _labels(hc, ho, s, self.connectivity == 8, float(self.h_weight), F)
-        return _report(self, image, mark, rows, cols)
-
-
-def _report(tracker, image, mark, rows, cols):
-    """The DP trackers' reporting rule on labelled optimal-path nodes (the same
-    steps as :meth:`trackers.dp.DPTracker._path_rows` after its solve); rows
-    without a labelled node are not reported."""
-    H = image.shape[0]
-    col = np.empty(H)
-    contrast = np.empty(H)
-    side_sd = np.empty(H)
-    span = np.empty(H, dtype=np.int64)
-    R.marked_rows(image, mark, rows, cols, int(tracker.side_inner), int(tracker.side_outer),
-                  ROW_RULES[tracker.row_rule], col, contrast, side_sd, span)
-    rule = _reporting_rule(image, contrast, side_sd, span, tracker)
-    if rule is None:
-        return None
-    z, support, report = rule
-    report &= ~np.isnan(col)
-    return col, z, support, report
+        return _marked_readings(self, image, mark, rows, cols)

@@ -148,25 +148,31 @@ def load_profile(path) -> TuneProfile:
 
 #: The committed profile of ``stripebench tune dp_gap``.
 GAP_DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp_gap.toml"
-GAP_TOP_KEYS = {"name", "seed", "tracker", "references", "off_rel", "switch_rows", "hit_px", "tie", "render",
-             "experiments"}
+GAP_TOP_KEYS = {"name", "seed", "tracker", "off_rel", "switch_rows", "hit_px", "tie", "render", "experiments",
+                "seeds", "kinds", "real", "dp_trackers", "k_sigma", "max_gap", "min_run"}
 GAP_RENDER_KEYS = {"width", "height", "spp", "n_angles"}
 
 
 @dataclass
 class GapProfile:
-    """A validated ``dp_gap`` tuning profile (see ``bench/config/profiles/tune_dp_gap.toml``)."""
+    """A validated profile of the DP trackers' reporting rules (``bench/config/profiles/tune_dp_gap.toml``)."""
 
     name: str
     seed: int
     tracker: str
-    references: list[str]
     off_rel: list[float]
     switch_rows: list[float]
     hit_px: float
     tie: float
     render: dict
     experiments: list[dict] = field(default_factory=list)
+    seeds: list[int] = field(default_factory=list)
+    kinds: list[str] = field(default_factory=list)
+    real: bool = False
+    dp_trackers: list[str] = field(default_factory=list)
+    k_sigma: list[float] = field(default_factory=list)
+    max_gap: list = field(default_factory=list)
+    min_run: list[int] = field(default_factory=list)
 
 
 def _fail(msg: str):
@@ -185,8 +191,9 @@ def _grid(data, key, low, high=None):
     return [float(v) for v in vals]
 
 
-def load_gap_profile(path) -> GapProfile:
-    """Read and validate a ``dp_gap`` tuning profile.
+def load_gap_profile(path, kinds=()) -> GapProfile:
+    """Read and validate a ``stripebench tune dp_gap`` profile; ``kinds`` are the hard-frame kinds it
+    may name (:data:`bench.studies.hard_frames.KINDS`).
 
     Raises
     ------
@@ -197,7 +204,7 @@ def load_gap_profile(path) -> GapProfile:
     unknown = set(data) - GAP_TOP_KEYS
     if unknown:
         _fail(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(GAP_TOP_KEYS)}")
-    for key in GAP_TOP_KEYS:
+    for key in sorted(GAP_TOP_KEYS):
         if key not in data:
             _fail(f"`profile` lacks the key {key!r}")
     seed = data["seed"]
@@ -208,35 +215,40 @@ def load_gap_profile(path) -> GapProfile:
     name = data["tracker"]
     if name not in trackers.available() or not {"off_rel", "switch_rows"} <= set(trackers.make(name).get_params()):
         _fail(f"`tracker` must name a tracker with off_rel and switch_rows parameters, got {name!r}")
-    refs = data["references"]
-    if not isinstance(refs, list) or any(r not in trackers.available() for r in refs):
-        _fail(f"`references` must be a list of registered tracker names, got {refs!r}")
+    dps = data["dp_trackers"]
+    if not isinstance(dps, list) or any(n not in trackers.available()
+                                        or not {"k_sigma", "max_gap", "min_run"} <= set(trackers.make(n).get_params())
+                                        for n in dps):
+        _fail(f"`dp_trackers` must list trackers with k_sigma, max_gap and min_run parameters, got {dps!r}")
     off = _grid(data, "off_rel", 0.0, 1.0)
     sw = _grid(data, "switch_rows", 0.0)
     for key in ("hit_px", "tie"):
         v = data[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
             _fail(f"`{key}` must be a number >= 0, got {v!r}")
-    render = data["render"]
-    if not isinstance(render, dict) or set(render) != GAP_RENDER_KEYS:
-        _fail(f"`render` must have exactly the keys {sorted(GAP_RENDER_KEYS)}, got {render!r}")
-    exps = data["experiments"]
-    if not isinstance(exps, list) or not exps:
-        _fail("`experiments` must be a non-empty list of tables")
-    size = {k: render[k] for k in ("width", "height")}
-    for i, e in enumerate(exps):
-        if not isinstance(e, dict) or "scene" not in e or "material" not in e:
-            _fail(f"`experiments` entries need `scene` and `material`, got {e!r}")
-        check_scene(f"experiments[{i}]", e["scene"], e["material"], size,
-                    {k: v for k, v in e.items() if k not in ("scene", "material")})
-    return GapProfile(str(data["name"]), seed, name, list(refs), off, sw, float(data["hit_px"]), float(data["tie"]),
-                      dict(render), [dict(e) for e in exps])
+    seeds = data["seeds"]
+    if not isinstance(seeds, list) or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds):
+        _fail(f"`seeds` must be a list of integers >= 0, got {seeds!r}")
+    ks = data["kinds"]
+    if not isinstance(ks, list) or any(k not in tuple(kinds) for k in ks):
+        _fail(f"`kinds` must be a list of {', '.join(kinds)}, got {ks!r}")
+    if not isinstance(data["real"], bool):
+        _fail(f"`real` must be true or false, got {data['real']!r}")
+    gaps = data["max_gap"]
+    if (not isinstance(gaps, list) or not gaps or len(set(map(str, gaps))) != len(gaps)
+            or any(g != "none" and (isinstance(g, bool) or not isinstance(g, int) or g < 0) for g in gaps)):
+        _fail(f"`max_gap` must list distinct integers >= 0 or 'none', got {gaps!r}")
+    render, exps = _render_experiments(data)
+    return GapProfile(str(data["name"]), seed, name, off, sw, float(data["hit_px"]), float(data["tie"]), render, exps,
+                      [int(x) for x in seeds], list(ks), data["real"], list(dps), _grid(data, "k_sigma", 0),
+                      [None if g == "none" else int(g) for g in gaps], _int_grid(data, "min_run", 1))
 
 
 # ---------------------------------------------------------------------------------------------------- threshold
 
-THRESHOLD_TOP_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "min_recall", "trackers", "k_sigma",
-         "prominence", "frac", "colour_trackers", "colour_rules"}
+THRESHOLD_TOP_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "trackers", "k_sigma",
+                      "prominence", "min_run", "frac", "colour_trackers", "colour_rules", "steger_k_sigma",
+                      "steger_prominence", "steger_min_run", "seed", "render", "renders"}
 
 
 @dataclass
@@ -250,13 +262,51 @@ class TuneThresholdProfile:
     hit_px: float
     tie: float
     tie_px: float
-    min_recall: float
     trackers: list[str]
     k_sigma: list[float]
     prominence: list[float]
+    min_run: list[int]
     frac: list[float]
     colour_trackers: list[str]
     colour_rules: list
+    steger_k_sigma: list[float]
+    steger_prominence: list[float]
+    steger_min_run: list[int]
+    seed: int
+    render: dict
+    renders: list[dict] = field(default_factory=list)
+
+
+def _int_grid(data, key, low):
+    vals = data[key]
+    if (not isinstance(vals, list) or not vals
+            or any(isinstance(v, bool) or not isinstance(v, int) or v < low for v in vals)):
+        _fail(f"`{key}` must be a non-empty list of integers >= {low}, got {vals!r}")
+    if len(set(vals)) != len(vals):
+        _fail(f"`{key}` must not repeat a value, got {vals!r}")
+    return [int(v) for v in vals]
+
+
+def _render_experiments(data, keys=GAP_RENDER_KEYS, exp_key="experiments", allow_empty=False):
+    """The ``[render]`` table (exactly ``keys``) and the experiments of ``exp_key``, validated."""
+    from scenes.params import MAX_SIZE
+
+    render = data["render"]
+    if not isinstance(render, dict) or set(render) != set(keys):
+        _fail(f"`render` must have exactly the keys {sorted(keys)}, got {render!r}")
+    for k, v in render.items():
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_SIZE[k]:
+            _fail(f"`render.{k}` must be an integer 1 .. {MAX_SIZE[k]}, got {v!r}")
+    exps = data[exp_key]
+    if not isinstance(exps, list) or (not exps and not allow_empty):
+        _fail(f"`{exp_key}` must be a {'' if allow_empty else 'non-empty '}list of tables")
+    size = {k: render[k] for k in ("width", "height")}
+    for i, e in enumerate(exps):
+        if not isinstance(e, dict) or "scene" not in e or "material" not in e:
+            _fail(f"`{exp_key}` entries need `scene` and `material`, got {e!r}")
+        check_scene(f"{exp_key}[{i}]", e["scene"], e["material"], size,
+                    {k: v for k, v in e.items() if k not in ("scene", "material")})
+    return dict(render), [dict(e) for e in exps]
 
 
 def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
@@ -279,15 +329,15 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     if not isinstance(seeds, list) or not seeds or any(isinstance(s, bool) or not isinstance(s, int) or s < 0
                                                         for s in seeds):
         raise ConfigError(f"`seeds` must be a non-empty list of integers >= 0, got {seeds!r}")
+    seed = data["seed"]
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        _fail(f"`seed` must be an integer >= 0, got {seed!r}")
     allowed = tuple(kinds)
     kinds = data["kinds"]
     if not isinstance(kinds, list) or not kinds or any(k not in allowed for k in kinds):
         raise ConfigError(f"`kinds` must be a non-empty list of {', '.join(allowed)}, got {kinds!r}")
     if not isinstance(data["real"], bool):
         raise ConfigError(f"`real` must be true or false, got {data['real']!r}")
-    if isinstance(data["min_recall"], bool) or not isinstance(data["min_recall"], (int, float)) or not (
-            0 <= data["min_recall"] <= 1):
-        raise ConfigError(f"`min_recall` must be a number in [0, 1], got {data['min_recall']!r}")
     for key in ("hit_px", "tie", "tie_px"):
         v = data[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
@@ -299,15 +349,18 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
         if not isinstance(names, list) or not names or any(n not in trackers.available() for n in names):
             raise ConfigError(f"`{key}` must be a non-empty list of registered trackers, got {names!r}")
     for n in data["trackers"]:
-        if not {"k_sigma", "prominence"} <= set(trackers.make(n).get_params()):
-            raise ConfigError(f"`trackers` must name trackers with k_sigma and prominence, got {n!r}")
+        if not {"k_sigma", "prominence", "min_run"} <= set(trackers.make(n).get_params()):
+            raise ConfigError(f"`trackers` must name trackers with k_sigma, prominence and min_run, got {n!r}")
     rules = data["colour_rules"]
     if (not isinstance(rules, list) or not rules or len(set(map(str, rules))) != len(rules)
             or any(not (r in ("excess", "laser") or (not isinstance(r, bool) and isinstance(r, (int, float))
                                                      and 0 <= r <= 1)) for r in rules)):
         raise ConfigError(f"`colour_rules` must list distinct knees in [0, 1], 'excess' or 'laser', got {rules!r}")
+    render, renders = _render_experiments(data, exp_key="renders", allow_empty=True)
     return TuneThresholdProfile(
         str(data["name"]), [int(s) for s in seeds], list(kinds), data["real"], float(data["hit_px"]),
-        float(data["tie"]), float(data["tie_px"]), float(data["min_recall"]), list(data["trackers"]), _grid(data, "k_sigma", 0),
-        _grid(data, "prominence", 0), _grid(data, "frac", 0, 0.99), list(data["colour_trackers"]),
-        [r if isinstance(r, str) else float(r) for r in rules])
+        float(data["tie"]), float(data["tie_px"]), list(data["trackers"]), _grid(data, "k_sigma", 0),
+        _grid(data, "prominence", 0), _int_grid(data, "min_run", 1), _grid(data, "frac", 0, 0.99),
+        list(data["colour_trackers"]), [r if isinstance(r, str) else float(r) for r in rules],
+        _grid(data, "steger_k_sigma", 0), _grid(data, "steger_prominence", 0), _int_grid(data, "steger_min_run", 1),
+        seed, render, renders)

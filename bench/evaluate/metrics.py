@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from bench.evaluate.outcomes import HIT_PX, average_precision, detection_figures, hits, outcome_counts, row_outcomes
+
 __all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "false_lock_rate",
            "frame_record", "hits", "OUTLIER_PX", "HIT_PX"]
 
-OUTLIER_PX = 3.0
-HIT_PX = 3.0  # a row is a hit when the reported column is within this many px of the truth
+OUTLIER_PX = HIT_PX  # a detection further than this from the truth is an outlier (a "wrong" row outcome)
 
 
 def error_stats(errors) -> dict[str, float]:
@@ -39,30 +40,6 @@ def coverage(pred, truth) -> float:
     lit = ~np.isnan(truth)
     n = int(lit.sum())
     return float(np.count_nonzero(~np.isnan(pred[lit])) / n) if n else float("nan")
-
-
-def hits(pred, truth, tol_px: float = HIT_PX) -> np.ndarray:
-    """The one hit rule: ``|pred - truth| <= tol_px``, elementwise; a row with no
-    detection or no truth (NaN on either side) is not a hit.
-
-    Parameters
-    ----------
-    pred, truth : array_like, float, px
-        Reported and true columns, broadcastable to one shape.
-    tol_px : float
-        Largest hit distance in px (default :data:`HIT_PX`).
-
-    Returns
-    -------
-    numpy.ndarray of bool, the broadcast shape
-
-    Examples
-    --------
-    >>> hits([10.0, 14.0, np.nan, 5.0], [11.0, 10.0, 7.0, np.nan]).tolist()
-    [True, False, False, False]
-    """
-    with np.errstate(invalid="ignore"):
-        return np.abs(np.asarray(pred, dtype=np.float64) - np.asarray(truth, dtype=np.float64)) <= tol_px
 
 
 def hit_rate(pred, truth, tol_px: float = HIT_PX) -> float:
@@ -147,12 +124,18 @@ def false_lock_rate(pred, false_cols, truth, tol_px: float = OUTLIER_PX) -> floa
     return float(np.count_nonzero(detected & near_false & ~near_truth) / n)
 
 
-def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None, false_cols=None) -> dict[str, float]:
+def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None, false_cols=None, *, state=None,
+                 score=None) -> dict[str, float]:
     """Every metric of one tracker on one grid of rows, as a flat dict.
 
     Keys: ``px_mae, px_rmse, px_p95, depth_mae_mm, depth_rmse_mm, depth_p95_mm,
     coverage, hit_rate, false_lock_rate, outlier_rate, false_detections, n_rows, n_lit, n_detected``
-    (``false_lock_rate`` NaN when no ``false_cols`` are given: no false-stripe truth).
+    (``false_lock_rate`` NaN when no ``false_cols`` are given: no false-stripe truth), then the
+    row outcomes (:mod:`bench.evaluate.outcomes`): ``n_hit, n_wrong, n_missed, n_false, n_quiet,
+    n_unknown, precision, recall, f1, false_report_rate``, ``ap`` (the average precision of
+    ``score`` over the rows; NaN without one) and ``ap_constant`` (every report has one score).
+    ``state`` gives the rows' states (default: exact truth, NaN = no stripe); ``n_false`` is the
+    number of false 3-D points (reports on stripe-less rows).
     """
     pred = np.asarray(pred, dtype=np.float64)
     truth = np.asarray(truth, dtype=np.float64)
@@ -173,4 +156,13 @@ def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None, false_cols
         n_lit=int(np.count_nonzero(~np.isnan(truth))),
         n_detected=int(np.count_nonzero(~np.isnan(pred))),
     )
+    codes = row_outcomes(pred, truth, state)
+    counts = outcome_counts(codes)
+    rec.update(counts)
+    rec.update(detection_figures(counts))
+    if score is None:
+        rec.update(ap=float("nan"), ap_constant=False)
+    else:
+        ap = average_precision(np.where(np.isnan(pred), np.nan, np.asarray(score, dtype=np.float64)), codes)
+        rec.update(ap=ap["ap"], ap_constant=bool(ap["constant"]))
     return rec

@@ -37,12 +37,39 @@ import math
 
 import numpy as np
 
-from bench.evaluate.metrics import HIT_PX, hits
 
-__all__ = ["HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
+__all__ = ["HIT_PX", "hits", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
            "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
            "COUNT_KEYS", "FIGURE_KEYS"]
+
+#: A row is a hit when the reported column is within this many px of the truth (the one hit rule).
+HIT_PX = 3.0
+
+
+def hits(pred, truth, tol_px: float = HIT_PX) -> np.ndarray:
+    """The one hit rule: ``|pred - truth| <= tol_px``, elementwise; a row with no
+    detection or no truth (NaN on either side) is not a hit.
+
+    Parameters
+    ----------
+    pred, truth : array_like, float, px
+        Reported and true columns, broadcastable to one shape.
+    tol_px : float
+        Largest hit distance in px (default :data:`HIT_PX`).
+
+    Returns
+    -------
+    numpy.ndarray of bool, the broadcast shape
+
+    Examples
+    --------
+    >>> hits([10.0, 14.0, np.nan, 5.0], [11.0, 10.0, 7.0, np.nan]).tolist()
+    [True, False, False, False]
+    """
+    with np.errstate(invalid="ignore"):
+        return np.abs(np.asarray(pred, dtype=np.float64) - np.asarray(truth, dtype=np.float64)) <= tol_px
+
 
 # outcome codes (int8): the index into OUTCOMES
 HIT, WRONG, MISSED, FALSE, QUIET, UNKNOWN = range(6)

@@ -15,7 +15,8 @@ from bench.evaluate.stats import (GROSS_MM, STATISTICS, WITHIN_MM, resample_indi
                                   spread_resampled)
 from bench.evaluate.triangulation import depth_cm
 
-__all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "draw_samples", "sample_table", "sample_columns",
+__all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "scan_states",
+           "detection_rows", "detection_table", "draw_samples", "sample_table", "sample_columns",
            "improvements", "robust_table", "verdicts", "worst_frames"]
 
 
@@ -99,6 +100,7 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="r
     if object_only:
         truth[~scan.on_object] = np.nan
     lit = ~np.isnan(truth)
+    state = scan_states(scan, object_only)
     out = []
     for name in sorted(scan.columns):
         cols = scan.columns[name]
@@ -109,6 +111,8 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="r
             depth_pred_mm=10.0 * np.where(lit, r_pred, np.nan),
             depth_true_mm=10.0 * np.where(lit, r_true, np.nan),
             false_cols=scan.false_columns,
+            state=state,
+            score=scan.scores.get(name),
         )
         _, filled = restore_depth_map(r_pred, restore_of(restore, name))
         rec.update(
@@ -121,6 +125,78 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="r
             frames=int(scan.angles.size),
         )
         out.append(rec)
+    return out
+
+
+def scan_states(scan, object_only: bool = False) -> np.ndarray:
+    """The row states (:mod:`bench.evaluate.outcomes`) of a scan, (F, H): exact truth (a lit visible
+    stripe, or none); for the object region, stripe rows on the object and every other row unknown
+    (the object region scores only the object's stripe).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> s = SimpleNamespace(truth_columns=np.array([[1.0, np.nan, 2.0]]), on_object=np.array([[True, False, False]]))
+    >>> scan_states(s).tolist(), scan_states(s, object_only=True).tolist()
+    ([[1, 0, 1]], [[1, -1, -1]])
+    """
+    from bench.evaluate.outcomes import STRIPE, UNSURE, truth_states
+
+    states = truth_states(scan.truth_columns)
+    if object_only:
+        states = np.where(scan.on_object & (states == STRIPE), STRIPE, UNSURE).astype(np.int8)
+    return states
+
+
+def detection_rows(scan) -> dict:
+    """Each tracker's row outcomes and scores on a scan (region ``all``): label -> ``(codes, scores)``,
+    both (F, H) (:func:`bench.evaluate.outcomes.row_outcomes`; scores NaN where nothing is reported)."""
+    from bench.evaluate.outcomes import row_outcomes
+
+    states = scan_states(scan)
+    out = {}
+    for name in sorted(scan.columns):
+        cols = scan.columns[name]
+        out[name] = (row_outcomes(cols, scan.truth_columns, states),
+                     np.where(np.isnan(cols), np.nan, scan.scores.get(name, np.nan)))
+    return out
+
+
+def detection_table(rows_by_experiment: dict, groups, *, n_boot: int, seed: int) -> list[dict]:
+    """Detection figures with bootstrap intervals over frames, per group of experiments and tracker.
+
+    Parameters
+    ----------
+    rows_by_experiment : dict
+        experiment key -> :func:`detection_rows` of its scan.
+    groups : sequence of (str, sequence of str)
+        Group name -> the experiment keys it pools (e.g. ``("condition:...", [keys])``, ``("all", keys)``).
+    n_boot, seed : int
+        Resamples of frames, and the seed (group ``i`` and tracker ``j`` use ``SeedSequence([seed, i, j])``).
+
+    Returns
+    -------
+    list of dict
+        ``group, tracker, n_frames, n_scans`` (experiments pooled), the counts ``n_hit`` ...,
+        ``precision, recall, f1, false_report_rate, ap`` each with ``_lo`` and ``_hi``,
+        ``ap_constant`` and ``false_points_per_scan`` (``n_false`` over ``n_scans``: reports on
+        stripe-less rows, each a 3-D point where there is no surface).
+    """
+    from bench.evaluate.outcomes import bootstrap_frames
+
+    out = []
+    for gi, (group, keys) in enumerate(groups):
+        keys = [k for k in keys if k in rows_by_experiment]
+        if not keys:
+            continue
+        labels = sorted(set.intersection(*(set(rows_by_experiment[k]) for k in keys)))
+        for ti, label in enumerate(labels):
+            codes = [c for k in keys for c in rows_by_experiment[k][label][0]]
+            scores = [s for k in keys for s in rows_by_experiment[k][label][1]]
+            s = int(np.random.SeedSequence([seed, gi, ti]).generate_state(1)[0])
+            r = bootstrap_frames(codes, scores, n_boot=n_boot, seed=s)
+            out.append({"group": group, "tracker": label, "n_scans": len(keys), **r,
+                        "false_points_per_scan": r["n_false"] / len(keys)})
     return out
 
 

@@ -213,6 +213,7 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     # thread's signals); the results are the same as one after the other
     with concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="stripebench-stats") as pool:
         statistics = pool.submit(_statistics, config, samples_df, labels, dp)
+        detection = _detection(config, out, conditions)
         write_tables(out, metrics, samples_df)
         write_gallery(out, gallery)
         if fig7 is not None:
@@ -231,7 +232,7 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
         improvement=stats, paper_improvement=PAPER_IMPROVEMENT, restore=config.restore,
         restore_by_tracker={**config.restore_by_label(), **{n: config.restore for n in submissions}},
         robust=robust, within_mm=WITHIN_MM, gross_mm=GROSS_MM, conditions=conditions,
-        verdicts=verdicts, paper_claims=claims,
+        verdicts=verdicts, paper_claims=claims, detection=detection,
         coverage=_coverage_table(metrics), status_codes=STATUS,
         wall_s=time.perf_counter() - t_start,
         render_ahead=render_ahead, **extra)
@@ -254,6 +255,28 @@ def _statistics(config: Config, samples_df, labels, dp) -> tuple[list, list]:
             robust += [dict(r, group=f"condition:{r['group']}") for r in analysis.robust_table(
                 by_cond, labels, group_by="condition") if r["group"] != "all"]
     return stats, robust
+
+
+#: Resamples of frames behind the detection figures' intervals (fewer than the samples' ``n_boot``: an
+#: interval per condition and tracker over thousands of rows).
+DETECTION_BOOT = 1000
+
+
+def _detection(config: Config, out: Path, conditions: list[dict]) -> list[dict]:
+    """Detection figures (precision, recall, F1, false-report rate, AP, false points per scan) with
+    bootstrap intervals over frames, per condition and pooled (``all``), from the run's checkpoints
+    (:func:`bench.evaluate.tables.detection_table`)."""
+    from bench.store.checkpoint import read_checkpoint
+    from bench.store.runfolder import LAYOUT
+
+    rows = {}
+    for e in config.experiments:
+        res, _ = read_checkpoint(out / LAYOUT["scans"] / f"{e.key}.npz", e.key)
+        if res is not None:
+            rows[e.key] = analysis.detection_rows(res)
+    groups = [(f"condition:{c['condition']}", c["experiments"]) for c in conditions]
+    groups.append(("all", [e.key for e in config.experiments]))
+    return analysis.detection_table(rows, groups, n_boot=min(config.n_boot, DETECTION_BOOT), seed=config.seed)
 
 
 def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:

@@ -14,9 +14,25 @@ surface) and the noise is Gaussian with variance ``read^2 + gain * I`` (read
 and shot noise). The laser's colour has *crosstalk*: a red laser is
 ``c = (1, x, x)`` with ``x`` of 0.04-0.15, so a stripe bright enough to clip
 the red channel turns white in its core and stays red on its flanks, as in
-photographs. The stripe leaves the surface in a few stretches of rows (no
-stripe there: the truth is NaN) and its column jumps at a few rows (object
-edges).
+photographs. The stripe's column jumps at a few rows (object edges), and it
+leaves the surface in a few stretches of rows (no stripe there: the truth is
+NaN), each of one of the kinds of stripe-less row that real frames have
+(:data:`VOIDS`):
+
+``edge``
+    the first or last rows of the frame: the stripe ran past an object's edge
+    and the scene goes on without it;
+``shadow``
+    rows in the middle: the laser is occluded, the scene is unchanged;
+``mirror``
+    the surface reflects the laser away, and a blurred reflection of the stripe
+    shows beside its path (a false stripe: a report there is a false one);
+``dark``
+    nothing behind: the rows are black but for the sensor's noise (the renders'
+    void past the table's edge);
+``textured``
+    the stripe is gone and the surface there is strongly textured (print,
+    foliage): bright pixels everywhere, none of them the stripe.
 
 Kinds (:data:`KINDS`), the failure classes of real photographs:
 
@@ -42,6 +58,10 @@ Kinds (:data:`KINDS`), the failure classes of real photographs:
     a thin, faint stripe in a dark room with a bright lamp in the frame.
 ``plain``
     the renders' easy case: a dark scene and a clear stripe.
+``dim``
+    the renders' hard case: an almost black scene (a few DN of ambient light,
+    little noise, so the 8-bit frame is mostly one or two levels) and a stripe
+    of a few to a few tens of DN, as on absorbing or patchy surfaces.
 
 Examples
 --------
@@ -59,9 +79,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["KINDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
+__all__ = ["KINDS", "VOIDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
 
-KINDS = ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide", "thin_faint", "plain")
+KINDS = ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide", "thin_faint", "plain",
+         "dim")
+#: The kinds of stripe-less stretch (see the module docstring).
+VOIDS = ("edge", "shadow", "mirror", "dark", "textured")
 _SIZES = ((240, 320), (300, 400), (480, 512))
 _LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
 
@@ -110,8 +133,9 @@ class HardFrame:
         return np.ascontiguousarray(self.rgb_off[..., _LASER_INDEX[self.laser]])
 
 
-def _stripe_path(rng, H: int, W: int) -> tuple[np.ndarray, np.ndarray]:
-    """Centre per row (smooth wander, 0-2 jumps) and the rows where the stripe is absent."""
+def _stripe_path(rng, H: int, W: int) -> tuple[np.ndarray, np.ndarray, list]:
+    """Centre per row (smooth wander, 0-2 jumps), the rows where the stripe is absent and
+    the absent stretches ``(start, stop, void)`` (2-4 of them, kinds of :data:`VOIDS`)."""
     rows = np.arange(H)
     centre = W * rng.uniform(0.3, 0.7) + W * rng.uniform(0.03, 0.12) * np.sin(
         2 * np.pi * rows / H * rng.uniform(0.5, 1.5) + rng.uniform(0, 2 * np.pi))
@@ -121,11 +145,17 @@ def _stripe_path(rng, H: int, W: int) -> tuple[np.ndarray, np.ndarray]:
         centre[at:] += rng.choice([-1, 1]) * rng.uniform(0.04, 0.2) * W
     centre = np.clip(centre, 0.08 * W, 0.92 * W)
     absent = np.zeros(H, bool)
-    for _ in range(int(rng.integers(1, 4))):
-        n = int(rng.uniform(0.04, 0.12) * H)
-        a = int(rng.integers(0, H - n))
+    stretches = []
+    voids = list(rng.permutation(len(VOIDS))[: int(rng.integers(2, 5))])
+    for v in voids:
+        n = int(rng.uniform(0.05, 0.12) * H)
+        if VOIDS[v] == "edge":
+            a = 0 if rng.uniform() < 0.5 else H - n
+        else:
+            a = int(rng.integers(n, H - 2 * n))
         absent[a:a + n] = True
-    return centre, absent
+        stretches.append((a, a + n, VOIDS[v]))
+    return centre, absent, stretches
 
 
 def _profile(centre, W: int, sigma: float) -> np.ndarray:
@@ -175,7 +205,7 @@ def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -
     laser = "green" if rng.uniform() < 0.35 else "red"
     k = _LASER_INDEX[laser]
     coloured = bool(rng.uniform() < 0.5) if colour_background is None else bool(colour_background)
-    centre, absent = _stripe_path(rng, H, W)
+    centre, absent, stretches = _stripe_path(rng, H, W)
     rows = np.arange(H)
     tint = np.ones(3)
     if coloured:  # a surface colour: the laser's own hue, or a warm or foliage-like one
@@ -261,6 +291,26 @@ def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -
         albedo = np.full((H, W), 0.8)
         ambient = np.full((H, W), rng.uniform(5, 20))
         amp = rng.uniform(120, 220)
+    elif kind == "dim":
+        albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 30), 0.2, 1.0)
+        ambient = np.full((H, W), rng.uniform(1.0, 5.0))
+        amp = rng.uniform(4.0, 40.0)
+        sigma = rng.uniform(0.7, 1.6)
+        read, gain = rng.uniform(0.2, 0.6), 0.05
+    for a, b, void in stretches:  # what the stripe-less stretches show instead of the stripe
+        if void == "mirror":
+            shift = rng.choice([-1, 1]) * rng.uniform(10, 60)
+            ghost = rng.uniform(0.2, 0.6) * amp * _profile(centre[a:b] + shift, W, rng.uniform(1.5, 4.0) * sigma)
+            laser_extra[a:b] += ghost
+        elif void == "dark":
+            albedo[a:b] = 0.0
+            extra[a:b] = 0.0
+        elif void == "textured":
+            level = float(np.median(ambient[a:b]))
+            tex = np.clip(0.5 + 0.35 * ndi.gaussian_filter(rng.normal(0, 1, (b - a, W)), rng.uniform(0.6, 2.0))
+                          / 0.3, 0.02, 1.0)
+            albedo[a:b] = tex
+            ambient[a:b] = max(level, 40.0) * rng.uniform(1.0, 2.5)
     along = amp * np.clip(1 + 0.35 * np.sin(2 * np.pi * rows / H * rng.uniform(0.3, 1.2) + rng.uniform(0, 6)),
                           0.3, None)
     if kind == "saturated_wide":

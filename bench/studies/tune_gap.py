@@ -1,159 +1,165 @@
-"""Choose ``dp_gap``'s default off level and switch cost by a fixed procedure (``stripebench tune dp_gap``).
+"""Choose the DP trackers' reporting rules by a fixed procedure (``stripebench tune dp_gap``):
+``dp_gap``'s off level and switch cost, and the support rule of ``dp4``, ``dp8`` and
+``dp8_subpixel`` (``k_sigma``, ``max_gap``, ``min_run``).
 
-The profile (default ``bench/config/profiles/tune_dp_gap.toml``) lists the
-experiments (scene, material, optional scene-parameter overrides), the render
-settings, the seed, the grid of ``off_rel`` and ``switch_rows`` values and
-reference trackers scored alongside (``dp4``, ``dp8``). Every experiment is
-one scan (:func:`bench.scan.run_scan`, renders cached, one checkpoint per
-experiment under ``OUT/checkpoints``) tracked by ``dp_gap`` at every grid
-point and by the references, each given the scan's laser-off frame as the
-benchmark gives it.
+The profile (default ``bench/config/profiles/tune_dp_gap.toml``) lists the tuning
+frames (:mod:`bench.studies.tuning`: renders of the profile's experiments at its
+seed, cached; synthetic hard frames with their laser-off frames; the shipped real
+set), the grids and the criterion, written in the profile's header. Two stages:
 
-Criterion (written in the profile before any result was seen). In an
-experiment, over all its frames and rows:
+1. ``dp_gap``'s ``off_rel`` x ``switch_rows``;
+2. the DP trackers' reporting rule, ``k_sigma`` x ``max_gap`` x ``min_run``, scored
+   with ``dp_trackers`` (the path of a frame is found once per tracker and every
+   rule applied to its readings, :meth:`trackers.dp.DPTracker.readings`).
 
-* *hit fraction* ``h``: lit object rows (truth on the object) where the
-  tracker's column is within ``hit_px`` of the truth, over the lit object
-  rows (a row not reported is a miss);
-* *wrong fraction* ``w``: rows, anywhere in the frame, where the tracker
-  reports a column that is not within ``hit_px`` of that row's truth (or
-  where the row has no truth at all: no lit visible stripe), over the same
-  number of lit object rows;
-* the experiment's *score* is ``h - w``: a right column gains what a wrong
-  one loses, and leaving a row out is neutral.
+Both maximise :func:`bench.studies.tuning.objective` (the mean over the groups of
+frames of each group's F1 over rows: a miss and a false report priced alike). Every
+tracker is given the frame's laser-off frame where it has one, as the benchmark gives it.
 
-The score of a grid point is the mean score over the experiments; the
-default is the best grid point, ties (within ``tie``) going to the smallest
-``off_rel`` and then to the largest ``switch_rows`` (the setting that leaves
-out the fewest rows: closest to the paper's DP, which never does).
-
-Output in ``OUT`` (default ``results/runs/tune_dp_gap/``): ``tune_gap.csv``
-(columns off_rel, switch_rows, tracker, experiment, hit_fraction,
-wrong_fraction, score, rows), ``tune_dp_gap.png`` (the grid's scores) and the
-chosen values with a per-experiment table of the references and the chosen
-``dp_gap`` on stdout.
+Output in ``OUT`` (default ``results/runs/tune_dp_gap/``): ``tune_gap.csv`` (one line
+per stage, setting, tracker, group and kind: row-outcome counts, precision, recall,
+F1, false-report rate), ``summary.json``, ``tune_dp_gap.png`` (stage 1's grid) and the
+chosen values with their figures per group and kind on stdout.
 """
 
 from __future__ import annotations
 
 import csv
+import json
 import pathlib
 import sys
 
 import numpy as np
 
-from bench.config.tune import GAP_DEFAULT_PROFILE as DEFAULT_PROFILE, GapProfile, load_gap_profile as load_profile  # noqa: F401
+from bench.config.tune import GAP_DEFAULT_PROFILE as DEFAULT_PROFILE, GapProfile, load_gap_profile
 
-__all__ = ["GapProfile", "load_profile", "gap_score", "choose", "run", "main"]
+__all__ = ["GapProfile", "load_profile", "choose", "choose_rule", "run", "main"]
 
-def gap_score(columns, truth_columns, on_object, hit_px: float) -> tuple[float, float, int]:
-    """Hit fraction, wrong fraction and the number of lit object rows (see the module notes).
 
-    Parameters
-    ----------
-    columns, truth_columns : array_like (F, H) or (H,), float, px
-        Tracked and true columns (NaN: not reported / no lit visible stripe).
-    on_object : array_like, same shape, bool
-    hit_px : float
+def load_profile(path) -> GapProfile:
+    """Read and validate a profile (:func:`bench.config.tune.load_gap_profile` with the hard-frame kinds).
 
-    Returns
-    -------
-    hit, wrong : float
-        NaN if there is no lit object row.
-    rows : int
-        Lit object rows.
-
-    Examples
-    --------
-    >>> gap_score([10.0, 50.0, np.nan, 7.0], [10.5, 20.0, 30.0, np.nan], [True, True, True, False], 3.0)
-    (0.3333333333333333, 0.6666666666666666, 3)
+    Raises
+    ------
+    bench.config.ConfigError
+        A missing or unknown key or a bad value, named in the message (one line).
     """
-    cols = np.asarray(columns, float)
-    truth = np.asarray(truth_columns, float)
-    lit = np.asarray(on_object, bool) & np.isfinite(truth)
-    n = int(lit.sum())
-    if n == 0:
-        return float("nan"), float("nan"), 0
-    with np.errstate(invalid="ignore"):
-        near = np.abs(cols - truth) <= hit_px  # NaN compares False
-    reported = np.isfinite(cols)
-    return float((near & lit).sum() / n), float((reported & ~near).sum() / n), n
+    from bench.studies.hard_frames import KINDS
 
+    return load_gap_profile(path, KINDS)
 
 def choose(scores: dict[tuple[float, float], float], tie: float) -> tuple[float, float]:
-    """The (off_rel, switch_rows) with the best score; scores within ``tie`` of
-    the best go to the smallest off_rel, then the largest switch_rows.
+    """Stage 1's choice: the best ``(off_rel, switch_rows)``; scores within ``tie`` of the best go to the
+    smallest ``off_rel``, then the largest ``switch_rows`` (the fewest rows left out: closest to the
+    paper's DP, which never leaves one out).
 
     Examples
     --------
-    >>> choose({(0.1, 10.0): 0.50, (0.2, 10.0): 0.503, (0.1, 30.0): 0.499}, tie=0.005)
-    (0.1, 30.0)
+    >>> choose({(0.1, 10.0): 0.80, (0.05, 3.0): 0.799, (0.05, 30.0): 0.7991, (0.3, 1.0): 0.5}, tie=0.005)
+    (0.05, 30.0)
     """
     best = max(scores.values())
-    near = [k for k, s in scores.items() if s >= best - tie]
+    near = [k for k, v in scores.items() if v >= best - tie]
     return min(near, key=lambda k: (k[0], -k[1]))
 
 
-def _label(name: str, off: float, sw: float) -> str:
-    return f"{name}@off={off:g},sw={sw:g}"
+def choose_rule(scores: dict, tie: float) -> tuple:
+    """Stage 2's choice: the best ``(k_sigma, max_gap, min_run)``; scores within ``tie`` of the best go to
+    the rule that bridges most (no ``max_gap`` first, then the largest), then the smallest ``min_run``,
+    then the smallest ``k_sigma``: the closest to the paper's DP.
+
+    Examples
+    --------
+    >>> choose_rule({(3.0, None, 1): 0.70, (4.0, 10, 5): 0.801, (3.0, 20, 5): 0.800}, tie=0.002)
+    (3.0, 20, 5)
+    """
+    best = max(scores.values())
+    near = [k for k, v in scores.items() if v >= best - tie]
+    return min(near, key=lambda k: (k[1] is not None, -(k[1] or 0), k[2], k[0]))
+
+
+def _gap_label(off: float, sw: float) -> str:
+    return f"off_rel={off:g},switch_rows={sw:g}"
+
+
+def _rule_label(k: float, gap, m: int) -> str:
+    return f"k_sigma={k:g},max_gap={'none' if gap is None else gap},min_run={m}"
 
 
 def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
-    """Run the tuning scans and score them.
+    """Run both stages.
 
     Returns
     -------
-    chosen : (float, float)
-        The chosen ``(off_rel, switch_rows)``.
-    scores : dict (off_rel, switch_rows) -> float
-        Mean score over experiments.
+    chosen : dict
+        ``off_rel``, ``switch_rows`` (stage 1) and ``k_sigma``, ``max_gap``, ``min_run`` (stage 2).
+    summary : dict
+        The objective of every setting of both stages, the chosen settings' figures per group and
+        kind (``figures``), ``chosen`` and the number of frames per group.
     records : list of dict
-        One per (tracker label, experiment): ``off_rel``, ``switch_rows`` (NaN
-        for the references), ``hit_fraction``, ``wrong_fraction``, ``score``, ``rows``.
+        One per stage, setting, tracker, group and kind.
     """
-    import scenes
     import trackers
 
-    from bench.run.scan import run_scan
+    from bench.evaluate.outcomes import detection_figures
+    from bench.studies import tuning
+
+    def say(msg):
+        if progress:
+            print(msg, file=sys.stderr, flush=True)
 
     out.mkdir(parents=True, exist_ok=True)
-    grid = [(o, s) for o in profile.off_rel for s in profile.switch_rows]
-    tr = {_label(profile.tracker, o, s): trackers.make(profile.tracker, off_rel=o, switch_rows=s) for o, s in grid}
-    for ref in profile.references:
-        tr[ref] = trackers.make(ref)
-    r = profile.render
-    records = []
-    for k, e in enumerate(profile.experiments):
-        overrides = {key: v for key, v in e.items() if key not in ("scene", "material")}
-        scene = scenes.make(e["scene"], material=e["material"], seed=profile.seed, width=r["width"],
-                            height=r["height"], spp=r["spp"], **overrides)
-        angles = scene.object.default_angles(scene.rig.zeta_deg, r["n_angles"])
-        key = "".join([f"{e['scene']}-{e['material']}"] + [f"_{a}={b}" for a, b in sorted(overrides.items())])
-        if progress:
-            print(f"[{k + 1}/{len(profile.experiments)}] {key}: {len(angles)} frames", file=sys.stderr, flush=True)
-        res = run_scan(key, scene, angles, tr, spp=r["spp"], seed=profile.seed,
-                          checkpoint=out / "checkpoints" / f"{key}.npz", progress=progress)
-        for label in tr:
-            hit, wrong, rows = gap_score(res.columns[label], res.truth_columns, res.on_object, profile.hit_px)
-            o, s = next(((o, s) for o, s in grid if _label(profile.tracker, o, s) == label), (np.nan, np.nan))
-            records.append({"off_rel": o, "switch_rows": s, "tracker": label, "experiment": key,
-                            "hit_fraction": hit, "wrong_fraction": wrong, "score": hit - wrong, "rows": rows})
-    scores = {}
-    for o, s in grid:
-        vals = [rec["score"] for rec in records if rec["tracker"] == _label(profile.tracker, o, s)
-                and np.isfinite(rec["score"])]
-        scores[o, s] = float(np.mean(vals)) if vals else float("nan")
-    finite = {k: v for k, v in scores.items() if np.isfinite(v)}
-    if not finite:
-        raise ValueError("`profile` gives no lit object row in any experiment: nothing to score")
-    chosen = choose(finite, profile.tie)
+    frames = tuning.rendered_frames(profile.experiments, profile.render, profile.seed, progress=progress)
+    frames += tuning.synthetic_frames(profile.kinds, profile.seeds, background=True)
+    if profile.real:
+        frames += tuning.real_frames()
+    t1 = tuning.Tally(1, profile.hit_px)
+    scores1 = {}
+    for o in profile.off_rel:
+        for sw in profile.switch_rows:
+            key = _gap_label(o, sw)
+            t = trackers.make(profile.tracker, off_rel=o, switch_rows=sw)
+            for f in frames:
+                t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
+            scores1[(o, sw)] = t1.objective(key)
+        say(f"stage 1: off_rel = {o:g} done")
+    off_best, sw_best = choose(scores1, profile.tie)
+    t2 = tuning.Tally(2, profile.hit_px)
+    rules = [(k, g, m) for k in profile.k_sigma for g in profile.max_gap for m in profile.min_run]
+    for n in profile.dp_trackers:
+        base = trackers.make(n)
+        variants = {r: trackers.make(n, k_sigma=r[0], max_gap=r[1], min_run=r[2]) for r in rules}
+        for f in frames:
+            readings = base.readings(f.image, f.background)
+            for r, t in variants.items():
+                t2.add(_rule_label(*r), n, f, t.report(*readings).columns)
+        say(f"stage 2: {n} done")
+    scores2 = {r: t2.objective(_rule_label(*r)) for r in rules}
+    k_best, gap_best, m_best = choose_rule(scores2, profile.tie)
+    chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
+              "min_run": m_best}
+    figures = {}
+    for name, tally, key in (("stage1", t1, _gap_label(off_best, sw_best)),
+                             ("stage2", t2, _rule_label(k_best, gap_best, m_best))):
+        figures[name] = {g: {**{kd: detection_figures(c) for kd, c in kinds.items()},
+                             "all": detection_figures(sum(kinds.values()))}
+                         for g, kinds in tally.by_group(key).items()}
+    n_frames = {g: sum(1 for f in frames if f.group == g) for g in tuning.GROUPS}
+    summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames,
+               "objective": "mean over groups of F1",
+               "stage1": {_gap_label(*k): v for k, v in scores1.items()},
+               "stage2": {_rule_label(*k): v for k, v in scores2.items()}, "figures": figures}
+    records = t1.records() + t2.records()
+    fields = ["stage", "setting", "tracker", "group", "kind", "n_hit", "n_wrong", "n_missed", "n_false", "n_quiet",
+              "n_unknown", "precision", "recall", "f1", "false_report_rate"]
     with open(out / "tune_gap.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=["off_rel", "switch_rows", "tracker", "experiment", "hit_fraction",
-                                           "wrong_fraction", "score", "rows"])
+        w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()
-        w.writerows(records)
-    _plot(profile, scores, chosen, out / "tune_dp_gap.png")
-    return chosen, scores, records
+        for r in records:
+            w.writerow({k: (f"{r[k]:.6f}" if isinstance(r.get(k), float) else r.get(k, "")) for k in fields})
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
+    return chosen, summary, records
 
 
 def _plot(profile, scores, chosen, path):
@@ -176,30 +182,12 @@ def _plot(profile, scores, chosen, path):
     ax.set_yticks(range(len(offs)), [f"{o:g}" for o in offs])
     ax.set_xlabel("switch_rows (switch cost in rows of the off cost)")
     ax.set_ylabel("off_rel (off level)")
-    ax.set_title(f"{profile.name}: mean (hit - wrong); chosen off_rel={chosen[0]:g}, switch_rows={chosen[1]:g}",
-                 fontsize=8)
+    ax.set_title(f"{profile.name}: objective (mean F1 over groups); chosen off_rel={chosen[0]:g}, "
+                 f"switch_rows={chosen[1]:g}", fontsize=8)
     fig.colorbar(im, ax=ax)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
-
-
-def summary_lines(profile: GapProfile, chosen, records) -> list[str]:
-    """A per-experiment table (hit / wrong) of the references and the chosen ``dp_gap``."""
-    best = _label(profile.tracker, *chosen)
-    labels = list(profile.references) + [best]
-    exps = list(dict.fromkeys(rec["experiment"] for rec in records))
-    head = f"{'experiment':<44}" + "".join(f"{lab.split('@')[0]:>16}" for lab in labels)
-    lines = [head + "   (hit / wrong)"]
-    for e in exps + ["mean"]:
-        cells = []
-        for lab in labels:
-            rs = [rec for rec in records if rec["tracker"] == lab and (e == "mean" or rec["experiment"] == e)]
-            h = np.nanmean([rec["hit_fraction"] for rec in rs])
-            w = np.nanmean([rec["wrong_fraction"] for rec in rs])
-            cells.append(f"{h:>8.3f} /{w:>6.3f}")
-        lines.append(f"{e:<44}" + "".join(f"{c:>16}" for c in cells))
-    return lines
 
 
 DEFAULT_OUT = "results/runs/tune_dp_gap"
@@ -218,13 +206,20 @@ def add_arguments(parser) -> None:
 def command(args) -> int:
     """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
     (one line) before any scan."""
+    from bench.studies.tune_threshold import figure_lines
+
     profile = load_profile(args.profile)
     out = pathlib.Path(args.out)
-    chosen, scores, records = run(profile, out, progress=not args.quiet)
-    for line in summary_lines(profile, chosen, records):
-        print(line)
-    print(f"chosen off_rel = {chosen[0]:g}, switch_rows = {chosen[1]:g} (mean score {scores[chosen]:.3f}); "
-          f"{out / 'tune_gap.csv'}")
+    chosen, summary, records = run(profile, out, progress=not args.quiet)
+    k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
+    k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
+    print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
+    for stage, key, what in (("stage1", k1, profile.tracker), ("stage2", k2, ", ".join(profile.dp_trackers))):
+        best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]
+        print(f"{stage} ({what}): chosen {key} (objective {summary[stage][key]:.4f}; best five: "
+              + ", ".join(f"{kk} {v:.4f}" for kk, v in best) + ")")
+        print("\n".join(figure_lines(summary["figures"][stage])))
+    print(f"{out / 'tune_gap.csv'}")
     return 0
 
 

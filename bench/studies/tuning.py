@@ -1,0 +1,230 @@
+"""The frames every detection-tuning procedure scores, and its one objective.
+
+The operating points of the trackers (the threshold family's detection, Steger's
+ridge strength, the DP trackers' reporting rule, ``dp_gap``'s off state) are chosen
+by ``stripebench tune threshold`` and ``stripebench tune dp_gap`` on three groups
+of frames, none of which the paper experiment uses:
+
+``synthetic``
+    seeded numpy photographs of the failure classes (:mod:`bench.studies.hard_frames`,
+    seeds of the profile, never 0), every frame with stripe-less stretches of each
+    kind (past an edge, shadow, mirror, dark void, textured void);
+``renders``
+    scans of the profile's experiments (spheres and planes, never the paper's cone
+    or hand, seed of the profile, never 0), rendered and cached like any run;
+``real``
+    the shipped photographs (:data:`bench.store.realset.SHIPPED`) with their
+    references' row states (explicit, or the fallback rule).
+
+The objective (:func:`objective`) prices a miss and a false report alike: a
+setting's row outcomes are pooled over the frames of each group and the trackers
+scored, each group's F1 over rows is taken, and the objective is their mean, so
+each group weighs the same whatever its number of frames.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+
+from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
+
+__all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
+           "objective", "group_figures", "counts_record", "Tally"]
+
+#: The groups of tuning frames, in the order they are reported.
+GROUPS = ("synthetic", "renders", "real")
+
+
+@dataclass(frozen=True, eq=False)
+class TuningFrame:
+    """One tuning frame: what a tracker sees, and the truth it is scored on.
+
+    Attributes
+    ----------
+    group : str
+        One of :data:`GROUPS`.
+    name : str
+        Unique within the group (``printed-100``, ``sphere-patchy/3``, ``al_room0``).
+    kind : str
+        What the frame stands for within its group (hard-frame kind, experiment, rig).
+    image : ndarray, shape (H, W)
+        The frame as the trackers get it (uint8 or float64).
+    background : ndarray, shape (H, W), or None
+        Its laser-off frame, if any.
+    truth : ndarray of float64, shape (H,)
+        The stripe's column per row (px), NaN where there is none.
+    states : ndarray of int8, shape (H,)
+        Row states (:data:`bench.evaluate.outcomes.STATES`).
+    rgb : ndarray or None
+        The colour photograph (H0, W0, 3) before the channel rule, where there is one.
+    laser : str
+        The laser's colour (for the colour rule).
+    rotate : int
+        Degrees the colour photograph is turned to give ``image``'s orientation.
+    """
+
+    group: str
+    name: str
+    kind: str
+    image: np.ndarray
+    background: np.ndarray | None
+    truth: np.ndarray
+    states: np.ndarray
+    rgb: np.ndarray | None = None
+    laser: str = "red"
+    rotate: int = 0
+
+
+def synthetic_frames(kinds, seeds, *, background: bool = False) -> list[TuningFrame]:
+    """The hard frames of ``kinds`` x ``seeds`` (their laser channel, as a mono camera behind a filter
+    sees it; with ``background`` their laser-off frame too)."""
+    from bench.studies.hard_frames import hard_frame
+
+    out = []
+    for k in kinds:
+        for s in seeds:
+            f = hard_frame(k, int(s))
+            out.append(TuningFrame("synthetic", f"{k}-{s}", k, f.laser_channel,
+                                   f.laser_channel_off if background else None, f.truth, truth_states(f.truth),
+                                   f.rgb, f.laser, 0))
+    return out
+
+
+def real_frames(root=None) -> list[TuningFrame]:
+    """The photographs of a real set (default the shipped one) as ``stripebench real`` gives them
+    to the trackers, with their references' states; ``kind`` is the photograph's source repository."""
+    from bench.store import realset
+
+    out = []
+    for im in realset.load_dataset(realset.SHIPPED if root is None else root):
+        frame, bg, original, _ = im.load()
+        cols, states = im.reference(frame.shape)
+        out.append(TuningFrame("real", im.name, im.meta.get("source_repo", "") or im.name, frame, bg, cols, states,
+                               original if np.asarray(original).ndim == 3 else None, im.laser_colour,
+                               im.rotate_deg))
+    return out
+
+
+def rendered_frames(experiments, render: dict, seed: int, *, progress: bool = True) -> list[TuningFrame]:
+    """Every frame of a scan of each experiment (renders come from the scenes' disk cache when present).
+
+    Parameters
+    ----------
+    experiments : list of dict
+        ``scene``, ``material`` and scene overrides (a tuning profile's ``experiments``).
+    render : dict
+        ``width``, ``height``, ``spp``, ``n_angles``.
+    seed : int
+        The renders' seed (never the paper run's 0).
+    progress : bool
+        One line per experiment on stderr.
+    """
+    import scenes
+
+    from bench.run.camera_view import tracker_images
+
+    out = []
+    for k, e in enumerate(experiments):
+        overrides = {key: v for key, v in e.items() if key not in ("scene", "material")}
+        scene = scenes.make(e["scene"], material=e["material"], seed=seed, width=render["width"],
+                            height=render["height"], spp=render["spp"], **overrides)
+        angles = scene.object.default_angles(scene.rig.zeta_deg, render["n_angles"])
+        key = "".join([f"{e['scene']}-{e['material']}"] + [f"_{a}={b}" for a, b in sorted(overrides.items())])
+        if progress:
+            print(f"renders [{k + 1}/{len(experiments)}] {key}: {len(angles)} frames", file=sys.stderr, flush=True)
+        for i, a in enumerate(angles):
+            frame = scene.render(float(a), spp=render["spp"], seed=seed)
+            image, bg = tracker_images(frame, scene.params)
+            truth = np.asarray(frame.truth.columns, dtype=np.float64)
+            out.append(TuningFrame("renders", f"{key}/{i}", key, image, bg, truth, truth_states(truth)))
+    return out
+
+
+def frame_counts(columns, frame: TuningFrame, hit_px: float) -> np.ndarray:
+    """The row-outcome counts (in :data:`bench.evaluate.outcomes.OUTCOMES` order) of a tracker's columns on a frame."""
+    codes = row_outcomes(columns, frame.truth, frame.states, hit_px)
+    return outcome_counts(codes, axis=0)
+
+
+def group_figures(counts: dict) -> dict:
+    """Precision, recall, F1 and the false-report rate of each group's pooled counts.
+
+    Parameters
+    ----------
+    counts : dict
+        group -> counts (6,) in :data:`bench.evaluate.outcomes.OUTCOMES` order.
+
+    Examples
+    --------
+    >>> group_figures({"real": np.array([8, 1, 1, 2, 8, 0])})["real"]["f1"]
+    0.7619047619047619
+    """
+    return {g: detection_figures(np.asarray(c)) for g, c in counts.items()}
+
+
+def objective(counts: dict) -> float:
+    """The tuning objective: the mean over groups of each group's F1 over rows (pooled over its
+    frames and trackers); groups without a stripe row or a report are left out (NaN if all are).
+
+    Examples
+    --------
+    >>> objective({"synthetic": np.array([9, 0, 1, 0, 10, 0]), "real": np.array([5, 0, 5, 5, 5, 0])})
+    0.7236842105263157
+    """
+    f1 = [v["f1"] for v in group_figures(counts).values() if np.isfinite(v["f1"])]
+    return float(np.mean(f1)) if f1 else float("nan")
+
+
+def counts_record(counts) -> dict:
+    """``{n_hit: ..., n_unknown: ...}`` of a counts array (for the tables the procedures write)."""
+    return {k: int(v) for k, v in zip(COUNT_KEYS, np.asarray(counts))}
+
+
+class Tally:
+    """Row-outcome counts of one stage of a procedure, per setting, tracker, group and kind.
+
+    Examples
+    --------
+    >>> f = TuningFrame("real", "a", "rig", np.zeros((2, 4)), None, np.array([1.0, np.nan]),
+    ...                 np.array([1, 0], np.int8))
+    >>> t = Tally(1, 3.0)
+    >>> t.add("k=1", "threshold", f, np.array([1.5, 2.0]))
+    >>> t.objective("k=1"), t.records()[0]["n_false"]
+    (0.6666666666666666, 1)
+    """
+
+    def __init__(self, stage: int, hit_px: float):
+        self.stage = stage
+        self.hit_px = hit_px
+        self.counts: dict = {}
+
+    def add(self, setting: str, tracker: str, frame, columns) -> None:
+        """Count the outcomes of ``columns`` (H,) on ``frame`` under ``setting`` and ``tracker``."""
+        key = (setting, tracker, frame.group, frame.kind)
+        c = frame_counts(columns, frame, self.hit_px)
+        self.counts[key] = self.counts.get(key, 0) + c
+
+    def objective(self, setting: str) -> float:
+        """:func:`objective` of a setting, its counts pooled over its trackers."""
+        by_group: dict = {}
+        for (s, _, g, _), c in self.counts.items():
+            if s == setting:
+                by_group[g] = by_group.get(g, 0) + c
+        return objective(by_group)
+
+    def records(self) -> list[dict]:
+        """One dict per setting, tracker, group and kind: counts and :func:`detection_figures`."""
+        return [{"stage": self.stage, "setting": s, "tracker": t, "group": g, "kind": k, **counts_record(c),
+                 **detection_figures(c), "mae_px": float("nan")} for (s, t, g, k), c in self.counts.items()]
+
+    def by_group(self, setting: str) -> dict:
+        """group -> (kind -> pooled counts) of a setting, over its trackers."""
+        out: dict = {}
+        for (s, _, g, k), c in self.counts.items():
+            if s == setting:
+                kinds = out.setdefault(g, {})
+                kinds[k] = kinds.get(k, 0) + c
+        return out

@@ -15,7 +15,7 @@ from bench.evaluate.metrics import HIT_PX
 __all__ = ["image_metrics", "sim_to_real", "sim_to_real_sentences", "class_real_hit_rates", "sim_to_real_by_class"]
 
 
-def image_metrics(columns, reference, tol_px: float = HIT_PX) -> dict[str, float]:
+def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, score=None) -> dict[str, float]:
     """One tracker on one photograph.
 
     Parameters
@@ -26,6 +26,11 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX) -> dict[str, float
         Reference columns (px), NaN where there is none.
     tol_px : float
         A reference row is a hit when ``|col - ref| <= tol_px``.
+    state : array_like of int, shape (H,), optional
+        The rows' states (stripe, no stripe, unknown: :mod:`bench.evaluate.outcomes`); default
+        the fallback rule on ``reference`` (:func:`bench.evaluate.outcomes.fallback_states`).
+    score : array_like, shape (H,), optional
+        The tracker's per-row score (for ``ap``).
 
     Returns
     -------
@@ -33,14 +38,22 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX) -> dict[str, float
         ``hit_rate`` (hits / reference rows; a missing detection is a miss),
         ``mae_px`` (mean ``|col - ref|`` over the hits), ``coverage`` (reference
         rows with a detection), ``false_detections`` (rows without a reference
-        that have a detection, over such rows), ``n_ref``. NaN where undefined.
+        that have a detection, over such rows), ``n_ref``; then the row outcomes
+        ``n_hit`` ... ``n_unknown``, ``precision``, ``recall``, ``f1``,
+        ``false_report_rate`` (reports on rows with no stripe, over those rows) and
+        ``ap`` (NaN without ``score``), ``ap_constant``. NaN where undefined.
 
     Examples
     --------
-    >>> m = image_metrics([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, 5.0, np.nan])
+    >>> m = image_metrics([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, 5.0, np.nan], state=[1, 1, 1, 0])
     >>> m["hit_rate"], m["mae_px"], m["coverage"], m["false_detections"]
     (0.3333333333333333, 1.0, 0.6666666666666666, 1.0)
+    >>> m["n_false"], m["precision"], m["false_report_rate"]
+    (1, 0.3333333333333333, 1.0)
     """
+    from bench.evaluate.outcomes import (average_precision, detection_figures, fallback_states, outcome_counts,
+                                         row_outcomes)
+
     if not (isinstance(tol_px, (int, float)) and tol_px >= 0 and math.isfinite(tol_px)):
         raise ValueError(f"`tol_px` must be a finite number >= 0, got {tol_px!r}")
     c = np.asarray(columns, dtype=np.float64)
@@ -53,13 +66,23 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX) -> dict[str, float
     err = np.abs(c[has_ref] - r[has_ref])
     hits = err <= tol_px
     no_ref = int((~has_ref).sum())
-    return {
+    out = {
         "hit_rate": float(hits.sum() / n_ref) if n_ref else float("nan"),
         "mae_px": float(err[hits].mean()) if hits.any() else float("nan"),
         "coverage": float(det[has_ref].sum() / n_ref) if n_ref else float("nan"),
         "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
         "n_ref": n_ref,
     }
+    codes = row_outcomes(c, r, fallback_states(r) if state is None else state, tol_px)
+    counts = outcome_counts(codes)
+    out.update(counts)
+    out.update(detection_figures(counts))
+    if score is None:
+        out.update(ap=float("nan"), ap_constant=False)
+    else:
+        ap = average_precision(np.where(det, np.asarray(score, dtype=np.float64), np.nan), codes)
+        out.update(ap=ap["ap"], ap_constant=bool(ap["constant"]))
+    return out
 
 
 def sim_to_real(synthetic_hit_rates: dict, real_hit_rates: dict) -> dict:

@@ -16,7 +16,7 @@ from bench.evaluate.stats import (GROSS_MM, STATISTICS, WITHIN_MM, resample_indi
 from bench.evaluate.triangulation import depth_cm
 
 __all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "scan_states",
-           "detection_rows", "detection_table", "draw_samples", "sample_table", "sample_columns",
+           "detection_rows", "detection_table", "false_points", "draw_samples", "sample_table", "sample_columns",
            "improvements", "robust_table", "verdicts", "worst_frames"]
 
 
@@ -83,6 +83,23 @@ def restored_points(scan, name: str | None, rig, restore: str = "rows"):
     on[:, :-1] |= scan.on_object[:, 1:]
     pts[~on] = np.nan
     return pts, err
+
+
+def false_points(scan, name: str, rig) -> np.ndarray:
+    """The false 3-D points of a tracker on a scan: every report on a row with no stripe (truth NaN),
+    triangulated by eqs. (3), (4), (5) as the tracker's columns would be: (N, 3) cm, frames in order.
+
+    Each is a point where there is no surface: junk in a scanner's point cloud, a phantom obstacle
+    for the paper's robot.
+    """
+    from bench.evaluate.triangulation import points_from_depth
+
+    cols = scan.columns[name]
+    f, r = np.nonzero(np.isnan(scan.truth_columns) & ~np.isnan(cols))
+    if f.size == 0:
+        return np.zeros((0, 3))
+    depth = depth_cm(cols[f, r], rig)
+    return points_from_depth(depth, r.astype(float), scan.angles[f], rig)
 
 
 def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="rows") -> list[dict]:
@@ -393,19 +410,22 @@ def verdicts(robust: list[dict], improvement: list[dict], dp_labels, base_labels
 
 
 def worst_frames(scan, k: int) -> list[int]:
-    """The ``k`` frames where the trackers miss the truth most: largest mean over
-    trackers of the fraction of lit rows that are not hits (|error| > 3 px or
-    nothing reported), worst first; ties to the earlier frame. Frames with no lit row are never
-    chosen; fewer than ``k`` if fewer frames have lit rows."""
-    from bench.evaluate.metrics import hits
+    """The ``k`` frames where the trackers fail most, on both halves of detection: largest mean over
+    trackers of the fraction of the frame's rows that fail (a stripe row not hit: wrong, or nothing
+    reported; a stripe-less row with a report: a false 3-D point), worst first; ties to the earlier
+    frame. Frames with no lit row are never chosen; fewer than ``k`` if fewer frames have lit rows."""
+    from bench.evaluate.outcomes import hits
 
     lit = ~np.isnan(scan.truth_columns)
     n_lit = lit.sum(axis=1)
-    miss = np.zeros(scan.truth_columns.shape[0])
+    H = scan.truth_columns.shape[1]
+    fail = np.zeros(scan.truth_columns.shape[0])
     for name in scan.columns:
-        hit = hits(scan.columns[name], scan.truth_columns)
-        miss += 1.0 - np.divide(hit.sum(axis=1), n_lit, out=np.ones_like(miss), where=n_lit > 0)
-    miss /= max(len(scan.columns), 1)
+        cols = scan.columns[name]
+        missed = (lit & ~hits(cols, scan.truth_columns)).sum(axis=1)
+        false = (~lit & ~np.isnan(cols)).sum(axis=1)
+        fail += (missed + false) / H
+    fail /= max(len(scan.columns), 1)
     ok = np.flatnonzero(n_lit > 0)
-    order = ok[np.argsort(-miss[ok], kind="stable")]
+    order = ok[np.argsort(-fail[ok], kind="stable")]
     return [int(i) for i in order[:k]]

@@ -12,7 +12,7 @@ import numpy as np
 from bench.report.palette import TRACKER_COLOURS, tracker_colour  # noqa: F401  (the one palette)
 
 __all__ = ["fig_tracking", "fig_samples", "fig_bars", "fig_curves", "fig_gallery", "fig_shapes", "tracker_colour",
-           "clip_for_plot", "TRACKER_COLOURS", "SAMPLE_CAP_MM"]
+           "clip_for_plot", "TRACKER_COLOURS", "SAMPLE_CAP_MM", "FALSE_COLOUR", "fig_pr"]
 
 # One colour per tracker label, the same in every run and figure.
 _MARKERS = ["o", "s", "D", "^", "v", "<", ">", "P", "X", "*", "h", "p"]
@@ -74,15 +74,30 @@ def fig_tracking(image, cost_field, tracks: dict, truth_columns, path, title: st
     return Path(path)
 
 
+#: The colour of false reports (a column on a row with no stripe: a false 3-D point) in every figure.
+FALSE_COLOUR = "#ff00ff"
+
+
 def fig_gallery(image, truth_columns, tracks: dict, path, title: str = "") -> Path:
     """One failure-gallery frame: the image with the truth and each tracker's
-    detections as markers, large enough to read at report size."""
+    detections as markers, large enough to read at report size; every report on a
+    row with no stripe (NaN truth: a false 3-D point) in :data:`FALSE_COLOUR`, with
+    the tracker's marker shape."""
     plt = _plt()
     H, W = image.shape
     fig, ax = plt.subplots(figsize=(9.0, 9.0 * H / W * 0.9))
     fig.subplots_adjust(left=0.08, right=0.80, bottom=0.09, top=0.94)  # fixed: the legend sits right of it
     ax.imshow(image, cmap="gray", vmin=0, vmax=max(int(np.max(image)), 1))
     _draw_tracks(ax, tracks, truth_columns)
+    none = np.isnan(np.asarray(truth_columns, dtype=np.float64))
+    first = True
+    for name, cols in sorted(tracks.items()):
+        c = np.asarray(cols, dtype=np.float64)
+        rows = np.flatnonzero(none & ~np.isnan(c))
+        if rows.size:
+            ax.plot(c[rows], rows, ls="none", marker=_marker(name), ms=3.0, mew=0.7, mfc="none", color=FALSE_COLOUR,
+                    label="false reports (no stripe in the row)" if first else None, zorder=5)
+            first = False
     ax.set_xlim(-0.5, W - 0.5)
     ax.set_ylim(H - 0.5, -0.5)
     ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8, framealpha=0.8)
@@ -256,6 +271,35 @@ def fig_curves(table, key: str, path, metric: str = "hit_rate", title: str = "",
     return Path(path)
 
 
+def fig_pr(curves: dict, path, title: str = "") -> Path:
+    """One condition's precision-recall curves over rows: per tracker, precision against recall as its
+    reports are taken in order of its score (:func:`bench.evaluate.outcomes.pr_curve`), its operating
+    point (every report) as a dot, AP in the legend; a tracker whose reports all score alike is its dot."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    for name in sorted(curves, key=lambda n: -np.nan_to_num(curves[n]["ap"], nan=-1.0)):
+        c = curves[name]
+        col = tracker_colour(name)
+        if not c["constant"] and len(c["recall"]):
+            ax.step(np.r_[0.0, c["recall"]], np.r_[c["precision"][0], c["precision"]], where="post", color=col,
+                    lw=1.0)
+        r, p = c["point"]
+        ap = "–" if not np.isfinite(c["ap"]) else f"{c['ap']:.2f}"
+        ax.plot([r], [p], marker=_marker(name), ms=5, color=col, ls="none",
+                label=f"{name} (AP {ap}{', one point' if c['constant'] else ''})")
+    ax.set_xlim(0.0, 1.0)
+    ax.set_ylim(0.0, 1.02)
+    ax.set_xlabel("recall (stripe rows hit)")
+    ax.set_ylabel("precision (reports that are hits)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=6.5, loc="lower left", ncol=2, framealpha=0.8)
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90, **PNG)
+    plt.close(fig)
+    return Path(path)
+
+
 def _quads(points):
     """PolyData faces for the (F, H) grid of points where all 4 corners exist."""
     F, H, _ = points.shape
@@ -281,7 +325,7 @@ ERROR_CLIM_MM = 10.0  # the error maps of Fig. 8/9 saturate at ±this
 
 
 def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0), errors_mm: dict | None = None,
-               columns: int = 3) -> Path:
+               columns: int = 3, false_points: dict | None = None) -> Path:
     """Restored 3-D surfaces, seen from the rig's side, in a grid of panels.
 
     ``surfaces`` maps a label to an (F, H, 3) grid of points (cm, NaN where
@@ -289,7 +333,9 @@ def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0),
     ground truth) sets the view and is coloured by depth R (cm). Every other
     surface is coloured by its depth error (mm) from ``errors_mm[label]`` (F, H),
     on a diverging map saturating at ±:data:`ERROR_CLIM_MM` (or by R when no
-    error is given). ``columns`` panels per row, 400 x 360 px each.
+    error is given). ``columns`` panels per row, 400 x 360 px each. ``false_points[label]``
+    (N, 3) cm are the tracker's false 3-D points (reports on rows with no stripe), drawn in
+    :data:`FALSE_COLOUR` and counted in the panel's title.
     """
     import pyvista as pv
 
@@ -329,7 +375,12 @@ def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0),
                 mesh["R (cm)"] = np.hypot(pts[:, 0], pts[:, 1])
                 plotter.add_mesh(mesh, scalars="R (cm)", cmap="jet", clim=clim, show_scalar_bar=True,
                                  scalar_bar_args={"title": "R (cm)", "vertical": True, "position_x": 0.84})
-        plotter.add_text(label if err is None else f"{label}: depth error", font_size=11)
+        fp = np.asarray((false_points or {}).get(label, np.zeros((0, 3))), float).reshape(-1, 3)
+        fp = fp[np.isfinite(fp).all(axis=1)]
+        if fp.size:
+            plotter.add_mesh(pv.PolyData(fp), color=FALSE_COLOUR, point_size=4.0, render_points_as_spheres=True)
+        text = label if err is None else f"{label}: depth error"
+        plotter.add_text(text + (f"; {len(fp)} false points" if fp.size else ""), font_size=11)
         plotter.camera_position = [tuple(eye), tuple(centre), (0.0, 0.0, 1.0)]
         plotter.reset_camera_clipping_range()
     plotter.screenshot(str(path))

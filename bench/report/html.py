@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import html
 
-__all__ = ["esc", "page", "BASE_CSS"]
+__all__ = ["esc", "page", "pct", "interval", "BASE_CSS"]
 
 #: The style every page shares; a page adds its own rules after it.
 BASE_CSS = ("body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
@@ -28,6 +28,33 @@ def esc(value) -> str:
     'x&#x27; onload=&#x27;alert(3)'
     """
     return html.escape(str(value), quote=True)
+
+
+def pct(value) -> str:
+    """A fraction in per cent to the unit, ``–`` when missing.
+
+    Examples
+    --------
+    >>> pct(0.934), pct(float("nan")), pct(None)
+    ('93 %', '–', '–')
+    """
+    import math
+
+    return "–" if value is None or not math.isfinite(value) else f"{100 * value:.0f} %"
+
+
+def interval(low, high) -> str:
+    """``[96, 99]``: an interval of fractions in per cent, ``[–]`` when missing.
+
+    Examples
+    --------
+    >>> interval(0.912, 0.954), interval(None, 0.5)
+    ('[91, 95]', '[–]')
+    """
+    import math
+
+    ok = low is not None and high is not None and math.isfinite(low) and math.isfinite(high)
+    return f"[{100 * low:.0f}, {100 * high:.0f}]" if ok else "[–]"
 
 
 def page(title: str, body: str, *, css: str = "") -> str:

@@ -24,7 +24,8 @@ import numpy as np
 from bench.evaluate import readings
 from bench.report.html import page
 from bench.evaluate.metrics import hit_rate
-from bench.evaluate.tables import restored_points
+from bench.evaluate.tables import false_points, restored_points
+from bench.report.detection import condition_groups, detection_glance, pr_curves
 from bench.store.runfolder import load_run
 from bench.store.files import atomic_write_text
 
@@ -435,7 +436,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
     for old in figdir.glob("*.png"):  # figures of an earlier report must not linger
         old.unlink()
     out: dict[str, list[Path]] = {"tracking": [], "samples": [], "gallery": [], "bars": [], "curves": [],
-                                  "shapes": []}
+                                  "shapes": [], "pr": []}
     jobs: list[tuple[str, tuple]] = []  # (section, (function, args, kwargs)): the 2-D figures, drawn below
 
     def later(section, function, *args, **kwargs):
@@ -477,6 +478,11 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
             worst = ", ".join(f"{n} {rate[n]:.2f}" for n in sorted(rate, key=lambda n: rate[n])[:4])
             later("gallery", figures.fig_gallery, g.image, truth, tracks, figdir / f"gallery_{k:02d}.png",
                   title=f"{g.experiment}, frame {g.frame}: lowest hit rates {worst}")
+    for k, (title, _, keys) in enumerate(condition_groups(summary)):
+        curves = pr_curves(data["scans"], keys, list(config.trackers))
+        if curves:
+            later("pr", figures.fig_pr, curves, figdir / f"pr_{k:02d}.png",
+                  title=f"{title}: precision-recall over rows ({len(keys)} scan(s))")
     if len(metrics):
         later("bars", figures.fig_bars, metrics, figdir / "bars_hit_rate.png", "hit_rate")
         for title, key, keys in _sweeps(cfg):
@@ -502,12 +508,13 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
                               height=int(cfg["render"].get("height", 480))).rig
             names = [n for n in show if n in scan.columns]
             surf = {"ground truth": restored_points(scan, None, rig)[0]}
-            errs = {}
+            errs, fps = {}, {}
             for n in names:
                 surf[n], errs[n] = restored_points(scan, n, rig, _restore_of(summary, n))
+                fps[n] = false_points(scan, n, rig)
             try:
                 out["shapes"].append(figures.fig_shapes(surf, figdir / f"shape_{exp.key}.png", title=exp.key,
-                                                        errors_mm=errs))
+                                                        errors_mm=errs, false_points=fps))
             except Exception as exc:  # a missing OpenGL must not lose the rest of the report
                 if not quiet:
                     print(f"stripebench: 3-D figure of {exp.key} skipped: {type(exc).__name__}: {exc}",
@@ -532,7 +539,14 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]
     own = {k: v for k, v in s.get("restore_by_tracker", {}).items() if v != s.get("restore", "rows")}
-    parts = [f"<h1>stripebench run <code>{_esc(run_dir.name)}</code></h1>", claims_html(s), glance_table(s)]
+    parts = [f"<h1>stripebench run <code>{_esc(run_dir.name)}</code></h1>", claims_html(s), glance_table(s),
+             detection_glance(s)]
+    if figs["pr"]:
+        parts.append("<h2>Precision and recall over rows, per condition</h2><p>Each tracker's reports taken in "
+                     "the order of its own score (its per-row confidence): precision (reports that are hits) "
+                     "against recall (stripe rows hit), the dot its operating point (every report it makes). A "
+                     "curve above and to the right ranks better; recall ends where the tracker stops reporting."
+                     "</p>" + "".join(_img(p, "49%") for p in figs["pr"]))
     parts.append("<h2>Which tracker is more precise, per condition</h2><p>A statistic decides only when its 95 % "
                  "intervals do: the ±5 mm fractions' Wilson intervals must not overlap; the RMSE ratio's bootstrap "
                  "interval must exclude 0. Open a condition to read its verdicts.</p>" + _verdicts_folded(s))
@@ -548,9 +562,10 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                      "±1000 mm points sit at the edge, marked and counted).</p>"
                      + "".join(_img(p) for p in figs["samples"]))
     if figs["gallery"]:
-        parts.append("<h2>Failure gallery</h2><p>Per experiment, the frames where the trackers miss the truth most "
-                     "(mean over trackers of the lit rows that are not within 3 px). Markers every 4th row, offset "
-                     "per tracker; the truth dashed red.</p>"
+        parts.append("<h2>Failure gallery</h2><p>Per experiment, the frames where the trackers fail most (mean "
+                     "over trackers of the rows that fail: stripe rows not within 3 px, and stripe-less rows with a "
+                     "report). Markers every 4th row, offset per tracker; the truth dashed red; every report on a "
+                     "row with no stripe (a false 3-D point) in magenta.</p>"
                      + "".join(_img(p, "49%") for p in figs["gallery"]))
     if s.get("sim_to_real"):
         from bench.report.simreal import sim_to_real_html
@@ -575,16 +590,21 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
         parts.append("<h2>Tracking one frame (Fig. 7)</h2>" + "".join(_img(p) for p in figs["tracking"]))
     if figs["shapes"]:
         parts.append("<h2>Restored shapes (Fig. 8, 9)</h2><p>The ground truth coloured by depth R, and each "
-                     "tracker's restored surface coloured by its depth error (mm, saturating at ±10 mm).</p>"
+                     "tracker's restored surface coloured by its depth error (mm, saturating at ±10 mm); its false "
+                     "3-D points (reports on rows with no stripe, triangulated as if they were the stripe) in "
+                     "magenta.</p>"
                      + "".join(_img(p) for p in figs["shapes"]))
-    cols = [c for c in ["experiment", "tracker", "region", "hit_rate", "coverage", "px_mae", "px_rmse", "px_p95",
-                        "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "outlier_rate", "false_detections",
+    cols = [c for c in ["experiment", "tracker", "region", "hit_rate", "coverage", "precision", "f1",
+                        "false_report_rate", "n_false", "ap", "px_mae", "px_rmse", "px_p95",
+                        "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "outlier_rate",
                         "filled_fraction", "ms_per_frame", "failed_frames"] if c in metrics]
     table = metrics[cols].to_html(index=False, float_format=lambda v: f"{v:.3g}", na_rep="–", border=0)
     parts.append("<h2>Metrics</h2><p>Pixel errors against the ground-truth column of each lit row; depth errors "
                  "(mm) of R from eq. (3); coverage = detected / lit rows; hit rate = lit rows within 3 px / lit rows; "
-                 "outliers = |error| &gt; 3 px among detected lit rows; false detections = detected / unlit rows; "
-                 "region <i>object</i> keeps the rows whose true point lies on the object.</p>" + table)
+                 "outliers = |error| &gt; 3 px among detected lit rows; precision = hits / reports; f1 over rows; "
+                 "false-report rate = reports / rows with no stripe (<code>n_false</code> of them: false 3-D "
+                 "points); ap = average precision of the tracker's score; region <i>object</i> keeps the rows "
+                 "whose true point lies on the object (its stripe-less rows are not scored).</p>" + table)
     fails = [(sc["experiment"], n, c, sc["failure_messages"][n]) for sc in s["scans"]
              for n, c in sc["failures"].items() if c]
     if fails:

@@ -21,13 +21,18 @@ import sys
 import time
 from pathlib import Path
 
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, bootstrap_frames, row_outcomes
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
 from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.realrun import write_track_csv
 
-__all__ = ["track_images", "run_real"]
+__all__ = ["track_images", "run_real", "DETECTION_KEYS"]
+
+#: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
+#: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
+DETECTION_KEYS = (*COUNT_KEYS, *FIGURE_KEYS, "ap")
 
 
 
@@ -202,8 +207,10 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
               "n_boot": n_boot, "seed": seed, "images": [im.name for im in images]}
     labels = list(trackers)
     records = []
+    outcomes = {lab: ([], []) for lab in labels}  # per tracker: each photograph's row outcomes and scores
     for k, im in enumerate(images):
         frame, bg, original, ref = im.load()
+        _, states = im.reference(frame.shape)
         res = _track_all(trackers, frame, bg)
         tracks = {lab: r[0] for lab, r in res.items()}
         write_track_csv(out / LAYOUT["tracks"] / f"{im.name}.csv", labels, tracks)
@@ -212,7 +219,9 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
                                draw(original, {lab: t.columns for lab, t in tracks.items()},
                                     rotate_deg=im.rotate_deg, reference=ref))
         for lab, (tr, ms, status, msg) in res.items():
-            m = image_metrics(tr.columns, ref, tol_px)
+            m = image_metrics(tr.columns, ref, tol_px, state=states, score=tr.score)
+            outcomes[lab][0].append(row_outcomes(tr.columns, ref, states, tol_px))
+            outcomes[lab][1].append(tr.score)
             records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
                             "has_background": im.background_path is not None, "status": status, "message": msg})
         if not quiet:
@@ -225,9 +234,13 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
         stats = {}
         for metric in ("hit_rate", "mae_px", "coverage", "false_detections"):
             stats[metric] = bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
+        det = bootstrap_frames(*outcomes[lab], n_boot=n_boot, seed=seed + j)  # rows pooled over photographs
+        stats["detection"] = det
         summary_rows[lab] = stats
         means.append({"experiment": "mean", "tracker": lab, "region": "real",
-                      **{m: s["mean"] for m, s in stats.items()}, "n_ref": int(sub["n_ref"].sum()),
+                      **{m: s["mean"] for m, s in stats.items() if m != "detection"},
+                      **{k: det[k] for k in DETECTION_KEYS}, "ap_constant": det["ap_constant"],
+                      "n_ref": int(sub["n_ref"].sum()),
                       "ms_per_frame": float(sub["ms_per_frame"].median()), "has_background": False,
                       "status": "ok" if (sub["status"] == "ok").all() else "failed",
                       "message": "; ".join(sorted(set(sub["message"]) - {""}))[:200]})

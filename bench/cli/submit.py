@@ -87,8 +87,13 @@ def _score(args) -> int:
 
 
 def _add_leaderboard(p) -> None:
+    from bench.report.leaderboard import RANK_BY
+
     p.add_argument("runs", nargs="+", type=Path, metavar="RUN", help="finished run or scored-submission folders")
     add_out(p, "output folder (leaderboard.html, leaderboard.csv)", required=True)
+    p.add_argument("--rank-by", choices=RANK_BY, default="within",
+                   help="rank by the ±5 mm fraction of sample points (the paper's reading, default), or by F1 "
+                        "or AP over rows (detection: misses and false reports alike)")
 
 
 def _leaderboard(args) -> int:
@@ -96,7 +101,7 @@ def _leaderboard(args) -> int:
 
     check_out_folder(args.out)
     try:
-        page = build_leaderboard(args.runs, args.out)
+        page = build_leaderboard(args.runs, args.out, args.rank_by)
     except LeaderboardError as exc:
         raise UsageError(str(exc)) from None
     print(f"stripebench: leaderboard at {page} (and {page.with_suffix('.csv').name})")

@@ -305,7 +305,7 @@ def pr_curve(scores, codes) -> dict:
     tp = tp[order]
     ctp = np.cumsum(tp)
     cfp = np.cumsum(~tp)
-    last = np.r_[np.flatnonzero(np.diff(key) != 0), key.size - 1] if key.size else np.zeros(0, np.intp)
+    last = np.r_[np.flatnonzero(key[1:] != key[:-1]), key.size - 1] if key.size else np.zeros(0, np.intp)
     tps = ctp[last].astype(np.float64)
     fps = cfp[last].astype(np.float64)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -461,7 +461,7 @@ def _bootstrap_ap(frames, scores, weights) -> np.ndarray:
     if key.size == 0:
         out[n_pos > 0] = 0.0
         return out
-    last = np.r_[np.flatnonzero(np.diff(key) != 0), key.size - 1]
+    last = np.r_[np.flatnonzero(key[1:] != key[:-1]), key.size - 1]
     for lo in range(0, weights.shape[0], 256):  # bounded memory: 256 resamples x reports at a time
         wt = weights[lo:lo + 256][:, fr].astype(np.float64)  # (b, n_reports)
         ctp = np.cumsum(wt * tp, axis=1)[:, last]

@@ -4,8 +4,12 @@ Runs are comparable when :func:`bench.run.gate.comparability` finds no
 difference among :data:`bench.run.gate.COMPARED_KEYS` (render size and spp,
 experiments, seed); otherwise the page is refused in one line. Each tracker
 label enters once (from the first run that has it). Per condition, trackers
-are ranked by the fraction of sample points within ±5 mm (``within``, missing
-points counted as misses) with its Wilson 95 % interval; a tracker whose
+are ranked (``rank_by``, :data:`RANK_BY`) by the fraction of sample points within
+±5 mm (``within``, the paper's reading, missing points counted as misses) with its
+Wilson 95 % interval, or by detection over rows (:mod:`bench.evaluate.outcomes`):
+``f1`` or ``ap`` (the average precision of the tracker's score), with their bootstrap
+intervals over frames; the false-report rate and the false 3-D points per scan
+stand beside them whatever the ranking. A tracker whose
 interval overlaps that of the first tracker of the rank above it (the rank's
 leader) is marked tied and shares that rank (the report's rule: intervals
 overlap => tie; comparing with the leader, not the neighbour, keeps ties from
@@ -27,10 +31,14 @@ from bench.run import gate
 from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
 
-__all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS"]
+__all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS", "RANK_BY"]
 
-COLUMNS = ("condition", "rank", "tied", "tracker", "within", "within_low", "within_high", "median_abs_mm",
-           "rmse_mm", "n_gross", "n", "ms_per_frame", "run", "kind", "git_revision")
+COLUMNS = ("condition", "rank", "tied", "rank_by", "tracker", "within", "within_low", "within_high", "median_abs_mm",
+           "rmse_mm", "n_gross", "n", "f1", "f1_low", "f1_high", "ap", "ap_low", "ap_high", "false_report_rate",
+           "false_points_per_scan", "ms_per_frame", "run", "kind", "git_revision")
+#: What a leaderboard can rank by: the ±5 mm fraction (the paper's reading), F1 or AP over rows.
+RANK_BY = ("within", "f1", "ap")
+_NAN = float("nan")
 
 
 _TRACK_PX = 200  # width of the interval track on the page
@@ -49,14 +57,16 @@ def _group_of(summary: dict, cond: dict, robust_groups: set) -> str | None:
     return None
 
 
-def leaderboard_rows(runs) -> list[dict]:
-    """One row per condition x tracker of the runs (:data:`COLUMNS`), ranked.
+def leaderboard_rows(runs, rank_by: str = "within") -> list[dict]:
+    """One row per condition x tracker of the runs (:data:`COLUMNS`), ranked by ``rank_by`` (:data:`RANK_BY`).
 
     Raises
     ------
     LeaderboardError
         A run is not a finished run or scored submission, or two runs are not comparable.
     """
+    if rank_by not in RANK_BY:
+        raise LeaderboardError(f"--rank-by must be one of {', '.join(RANK_BY)}, got {rank_by!r}")
     loaded = []
     for r in runs:
         try:
@@ -76,6 +86,7 @@ def leaderboard_rows(runs) -> list[dict]:
     seen, per_cond = set(), {}
     for path, s, m in loaded:
         rob = {(x["group"], x["tracker"]): x for x in s.get("robust", [])}
+        det = {(x["group"], x["tracker"]): x for x in s.get("detection", [])}
         groups = {g for g, _ in rob}
         for cond in s.get("conditions", []):
             g = _group_of(s, cond, groups)
@@ -88,20 +99,25 @@ def leaderboard_rows(runs) -> list[dict]:
                 seen.add((cond["condition"], label))
                 t = mm[mm["tracker"] == label]["ms_per_frame"].astype(float)
                 ms = float(t.mean()) if t.notna().any() else float("nan")
+                d = det.get((f"condition:{cond['condition']}", label), {})
                 per_cond.setdefault(cond["condition"], []).append({
                     "condition": cond["condition"], "tracker": label, "within": x["within"],
                     "within_low": x["within_low"], "within_high": x["within_high"],
                     "median_abs_mm": x["median_abs_mm"], "rmse_mm": x["rmse_mm"], "n_gross": x["n_gross"],
                     "n": x["n"], "ms_per_frame": ms, "run": path.name, "kind": s["kind"],
-                    "git_revision": s.get("git_revision", "")})
+                    "git_revision": s.get("git_revision", ""), "rank_by": rank_by,
+                    **{f"{k}{suf}": d.get(f"{k}{src}", _NAN) for k in ("f1", "ap")
+                       for suf, src in (("", ""), ("_low", "_lo"), ("_high", "_hi"))},
+                    "false_report_rate": d.get("false_report_rate", _NAN),
+                    "false_points_per_scan": d.get("false_points_per_scan", _NAN)})
     out = []
     for rows in per_cond.values():
-        out += rank_with_ties(rows)
+        out += rank_with_ties(rows, rank_by)
     return [{k: r[k] for k in COLUMNS} for r in out]
 
 
-def rank_with_ties(rows: list[dict]) -> list[dict]:
-    """``rows`` sorted by ``within`` (best first, then by ``tracker``), each with ``rank`` and ``tied``.
+def rank_with_ties(rows: list[dict], key: str = "within") -> list[dict]:
+    """``rows`` sorted by ``key`` (best first, then by ``tracker``), each with ``rank`` and ``tied``.
 
     A row is tied, and shares the rank, when its interval reaches the lower end
     of the interval of the rank's leader (the first row holding that rank);
@@ -110,7 +126,9 @@ def rank_with_ties(rows: list[dict]) -> list[dict]:
     Parameters
     ----------
     rows : list of dict
-        Each with ``tracker``, ``within`` and its interval ``within_low``, ``within_high`` (fractions).
+        Each with ``tracker``, ``key`` and its interval ``<key>_low``, ``<key>_high`` (fractions).
+    key : str
+        The figure ranked by (higher is better).
 
     Examples
     --------
@@ -121,15 +139,21 @@ def rank_with_ties(rows: list[dict]) -> list[dict]:
     >>> [(r["tracker"], r["rank"], r["tied"]) for r in rank_with_ties(rows)]
     [('a', 1, False), ('b', 1, True), ('c', 3, False), ('d', 3, True)]
     """
-    rows = sorted(rows, key=lambda r: (-(r["within"] if _ok(r["within"]) else -1.0), r["tracker"]))
+    lo, hi = f"{key}_low", f"{key}_high"
+    rows = sorted(rows, key=lambda r: (-(r[key] if _ok(r[key]) else -1.0), r["tracker"]))
     out, leader, rank = [], None, 0
     for i, r in enumerate(rows):
-        tied = leader is not None and _ok(r["within_high"]) and _ok(leader["within_low"]) \
-            and r["within_high"] >= leader["within_low"]
+        tied = leader is not None and _ok(r[hi]) and _ok(leader[lo]) and r[hi] >= leader[lo]
         if not tied:
             leader, rank = r, i + 1
         out.append({**r, "rank": rank, "tied": bool(tied)})
     return out
+
+
+_RANK_HEAD = {"within": "±5 mm", "f1": "F1", "ap": "AP"}
+_RANK_TEXT = {"within": "the fraction of sample points within ±5 mm (the paper's reading)",
+              "f1": "F1 over rows (hits against misses, wrong columns and false reports alike)",
+              "ap": "AP over rows (the tracker's score ranking its reports)"}
 
 
 def _ok(v) -> bool:
@@ -140,15 +164,16 @@ def _f(v, fmt: str) -> str:
     return format(v, fmt) if _ok(v) else "–"
 
 
-def build_leaderboard(runs, out_dir) -> Path:
-    """Write ``leaderboard.html`` and ``leaderboard.csv`` into ``out_dir``; returns the page.
+def build_leaderboard(runs, out_dir, rank_by: str = "within") -> Path:
+    """Write ``leaderboard.html`` and ``leaderboard.csv`` into ``out_dir``, ranked by ``rank_by``
+    (:data:`RANK_BY`); returns the page.
 
     Raises
     ------
     LeaderboardError
         See :func:`leaderboard_rows`.
     """
-    rows = leaderboard_rows(runs)
+    rows = leaderboard_rows(runs, rank_by)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     buf = io.StringIO()
@@ -164,31 +189,38 @@ def build_leaderboard(runs, out_dir) -> Path:
            ".mark{position:absolute;top:-2px;width:2px;height:16px;background:#145}"
            ".scale{font-weight:normal;color:#666;font-size:85%}.tie{color:#a60}")
     parts = ["<h1>stripebench leaderboard</h1>",
-             f"<p>{len(list(runs))} comparable run(s). Ranked per condition by the fraction of sample points within "
-             "±5 mm (95 % Wilson interval, drawn as a bar with the estimate marked; missing points count as "
-             "misses). <span class='tie'>tie</span>: its interval overlaps that of the rank's first tracker, so "
-             "it shares that rank. Times are ms per frame (a "
+             f"<p>{len(list(runs))} comparable run(s). Ranked per condition by {_RANK_TEXT[rank_by]} "
+             "(its 95 % interval drawn as a bar with the estimate marked). <span class='tie'>tie</span>: its "
+             "interval overlaps that of the rank's first tracker, so it shares that rank. ±5 mm: the fraction of "
+             "sample points within ±5 mm (Wilson interval; missing points count as misses). F1 and AP over "
+             "rows: every row is a hit, wrong, missed, false (a report where there is no stripe) or quiet; AP "
+             "ranks the reports by the tracker's own score. False points: reports on stripe-less rows per "
+             "scan, each a 3-D point where there is no surface. Times are ms per frame (a "
              "submission's own times.csv, else the harness's clock; machine dependent).</p>"]
     for cond in dict.fromkeys(r["condition"] for r in rows):
         crows = [x for x in rows if x["condition"] == cond]
-        lows = [x["within_low"] for x in crows if _ok(x["within_low"])]
+        lows = [x[f"{rank_by}_low"] for x in crows if _ok(x[f"{rank_by}_low"])]
         start = min(0.9, math.floor(10 * min(lows)) / 10) if lows else 0.0  # the track spans [start, 1]
-        parts.append(f"<h2>{e(cond)}</h2><table><tr><th>rank</th><th class='l'>tracker</th><th>±5 mm</th>"
-                     f"<th class='l'>95 % interval</th><th class='l'>interval <span class='scale'>"
-                     f"(track {start:.1f} to 1)</span></th><th>median |e| mm</th><th>RMSE mm</th><th>gross</th>"
-                     "<th>n</th><th>ms/frame</th><th class='l'>run</th><th class='l'>code</th></tr>")
+        parts.append(f"<h2>{e(cond)}</h2><table><tr><th>rank</th><th class='l'>tracker</th>"
+                     f"<th>{_RANK_HEAD[rank_by]}</th><th class='l'>95 % interval</th><th class='l'>interval "
+                     f"<span class='scale'>(track {start:.1f} to 1)</span></th>"
+                     + "".join(f"<th>{_RANK_HEAD[k]}</th>" for k in RANK_BY if k != rank_by)
+                     + "<th>false reports</th><th>false points/scan</th><th>median |e| mm</th><th>RMSE mm</th>"
+                     "<th>gross</th><th>n</th><th>ms/frame</th><th class='l'>run</th><th class='l'>code</th></tr>")
         for r in crows:
-            lo, hi = r["within_low"], r["within_high"]
+            lo, hi = r[f"{rank_by}_low"], r[f"{rank_by}_high"]
             bar = ""
-            if _ok(lo) and _ok(hi) and _ok(r["within"]):
-                x0, x1, xm = (_TRACK_PX * (v - start) / (1 - start) for v in (lo, hi, r["within"]))
+            if _ok(lo) and _ok(hi) and _ok(r[rank_by]):
+                x0, x1, xm = (_TRACK_PX * (v - start) / (1 - start) for v in (lo, hi, r[rank_by]))
                 bar = (f"<span class='track'><span class='bar' style='left:{x0:.0f}px;width:{max(1.0, x1 - x0):.0f}px'>"
                        f"</span><span class='mark' style='left:{xm - 1:.0f}px'></span></span>")
             parts.append(
                 f"<tr><td>{r['rank']}{' <span class=tie>tie</span>' if r['tied'] else ''}</td>"
                 f"<td class='l'><b>{e(r['tracker'])}</b>{' (submission)' if r['kind'] == 'score' else ''}</td>"
-                f"<td>{_f(r['within'], '.3f')}</td><td class='l'>[{_f(lo, '.3f')}, {_f(hi, '.3f')}]</td>"
+                f"<td>{_f(r[rank_by], '.3f')}</td><td class='l'>[{_f(lo, '.3f')}, {_f(hi, '.3f')}]</td>"
                 f"<td class='l'>{bar}</td>"
+                + "".join(f"<td>{_f(r[k], '.3f')}</td>" for k in RANK_BY if k != rank_by)
+                + f"<td>{_f(r['false_report_rate'], '.3f')}</td><td>{_f(r['false_points_per_scan'], '.0f')}</td>"
                 f"<td>{_f(r['median_abs_mm'], '.2f')}</td><td>{_f(r['rmse_mm'], '.2f')}</td><td>{r['n_gross']}</td>"
                 f"<td>{r['n']}</td><td>{_f(r['ms_per_frame'], '.2f')}</td><td class='l'>{e(r['run'])}</td>"
                 f"<td class='l'><code>{e(str(r['git_revision'])[:12])}</code></td></tr>")

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.report.html import esc, page
+from bench.report.html import esc, interval, page, pct
 from bench.report.palette import REFERENCE_COLOUR, tracker_colour, tracker_rgb
 from bench.store import realset as real
 
@@ -125,8 +125,12 @@ def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> Non
     for lab in labels:
         s = summary["trackers"][lab]
         h, m, c = s["hit_rate"], s["mae_px"], s["coverage"]
+        d = s.get("detection") or {}
+        det = "".join(f"<td>{pct(d.get(k))} <small>{interval(d.get(k + '_lo'), d.get(k + '_hi'))}</small></td>"
+                      for k in ("precision", "recall", "f1", "false_report_rate", "ap"))
         rows.append(f"<tr><td>{e(lab)}</td><td><b>{h['mean']:.3f}</b> [{h['lo']:.3f}, {h['hi']:.3f}]</td>"
-                    f"<td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td></tr>")
+                    f"<td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td>{det}"
+                    f"<td>{d.get('n_false', '–')} / {d.get('n_false', 0) + d.get('n_quiet', 0)}</td></tr>")
     per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values="hit_rate")
     per = per[labels]
     head = "".join(f"<th>{e(lab)}</th>" for lab in labels)
@@ -147,8 +151,14 @@ def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> Non
                     for im in images)
     body = f"""<h1>Real photographs: {summary['n_images']} images, tolerance {summary['tol_px']:g} px</h1>
 <p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']};
-means over images with 95 % bootstrap intervals over images.</p>
-<table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th></tr>{''.join(rows)}</table>
+hit rate, MAE and coverage: means over images with 95 % bootstrap intervals over images. Detection, both
+halves: every row of every photograph with a known state (stripe, no stripe; the references' own states, or
+the fallback rule: a row without a reference at least 15 rows from any stripe row has no stripe) is a hit,
+wrong, missed, false (a report where there is no stripe) or quiet; precision, recall, F1, the false-report
+rate and AP (the tracker's score ranking its reports) pooled over the photographs' rows, with 95 % bootstrap
+intervals over photographs.</p>
+<table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th><th>precision</th>
+<th>recall</th><th>F1</th><th>false reports</th><th>AP</th><th>false / stripe-less rows</th></tr>{''.join(rows)}</table>
 <h2>Hit rate per image</h2><table><tr><th>image</th>{head}</tr>{table}</table>
 <h2>The worst images per tracker</h2><p>{key}</p>{''.join(worst)}
 <h2>Images</h2><table><tr><th>image</th><th>source</th><th>license</th><th>notes</th></tr>{notes}</table>

@@ -18,7 +18,27 @@ def sim_to_real_html(result: dict) -> str:
     text = "".join(f"<p>{html.escape(s)}</p>" for s in sim_to_real_sentences(result))
     return (f"<section class='sim-to-real'><h2>Renders vs photographs</h2>{text}<table><tr><th>tracker</th>"
             f"<th>synthetic hit rate</th><th>real hit rate</th><th>real - synthetic</th><th>rank (synthetic)</th>"
-            f"<th>rank (real)</th></tr>{rows}</table></section>")
+            f"<th>rank (real)</th></tr>{rows}</table>{_detection_html(result.get('detection') or {})}</section>")
+
+
+_DETECTION_NAMES = {"f1": "F1 over rows", "false_report_rate": "false-report rate"}
+
+
+def _detection_html(detection: dict) -> str:
+    """Both halves of detection, renders against photographs: F1 and the false-report rate per tracker
+    (every row of the run's frames; every row of the photographs with a known state)."""
+    if not detection:
+        return ""
+    trackers = list(dict.fromkeys(t["tracker"] for r in detection.values() for t in r["table"]))
+    by = {k: {t["tracker"]: t for t in r["table"]} for k, r in detection.items()}
+    head = "".join(f"<th>{_DETECTION_NAMES.get(k, k)}<br>synthetic / real</th>" for k in detection)
+    body = "".join(f"<tr><td>{html.escape(n)}</td>" + "".join(
+        f"<td>{_num(by[k][n]['synthetic'])} / {_num(by[k][n]['real'])}</td>" if n in by[k] else "<td>–</td>"
+        for k in detection) + "</tr>" for n in trackers)
+    rho = "; ".join(f"{_DETECTION_NAMES.get(k, k)}: Spearman's rho {_num(r['spearman_rho'], '.2f')}"
+                    for k, r in detection.items())
+    return (f"<p>Both halves of detection (a report on a row with no stripe is a false one): {html.escape(rho)}."
+            f"</p><table><tr><th>tracker</th>{head}</tr>{body}</table>")
 
 
 def _num(v: float, fmt: str = ".3f") -> str:

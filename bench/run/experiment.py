@@ -302,6 +302,10 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     result = simreal.sim_to_real(synthetic, rm)
     result["dataset"] = str(config.real_set)
     result["sentences"] = simreal.sim_to_real_sentences(result)
+    every = metrics[metrics["region"] == "all"]
+    result["detection"] = {  # both halves of detection, every row: the renders' mean against the photographs'
+        k: simreal.sim_to_real({str(t): float(v) for t, v in every.groupby("tracker")[k].mean().items()},
+                               real_run_means(rdir, k)) for k in ("f1", "false_report_rate")}
     cond_of = {e.key: e.condition for e in config.experiments if e.condition}
     if cond_of:  # experiments that name a class of photograph: the comparison matched by class
         by_exp = obj[obj["experiment"].isin(list(cond_of))].assign(

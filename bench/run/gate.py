@@ -10,9 +10,11 @@ A metric regresses when it moves in its bad direction by more than
 ``abs + rel * |baseline|``; a value that becomes NaN (or stops being NaN)
 regresses too. Runtimes are not gated (they depend on the machine).
 
+Detection is gated on both halves: precision, recall, F1, the false-report rate and
+the average precision of the tracker's score (:mod:`bench.evaluate.outcomes`).
 A real-photograph run (``stripebench real``) is gated the same way on its
 own metrics (:data:`REAL_TOLERANCES`: hit rate, MAE on the hits, coverage,
-false detections) per image x tracker and for the mean over images, e.g.
+false detections and the detection figures) per image x tracker and for the mean over images, e.g.
 ``stripebench check results/runs/real --baseline results/baselines/real.json``.
 
 Baseline files are format 2 (:data:`FORMAT`): format 1 plus ``renderer`` (the
@@ -52,6 +54,13 @@ TOLERANCES: dict[str, tuple[str, float, float]] = {
     "false_lock_rate": ("lower", 0.01, 0.05),
     "outlier_rate": ("lower", 0.01, 0.05),
     "false_detections": ("lower", 0.01, 0.05),
+    # detection, both halves (bench.evaluate.outcomes): reports that are hits, stripe rows hit, their F1,
+    # reports on stripe-less rows, and the average precision of the tracker's score
+    "precision": ("higher", 0.01, 0.0),
+    "recall": ("higher", 0.01, 0.0),
+    "f1": ("higher", 0.01, 0.0),
+    "false_report_rate": ("lower", 0.01, 0.05),
+    "ap": ("higher", 0.01, 0.0),
 }
 #: The gated metrics of a real-photograph run (``stripebench real``, summary ``kind = "real"``).
 REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
@@ -59,6 +68,11 @@ REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
     "mae_px": ("lower", 0.05, 0.05),
     "coverage": ("higher", 0.01, 0.0),
     "false_detections": ("lower", 0.01, 0.05),
+    "precision": ("higher", 0.01, 0.0),
+    "recall": ("higher", 0.01, 0.0),
+    "f1": ("higher", 0.01, 0.0),
+    "false_report_rate": ("lower", 0.01, 0.05),
+    "ap": ("higher", 0.01, 0.0),
 }
 #: The baseline format written; :data:`READ_FORMATS` are read (format 1 is upgraded on reading).
 FORMAT = 2

@@ -168,8 +168,11 @@ def load_real_run(run_dir) -> dict:
     return {"summary": summary, "metrics": load_metrics(d)}
 
 
-def real_run_means(run_dir) -> dict[str, float]:
-    """label -> mean hit rate over the images of a real run (its ``mean`` rows)."""
+def real_run_means(run_dir, metric: str = "hit_rate") -> dict[str, float]:
+    """label -> a real run's ``metric`` of its ``mean`` rows (the mean hit rate over the images; the
+    detection figures pooled over their rows)."""
     m = load_real_run(run_dir)["metrics"]
     m = m[m["experiment"] == "mean"]
-    return {str(r.tracker): float(r.hit_rate) for r in m.itertuples()}
+    if metric not in m.columns:
+        return {}
+    return {str(t): float(v) for t, v in zip(m["tracker"], m[metric])}

@@ -189,13 +189,31 @@ def test_bad_manifest_is_one_line(tmp_path, text, message):
     ("row,col\n0,1\n1,x\n", "line 3: col must be a number or empty, got 'x'"),
     ("row,col\n0,1\n2,1\n", "line 3: rows must run 0..1 in order, got 2"),
     ("row,col\n0,1\n1,30\n", "line 3: col must lie in [-0.5, 29.5], got '30'"),
-    ("r,c\n0,1\n1,1\n", "header must be 'row,col'"),
+    ("r,c\n0,1\n1,1\n", "header must be 'row,col' or 'row,col,state'"),
+    ("row,col,state\n0,1,stripe\n1,,maybe\n", "line 3: state must be one of stripe, none, unknown, got 'maybe'"),
+    ("row,col,state\n0,1,stripe\n1,,stripe\n", "line 3: a 'stripe' row must have a col, got ''"),
+    ("row,col,state\n0,1,none\n1,,none\n", "line 2: a 'none' row must not have a col, got '1'"),
+    ("row,col,state\n0,1,stripe\n1,\n", "line 3: expected 3 fields"),
 ])
 def test_reference_errors_name_the_line(tmp_path, body, message):
     p = tmp_path / "x_ref.csv"
     p.write_text(body)
     with pytest.raises(real.DatasetError, match=message.replace("[", r"\[").replace("]", r"\]")):
         real.read_reference(p, (2, 30))
+
+
+def test_reference_states_explicit_and_by_the_fallback(tmp_path):
+    from bench.evaluate.outcomes import NO_STRIPE, STRIPE, UNSURE
+
+    p = tmp_path / "x_ref.csv"
+    p.write_text("row,col,state\n0,3.5,stripe\n1,,unknown\n2,,none\n")
+    cols, states, explicit = real.read_reference_states(p, (3, 30))
+    assert explicit and states.tolist() == [STRIPE, UNSURE, NO_STRIPE] and cols[0] == 3.5 and np.isnan(cols[1:]).all()
+    assert np.array_equal(real.read_reference(p, (3, 30)), cols, equal_nan=True)
+    q = tmp_path / "y_ref.csv"  # no state column: rows without a column 2 or more rows from one have no stripe
+    q.write_text("row,col\n0,4\n1,\n2,\n3,\n")
+    cols, states, explicit = real.read_reference_states(q, (4, 30), gap_rows=2)
+    assert not explicit and states.tolist() == [STRIPE, UNSURE, NO_STRIPE, NO_STRIPE]
 
 
 def test_the_shipped_set_is_valid():

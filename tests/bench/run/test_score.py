@@ -8,16 +8,17 @@ from bench.store import frameset as fs
 from bench.store.checkpoint import read_checkpoint
 
 
-def _submit(run_dir, fset, tracker, folder, times=False):
-    cols, ms = {}, {}
+def _submit(run_dir, fset, tracker, folder, times=False, scores=True):
+    cols, score, ms = {}, {}, {}
     for key in dict.fromkeys(f["experiment"] for f in fset.frames):
         res, why = read_checkpoint(run_dir / "scans" / f"{key}.npz", key)
         assert why is None
         for i, f in enumerate(fset.frames_of(key)):
             cols[f["frame"]] = res.columns[tracker][i]
+            score[f["frame"]] = res.scores[tracker][i]
             ms[f["frame"]] = float(1e3 * res.seconds[tracker][i])
     folder.mkdir()
-    (folder / "submission.csv").write_text(fs.submission_csv(cols))
+    (folder / "submission.csv").write_text(fs.submission_csv(cols, score if scores else None))
     if times:
         (folder / "times.csv").write_text("frame,ms\n" + "".join(f"{k},{v!r}\n" for k, v in ms.items()))
     return folder
@@ -63,6 +64,21 @@ def test_the_samples_and_statistics_match(tiny_run, scored):
             assert {k: v for k, v in rob[(x["group"], "mine")].items() if k != "tracker"} == \
                    {k: v for k, v in x.items() if k != "tracker"}
     assert any(i["dp"] == "mine" and i["baseline"] == "threshold" for i in s["improvement"])
+
+
+def test_a_submission_without_scores_gets_its_operating_points_figures(tiny_run, tiny_export, tmp_path):
+    import pandas as pd
+
+    from bench.run.score import score
+
+    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export), "dp4", tmp_path / "plain", scores=False)
+    m = pd.read_csv(score(tiny_export, sub, tmp_path / "run", quiet=True) / "metrics.csv")
+    mine, dp4 = m[m["tracker"] == "plain"], m[m["tracker"] == "dp4"]
+    assert mine["ap_constant"].all() and not dp4["ap_constant"].all()
+    assert mine["ap"].to_numpy() == pytest.approx((mine["recall"] * mine["precision"]).to_numpy(), nan_ok=True)
+    assert mine["f1"].to_numpy() == pytest.approx(dp4["f1"].to_numpy(), nan_ok=True)  # the same reports
+    s = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert all(d["ap_constant"] for d in s["detection"] if d["tracker"] == "plain")
 
 
 def test_the_scored_run_builds_a_report_and_a_baseline(scored):

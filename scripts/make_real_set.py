@@ -10,9 +10,10 @@ Two steps, both repeatable:
     these pixels is used.
 
 ``python scripts/make_real_set.py refs``
-    Write ``NAME_ref.csv`` for every image from ``bench/data/real/guides.toml``
-    and a check overlay ``docs/real/NAME_ref.png`` (reference in green on the
-    dimmed photograph) to be inspected by eye.
+    Write ``NAME_ref.csv`` (``row,col,state``) for every image from
+    ``bench/data/real/guides.toml`` and a check overlay ``docs/real/NAME_ref.png``
+    (reference in green on the dimmed photograph; a bar at the left edge gives each
+    row's state: green stripe, red none, grey unknown) to be inspected by eye.
 
 How a reference is made (semi-automatic, independent of the trackers under
 test): the guide of an image is a set of hand-placed segments: rows ``r0..r1``
@@ -28,6 +29,15 @@ the pixels above half that contrast within 3 px of the maximum, or, for wide
 saturated stripes (``level`` given), of the run of pixels above ``level`` x the
 contrast around the maximum (the middle of the saturated plateau). Rows outside every
 segment, and rows in ``exclude`` ranges, have no reference.
+
+Row states (the third column of ``NAME_ref.csv``): a row with a reference column is
+``stripe``; a row in one of the guide's ``none`` ranges is ``none`` (no laser light of
+the stripe in that row of the tracker's frame: a report there is a false one); every
+other row is ``unknown`` (the stripe may be there, too dim, ambiguous or occluded to
+be sure: not scored). The ``none`` ranges were each checked by eye on the photograph
+and its check overlay, and declared only where the stripe is surely absent (above the
+object the laser reaches, in a gap the stripe visibly leaves); rows where the laser
+crosses clutter in a room without a visible line stay ``unknown``.
 """
 
 from __future__ import annotations
@@ -132,12 +142,34 @@ def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
     return ref
 
 
+def states_for(ref: np.ndarray, guide: dict) -> np.ndarray:
+    """Row states (H,) int8: stripe where ``ref`` has a column, none in the guide's ``none`` ranges, else unknown."""
+    from bench.evaluate.outcomes import NO_STRIPE, STRIPE, UNSURE
+
+    states = np.full(ref.size, UNSURE, dtype=np.int8)
+    for n0, n1 in guide.get("none", []):
+        states[max(0, n0):n1 + 1] = NO_STRIPE
+    states[~np.isnan(ref)] = STRIPE
+    return states
+
+
+def state_bar(img: np.ndarray, states: np.ndarray, rotate_deg: int) -> np.ndarray:
+    """``img`` (the photograph's orientation) with each tracker-frame row's state as a 6-px bar at the
+    frame's left edge (green stripe, red none, grey unknown)."""
+    colours = {1: (0, 200, 0), 0: (230, 0, 0), -1: (128, 128, 128)}
+    k = rotate_deg // 90
+    frame = np.rot90(np.asarray(img), k=k).copy()  # the tracker's frame: the photograph turned counter-clockwise
+    frame[:, :6] = np.array([colours[int(st)] for st in states], dtype=np.uint8)[:, None, :]
+    return np.ascontiguousarray(np.rot90(frame, k=-k))
+
+
 def make_refs() -> None:
     import imageio.v3 as iio
 
     sys.path.insert(0, str(ROOT))
+    from bench.evaluate.outcomes import STATE_NAMES, fallback_states
+    from bench.report.real import overlay
     from bench.store import realset as real
-    from bench.run.real import overlay
 
     guides = tomllib.loads((DATA / "guides.toml").read_text())
     import csv
@@ -146,14 +178,22 @@ def make_refs() -> None:
     CHECKS.mkdir(parents=True, exist_ok=True)
     for name, row in rows.items():
         rot = int(row.get("rotate") or 0)
-        frame, original = real.load_frame(DATA / f"{name}.png", channel=row.get("channel") or "auto",
+        channel = row.get("channel") or "auto"
+        # the references are found on the laser's colour excess where the manifest says `auto` (what
+        # `auto` meant when they were made; the saturation knee came later and would move them)
+        frame, original = real.load_frame(DATA / f"{name}.png", channel="excess" if channel == "auto" else channel,
                                           laser=row["laser_colour"], rotate_deg=rot)
         ref = reference_for(frame, guides[name])
-        lines = ["row,col"] + [f"{i}," + ("" if np.isnan(c) else f"{c:.2f}") for i, c in enumerate(ref)]
+        states = states_for(ref, guides[name])
+        lines = ["row,col,state"] + [f"{i}," + ("" if np.isnan(c) else f"{c:.2f}") + f",{STATE_NAMES[int(st)]}"
+                                     for i, (c, st) in enumerate(zip(ref, states))]
         (DATA / f"{name}_ref.csv").write_text("\n".join(lines) + "\n")
         img = overlay(original, {}, rotate_deg=rot, reference=ref, dim=0.5)
-        iio.imwrite(CHECKS / f"{name}_ref.png", img)
-        print(f"{name}: {int(np.sum(~np.isnan(ref)))}/{ref.size} rows with a reference")
+        iio.imwrite(CHECKS / f"{name}_ref.png", state_bar(img, states, rot))
+        fb = fallback_states(ref)
+        print(f"{name}: {int(np.sum(states == 1))} stripe, {int(np.sum(states == 0))} none, "
+              f"{int(np.sum(states == -1))} unknown of {ref.size} rows (the fallback rule: "
+              f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)")
 
 
 def main(argv=None) -> int:

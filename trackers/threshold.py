@@ -7,7 +7,7 @@ import numpy as np
 from ._base import Track, Tracker
 from ._params import Int, Real
 
-__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN"]
+__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN", "DEFAULT_MAX_WIDTH"]
 
 #: Default noise multiple of the per-row detection (chosen by ``stripebench tune threshold``).
 DEFAULT_K_SIGMA = 4.0
@@ -15,6 +15,8 @@ DEFAULT_K_SIGMA = 4.0
 DEFAULT_PROMINENCE = 0.0
 #: Default least number of vertically linked candidate rows (chosen by ``stripebench tune threshold``).
 DEFAULT_MIN_RUN = 1
+#: Default widest half-contrast run of a stripe, px (None: any; chosen by ``stripebench tune threshold``).
+DEFAULT_MAX_WIDTH = None
 
 
 class ThresholdTracker(Tracker):
@@ -32,8 +34,9 @@ class ThresholdTracker(Tracker):
     widened by its own length on each side), the row's peak ``m`` is reported
     iff ``m - b > k_sigma * s`` and ``m - b > prominence * (q - b)`` (``s``
     includes the quantisation's own noise, so a one-level excursion of a dark
-    8-bit row is not a stripe) and it lines up with at least ``min_run - 1``
-    other such rows (a stripe is a curve: :func:`trackers._detect.detect_rows`).
+    8-bit row is not a stripe), its half-contrast run is at most ``max_width``
+    px wide, and it lines up with at least ``min_run - 1`` other such rows (a
+    stripe is a curve: :func:`trackers._detect.detect_rows`).
     Rows where no stripe stands out report nothing, as in the paper: "for
     those rows with the laser light undetectable, the depth of the
     corresponding point could not be computed".
@@ -51,6 +54,9 @@ class ThresholdTracker(Tracker):
     min_run : int, default :data:`DEFAULT_MIN_RUN`
         Least number of vertically linked rows that pass (>= 1; 1 turns the
         test off); not used with an explicit ``threshold``.
+    max_width : int or None, default :data:`DEFAULT_MAX_WIDTH`
+        Widest half-contrast run of a stripe in px (>= 1; None: any); not used
+        with an explicit ``threshold``.
 
     Notes
     -----
@@ -71,21 +77,23 @@ class ThresholdTracker(Tracker):
     subpixel = False
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE,
-                 min_run=DEFAULT_MIN_RUN):
+                 min_run=DEFAULT_MIN_RUN, max_width=DEFAULT_MAX_WIDTH):
         self.threshold = threshold
         self.k_sigma = k_sigma
         self.prominence = prominence
         self.min_run = min_run
+        self.max_width = max_width
 
     parameter_constraints = {"threshold": Real(optional=True), "k_sigma": Real(low=0, high=1e6),
-                             "prominence": Real(low=0, high=1e6), "min_run": Int(low=1, high=100000)}
+                             "prominence": Real(low=0, high=1e6), "min_run": Int(low=1, high=100000),
+                             "max_width": Int(low=1, optional=True)}
 
     def detect(self, image):
         """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`)."""
         from ._detect import detect_rows
 
         return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold,
-                           min_run=int(self.min_run))
+                           min_run=int(self.min_run), max_width=self.max_width)
 
     def find_stripe(self, image, background):
         d = self.detect(image)

@@ -234,20 +234,16 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
         _fail(f"`kinds` must be a list of {', '.join(kinds)}, got {ks!r}")
     if not isinstance(data["real"], bool):
         _fail(f"`real` must be true or false, got {data['real']!r}")
-    gaps = data["max_gap"]
-    if (not isinstance(gaps, list) or not gaps or len(set(map(str, gaps))) != len(gaps)
-            or any(g != "none" and (isinstance(g, bool) or not isinstance(g, int) or g < 0) for g in gaps)):
-        _fail(f"`max_gap` must list distinct integers >= 0 or 'none', got {gaps!r}")
     render, exps = _render_experiments(data)
     return GapProfile(str(data["name"]), seed, name, off, sw, float(data["hit_px"]), float(data["tie"]), render, exps,
                       [int(x) for x in seeds], list(ks), data["real"], list(dps), _grid(data, "k_sigma", 0),
-                      [None if g == "none" else int(g) for g in gaps], _int_grid(data, "min_run", 1))
+                      _none_int_grid(data, "max_gap", 0), _int_grid(data, "min_run", 1))
 
 
 # ---------------------------------------------------------------------------------------------------- threshold
 
 THRESHOLD_TOP_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "trackers", "k_sigma",
-                      "prominence", "min_run", "frac", "colour_trackers", "colour_rules", "steger_k_sigma",
+                      "prominence", "min_run", "max_width", "frac", "colour_trackers", "colour_rules", "steger_k_sigma",
                       "steger_prominence", "steger_min_run", "seed", "render", "renders"}
 
 
@@ -266,6 +262,7 @@ class TuneThresholdProfile:
     k_sigma: list[float]
     prominence: list[float]
     min_run: list[int]
+    max_width: list
     frac: list[float]
     colour_trackers: list[str]
     colour_rules: list
@@ -285,6 +282,15 @@ def _int_grid(data, key, low):
     if len(set(vals)) != len(vals):
         _fail(f"`{key}` must not repeat a value, got {vals!r}")
     return [int(v) for v in vals]
+
+
+def _none_int_grid(data, key, low):
+    """A grid of integers >= ``low`` or ``"none"`` (None: no limit), distinct."""
+    vals = data[key]
+    if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
+            or any(v != "none" and (isinstance(v, bool) or not isinstance(v, int) or v < low) for v in vals)):
+        _fail(f"`{key}` must list distinct integers >= {low} or 'none', got {vals!r}")
+    return [None if v == "none" else int(v) for v in vals]
 
 
 def _render_experiments(data, keys=GAP_RENDER_KEYS, exp_key="experiments", allow_empty=False):
@@ -360,7 +366,8 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     return TuneThresholdProfile(
         str(data["name"]), [int(s) for s in seeds], list(kinds), data["real"], float(data["hit_px"]),
         float(data["tie"]), float(data["tie_px"]), list(data["trackers"]), _grid(data, "k_sigma", 0),
-        _grid(data, "prominence", 0), _int_grid(data, "min_run", 1), _grid(data, "frac", 0, 0.99),
+        _grid(data, "prominence", 0), _int_grid(data, "min_run", 1), _none_int_grid(data, "max_width", 1),
+        _grid(data, "frac", 0, 0.99),
         list(data["colour_trackers"]), [r if isinstance(r, str) else float(r) for r in rules],
         _grid(data, "steger_k_sigma", 0), _grid(data, "steger_prominence", 0), _int_grid(data, "steger_min_run", 1),
         seed, render, renders)

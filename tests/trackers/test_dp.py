@@ -517,3 +517,30 @@ def test_reused_work_arrays_change_nothing(name):
         r1, c1, total = t.path(frames[0])
         t.track(frames[1])
         assert t.path(frames[0])[2] == total
+
+
+@pytest.mark.parametrize("name", ["dp4", "dp8", "dp_gap"])
+@pytest.mark.parametrize("rule", [{}, {"k_sigma": 5.0, "max_gap": 4, "min_run": 6}, {"min_run": 200}])
+def test_report_of_readings_is_track(name, rule):
+    """The tuning procedure reads a frame once (readings) and applies many rules (report): the same as track."""
+    import trackers
+    from trackers.testing import make_score_image
+
+    img, _ = make_score_image(seed=2)
+    off = np.full_like(img, 10)
+    t = trackers.make(name, **rule)
+    for bg in (None, off):
+        a = t.track(img, background=bg)
+        b = t.report(*trackers.make(name).readings(img, bg)) if name != "dp_gap" else t.report(*t.readings(img, bg))
+        np.testing.assert_array_equal(a.columns, b.columns)
+        np.testing.assert_array_equal(a.score, b.score)
+
+
+def test_min_run_drops_short_supported_stretches():
+    import trackers
+    from trackers.testing import make_score_image
+
+    img, truth = make_score_image(seed=5)
+    base = trackers.make("dp8", max_gap=3).track(img).columns
+    strict = trackers.make("dp8", max_gap=3, min_run=1000).track(img).columns
+    assert np.isnan(strict).all() and (~np.isnan(base)).sum() > 40

@@ -11,9 +11,15 @@ TINY = """\
 name = "tiny"
 seed = 1
 tracker = "dp_gap"
-references = ["dp8"]
 off_rel = [0.1, 0.3]
 switch_rows = [3.0]
+dp_trackers = ["dp8"]
+k_sigma = [3.0, 6.0]
+max_gap = ["none", 10]
+min_run = [1, 5]
+seeds = [100]
+kinds = ["dim", "printed"]
+real = false
 hit_px = 3.0
 tie = 0.005
 [render]
@@ -39,7 +45,8 @@ def test_the_committed_profile_follows_the_rules():
     assert {"specular", "absorbing", "patchy"} <= {e["material"] for e in p.experiments}
     assert {e.get("background", "wall") for e in p.experiments} == {"wall", "none"}
     assert p.render["width"] == 512 and p.render["height"] == 480
-    assert p.tracker == "dp_gap" and set(p.references) == {"dp4", "dp8"}
+    assert p.tracker == "dp_gap" and set(p.dp_trackers) == {"dp4", "dp8"}
+    assert p.real and min(p.seeds) >= 100 and "dim" in p.kinds and None in p.max_gap
 
 
 @pytest.mark.parametrize(
@@ -50,7 +57,10 @@ def test_the_committed_profile_follows_the_rules():
         (("off_rel = [0.1, 0.3]", "off_rel = [0.1, 0.1]"), r"`off_rel` must not repeat a value"),
         (("switch_rows = [3.0]", "switch_rows = [-1.0]"), r"`switch_rows` must be a non-empty list"),
         (('tracker = "dp_gap"', 'tracker = "dp8"'), r"`tracker` must name a tracker with off_rel"),
-        (('references = ["dp8"]', 'references = ["nope"]'), r"`references` must be a list of registered"),
+        (('dp_trackers = ["dp8"]', 'dp_trackers = ["threshold"]'), r"`dp_trackers` must list trackers with k_sigma"),
+        (('max_gap = ["none", 10]', 'max_gap = ["all"]'), r"`max_gap` must list distinct integers >= 0 or 'none'"),
+        (('kinds = ["dim", "printed"]', 'kinds = ["snow"]'), r"`kinds` must be a list of"),
+        (("min_run = [1, 5]", "min_run = [0]"), r"`min_run` must be a non-empty list of integers >= 1"),
         (("tie = 0.005", "tie = 0.005\nbogus = 1"), r"`profile` has unknown key\(s\) \['bogus'\]"),
         (("hit_px = 3.0\n", ""), r"`profile` lacks the key 'hit_px'"),
         (("spp = 2\n", ""), r"`render` must have exactly the keys"),
@@ -70,20 +80,16 @@ def test_a_missing_profile_is_one_line_and_status_2(tmp_path, capsys):
     assert len(err) == 1 and "cannot read tuning profile" in err[0] and "no such file" in err[0]
 
 
-def test_score_counts_wrong_reports_anywhere_and_misses_as_neutral():
-    truth = np.array([[10.0, 20.0, 30.0, np.nan], [5.0, 5.0, 5.0, 5.0]])
-    on = np.array([[True, True, True, True], [False, True, False, False]])
-    cols = np.array([[13.0, np.nan, 33.5, 1.0], [50.0, 2.5, 5.0, np.nan]])
-    # lit object rows: (0,0) hit, (0,1) missed, (0,2) 3.5 px off: wrong, (1,1) hit -> h = 2/4
-    # wrong: (0,2), (0,3) reported without truth, (1,0) 45 px off the background's truth -> w = 3/4
-    assert tune_gap.gap_score(cols, truth, on, 3.0) == (0.5, 0.75, 4)
-    assert np.isnan(tune_gap.gap_score(cols, truth, np.zeros_like(on), 3.0)[0])
-
-
 def test_ties_go_to_the_smallest_off_rel_then_the_largest_switch():
     s = {(0.1, 3.0): 0.60, (0.1, 10.0): 0.598, (0.05, 3.0): 0.55, (0.3, 3.0): 0.603}
     assert tune_gap.choose(s, tie=0.005) == (0.1, 10.0)
     assert tune_gap.choose(s, tie=0.0) == (0.3, 3.0)
+
+
+def test_rule_ties_go_to_the_rule_closest_to_the_paper():
+    s = {(3.0, None, 1): 0.80, (3.0, 10, 1): 0.801, (3.0, 20, 5): 0.80, (6.0, None, 5): 0.70}
+    assert tune_gap.choose_rule(s, tie=0.002) == (3.0, None, 1)  # no max_gap: bridges every row
+    assert tune_gap.choose_rule(s, tie=0.0) == (3.0, 10, 1)
 
 
 @pytest.mark.slow
@@ -95,9 +101,20 @@ def test_stripebench_tune_dp_gap_runs_the_procedure(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["tune", "dp_gap", "--profile", str(path), "--out", str(out), "--quiet"]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
-    assert lines[-1].startswith("chosen off_rel = ") and lines[1].startswith("sphere-matte")
+    assert lines[0].startswith("frames: {'synthetic': 2, 'renders': 3, 'real': 0}")
+    assert any(x.startswith("stage1 (dp_gap): chosen off_rel=") for x in lines)
+    assert any(x.startswith("stage2 (dp8): chosen k_sigma=") for x in lines)
     rows = (out / "tune_gap.csv").read_text().strip().splitlines()
-    assert rows[0] == "off_rel,switch_rows,tracker,experiment,hit_fraction,wrong_fraction,score,rows"
-    assert len(rows) == 1 + 3  # two grid points and one reference
+    assert rows[0] == ("stage,setting,tracker,group,kind,n_hit,n_wrong,n_missed,n_false,n_quiet,n_unknown,precision,"
+                       "recall,f1,false_report_rate")
+    # stage 1: 2 settings x (1 render kind + 2 synthetic kinds); stage 2: 8 rules x the same 3 kinds
+    assert len(rows) == 1 + 2 * 3 + 8 * 3
+    import json
+
+    s = json.loads((out / "summary.json").read_text())
+    assert set(s["stage2"]) == {f"k_sigma={k:g},max_gap={g},min_run={m}" for k in (3, 6) for g in ("none", 10)
+                                for m in (1, 5)}
+    assert s["chosen"]["max_gap"] in (None, 10) and s["chosen"]["off_rel"] in (0.1, 0.3)
+    # the rule's stage scores the readings of one solve: the same as the tracker made with that rule
     assert (out / "tune_dp_gap.png").stat().st_size > 1000
     assert main(["tune", "dp_gap", "--profile", str(tmp_path / "nope.toml"), "--out", str(out)]) == 2

@@ -37,6 +37,7 @@ def test_making_a_tracker_does_not_import_the_renderer():
 
 # -- import rules, checked on the source (module-level and function-level imports) -------------------
 import ast  # noqa: E402
+import re  # noqa: E402
 
 
 def _imports(path: pathlib.Path, package: str, root: pathlib.Path = REPO) -> set[str]:
@@ -180,3 +181,47 @@ def test_the_layout_check_sees_function_level_imports(tmp_path):
     f = tmp_path / "bench" / "analysis.py"
     f.write_text("def g():\n    from .report import build_report\n    import bench.cli\n    return build_report\n")
     assert {"bench.report", "bench.cli"} <= _imports(f, "bench", root=tmp_path)
+
+
+# -- one home for the scoring rules (bench.evaluate.outcomes) ------------------------------------------
+_TOLERANCES = {"tol_px", "hit_px", "HIT_PX", "threshold_px", "OUTLIER_PX", "within_mm", "WITHIN_MM", "gross_mm",
+               "GROSS_MM"}
+
+
+def _compared_tolerances(path: pathlib.Path) -> list[str]:
+    """``file:line`` of every comparison in ``path`` with a tolerance of the scoring rules as an operand."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Compare):
+            names = {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
+            names |= {n.attr for n in ast.walk(node) if isinstance(n, ast.Attribute)}
+            if names & _TOLERANCES:
+                out.append(f"{path.relative_to(REPO)}:{node.lineno}")
+    return out
+
+
+def test_the_scoring_rules_are_applied_in_one_home():
+    """The hit rule, the ±5 mm band and gross errors are applied only by bench.evaluate.outcomes (hits, within,
+    gross, row_outcomes); every other module calls them. Validating a tolerance argument is not applying it."""
+    home = REPO / "bench" / "evaluate" / "outcomes.py"
+    found = []
+    for path in sorted((REPO / "bench").rglob("*.py")):
+        if path != home:
+            found += [where for where in _compared_tolerances(path)]
+    checks = []
+    for where in found:
+        file, line = where.rsplit(":", 1)
+        text = (REPO / file).read_text(encoding="utf-8").splitlines()[int(line) - 1]
+        if "raise" in text or "must be" in text or re.search(r"not\s*\(|if not|>= 0|> 0|math.isfinite", text):
+            continue
+        checks.append(f"{where}: {text.strip()}")
+    assert not checks, "a scoring tolerance compared outside bench.evaluate.outcomes:\n" + "\n".join(checks)
+
+
+def test_the_one_home_check_finds_a_copy_of_the_rule(tmp_path):
+    copy = REPO / "bench" / "_probe_copy_of_the_hit_rule.py"  # inside the repository: paths are reported from it
+    copy.write_text("def f(e, tol_px):\n    return abs(e) <= tol_px\n")
+    try:
+        assert _compared_tolerances(copy) == ["bench/_probe_copy_of_the_hit_rule.py:2"]
+    finally:
+        copy.unlink()

@@ -56,6 +56,7 @@ from pathlib import Path
 from typing import Any
 
 from bench.errors import ConfigError, StripebenchError
+from bench.evaluate.outcomes import N_SAMPLES
 
 __all__ = ["ConfigError", "Config", "Experiment", "TrackerSpec", "parse_trackers", "parse_trackers_arg", "load",
            "read_toml", "parse", "profile", "with_overrides", "PROFILES", "HARNESS_KEYS", "RENDER_KEYS", "scene_override_keys",
@@ -365,7 +366,7 @@ class Config:
     trackers: tuple[str, ...] = ()  # the labels of ``tracker_specs``; empty = every registered tracker
     baselines: tuple[str, ...] = ("threshold", "centroid")
     dp: tuple[str, ...] = ("dp4", "dp8")
-    n_samples: int = 150
+    n_samples: int = N_SAMPLES
     n_boot: int = 2000
     render: dict[str, int] = field(default_factory=dict)
     experiments: tuple[Experiment, ...] = ()

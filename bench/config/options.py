@@ -29,6 +29,7 @@ import sys
 from pathlib import Path
 
 from bench.config import MAX_N_BOOT, MIN_N_BOOT, ConfigError, parse_trackers_arg
+from bench.evaluate.outcomes import HIT_PX
 
 __all__ = ["OneLineParser", "HelpFormatter", "arg_type", "positive_int", "int_in_range", "finite_float",
            "finite_floats", "size_value", "seed_value", "workers_value", "cpu_count", "scheduler_address", "plain_tracker_names",
@@ -36,7 +37,7 @@ __all__ = ["OneLineParser", "HelpFormatter", "arg_type", "positive_int", "int_in
            "SCHEDULER_SCHEMES", "MAX_TIMEOUT_S", "study_parser", "study_main", "plain", "first_paragraph"]
 
 #: Defaults of a real-photograph run (``stripebench real``; a configuration's ``real_set`` uses the same).
-REAL_DEFAULTS = {"tol_px": 3.0, "n_boot": 2000, "seed": 0}
+REAL_DEFAULTS = {"tol_px": HIT_PX, "n_boot": 2000, "seed": 0}
 #: Address schemes of a Dask scheduler ``--scheduler`` accepts (Dask's protocol uses pickle: trusted schedulers only).
 SCHEDULER_SCHEMES = ("tcp", "tls")
 #: Largest ``--timeout`` (a year, s): beyond it asyncio's timers overflow.

@@ -66,7 +66,7 @@ def outlier_rate(pred, truth, threshold_px: float = OUTLIER_PX) -> float:
     truth = np.asarray(truth, dtype=np.float64)
     both = ~np.isnan(pred) & ~np.isnan(truth)
     n = int(both.sum())
-    return float(np.count_nonzero(np.abs(pred[both] - truth[both]) > threshold_px) / n) if n else float("nan")
+    return float(np.count_nonzero(~hits(pred[both], truth[both], threshold_px)) / n) if n else float("nan")
 
 
 def false_detection_rate(pred, truth) -> float:
@@ -118,9 +118,8 @@ def false_lock_rate(pred, false_cols, truth, tol_px: float = OUTLIER_PX) -> floa
     n = int(detected.sum())
     if not n:
         return float("nan")
-    with np.errstate(invalid="ignore"):
-        near_false = np.any(np.abs(false_cols - pred[..., None]) <= tol, axis=-1)
-        near_truth = np.abs(pred - truth) <= tol
+    near_false = np.any(hits(false_cols, pred[..., None], tol), axis=-1)
+    near_truth = hits(pred, truth, tol)
     return float(np.count_nonzero(detected & near_false & ~near_truth) / n)
 
 

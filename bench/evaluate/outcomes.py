@@ -1,4 +1,11 @@
-"""Row outcomes: both halves of detection, scored on every row.
+"""The benchmark's scoring rules, in one home: the paper's numbers, the hit rule and row outcomes.
+
+The paper's numbers (Wang et al. 2008): :data:`WITHIN_MM` (its Fig. 10 band), :data:`GROSS_MM`,
+:data:`PAPER_IMPROVEMENT` (its "30 % improvement in the precision") and :data:`N_SAMPLES`; the
+hit rule :func:`hits` with :data:`HIT_PX`. Every caller imports them from here; a test
+(``tests/test_layout.py``) fails if a tolerance is compared anywhere else.
+
+Row outcomes: both halves of detection, scored on every row.
 
 Every row of every frame is one of five outcomes (:data:`OUTCOMES`), decided by the
 row's *state* (does it have a stripe?) and by what the tracker reported there:
@@ -38,13 +45,21 @@ import math
 import numpy as np
 
 
-__all__ = ["HIT_PX", "hits", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
+__all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
            "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
            "COUNT_KEYS", "FIGURE_KEYS"]
 
 #: A row is a hit when the reported column is within this many px of the truth (the one hit rule).
 HIT_PX = 3.0
+#: The paper's Fig. 10 band: "most samples locate within the range from -5 to +5 millimeter" (mm).
+WITHIN_MM = 5.0
+#: A gross depth error: the tracker followed something else than the object's stripe (mm).
+GROSS_MM = 50.0
+#: "a 30 % improvement in the precision" (sec. 4.3): the paper's ratio ``1 - S_DP / S_noDP``.
+PAPER_IMPROVEMENT = 0.30
+#: The paper's "150 random surface samples" per experiment (the profiles' default ``n_samples``).
+N_SAMPLES = 150
 
 
 def hits(pred, truth, tol_px: float = HIT_PX) -> np.ndarray:
@@ -69,6 +84,30 @@ def hits(pred, truth, tol_px: float = HIT_PX) -> np.ndarray:
     """
     with np.errstate(invalid="ignore"):
         return np.abs(np.asarray(pred, dtype=np.float64) - np.asarray(truth, dtype=np.float64)) <= tol_px
+
+
+def within(errors_mm, within_mm: float = WITHIN_MM) -> np.ndarray:
+    """The paper's band: ``|error| <= within_mm``, elementwise; no value (NaN) is never within.
+
+    Examples
+    --------
+    >>> within([4.9, -5.0, 5.1, np.nan]).tolist()
+    [True, True, False, False]
+    """
+    with np.errstate(invalid="ignore"):
+        return np.abs(np.asarray(errors_mm, dtype=np.float64)) <= within_mm
+
+
+def gross(errors_mm, gross_mm: float = GROSS_MM) -> np.ndarray:
+    """A gross error: ``|error| > gross_mm``, elementwise (NaN is not one).
+
+    Examples
+    --------
+    >>> gross([49.0, -51.0, np.nan]).tolist()
+    [False, True, False]
+    """
+    with np.errstate(invalid="ignore"):
+        return np.abs(np.asarray(errors_mm, dtype=np.float64)) > gross_mm
 
 
 # outcome codes (int8): the index into OUTCOMES

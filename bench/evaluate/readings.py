@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM, within
+
 __all__ = ["READINGS", "PAPER_READING", "PAPER_WHY", "reading_of", "claim_verdicts", "paper_claims",
            "claim_sentence", "headline_group"]
 
@@ -90,7 +92,7 @@ def _interval_result(low: float, high: float, above: float) -> str:
     return "contains"
 
 
-def claim_verdicts(verdict: dict, ratio: dict | None, paper_improvement: float = 0.30) -> dict:
+def claim_verdicts(verdict: dict, ratio: dict | None, paper_improvement: float = PAPER_IMPROVEMENT) -> dict:
     """The paper's three claims on one (DP, baseline) pair of one group.
 
     Parameters
@@ -101,7 +103,7 @@ def claim_verdicts(verdict: dict, ratio: dict | None, paper_improvement: float =
     ratio : dict or None
         The pair's RMSE entry of :func:`bench.evaluate.tables.improvements`.
     paper_improvement : float
-        The paper's ratio (0.30).
+        The paper's ratio (:data:`bench.evaluate.outcomes.PAPER_IMPROVEMENT`).
 
     Returns
     -------
@@ -161,8 +163,8 @@ def _iv(lo, hi) -> str:
 
 
 def paper_claims(config: dict, robust: list[dict], improvement: list[dict], verdicts: list[dict],
-                 conditions: list[dict], samples=None, *, paper_improvement: float = 0.30,
-                 within_mm: float = 5.0) -> list[dict]:
+                 conditions: list[dict], samples=None, *, paper_improvement: float = PAPER_IMPROVEMENT,
+                 within_mm: float = WITHIN_MM) -> list[dict]:
     """The paper's claim in its own condition, per reading of its method without DP.
 
     For each baseline of ``config`` that is a reading (:func:`reading_of`), in the
@@ -227,7 +229,7 @@ def paper_claims(config: dict, robust: list[dict], improvement: list[dict], verd
         outside = outside_u = None
         if sub is not None:
             e = sub[f"error_mm_{b}"].to_numpy(float)
-            far = ~(np.abs(e) <= within_mm)  # no value counts as outside
+            far = ~within(e, within_mm)  # no value counts as outside
             outside = int(far.sum())
             if undetect is not None:
                 outside_u = int((far & undetect).sum())
@@ -247,7 +249,7 @@ def paper_claims(config: dict, robust: list[dict], improvement: list[dict], verd
     return out
 
 
-def claim_sentence(entry: dict, within_mm: float = 5.0, paper_improvement: float = 0.30) -> str:
+def claim_sentence(entry: dict, within_mm: float = WITHIN_MM, paper_improvement: float = PAPER_IMPROVEMENT) -> str:
     """One plain-text sentence on a :func:`paper_claims` entry (not HTML: escape it to show it)."""
     f, c, b, d = entry["figures"], entry["claims"], entry["baseline"], entry["dp"]
     ratio = f"RMSE ratio {_pct(f['ratio_value'])} {_iv(f['ratio_low'], f['ratio_high'])}"

@@ -1,7 +1,7 @@
 """Sim-to-real numbers: one tracker on one photograph, and synthetic against real hit rates across trackers.
 
 Pure functions (arrays and dicts in, numbers out). The hit rule is
-:data:`bench.evaluate.metrics.HIT_PX`, the one every table uses.
+:data:`bench.evaluate.outcomes.HIT_PX` (:func:`bench.evaluate.outcomes.hits`), the one every table uses.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from bench.evaluate.metrics import HIT_PX
+from bench.evaluate.outcomes import HIT_PX, hits
 
 __all__ = ["image_metrics", "sim_to_real", "sim_to_real_sentences", "class_real_hit_rates", "sim_to_real_by_class"]
 
@@ -64,11 +64,11 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     n_ref = int(has_ref.sum())
     det = ~np.isnan(c)
     err = np.abs(c[has_ref] - r[has_ref])
-    hits = err <= tol_px
+    hit = hits(c[has_ref], r[has_ref], tol_px)
     no_ref = int((~has_ref).sum())
     out = {
-        "hit_rate": float(hits.sum() / n_ref) if n_ref else float("nan"),
-        "mae_px": float(err[hits].mean()) if hits.any() else float("nan"),
+        "hit_rate": float(hit.sum() / n_ref) if n_ref else float("nan"),
+        "mae_px": float(err[hit].mean()) if hit.any() else float("nan"),
         "coverage": float(det[has_ref].sum() / n_ref) if n_ref else float("nan"),
         "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
         "n_ref": n_ref,

@@ -7,13 +7,13 @@ import functools
 
 import numpy as np
 
+from bench.evaluate.outcomes import GROSS_MM, WITHIN_MM, gross, within
+
 __all__ = ["spread", "improvement", "bootstrap_improvement", "resample_indices", "spread_resampled",
            "improvement_interval", "wilson_interval", "robust_summary", "bootstrap_mean", "t_interval", "mad_scale",
            "STATISTICS", "WITHIN_MM", "GROSS_MM"]
 
 STATISTICS = ("rmse", "mae", "std")
-WITHIN_MM = 5.0  # the paper's Fig. 10 band: "most samples locate within the range from -5 to +5 millimeter"
-GROSS_MM = 50.0  # a gross error: the tracker followed something else than the object's stripe
 
 
 def wilson_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
@@ -69,10 +69,10 @@ def robust_summary(errors_mm, *, within_mm: float = WITHIN_MM, gross_mm: float =
         nan = float("nan")
         return {"n": 0, "within": nan, "within_low": nan, "within_high": nan, "median_abs_mm": nan,
                 "median_mm": nan, "p95_abs_mm": nan, "n_gross": 0, "rmse_mm": nan}
-    k = int(np.count_nonzero(e <= within_mm))
+    k = int(np.count_nonzero(within(e, within_mm)))
     lo, hi = wilson_interval(k, n, level)
     return {"n": n, "within": k / n, "within_low": lo, "within_high": hi, "median_abs_mm": float(np.median(e)),
-            "median_mm": float(np.median(signed)), "p95_abs_mm": float(np.percentile(e, 95)), "n_gross": int(np.count_nonzero(e > gross_mm)),
+            "median_mm": float(np.median(signed)), "p95_abs_mm": float(np.percentile(e, 95)), "n_gross": int(np.count_nonzero(gross(e, gross_mm))),
             "rmse_mm": float(np.sqrt(np.mean(e * e)))}
 
 

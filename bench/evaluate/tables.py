@@ -11,7 +11,8 @@ import numpy as np
 
 from bench.evaluate.metrics import frame_record
 from bench.evaluate.restore import restore_depth_map
-from bench.evaluate.stats import (GROSS_MM, STATISTICS, WITHIN_MM, resample_indices, improvement_interval, robust_summary,
+from bench.evaluate.outcomes import GROSS_MM, WITHIN_MM
+from bench.evaluate.stats import (STATISTICS, resample_indices, improvement_interval, robust_summary,
                                   spread_resampled)
 from bench.evaluate.triangulation import depth_cm
 

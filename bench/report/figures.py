@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.evaluate.outcomes import WITHIN_MM, within
 from bench.report.palette import TRACKER_COLOURS, tracker_colour  # noqa: F401  (the one palette)
 
 __all__ = ["fig_tracking", "fig_samples", "fig_bars", "fig_curves", "fig_gallery", "fig_shapes", "tracker_colour",
@@ -135,7 +136,7 @@ def clip_for_plot(errors, cap: float = SAMPLE_CAP_MM):
 
 
 def fig_samples(samples, dp: str, baseline, path, title: str = "", stat=None, robust: dict | None = None,
-                within_mm: float = 5.0, undetectable=None, readings: dict | None = None) -> Path:
+                within_mm: float = WITHIN_MM, undetectable=None, readings: dict | None = None) -> Path:
     """The paper's Fig. 10 with every sample shown: depth error (mm) of each sample
     point with DP (green diamonds) and without (black circles), the ±5 mm band.
 
@@ -180,7 +181,7 @@ def fig_samples(samples, dp: str, baseline, path, title: str = "", stat=None, ro
             ax.plot(x[~clipped], y[~clipped], ls="none", label=f"{who} ({name})", **style)
             if name == base and und is not None and (und & ~missing).any():
                 sel = und & ~missing
-                far = sel & ~(np.abs(samples[f"error_mm_{name}"].to_numpy(float)) <= within_mm)
+                far = sel & ~within(samples[f"error_mm_{name}"].to_numpy(float), within_mm)
                 ax.plot(x[sel], y[sel], ls="none", marker="o", ms=5, color="black",
                         label=f"{name} where the threshold detects no stripe: {int(sel.sum())}, "
                               f"{int(far.sum())} outside ±{within_mm:g} mm")

@@ -24,6 +24,7 @@ import numpy as np
 from bench.evaluate import readings
 from bench.report.html import page
 from bench.evaluate.metrics import hit_rate
+from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM
 from bench.evaluate.tables import false_points, restored_points
 from bench.report.detection import condition_groups, detection_glance, pr_curves
 from bench.store.runfolder import load_run
@@ -161,7 +162,7 @@ def claims_html(summary) -> str:
     if not claims:
         return ""
     c0 = claims[0]
-    within, imp = summary.get("within_mm", 5.0), summary.get("paper_improvement", 0.30)
+    within, imp = summary.get("within_mm", WITHIN_MM), summary.get("paper_improvement", PAPER_IMPROVEMENT)
     title = next((c["condition"] for c in summary.get("conditions", [])), c0["group"])
     items = "".join(f"<li>{_claim_line(c, within, imp)}</li>" for c in claims)
     why = ""

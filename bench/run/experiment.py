@@ -28,11 +28,10 @@ from bench.store.summary import build_summary
 from bench.run.scan import pending_frames, run_scan
 from bench.run.track import build_trackers
 from bench.store.provenance import code_fingerprint, git_revision, versions
-from bench.evaluate.stats import GROSS_MM, WITHIN_MM
+from bench.evaluate.outcomes import GROSS_MM, PAPER_IMPROVEMENT, WITHIN_MM
 
 __all__ = ["run", "scan_tables", "finish_run", "default_run_dir", "load_run", "distinct_trackers", "PAPER_IMPROVEMENT"]
 
-PAPER_IMPROVEMENT = 0.30  # "a 30 % improvement in the precision" (sec. 4.3)
 GALLERY_FRAMES = 2  # frames per experiment in the report's failure gallery
 
 

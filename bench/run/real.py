@@ -21,7 +21,7 @@ import sys
 import time
 from pathlib import Path
 
-from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, bootstrap_frames, row_outcomes
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, row_outcomes
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
 from bench.run.track import STATUS, build_trackers, track_frame
@@ -156,7 +156,7 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
 # ---------------------------------------------------------------------------------------------------- real runs
 
 
-def run_real(dataset, out_dir, specs, *, tol_px: float = 3.0, n_boot: int = 2000, seed: int = 0,
+def run_real(dataset, out_dir, specs, *, tol_px: float = HIT_PX, n_boot: int = 2000, seed: int = 0,
              quiet: bool = False, force: bool = False, draw=None) -> Path:
     """Evaluate trackers on a real set; returns the run folder.
 

@@ -79,6 +79,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
+from bench.evaluate.outcomes import HIT_PX, hits
+
 __all__ = ["KINDS", "VOIDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
 
 KINDS = ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide", "thin_faint", "plain",
@@ -337,7 +339,7 @@ def hard_frames(kinds=KINDS, seeds=range(4)) -> list[HardFrame]:
     return [hard_frame(kd, int(s)) for kd in kinds for s in seeds]
 
 
-def argmax_right(frame: np.ndarray, truth, tol_px: float = 3.0) -> float:
+def argmax_right(frame: np.ndarray, truth, tol_px: float = HIT_PX) -> float:
     """Fraction of the stripe rows (finite ``truth``) whose brightest pixel lies within ``tol_px`` of it.
 
     The brightest pixel of a row whose maximum is a plateau (clipped) is the
@@ -354,7 +356,7 @@ def argmax_right(frame: np.ndarray, truth, tol_px: float = 3.0) -> float:
     if not ok.any():
         return float("nan")
     cols = plateau_middles(f)
-    return float(np.mean(np.abs(cols[ok] - t[ok]) <= tol_px))
+    return float(np.mean(hits(cols[ok], t[ok], tol_px)))
 
 
 def plateau_middles(frame) -> np.ndarray:

@@ -123,7 +123,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                 t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
             scores1[(o, sw)] = t1.objective(key)
         say(f"stage 1: off_rel = {o:g} done")
-    off_best, sw_best = choose(scores1, profile.tie)
+    off_best, sw_best = choose(t1.eligible(scores1, lambda k: _gap_label(*k)), profile.tie)
     t2 = tuning.Tally(2, profile.hit_px)
     rules = [(k, g, m) for k in profile.k_sigma for g in profile.max_gap for m in profile.min_run]
     for n in profile.dp_trackers:
@@ -135,7 +135,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                 t2.add(_rule_label(*r), n, f, t.report(*readings).columns)
         say(f"stage 2: {n} done")
     scores2 = {r: t2.objective(_rule_label(*r)) for r in rules}
-    k_best, gap_best, m_best = choose_rule(scores2, profile.tie)
+    k_best, gap_best, m_best = choose_rule(t2.eligible(scores2, lambda k: _rule_label(*k)), profile.tie)
     chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
               "min_run": m_best}
     figures = {}
@@ -147,6 +147,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in tuning.GROUPS}
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames,
                "objective": "mean over groups of F1",
+               "blind": {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t2)},
                "stage1": {_gap_label(*k): v for k, v in scores1.items()},
                "stage2": {_rule_label(*k): v for k, v in scores2.items()}, "figures": figures}
     records = t1.records() + t2.records()

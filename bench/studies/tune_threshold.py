@@ -84,14 +84,15 @@ def frame_scores(columns, truth, hit_px: float) -> dict[str, float]:
     >>> frame_scores([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, np.nan, np.nan], 3.0)
     {'hit': 0.5, 'mae_px': 1.0}
     """
+    from bench.evaluate.outcomes import hits
+
     c = np.asarray(columns, float)
     t = np.asarray(truth, float)
     has = np.isfinite(t)
-    with np.errstate(invalid="ignore"):
-        err = np.abs(c - t)
-        hits = has & (err <= hit_px)
-    return {"hit": float(hits.sum() / has.sum()) if has.any() else float("nan"),
-            "mae_px": float(err[hits].mean()) if hits.any() else float("nan")}
+    hit = hits(c, t, hit_px)
+    err = np.abs(c - t)
+    return {"hit": float(hit.sum() / has.sum()) if has.any() else float("nan"),
+            "mae_px": float(err[hit].mean()) if hit.any() else float("nan")}
 
 
 def choose_grid(scores: dict, tie: float):
@@ -216,7 +217,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                             t1.add(key, n, f, t.track(f.image, background=f.background).columns)
                     scores1[(k, p, m, w)] = t1.objective(key)
         say(f"stage 1: k_sigma = {k:g} done")
-    k_best, p_best, m_best, w_best = choose_grid(scores1, profile.tie)
+    k_best, p_best, m_best, w_best = choose_grid(t1.eligible(scores1, lambda kpmw: _key(*kpmw)), profile.tie)
     family = {"k_sigma": k_best, "prominence": p_best, "min_run": m_best, "max_width": w_best}
     # stage 2: com_bg's frac on laser-on/off pairs
     mae2, rec2 = {}, []
@@ -245,7 +246,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                     t3.add(key, "steger", f, t.track(f.image, background=f.background).columns)
                 scores3[(k, p, m)] = t3.objective(key)
         say(f"stage 3: steger k_sigma = {k:g} done")
-    sk, sp, sm = choose_grid(scores3, profile.tie)
+    sk, sp, sm = choose_grid(t3.eligible(scores3, lambda kpm: _key(*kpm)), profile.tie)
     steger = {"k_sigma": sk, "prominence": sp, "min_run": sm}
     # stage 4: the colour rule
     colour = {}
@@ -266,7 +267,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                 t4.add(key, n, f, t.track(frame).columns)
         scores4[rule] = t4.objective(key)
         say(f"stage 4: rule {rule} done")
-    rule_best = choose_listed(scores4, profile.colour_rules, profile.tie)
+    rule_best = choose_listed(t4.eligible(scores4, lambda r: f"rule={r}"), profile.colour_rules, profile.tie)
     chosen = {**family, "frac": frac_best, "steger": steger, "colour_rule": rule_best}
     figures = {}
     for name, tally, key in (("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
@@ -276,7 +277,9 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
         for g, kinds in tally.by_group(key).items():
             figures[name][g]["all"] = detection_figures(sum(kinds.values()))
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in ("synthetic", "renders", "real")}
+    blind = {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t3, t4)}
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames, "objective": "mean over groups of F1",
+               "blind": blind,
                "stage1": {_key(*kpm): s for kpm, s in scores1.items()},
                "stage2_mae_px": {f"frac={f:g}": v for f, v in mae2.items()},
                "stage3": {_key(*kpm): s for kpm, s in scores3.items()},

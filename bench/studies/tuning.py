@@ -20,6 +20,11 @@ The objective (:func:`objective`) prices a miss and a false report alike: a
 setting's row outcomes are pooled over the frames of each group and the trackers
 scored, each group's F1 over rows is taken, and the objective is their mean, so
 each group weighs the same whatever its number of frames.
+
+One eligibility rule goes with it: a setting that reports nothing at all on a frame
+whose brightest pixel per row is right on at least :data:`EASY_ARGMAX` of its stripe
+rows goes *blind* where the stripe is plain to see, and is not eligible
+(:meth:`Tally.eligible`): a tracker that says "no stripe" must not say it there.
 """
 
 from __future__ import annotations
@@ -36,6 +41,9 @@ __all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered
 
 #: The groups of tuning frames, in the order they are reported.
 GROUPS = ("synthetic", "renders", "real")
+#: A frame is plain to see when its brightest pixel per row is within the hit rule of the stripe on at
+#: least this fraction of its stripe rows; reporting nothing on such a frame makes a setting ineligible.
+EASY_ARGMAX = 0.75
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,6 +84,19 @@ class TuningFrame:
     rgb: np.ndarray | None = None
     laser: str = "red"
     rotate: int = 0
+
+    @property
+    def easy(self) -> bool:
+        """Whether the frame's brightest pixel per row is right on at least :data:`EASY_ARGMAX` of its
+        stripe rows (:func:`bench.studies.hard_frames.argmax_right`, computed once)."""
+        cached = self.__dict__.get("_easy")
+        if cached is None:
+            from bench.studies.hard_frames import argmax_right
+
+            rows = self.states == 1
+            cached = bool(rows.any() and argmax_right(self.image[rows], self.truth[rows]) >= EASY_ARGMAX)
+            self.__dict__["_easy"] = cached
+        return cached
 
 
 def synthetic_frames(kinds, seeds, *, background: bool = False) -> list[TuningFrame]:
@@ -200,12 +221,22 @@ class Tally:
         self.stage = stage
         self.hit_px = hit_px
         self.counts: dict = {}
+        self.blind: dict = {}  # setting -> names of the plain frames on which a tracker reported nothing
 
     def add(self, setting: str, tracker: str, frame, columns) -> None:
         """Count the outcomes of ``columns`` (H,) on ``frame`` under ``setting`` and ``tracker``."""
         key = (setting, tracker, frame.group, frame.kind)
         c = frame_counts(columns, frame, self.hit_px)
         self.counts[key] = self.counts.get(key, 0) + c
+        blind = self.blind.setdefault(setting, [])
+        if np.isnan(columns).all() and frame.easy:
+            blind.append(f"{tracker} on {frame.group}/{frame.name}")
+
+    def eligible(self, scores: dict, key) -> dict:
+        """``scores`` (setting -> objective) restricted to the settings that never went blind on a plain
+        frame (``key(setting)`` names a setting as :meth:`add` got it); all of them if none qualifies."""
+        ok = {s: v for s, v in scores.items() if not self.blind.get(key(s))}
+        return ok or scores
 
     def objective(self, setting: str) -> float:
         """:func:`objective` of a setting, its counts pooled over its trackers."""

@@ -23,8 +23,9 @@ each group weighs the same whatever its number of frames.
 
 One eligibility rule goes with it: a setting that reports nothing at all on a frame
 whose brightest pixel per row is right on at least :data:`EASY_ARGMAX` of its stripe
-rows goes *blind* where the stripe is plain to see, and is not eligible
-(:meth:`Tally.eligible`): a tracker that says "no stripe" must not say it there.
+rows goes *blind* where the stripe is plain to see; only the settings blind on the
+fewest such frames are eligible (:meth:`Tally.eligible`: none, where one setting
+manages that): a tracker that says "no stripe" must not say it there.
 """
 
 from __future__ import annotations
@@ -233,10 +234,12 @@ class Tally:
             blind.append(f"{tracker} on {frame.group}/{frame.name}")
 
     def eligible(self, scores: dict, key) -> dict:
-        """``scores`` (setting -> objective) restricted to the settings that never went blind on a plain
-        frame (``key(setting)`` names a setting as :meth:`add` got it); all of them if none qualifies."""
-        ok = {s: v for s, v in scores.items() if not self.blind.get(key(s))}
-        return ok or scores
+        """``scores`` (setting -> objective) restricted to the settings that went blind on the fewest plain
+        frames (``key(setting)`` names a setting as :meth:`add` got it): none where some setting never
+        does; a frame on which every setting goes blind disqualifies none of them."""
+        blind = {s: len(self.blind.get(key(s), ())) for s in scores}
+        least = min(blind.values(), default=0)
+        return {s: v for s, v in scores.items() if blind[s] == least}
 
     def objective(self, setting: str) -> float:
         """:func:`objective` of a setting, its counts pooled over its trackers."""

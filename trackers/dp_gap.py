@@ -34,11 +34,12 @@ from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, PAPER_REPORT, DPTracker, _check_con
 __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
 
 #: ``dp_gap``'s default off level, as a fraction of the way from the frame's
-#: background to its typical row maximum (chosen by ``stripebench tune dp_gap``).
-DEFAULT_OFF_REL = 0.3
+#: background to its typical row maximum (chosen by ``stripebench tune dp_gap``, stage 1: the mean
+#: over renders, synthetic frames and photographs of F1 over rows).
+DEFAULT_OFF_REL = 0.2
 #: ``dp_gap``'s default switch cost, in rows of the off cost (chosen by
-#: ``stripebench tune dp_gap``).
-DEFAULT_SWITCH_ROWS = 10.0
+#: ``stripebench tune dp_gap``, stage 1).
+DEFAULT_SWITCH_ROWS = 3.0
 
 
 def _background(image: np.ndarray, samples: int = 2048) -> float:

@@ -9,14 +9,18 @@ from ._params import Int, Real
 
 __all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN", "DEFAULT_MAX_WIDTH"]
 
-#: Default noise multiple of the per-row detection (chosen by ``stripebench tune threshold``).
-DEFAULT_K_SIGMA = 4.0
-#: Default least ratio of the peak's contrast to the runner-up's (chosen by ``stripebench tune threshold``).
-DEFAULT_PROMINENCE = 0.0
-#: Default least number of vertically linked candidate rows (chosen by ``stripebench tune threshold``).
-DEFAULT_MIN_RUN = 1
-#: Default widest half-contrast run of a stripe, px (None: any; chosen by ``stripebench tune threshold``).
-DEFAULT_MAX_WIDTH = None
+# The detection defaults below were chosen together by ``stripebench tune threshold`` (stage 1; profile
+# ``bench/config/profiles/tune_threshold.toml``: the hard synthetic frames of seeds 100-105, renders of
+# spheres and planes at seed 1 and the shipped photographs; the objective: the mean over those groups of
+# F1 over rows, a miss and a false report priced alike; docs/detection.md).
+#: Default noise multiple of the per-row detection.
+DEFAULT_K_SIGMA = 3.0
+#: Default least ratio of the peak's contrast to the runner-up's.
+DEFAULT_PROMINENCE = 1.1
+#: Default least number of vertically linked candidate rows.
+DEFAULT_MIN_RUN = 5
+#: Default widest half-contrast run of a stripe, px (None: any).
+DEFAULT_MAX_WIDTH = 24
 
 
 class ThresholdTracker(Tracker):

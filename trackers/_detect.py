@@ -271,7 +271,7 @@ class RowDetection:
 
 
 def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=None, *, min_run: int = 1,
-                max_width=None, quantum=None) -> RowDetection:
+                width_ratio=None, quantum=None) -> RowDetection:
     """Decide per row whether its brightest pixel is a stripe.
 
     A row is a *candidate* iff its peak's contrast over the row's background,
@@ -281,8 +281,10 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     * ``c > prominence * (runner_up - bg)`` (nothing else in the row comes close:
       the brightest pixel outside the peak's exclusion zone has less than
       ``1 / prominence`` of its contrast), and
-    * the peak's half-contrast run is at most ``max_width`` px wide (a lamp, a
-      window or a white object is wider than a laser stripe; None: any width),
+    * the peak's half-contrast run is at most ``width_ratio`` times as wide as
+      the median run of the frame's rows that pass the two tests above (at
+      least 2 px): a lamp, a window or a white object is wider than the frame's
+      laser stripe, whatever the stripe's own width (None: any width),
 
     with the statistics of :func:`row_statistics`. ``noise`` is the frame's pixel
     noise with the quantisation's own noise added, ``sqrt(s^2 + quantum^2 / 12)``
@@ -313,8 +315,8 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     threshold : float or None
     min_run : int
         Least number of linked candidate rows, >= 1.
-    max_width : int or None
-        Widest half-contrast run of a candidate, px (None: no limit).
+    width_ratio : float or None
+        Widest half-contrast run of a candidate, in medians of the frame's (None: no limit).
     quantum : float or None
         The frame's quantisation step (image units, >= 0); None: 1 where every
         sampled pixel is a whole number (an 8- or 16-bit frame, a float copy of one,
@@ -352,8 +354,9 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     contrast = peak - bg
     if threshold is None:
         hit = (contrast > 0) & (contrast > k_sigma * noise) & (contrast > prominence * (runner - bg))
-        if max_width is not None:
-            hit &= (hi - lo + 1) <= max_width
+        if width_ratio is not None and hit.any():
+            width = hi - lo + 1
+            hit &= width <= width_ratio * max(float(np.median(width[hit])), 2.0)
         if min_run > 1:
             keep = np.empty(H, np.bool_)
             _link_runs(hit, lo, hi, int(min_run), RUN_STEP_PX, RUN_SKIP, keep)

@@ -29,7 +29,7 @@ class BlaisRiouxTracker(PeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, prominence, min_run, max_width
+    threshold, k_sigma, prominence, min_run, width_ratio
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._params import Int, Real
 from ._peak import PeakTracker
-from .threshold import DEFAULT_K_SIGMA, DEFAULT_MAX_WIDTH, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE
+from .threshold import DEFAULT_K_SIGMA, DEFAULT_WIDTH_RATIO, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE
 
 __all__ = ["CentroidTracker"]
 
@@ -25,7 +25,7 @@ class CentroidTracker(PeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, prominence, min_run, max_width
+    threshold, k_sigma, prominence, min_run, width_ratio
         As for :class:`~trackers.threshold.ThresholdTracker`.
     frac : float, default 0.5
         Level inside the peak, as a fraction of the peak's contrast
@@ -44,9 +44,9 @@ class CentroidTracker(PeakTracker):
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=0.5,
                  half_window=7, min_run=DEFAULT_MIN_RUN,
-                 max_width=DEFAULT_MAX_WIDTH):
+                 width_ratio=DEFAULT_WIDTH_RATIO):
         super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run,
-                         max_width=max_width)
+                         width_ratio=width_ratio)
         self.frac = frac
         self.half_window = half_window
 

@@ -8,7 +8,7 @@ import numpy as np
 from ._base import Track
 from ._params import Int, Real
 from ._subpixel import ESTIMATORS, refine
-from .threshold import DEFAULT_K_SIGMA, DEFAULT_MAX_WIDTH, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE, ThresholdTracker
+from .threshold import DEFAULT_K_SIGMA, DEFAULT_WIDTH_RATIO, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE, ThresholdTracker
 
 __all__ = ["ComBgTracker", "DEFAULT_FRAC"]
 
@@ -51,7 +51,7 @@ class ComBgTracker(ThresholdTracker):
     ----------
     threshold : float or None, default None
         Explicit threshold in units of ``D``; ``None``: the per-row rule.
-    k_sigma, prominence, min_run, max_width
+    k_sigma, prominence, min_run, width_ratio
         As for :class:`~trackers.threshold.ThresholdTracker`, applied to ``D``.
     frac : float, default :data:`DEFAULT_FRAC`
         Threshold-to-zero level as a fraction of each row's peak contrast, in [0, 1).
@@ -83,9 +83,9 @@ class ComBgTracker(ThresholdTracker):
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=DEFAULT_FRAC,
                  half_window=5, min_run=DEFAULT_MIN_RUN,
-                 max_width=DEFAULT_MAX_WIDTH):
+                 width_ratio=DEFAULT_WIDTH_RATIO):
         super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run,
-                         max_width=max_width)
+                         width_ratio=width_ratio)
         self.frac = frac
         self.half_window = half_window
 

@@ -25,7 +25,7 @@ class Gauss3Tracker(PeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, prominence, min_run, max_width
+    threshold, k_sigma, prominence, min_run, width_ratio
         As for :class:`~trackers.threshold.ThresholdTracker`.
 
     Notes

@@ -318,7 +318,7 @@ class StegerTracker(ThresholdTracker):
         self.width = width
         self.max_tilt = max_tilt
 
-    parameter_constraints = {**{k: v for k, v in ThresholdTracker.parameter_constraints.items() if k != "max_width"},
+    parameter_constraints = {**{k: v for k, v in ThresholdTracker.parameter_constraints.items() if k != "width_ratio"},
                              "sigma": Real(low=0.5, low_open=True, high=64, optional=True),
                              "width": Real(low=0, low_open=True, high=256, optional=True),
                              "max_tilt": Real(low=0, high=90, high_open=True)}

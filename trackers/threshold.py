@@ -7,20 +7,20 @@ import numpy as np
 from ._base import Track, Tracker
 from ._params import Int, Real
 
-__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN", "DEFAULT_MAX_WIDTH"]
+__all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN", "DEFAULT_WIDTH_RATIO"]
 
 # The detection defaults below were chosen together by ``stripebench tune threshold`` (stage 1; profile
 # ``bench/config/profiles/tune_threshold.toml``: the hard synthetic frames of seeds 100-105, renders of
 # spheres and planes at seed 1 and the shipped photographs; the objective: the mean over those groups of
 # F1 over rows, a miss and a false report priced alike; docs/detection.md).
 #: Default noise multiple of the per-row detection.
-DEFAULT_K_SIGMA = 3.0
+DEFAULT_K_SIGMA = 4.0
 #: Default least ratio of the peak's contrast to the runner-up's.
 DEFAULT_PROMINENCE = 1.1
 #: Default least number of vertically linked candidate rows.
 DEFAULT_MIN_RUN = 5
-#: Default widest half-contrast run of a stripe, px (None: any).
-DEFAULT_MAX_WIDTH = 24
+#: Default widest half-contrast run of a stripe, in medians of the frame's (None: any).
+DEFAULT_WIDTH_RATIO = 4.0
 
 
 class ThresholdTracker(Tracker):
@@ -38,8 +38,8 @@ class ThresholdTracker(Tracker):
     widened by its own length on each side), the row's peak ``m`` is reported
     iff ``m - b > k_sigma * s`` and ``m - b > prominence * (q - b)`` (``s``
     includes the quantisation's own noise, so a one-level excursion of a dark
-    8-bit row is not a stripe), its half-contrast run is at most ``max_width``
-    px wide, and it lines up with at least ``min_run - 1`` other such rows (a
+    8-bit row is not a stripe), its half-contrast run is at most ``width_ratio``
+    times the frame's median (a lamp or a window is wider than the stripe), and it lines up with at least ``min_run - 1`` other such rows (a
     stripe is a curve: :func:`trackers._detect.detect_rows`).
     Rows where no stripe stands out report nothing, as in the paper: "for
     those rows with the laser light undetectable, the depth of the
@@ -58,9 +58,9 @@ class ThresholdTracker(Tracker):
     min_run : int, default :data:`DEFAULT_MIN_RUN`
         Least number of vertically linked rows that pass (>= 1; 1 turns the
         test off); not used with an explicit ``threshold``.
-    max_width : int or None, default :data:`DEFAULT_MAX_WIDTH`
-        Widest half-contrast run of a stripe in px (>= 1; None: any); not used
-        with an explicit ``threshold``.
+    width_ratio : float or None, default :data:`DEFAULT_WIDTH_RATIO`
+        Widest half-contrast run of a stripe, in medians of the frame's rows
+        that pass (>= 1; None: any); not used with an explicit ``threshold``.
 
     Notes
     -----
@@ -81,23 +81,23 @@ class ThresholdTracker(Tracker):
     subpixel = False
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE,
-                 min_run=DEFAULT_MIN_RUN, max_width=DEFAULT_MAX_WIDTH):
+                 min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO):
         self.threshold = threshold
         self.k_sigma = k_sigma
         self.prominence = prominence
         self.min_run = min_run
-        self.max_width = max_width
+        self.width_ratio = width_ratio
 
     parameter_constraints = {"threshold": Real(optional=True), "k_sigma": Real(low=0, high=1e6),
                              "prominence": Real(low=0, high=1e6), "min_run": Int(low=1, high=100000),
-                             "max_width": Int(low=1, optional=True)}
+                             "width_ratio": Real(low=1, high=1e6, optional=True)}
 
     def detect(self, image):
         """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`)."""
         from ._detect import detect_rows
 
         return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold,
-                           min_run=int(self.min_run), max_width=self.max_width)
+                           min_run=int(self.min_run), width_ratio=self.width_ratio)
 
     def find_stripe(self, image, background):
         d = self.detect(image)

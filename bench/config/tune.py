@@ -243,7 +243,7 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
 # ---------------------------------------------------------------------------------------------------- threshold
 
 THRESHOLD_TOP_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "trackers", "k_sigma",
-                      "prominence", "min_run", "max_width", "frac", "colour_trackers", "colour_rules", "steger_k_sigma",
+                      "prominence", "min_run", "width_ratio", "frac", "colour_trackers", "colour_rules", "steger_k_sigma",
                       "steger_prominence", "steger_min_run", "seed", "render", "renders"}
 
 
@@ -262,7 +262,7 @@ class TuneThresholdProfile:
     k_sigma: list[float]
     prominence: list[float]
     min_run: list[int]
-    max_width: list
+    width_ratio: list
     frac: list[float]
     colour_trackers: list[str]
     colour_rules: list
@@ -291,6 +291,16 @@ def _none_int_grid(data, key, low):
             or any(v != "none" and (isinstance(v, bool) or not isinstance(v, int) or v < low) for v in vals)):
         _fail(f"`{key}` must list distinct integers >= {low} or 'none', got {vals!r}")
     return [None if v == "none" else int(v) for v in vals]
+
+
+def _none_real_grid(data, key, low):
+    """A grid of finite numbers >= ``low`` or ``"none"`` (None: no limit), distinct."""
+    vals = data[key]
+    if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
+            or any(v != "none" and (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
+                                    or v < low) for v in vals)):
+        _fail(f"`{key}` must list distinct numbers >= {low} or 'none', got {vals!r}")
+    return [None if v == "none" else float(v) for v in vals]
 
 
 def _render_experiments(data, keys=GAP_RENDER_KEYS, exp_key="experiments", allow_empty=False):
@@ -366,7 +376,7 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     return TuneThresholdProfile(
         str(data["name"]), [int(s) for s in seeds], list(kinds), data["real"], float(data["hit_px"]),
         float(data["tie"]), float(data["tie_px"]), list(data["trackers"]), _grid(data, "k_sigma", 0),
-        _grid(data, "prominence", 0), _int_grid(data, "min_run", 1), _none_int_grid(data, "max_width", 1),
+        _grid(data, "prominence", 0), _int_grid(data, "min_run", 1), _none_real_grid(data, "width_ratio", 1.0),
         _grid(data, "frac", 0, 0.99),
         list(data["colour_trackers"]), [r if isinstance(r, str) else float(r) for r in rules],
         _grid(data, "steger_k_sigma", 0), _grid(data, "steger_prominence", 0), _int_grid(data, "steger_min_run", 1),

@@ -8,7 +8,7 @@ seed, and whether the shipped real set takes part), the grids and the criteria,
 which are written in the profile's header. Four stages, each using the choices of
 the ones before:
 
-1. ``k_sigma`` x ``prominence`` x ``min_run`` x ``max_width`` of the per-row detection
+1. ``k_sigma`` x ``prominence`` x ``min_run`` x ``width_ratio`` of the per-row detection
    (:func:`trackers._detect.detect_rows`), scored with the threshold trackers
    on every tuning frame (the photographs as ``stripebench real`` gives them:
    the manifest's channel, ``auto`` being the committed rule, so the committed
@@ -96,15 +96,15 @@ def frame_scores(columns, truth, hit_px: float) -> dict[str, float]:
 
 
 def choose_grid(scores: dict, tie: float):
-    """The ``(k_sigma, prominence, min_run[, max_width])`` of best score; scores within ``tie`` of the
-    best go to no ``max_width`` (then the widest), then the smaller ``min_run`` (the simpler rule), then
+    """The ``(k_sigma, prominence, min_run[, width_ratio])`` of best score; scores within ``tie`` of the
+    best go to no ``width_ratio`` (then the widest), then the smaller ``min_run`` (the simpler rule), then
     the larger prominence, then the larger k_sigma (the more cautious).
 
     Examples
     --------
     >>> choose_grid({(3.0, 1.1, 1): 0.900, (5.0, 1.5, 1): 0.899, (5.0, 1.1, 1): 0.8, (3.0, 0.0, 5): 0.9}, tie=0.002)
     (5.0, 1.5, 1)
-    >>> choose_grid({(3.0, 1.1, 1, 24): 0.9, (3.0, 1.1, 1, None): 0.899, (4.0, 1.1, 1, 48): 0.9}, tie=0.002)
+    >>> choose_grid({(3.0, 1.1, 1, 2.5): 0.9, (3.0, 1.1, 1, None): 0.899, (4.0, 1.1, 1, 4.0): 0.9}, tie=0.002)
     (3.0, 1.1, 1, None)
     """
     best = max(scores.values())
@@ -171,7 +171,7 @@ def _frames(profile, progress):
 
 
 def _key(k, p, m, w="n/a") -> str:
-    tail = "" if w == "n/a" else f",max_width={'none' if w is None else w}"
+    tail = "" if w == "n/a" else f",width_ratio={'none' if w is None else format(w, 'g')}"
     return f"k_sigma={k:g},prominence={p:g},min_run={m:d}{tail}"
 
 
@@ -181,7 +181,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     Returns
     -------
     chosen : dict
-        ``k_sigma``, ``prominence``, ``min_run``, ``max_width``, ``frac``, ``steger`` (its ``k_sigma``,
+        ``k_sigma``, ``prominence``, ``min_run``, ``width_ratio``, ``frac``, ``steger`` (its ``k_sigma``,
         ``prominence``, ``min_run``), ``colour_rule``.
     summary : dict
         The objective of every setting of every stage (``stage1`` ... ``stage4``, keyed by the
@@ -209,16 +209,16 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     for k in profile.k_sigma:
         for p in profile.prominence:
             for m in profile.min_run:
-                for w in profile.max_width:
+                for w in profile.width_ratio:
                     key = _key(k, p, m, w)
                     for n in profile.trackers:
-                        t = trackers.make(n, k_sigma=k, prominence=p, min_run=m, max_width=w)
+                        t = trackers.make(n, k_sigma=k, prominence=p, min_run=m, width_ratio=w)
                         for f in frames:
                             t1.add(key, n, f, t.track(f.image, background=f.background).columns)
                     scores1[(k, p, m, w)] = t1.objective(key)
         say(f"stage 1: k_sigma = {k:g} done")
     k_best, p_best, m_best, w_best = choose_grid(t1.eligible(scores1, lambda kpmw: _key(*kpmw)), profile.tie)
-    family = {"k_sigma": k_best, "prominence": p_best, "min_run": m_best, "max_width": w_best}
+    family = {"k_sigma": k_best, "prominence": p_best, "min_run": m_best, "width_ratio": w_best}
     # stage 2: com_bg's frac on laser-on/off pairs
     mae2, rec2 = {}, []
     synth = [f for f in frames if f.group == "synthetic"]
@@ -334,7 +334,7 @@ def command(args) -> int:
         best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]
         return ", ".join(f"{kk} {v:.4f}" for kk, v in best)
 
-    key1 = _key(chosen["k_sigma"], chosen["prominence"], chosen["min_run"], chosen["max_width"])
+    key1 = _key(chosen["k_sigma"], chosen["prominence"], chosen["min_run"], chosen["width_ratio"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
     print(f"stage 1: chosen {key1} (objective {summary['stage1'][key1]:.4f}; best five: {top('stage1')})")
     print("\n".join(figure_lines(summary["figures"]["stage1"])))

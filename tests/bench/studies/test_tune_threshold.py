@@ -17,8 +17,8 @@ def test_choices_follow_the_profiles_rules():
     scores = {(4.0, 0.0, 1): 0.78, (4.0, 1.1, 5): 0.8405, (3.0, 1.5, 1): 0.84, (6.0, 1.5, 1): 0.8395}
     assert tt.choose_grid(scores, 0.002) == (6.0, 1.5, 1)  # ties: smaller min_run, larger prominence and k_sigma
     assert tt.choose_grid(scores, 0.0) == (4.0, 1.1, 5)
-    widths = {(4.0, 0.0, 1, None): 0.80, (4.0, 0.0, 1, 48): 0.801, (4.0, 0.0, 1, 24): 0.85}
-    assert tt.choose_grid(widths, 0.002) == (4.0, 0.0, 1, 24) and tt.choose_grid(widths, 0.06) == (4.0, 0.0, 1, None)
+    widths = {(4.0, 0.0, 1, None): 0.80, (4.0, 0.0, 1, 4.0): 0.801, (4.0, 0.0, 1, 2.5): 0.85}
+    assert tt.choose_grid(widths, 0.002) == (4.0, 0.0, 1, 2.5) and tt.choose_grid(widths, 0.06) == (4.0, 0.0, 1, None)
     assert tt.choose_min({0.25: 0.3411, 0.4: 0.3418, 0.0: 0.36}, 0.005) == 0.25
     assert tt.choose_listed({"excess": 0.70, 0.9: 0.774, 0.8: 0.7735}, ["excess", 0.9, 0.8], 0.002) == 0.9
 
@@ -26,11 +26,11 @@ def test_choices_follow_the_profiles_rules():
 def test_the_committed_profile_loads_and_bad_profiles_name_the_key(tmp_path):
     p = tt.load_profile(tt.DEFAULT_PROFILE)
     assert p.seeds == [100, 101, 102, 103, 104, 105] and p.real and p.seed == 1 and "dim" in p.kinds
-    assert {e["scene"] for e in p.renders} == {"sphere", "plane"} and None in p.max_width
+    assert {e["scene"] for e in p.renders} == {"sphere", "plane"} and None in p.width_ratio
     text = tt.DEFAULT_PROFILE.read_text()
     bad = tmp_path / "bad.toml"
     for edit, message in ((("\nmin_run = [1, 5, 12]", "\nmin_run = [0]"), "`min_run` must be a non-empty list of integers"),
-                          (('max_width = ["none", 48, 24]', 'max_width = ["wide"]'), "`max_width` must list distinct"),
+                          (('width_ratio = ["none", 4.0, 2.5]', 'width_ratio = ["wide"]'), "`width_ratio` must list distinct"),
                           (("seed = 1", "seed = -2"), "`seed` must be an integer >= 0, got -2"),
                           (("real = true", "real = true\nextra = 1"), "unknown key")):
         assert edit[0] in text, edit[0]
@@ -50,7 +50,7 @@ def _small_profile(tmp_path, renders=False):
              ("k_sigma = [3.0, 4.0, 6.0, 10.0]", "k_sigma = [4.0, 40.0]"),
              ("prominence = [0.0, 1.1, 1.5]", "prominence = [0.0]"),
              ("\nmin_run = [1, 5, 12]", "\nmin_run = [1, 5]"),
-             ('max_width = ["none", 48, 24]', 'max_width = ["none"]'),
+             ('width_ratio = ["none", 4.0, 2.5]', 'width_ratio = ["none"]'),
              ("frac = [0.0, 0.1, 0.25, 0.4, 0.5, 0.7]", "frac = [0.25]"),
              ("steger_k_sigma = [3.0, 4.0, 6.0, 8.0]", "steger_k_sigma = [4.0]"),
              ("steger_prominence = [0.0, 1.25]", "steger_prominence = [0.0]"),
@@ -76,11 +76,11 @@ def test_a_small_run_writes_its_files_and_chooses_from_its_grid(tmp_path):
     assert tt.main(["--profile", str(_small_profile(tmp_path)), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["n_frames"] == {"synthetic": 2, "renders": 0, "real": 0}
-    assert summary["chosen"]["frac"] == 0.25 and summary["chosen"]["max_width"] is None
+    assert summary["chosen"]["frac"] == 0.25 and summary["chosen"]["width_ratio"] is None
     assert (out / "tune.csv").read_text().startswith("stage,setting,tracker,group,kind,n_hit,n_wrong,n_missed,n_false")
     # k_sigma = 40 says "no stripe" on most of the dim stripe rows: its F1 is lower, it is never chosen
     s1 = summary["stage1"]
-    assert s1["k_sigma=4,prominence=0,min_run=1,max_width=none"] > s1["k_sigma=40,prominence=0,min_run=1,max_width=none"]
+    assert s1["k_sigma=4,prominence=0,min_run=1,width_ratio=none"] > s1["k_sigma=40,prominence=0,min_run=1,width_ratio=none"]
     assert summary["chosen"]["k_sigma"] == 4.0
     fig = summary["figures"]["stage1"]["synthetic"]
     assert set(fig) == {"dim", "noisy_sensor", "all"} and 0 <= fig["all"]["false_report_rate"] <= 1

@@ -299,7 +299,8 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     candidates: two candidates at most :data:`RUN_SKIP` + 1 rows apart are linked
     when their half-contrast runs overlap once widened by :data:`RUN_STEP_PX` px
     per row between them (a stripe is a curve; the brightest pixels of stripe-less
-    rows scatter). ``min_run = 1`` reports every candidate.
+    rows scatter). ``min_run = 1`` reports every candidate; a frame of fewer than
+    ``min_run`` rows needs a chain through all of them.
 
     With an explicit ``threshold`` (image units) a row is reported iff its peak
     exceeds it, and nothing else is applied.
@@ -357,9 +358,10 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
         if width_ratio is not None and hit.any():
             width = hi - lo + 1
             hit &= width <= width_ratio * max(float(np.median(width[hit])), 2.0)
-        if min_run > 1:
+        run = min(int(min_run), H)  # a chain through every row of a short frame is as long as it can be
+        if run > 1:
             keep = np.empty(H, np.bool_)
-            _link_runs(hit, lo, hi, int(min_run), RUN_STEP_PX, RUN_SKIP, keep)
+            _link_runs(hit, lo, hi, run, RUN_STEP_PX, RUN_SKIP, keep)
             hit = keep
     else:
         hit = peak > float(threshold)

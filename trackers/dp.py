@@ -366,10 +366,11 @@ def _reporting_rule(image, contrast, side_sd, span, tracker):
                 if r - gap_start > tracker.max_gap:
                     report[gap_start:r] = False
                 gap_start = None
-    if tracker.min_run > 1:
+    run = min(tracker.min_run, len(report))  # a frame shorter than min_run needs support on every row
+    if run > 1:
         edges = np.flatnonzero(np.diff(np.r_[0, report.astype(np.int8), 0]))
         for a, b in zip(edges[::2], edges[1::2]):  # each stretch report[a:b]
-            if int(np.count_nonzero(support[a:b])) < tracker.min_run:
+            if int(np.count_nonzero(support[a:b])) < run:
                 report[a:b] = False
     if tracker.max_walk is not None:
         report &= span <= tracker.max_walk

@@ -72,3 +72,14 @@ def test_constant_and_dtype_invariance():
     a, b = detect_rows(img, 3.0, 1.2), detect_rows(img.astype(np.float64), 3.0, 1.2)
     for f in ("col", "mid", "peak", "bg", "noise", "runner_up", "hit", "score"):
         np.testing.assert_array_equal(getattr(a, f), getattr(b, f))
+
+
+def test_min_run_on_a_frame_shorter_than_the_run():
+    # a 4-row frame cannot hold a 5-row chain: a stripe through all of its rows is the longest there can be
+    rng = np.random.default_rng(2)
+    img = 10 + rng.normal(0, 1.0, (4, 60))
+    img[:, 30] = 120
+    assert detect_rows(img, 4.0, 1.1, min_run=5).hit.all()
+    img[3, 30] = 10  # three rows of four: shorter than the frame, and than min_run
+    assert not detect_rows(img, 4.0, 1.1, min_run=5).hit.any()
+    assert detect_rows(img, 4.0, 1.1, min_run=3).hit[:3].all()

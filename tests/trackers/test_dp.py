@@ -7,6 +7,7 @@ from skimage.graph import MCP_Geometric
 
 from trackers.dp import (
     DEFAULT_H_WEIGHT,
+    DEFAULT_REPORT,
     DP4Tracker,
     DP8Tracker,
     accumulated_cost,
@@ -192,9 +193,10 @@ def test_max_gap_limits_bridging():
     img, _ = make_stripe_image(height=100, width=120, seed=4, noise=1.0)
     img = img.astype(np.float64)
     img[40:60] = 10.0  # a 20-row cut
-    assert not np.isnan(DP4Tracker().track(img).columns).any()
-    limited = DP4Tracker(max_gap=10).track(img).columns
-    assert np.isnan(limited[40:60]).all() and not np.isnan(limited[:40]).any()
+    assert not np.isnan(DP4Tracker(max_gap=None).track(img).columns).any()  # the paper's DP bridges it
+    for max_gap in (10, DEFAULT_REPORT["max_gap"]):  # the default leaves a 20-row cut out too
+        limited = DP4Tracker(max_gap=max_gap).track(img).columns
+        assert np.isnan(limited[40:60]).all() and not np.isnan(limited[:40]).any()
 
 
 def test_noise_only_frame_reports_nothing():
@@ -544,3 +546,15 @@ def test_min_run_drops_short_supported_stretches():
     base = trackers.make("dp8", max_gap=3).track(img).columns
     strict = trackers.make("dp8", max_gap=3, min_run=1000).track(img).columns
     assert np.isnan(strict).all() and (~np.isnan(base)).sum() > 40
+
+
+def test_min_run_on_a_frame_shorter_than_the_run():
+    import trackers
+
+    rng = np.random.default_rng(2)
+    img = 10 + rng.normal(0, 1.0, (4, 60))
+    img[:, 30] = 120
+    assert DEFAULT_REPORT["min_run"] > 4
+    assert trackers.make("dp8").track(img).columns.tolist() == [30.0] * 4  # support on every row of the frame
+    img[3, 30] = 10
+    assert np.isnan(trackers.make("dp8", max_gap=0).track(img).columns).all()  # 3 supported rows of 4

@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.store.files import RunFolderError, atomic_write_bytes, atomic_write_text, check_format
+from bench.store.textfiles import loads_csv
 
 __all__ = ["FORMAT", "SPLITS", "FRAME_COLUMNS", "TRUTH_COLUMNS", "SUBMISSION_COLUMNS", "TIMES_COLUMNS",
            "FrameSetError", "FrameSet", "Submission", "frame_id", "split_of", "png_bytes", "truth_csv",
@@ -230,9 +231,11 @@ def read_frameset(root) -> FrameSet:
     check_format(meta.get("format"), (FORMAT,), "frame set", jpath)
     fpath = root / "frames.csv"
     try:
-        rows = list(csv.DictReader(io.StringIO(fpath.read_text(encoding="utf-8"))))
+        rows = loads_csv(fpath.read_text(encoding="utf-8"), str(fpath), error=FrameSetError)[1]
     except OSError as exc:
         raise FrameSetError(f"cannot read {str(fpath)!r}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise FrameSetError(f"{str(fpath)!r}: not UTF-8 text (byte {exc.start})") from None
     frames, index = [], {}
     keys = {e["key"] for e in meta.get("experiments", [])}
     for n, r in enumerate(rows, start=2):
@@ -278,9 +281,11 @@ def read_truth(path, height: int, k: int | None):
     on = np.zeros(height, bool)
     false = None if k is None else np.full((height, k), np.nan)
     try:
-        rows = list(csv.DictReader(io.StringIO(path.read_text(encoding="utf-8"))))
+        rows = loads_csv(path.read_text(encoding="utf-8"), str(path), error=FrameSetError)[1]
     except OSError as exc:
         raise FrameSetError(f"cannot read truth {str(path)!r}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise FrameSetError(f"truth {str(path)!r}: not UTF-8 text (byte {exc.start})") from None
     f = lambda s: float(s) if s else np.nan  # noqa: E731
     for n, r in enumerate(rows, start=2):
         try:
@@ -359,7 +364,10 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
         return None, [f"{sub}: cannot read it ({type(exc).__name__})"]
     cols = {f: np.full(r["height"], np.nan) for f, r in frameset.index.items()}
     scores = {f: np.full(r["height"], np.nan) for f, r in frameset.index.items()}
-    reader = csv.reader(io.StringIO(text))
+    try:
+        reader = iter(loads_csv(text, str(sub), error=ValueError, header=False))
+    except ValueError as exc:
+        return None, [str(exc)]
     header = [h.strip() for h in next(reader, [])]
     missing = [c for c in SUBMISSION_COLUMNS if c not in header]
     if missing:
@@ -417,7 +425,12 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
             problems.append(f"{tpath}: cannot read it ({type(exc).__name__})")
             ttext = None
         if ttext is not None:
-            treader = csv.reader(io.StringIO(ttext))
+            try:
+                treader = iter(loads_csv(ttext, str(tpath), error=ValueError, header=False))
+            except ValueError as exc:
+                problems.append(str(exc))
+                ttext = None
+        if ttext is not None:
             th = [h.strip() for h in next(treader, [])]
             tmissing = [c for c in TIMES_COLUMNS if c not in th]
             if tmissing:

@@ -24,7 +24,6 @@ centre of that pixel.
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.errors import StripebenchError
+from bench.store.textfiles import loads_csv
 from bench.evaluate.outcomes import GAP_ROWS, NO_STRIPE, STATES, fallback_states
 
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
@@ -364,7 +364,7 @@ def read_reference_states(path, shape, gap_rows: int = GAP_ROWS) -> tuple[np.nda
         raise DatasetError([f"{p.name}: cannot read reference ({exc.strerror})"]) from None
     except UnicodeDecodeError as exc:
         raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
-    rows = list(csv.reader(text.splitlines()))
+    rows = loads_csv(text, p.name, error=lambda m: DatasetError([m]), header=False)
     header = [h.strip() for h in rows[0]] if rows else []
     if header not in (["row", "col"], ["row", "col", "state"]):
         raise DatasetError([f"{p.name}: header must be 'row,col' or 'row,col,state', "
@@ -415,12 +415,13 @@ def _manifest(root: Path) -> tuple[list[dict], list[str]]:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         return [], [f"manifest.csv: cannot read ({exc})"]
-    reader = csv.DictReader(text.splitlines())
-    cols = reader.fieldnames or []
+    try:
+        cols, rows = loads_csv(text, "manifest.csv", error=ValueError)
+    except ValueError as exc:
+        return [], [str(exc)]
     missing = [c for c in MANIFEST_REQUIRED if c not in cols]
     if missing:
         return [], [f"manifest.csv: missing column(s) {', '.join(missing)} (have {', '.join(cols) or 'none'})"]
-    rows = list(reader)
     if not rows:
         return [], ["manifest.csv: no images listed"]
     return rows, []
@@ -476,8 +477,8 @@ def ignored_columns(root) -> list[str]:
     """
     path = Path(root) / "manifest.csv"
     try:
-        header = next(csv.reader(path.read_text(encoding="utf-8").splitlines()), [])
-    except (OSError, UnicodeDecodeError):
+        header = loads_csv(path.read_text(encoding="utf-8"), "manifest.csv", error=ValueError)[0]
+    except (OSError, UnicodeDecodeError, ValueError):
         return []
     return [c for c in header if c not in MANIFEST_REQUIRED + MANIFEST_OPTIONAL]
 

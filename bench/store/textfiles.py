@@ -1,4 +1,4 @@
-"""Reading text documents from disk safely: configurations (TOML), summaries and baselines (JSON).
+"""Reading text documents from disk safely: configurations (TOML), summaries and baselines (JSON), tables (CSV).
 
 Everything stripebench reads as a document goes through :func:`read_text`
 (then :func:`loads_toml` or :func:`loads_json`), so one set of bounds holds for
@@ -12,6 +12,12 @@ all of them:
 * integers within 64 bits (:data:`MAX_INT`; TOML's own range), so that a
   401-digit integer never reaches arithmetic that overflows.
 
+CSV tables (manifests, references, frame lists, submissions) are parsed by
+:func:`loads_csv`, as spreadsheets write them: a leading UTF-8 byte-order mark is
+dropped, rows end only at ``\n``, ``\r\n`` or ``\r`` outside quotes (a U+2028,
+U+2029 or U+0085 inside a field is that field's text, not a new row), and a field
+may hold up to :data:`MAX_CSV_FIELD` characters.
+
 Every failure raises ``error`` (default :class:`bench.errors.InputError`; the
 configuration reader passes :class:`bench.errors.ConfigError`, the run-folder
 readers their ``RunFolderError``) with one line naming the file.
@@ -19,7 +25,9 @@ readers their ``RunFolderError``) with one line naming the file.
 
 from __future__ import annotations
 
+import csv
 import errno
+import io
 import json
 import os
 import stat
@@ -30,7 +38,7 @@ from typing import Any
 from bench.errors import InputError
 
 __all__ = ["MAX_BYTES", "MAX_DEPTH", "MAX_INT", "read_text", "loads_json", "loads_toml", "read_json",
-           "read_toml_file", "check_structure"]
+           "read_toml_file", "check_structure", "MAX_CSV_FIELD", "loads_csv"]
 
 #: The largest document read, bytes (a paper run's summary.json is about 1 MB).
 MAX_BYTES = 256 * 2**20
@@ -38,6 +46,9 @@ MAX_BYTES = 256 * 2**20
 MAX_DEPTH = 64
 #: The largest magnitude of an integer accepted (TOML's 64-bit range).
 MAX_INT = 2**63 - 1
+#: The longest CSV field accepted, characters (a long notes cell or a wide submission header is fine; the
+#: csv module's own default is 131,072).
+MAX_CSV_FIELD = 16 * 2**20
 
 _KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
@@ -211,3 +222,46 @@ def read_json(path, what: str = "JSON file", *, error: type[Exception] = InputEr
 def read_toml_file(path, what: str = "TOML file", *, error: type[Exception] = InputError) -> dict:
     """:func:`read_text` then :func:`loads_toml` (messages name the path)."""
     return loads_toml(read_text(path, what, error=error), str(Path(path)), error=error)
+
+
+def loads_csv(text: str, where: str, *, error: type[Exception] = InputError, header: bool = True):
+    """The rows of a CSV table, read as a spreadsheet writes it.
+
+    Parameters
+    ----------
+    text : str
+        The table (from :func:`read_text`); a leading byte-order mark is dropped.
+    where : str
+        The file's name, for messages.
+    error : exception class
+        Raised with one line naming ``where`` (a field longer than :data:`MAX_CSV_FIELD`, or
+        text the csv module cannot parse, such as a quote left open).
+    header : bool
+        True: a list of dicts keyed by the first row (``csv.DictReader``); the header is the
+        dicts' keys, also returned. False: a list of lists.
+
+    Returns
+    -------
+    (fieldnames, rows) if ``header`` else rows
+
+    Examples
+    --------
+    >>> loads_csv('\ufeffname,notes\r\na,"one\u2028two"\r\n', "manifest.csv")
+    (['name', 'notes'], [{'name': 'a', 'notes': 'one\u2028two'}])
+    """
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    if csv.field_size_limit() != MAX_CSV_FIELD:  # the csv module's limit is process-wide: set, never restored,
+        csv.field_size_limit(MAX_CSV_FIELD)    # so that a reader in another thread never sees it shrink
+    try:
+        stream = io.StringIO(text, newline="")
+        if header:
+            reader = csv.DictReader(stream)
+            rows = list(reader)
+            return list(reader.fieldnames or []), rows
+        return list(csv.reader(stream))
+    except csv.Error as exc:
+        msg = str(exc)
+        if "field larger than field limit" in msg:
+            msg = f"a field is longer than {MAX_CSV_FIELD:,} characters"
+        raise error(f"{where}: not a readable CSV table ({msg})") from None

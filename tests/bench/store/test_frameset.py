@@ -126,3 +126,16 @@ def test_read_frameset_refuses_what_is_not_one(tmp_path, fset):
     (fset.root / "dataset.json").write_text(json.dumps(dict(doc, format=9)))
     with pytest.raises(RunFolderError, match="format 9"):
         fs.read_frameset(fset.root)
+
+
+def test_a_spreadsheet_saved_submission_reads_back_and_a_huge_cell_is_one_line(fset, tmp_path):
+    from bench.store.textfiles import MAX_CSV_FIELD
+
+    for d in "abc":
+        (tmp_path / d).mkdir()
+    plain, _ = fs.read_submission(_sub(tmp_path / "a", "frame,row,col,score\ne-000,0,1.25,3\n"), fset)
+    bom, problems = fs.read_submission(_sub(tmp_path / "b", "\ufeffframe,row,col,score\r\ne-000,0,1.25,3\r\n"), fset)
+    assert problems == [] and np.array_equal(bom.columns["e-000"], plain.columns["e-000"], equal_nan=True)
+    huge = "frame,row,col\n" + "e-000,0," + "1" * (MAX_CSV_FIELD + 1) + "\n"
+    sub, problems = fs.read_submission(_sub(tmp_path / "c", huge), fset)
+    assert sub is None and len(problems) == 1 and "a field is longer than" in problems[0]

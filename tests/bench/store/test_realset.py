@@ -299,3 +299,28 @@ def test_cmyk_16_bit_colour_png_and_multi_page_tiff(tmp_path):
         real.read_image(tmp_path / "two.tif")
     tifffile.imwrite(tmp_path / "one.tif", np.full((6, 8), 7, np.uint16))
     assert real.read_image(tmp_path / "one.tif").dtype == np.uint16
+
+
+def test_manifest_and_reference_as_spreadsheets_write_them(tmp_path):
+    """A UTF-8 byte-order mark, CRLF rows, a U+2028 / U+0085 inside a quoted notes cell and a long notes
+    cell are read as written (issue 37)."""
+    ref = np.full(20, 12.0)
+    root = _write_set(tmp_path / "set", {"one": (_stripe(), None, ref, "red")}, manifest=None)
+    long_note = "x" * 200_000  # beyond the csv module's default field limit (131,072)
+    (root / "manifest.csv").write_bytes(
+        ("\ufeffname,has_background,laser_colour,notes\r\n"
+         f'one,0,red,"first\u2028second\u0085third {long_note}"\r\n').encode("utf-8"))
+    (root / "one_ref.csv").write_bytes(("\ufeffrow,col\r\n" + "".join(f"{i},12\r\n" for i in range(20))).encode())
+    images, problems = real.validate_dataset(root)
+    assert problems == [] and [i.name for i in images] == ["one"]
+    assert images[0].load()[3][5] == 12.0
+
+
+def test_a_field_beyond_the_bound_is_one_line(tmp_path):
+    from bench.store.textfiles import MAX_CSV_FIELD
+
+    root = _write_set(tmp_path / "set", {"one": (_stripe(), None, np.full(20, 12.0), "red")})
+    (root / "manifest.csv").write_text(f'name,has_background,laser_colour,notes\none,0,red,"{"x" * (MAX_CSV_FIELD + 1)}"\n')
+    images, problems = real.validate_dataset(root)
+    assert images == [] and len(problems) == 1
+    assert problems[0].startswith("manifest.csv: not a readable CSV table (a field is longer than")

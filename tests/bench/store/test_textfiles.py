@@ -69,3 +69,25 @@ def test_toml_integers_beyond_64_bits_and_invalid_toml():
             T.loads_toml(f"x = {big}", "c.toml")
     with pytest.raises(InputError, match="c.toml: invalid TOML"):
         T.loads_toml("x = ", "c.toml")
+
+
+def test_loads_csv_reads_what_spreadsheets_write():
+    from bench.store.textfiles import loads_csv
+
+    text = '\ufeffa,b\r\n1,"x\u2028y"\r\n2,"p\u0085q\u2029r"\n3,"line\r\nbreak"\n'
+    cols, rows = loads_csv(text, "t.csv")
+    assert cols == ["a", "b"] and [r["a"] for r in rows] == ["1", "2", "3"]
+    assert rows[0]["b"] == "x\u2028y" and rows[1]["b"] == "p\u0085q\u2029r" and rows[2]["b"] == "line\r\nbreak"
+    assert loads_csv("a,b\n1,2\n", "t.csv", header=False) == [["a", "b"], ["1", "2"]]
+
+
+def test_loads_csv_bounds_a_field_and_names_the_file():
+    import pytest
+
+    from bench.errors import InputError
+    from bench.store.textfiles import MAX_CSV_FIELD, loads_csv
+
+    ok = loads_csv('a\n"' + "x" * MAX_CSV_FIELD + '"\n', "t.csv")[1]
+    assert len(ok[0]["a"]) == MAX_CSV_FIELD
+    with pytest.raises(InputError, match=r"^t\.csv: not a readable CSV table \(a field is longer than 16,777,216"):
+        loads_csv('a\n"' + "x" * (MAX_CSV_FIELD + 1) + '"\n', "t.csv")

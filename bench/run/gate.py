@@ -204,8 +204,10 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
         raise InputError(f"{where} is format {doc['format']}: this stripebench reads baseline formats "
                          f"{' and '.join(map(str, READ_FORMATS))} (regenerate it with `stripebench check RUN "
                          "--baseline FILE --update` or `python -m bench.cli.gate_spread`)")
-    if not isinstance(doc, dict) or doc.get("format") not in READ_FORMATS or "metrics" not in doc:
-        raise InputError(f"{where} is not a stripebench baseline (format {_FORMAT})")
+    fmt = doc.get("format") if isinstance(doc, dict) else None
+    if type(fmt) is not int or fmt not in READ_FORMATS or "metrics" not in doc:  # true == 1 and 1.0 == 1: not formats
+        raise InputError(f"{where} is not a stripebench baseline (format {_FORMAT})"
+                         + (f": `format` must be an integer, got {fmt!r:.20}" if isinstance(fmt, (bool, float)) else ""))
     if doc["format"] == 1:
         doc["format"] = FORMAT
         doc.setdefault("renderer", "")

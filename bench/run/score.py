@@ -31,7 +31,7 @@ from bench.run.plan import say
 from bench.store import frameset as fs
 from bench.store.checkpoint import FALSE_K, ScanResult, write_checkpoint
 from bench.store.figdata import FigData, GalleryFrame
-from bench.store.files import RunFolderError
+from bench.store.files import RunFolderError, config_hash
 from bench.store.provenance import code_fingerprint
 from bench.store.runfolder import RunFolder, safe_dir_name
 
@@ -100,6 +100,10 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
     dataset, submission = Path(dataset), Path(submission)
     fset = fs.read_frameset(dataset)
     config = parse(fset.meta["config"], "dataset.json", machine=False)
+    if config_hash(config.identity()) != fset.meta["config_hash"]:
+        raise fs.FrameSetError(f"{str(dataset / 'dataset.json')!r}: its `config` does not match its `config_hash` "
+                               f"({config_hash(config.identity())} vs {fset.meta['config_hash']}): edited after export; "
+                               "export the frame set again")
     if trackers is not None:
         labels = [s.label for s in trackers]
         config = with_overrides(config, trackers=[s.to_value() for s in trackers],
@@ -137,7 +141,8 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                 res.truth_columns[i], res.truth_points_cm[i], res.on_object[i] = cols, pts, on
                 if false is not None:
                     res.false_columns[i] = false
-                image, background = fs.read_png(dataset / f["image"]), fs.read_png(dataset / f["background"])
+                image = fs.read_png(dataset / f["image"], (H, W))
+                background = fs.read_png(dataset / f["background"], (H, W))
                 images.append((image, background))
                 for n, t in tracker_objs.items():
                     if n not in warm:  # first calls compile (numba): kept out of the per-frame times, as in a scan
@@ -151,7 +156,12 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                 res.seconds[label][i] = sub.ms[f["frame"]] / 1e3
                 res.done[i] = True
             write_checkpoint(folder.checkpoint(exp.key), res)
-            recs, samps = scan_tables(config, k, exp, Rig(**meta["rig"]), res, restore=restore)
+            try:
+                rig = Rig(**meta["rig"])
+            except (TypeError, ValueError) as exc:
+                raise fs.FrameSetError(f"{str(dataset / 'dataset.json')!r}: experiment {exp.key!r} has no valid `rig` "
+                                       f"({exc})") from None
+            recs, samps = scan_tables(config, k, exp, rig, res, restore=restore)
             records += recs
             samples += samps
             for i in analysis.worst_frames(res, GALLERY_FRAMES):

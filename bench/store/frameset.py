@@ -105,13 +105,19 @@ def png_bytes(image: np.ndarray) -> bytes:
     return iio.imwrite("<bytes>", image, extension=".png")
 
 
-def read_png(path) -> np.ndarray:
+def read_png(path, shape=None) -> np.ndarray:
     """An exported frame: (H, W) uint8.
+
+    Parameters
+    ----------
+    path : path-like
+    shape : (int, int) or None
+        The frame's size as ``frames.csv`` gives it (rows, columns); None: any.
 
     Raises
     ------
     FrameSetError
-        Missing, unreadable or not 8-bit grey (naming the file).
+        Missing, unreadable, not 8-bit grey or not of ``shape`` (naming the file).
     """
     import imageio.v3 as iio
 
@@ -124,6 +130,9 @@ def read_png(path) -> np.ndarray:
         raise FrameSetError(f"frame {str(path)!r} is not a PNG ({type(exc).__name__})") from None
     if img.ndim != 2 or img.dtype != np.uint8:
         raise FrameSetError(f"frame {str(path)!r} must be 8-bit grey, got {img.dtype} {img.shape}")
+    if shape is not None and img.shape != tuple(shape):
+        raise FrameSetError(f"frame {str(path)!r} is {img.shape[0]}x{img.shape[1]} (rows x columns), but frames.csv "
+                            f"says {shape[0]}x{shape[1]}")
     return img
 
 
@@ -210,6 +219,28 @@ class FrameSet:
         return self.root / TRUTH_DIRS[frame["split"]] / f"{frame['frame']}.csv"
 
 
+#: The largest frame side read from ``frames.csv`` (px).
+MAX_SIDE = 65536
+#: The keys of ``dataset.json`` and of each of its experiments that scoring reads.
+META_KEYS = {"config": dict, "config_hash": str, "experiments": list}
+EXPERIMENT_KEYS = {"key": str, "rig": dict, "variant": str, "false_stripes": bool}
+
+
+def _check_meta(meta: dict, jpath) -> None:
+    """One line naming the first key of ``dataset.json`` that scoring needs and that is missing or mistyped."""
+    def need(doc, keys, where):
+        for k, kind in keys.items():
+            if not isinstance(doc.get(k), kind):
+                got = "missing" if k not in doc else f"got {type(doc[k]).__name__} {doc[k]!r:.40}"
+                raise FrameSetError(f"{str(jpath)!r}: `{where}{k}` must be a {kind.__name__} ({got})")
+
+    need(meta, META_KEYS, "")
+    for i, e in enumerate(meta["experiments"]):
+        if not isinstance(e, dict):
+            raise FrameSetError(f"{str(jpath)!r}: `experiments[{i}]` must be an object")
+        need(e, EXPERIMENT_KEYS, f"experiments[{i}].")
+
+
 def read_frameset(root) -> FrameSet:
     """The frame set at ``root``, checked: its ``dataset.json`` and ``frames.csv``.
 
@@ -229,6 +260,7 @@ def read_frameset(root) -> FrameSet:
     if not isinstance(meta, dict) or meta.get("kind") != "stripebench-frames":
         raise FrameSetError(f"{str(jpath)!r} is not a stripebench frame set")
     check_format(meta.get("format"), (FORMAT,), "frame set", jpath)
+    _check_meta(meta, jpath)
     fpath = root / "frames.csv"
     try:
         rows = loads_csv(fpath.read_text(encoding="utf-8"), str(fpath), error=FrameSetError)[1]
@@ -237,7 +269,9 @@ def read_frameset(root) -> FrameSet:
     except UnicodeDecodeError as exc:
         raise FrameSetError(f"{str(fpath)!r}: not UTF-8 text (byte {exc.start})") from None
     frames, index = [], {}
-    keys = {e["key"] for e in meta.get("experiments", [])}
+    keys = {e["key"] for e in meta["experiments"]}
+    sizes = {}
+    top = root.resolve()
     for n, r in enumerate(rows, start=2):
         missing = [c for c in FRAME_COLUMNS if r.get(c) is None]
         if missing:
@@ -249,6 +283,17 @@ def read_frameset(root) -> FrameSet:
         if f["split"] not in SPLITS or f["experiment"] not in keys or f["frame"] in index:
             raise FrameSetError(f"{str(fpath)!r} line {n}: bad split, unknown experiment or repeated frame "
                                 f"{f['frame']!r}")
+        if not (1 <= f["height"] <= MAX_SIDE and 1 <= f["width"] <= MAX_SIDE):
+            raise FrameSetError(f"{str(fpath)!r} line {n}: height and width must be 1..{MAX_SIDE}, got "
+                                f"{f['height']}x{f['width']}")
+        if sizes.setdefault(f["experiment"], (f["height"], f["width"])) != (f["height"], f["width"]):
+            raise FrameSetError(f"{str(fpath)!r} line {n}: frame {f['frame']!r} is {f['height']}x{f['width']}, but "
+                                f"experiment {f['experiment']!r} is {'x'.join(map(str, sizes[f['experiment']]))}")
+        for col in ("image", "background"):
+            rel = Path(f[col])
+            inside = not rel.is_absolute() and top in (top / rel).resolve().parents
+            if not inside:
+                raise FrameSetError(f"{str(fpath)!r} line {n}: {col} {f[col]!r} must be a path inside the frame set")
         index[f["frame"]] = f
         frames.append(f)
     return FrameSet(root, meta, frames, index)

@@ -141,6 +141,12 @@ def test_other_formats_are_refused_in_one_line(tmp_path, fmt):
     assert "\n" not in str(e.value)
 
 
+@pytest.mark.parametrize("fmt", [True, 1.0, "1"])
+def test_a_format_that_is_not_an_integer_is_refused(fmt):
+    with pytest.raises(ValueError, match="is not a stripebench baseline"):
+        gate.validate_baseline({"format": fmt, "metrics": {}})
+
+
 def test_bad_renderer_and_tolerance_source_are_named():
     with pytest.raises(ValueError, match="`renderer` must be a string"):
         gate.validate_baseline({"format": 2, "metrics": {}, "renderer": 3})

@@ -122,3 +122,59 @@ def test_score_refuses_a_label_of_a_builtin_tracker(tiny_export, tmp_path):
     (tmp_path / "s" / "submission.csv").write_text("frame,row,col\n")
     with pytest.raises(ConfigError, match="built-in tracker"):
         score(tiny_export, tmp_path / "s", tmp_path / "run", label="dp4", quiet=True)
+
+
+def _damaged(tiny_export, tmp_path, edit_meta=None, edit_rows=None):
+    """A copy of the tiny frame set with dataset.json and/or frames.csv edited."""
+    import shutil
+
+    from bench.store.textfiles import loads_csv
+
+    root = tmp_path / "damaged"
+    shutil.copytree(tiny_export, root)
+    if edit_meta is not None:
+        meta = json.loads((root / "dataset.json").read_text())
+        edit_meta(meta)
+        (root / "dataset.json").write_text(json.dumps(meta))
+    if edit_rows is not None:
+        _, rows = loads_csv((root / "frames.csv").read_text(), "frames.csv")
+        edit_rows(rows)
+        fs.write_frames_csv(root / "frames.csv", rows)
+    (tmp_path / "s").mkdir(exist_ok=True)
+    (tmp_path / "s" / "submission.csv").write_text("frame,row,col\n")
+    return root
+
+
+def _first_image(rows, value):
+    rows[0]["image"] = value
+
+
+def _resize(rows):
+    rows[1]["height"] = str(int(rows[1]["height"]) + 1)
+
+
+def _resize_all(rows):
+    for r in rows:
+        r["height"] = str(int(r["height"]) + 1)
+
+
+@pytest.mark.parametrize("edit_meta, edit_rows, message", [
+    (lambda m: m.pop("config"), None, r"`config` must be a dict \(missing\)"),
+    (lambda m: m.pop("config_hash"), None, r"`config_hash` must be a str \(missing\)"),
+    (lambda m: m["experiments"][0].pop("rig"), None, r"`experiments\[0\].rig` must be a dict \(missing\)"),
+    (lambda m: m["experiments"][0].update(rig={"f_mm": 1.0}), None, r"has no valid `rig`"),
+    (lambda m: m["config"].update(seed=m["config"].get("seed", 0) + 1), None,
+     r"its `config` does not match its `config_hash`"),
+    (None, lambda rows: _first_image(rows, "/etc/hostname"), r"image '/etc/hostname' must be a path inside"),
+    (None, lambda rows: _first_image(rows, "../../x.png"), r"image '../../x.png' must be a path inside"),
+    (None, _resize, r"but experiment '.*' is"),
+    (None, _resize_all, r"but frames.csv says"),
+])
+def test_score_refuses_a_damaged_frame_set_in_one_line(tiny_export, tmp_path, edit_meta, edit_rows, message):
+    """Issue 37 items 1, 4 and 5: no KeyError, broadcast error or escape; an edited configuration is refused."""
+    from bench.run.score import score
+
+    root = _damaged(tiny_export, tmp_path, edit_meta, edit_rows)
+    with pytest.raises(fs.FrameSetError, match=message) as err:
+        score(root, tmp_path / "s", tmp_path / "run", quiet=True)
+    assert "\n" not in str(err.value)

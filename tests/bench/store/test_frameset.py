@@ -9,13 +9,16 @@ from bench.store import frameset as fs
 from bench.store.files import RunFolderError
 
 
+META = {"format": fs.FORMAT, "kind": "stripebench-frames", "config": {}, "config_hash": "0123456789",
+        "experiments": [{"key": "e", "rig": {}, "variant": "scalar_rgb", "false_stripes": False}]}
+
+
 @pytest.fixture
 def fset(tmp_path):
     """A hand-made frame set of two frames (4 rows x 6 columns), no images needed."""
     root = tmp_path / "set"
     root.mkdir()
-    fs.write_dataset_json(root / "dataset.json", {"format": fs.FORMAT, "kind": "stripebench-frames",
-                                                   "experiments": [{"key": "e"}]})
+    fs.write_dataset_json(root / "dataset.json", META)
     rows = [{"frame": f"e-00{i}", "image": f"images/e-00{i}.png", "background": f"images/e-00{i}_off.png",
              "experiment": "e", "condition": "e", "split": "dev", "angle_deg": 1.5 * i, "height": 4, "width": 6}
             for i in range(2)]

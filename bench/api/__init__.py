@@ -239,6 +239,11 @@ def evaluate(tracker, profile="quick", *, label: str | None = None, out=None, fo
 
     if label is not None and not isinstance(label, str):
         raise ConfigError(f"`label` must be a string, got {label!r}")
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise ConfigError(f"`out` must be a path (str or path-like), got {out!r:.60}")
+    for name, flag in (("force", force), ("quiet", quiet)):
+        if not isinstance(flag, bool):
+            raise ConfigError(f"`{name}` must be True or False, got {flag!r:.60}")
     spec, entry = _spec_value(tracker, label)
     with _registered(entry):
         cfg = _configuration(profile, spec, overrides)

@@ -154,3 +154,15 @@ def test_docs_api_examples_run(runs, capsys):
     assert "ConfigError: evaluate() got an unknown configuration key 'colour'" in out
     assert "ConfigError: `seed` must be an integer >= 0, got -1" in out
     assert "RunFolderError: RUN must be a finished run folder" in out
+
+
+@pytest.mark.parametrize("kwargs, message", [({"out": 5}, r"`out` must be a path"), ({"force": "yes"}, r"`force` must be"),
+                                             ({"quiet": None}, r"`quiet` must be")])
+def test_evaluate_refuses_bad_arguments_before_any_work(kwargs, message, tmp_path, monkeypatch):
+    from bench.api import evaluate
+    from bench.errors import ConfigError
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ConfigError, match=message):
+        evaluate("threshold", **kwargs)
+    assert not (tmp_path / "results").exists()

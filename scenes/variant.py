@@ -9,16 +9,19 @@ A broken LLVM (Debian's 14/15/16 with drjit 1.5) *aborts the whole process*
 inside the JIT, so each candidate is first tried in a child process that
 renders a tiny scene; only a variant that survived there is set in this process.
 
-The LLVM variant's code is generated for one fixed target, not for this CPU: Dr.Jit by
-default compiles for the host (``-march=native``) with the host's vector width (16 lanes
-with AVX-512, 8 with AVX2), and the width changes the order of the sums inside a
-render (per-pixel sample accumulation, the light tracer's splats), hence the last float
-bits of every pass and, through the 8-bit sensor, some metrics. :data:`PORTABLE_TARGET`
-(``x86-64-v3``: AVX2 + FMA, 8 lanes, no CPU-specific intrinsics) is set on every x86-64
-CPU that has those instructions, so such machines render bit-identical passes (measured:
-docs/gate.md). ``STRIPEBENCH_LLVM_TARGET`` overrides it: ``native`` (Dr.Jit's own
-choice) or ``CPU/WIDTH[/FEATURES]`` (e.g. ``haswell/8/+avx2,+fma``, used to emulate
-other CPUs); :func:`llvm_target` names the one in use (it is part of the render cache key).
+The LLVM variant's code is generated for a target: Dr.Jit by default compiles for the
+host (``-march=native``) with the host's vector width (16 lanes with AVX-512, 8 with
+AVX2), and the width changes the order of the sums inside a render (per-pixel sample
+accumulation, the light tracer's splats), hence the last float bits of every pass and,
+through the 8-bit sensor, some metrics. :data:`PORTABLE_TARGET` (``x86-64-v3``: AVX2 +
+FMA, 8 lanes, no CPU-specific intrinsics), asked for by ``portable``, renders
+bit-identical passes on every x86-64 CPU that has those instructions (measured:
+docs/gate.md). A configuration asks for a target with its ``llvm_target``
+(:func:`request_llvm_target`; the ``ci`` profile asks for ``portable``);
+``STRIPEBENCH_LLVM_TARGET`` overrides it: ``""``/``native`` (Dr.Jit's own choice, the
+default), ``portable`` or ``CPU/WIDTH[/FEATURES]`` (e.g. ``haswell/8/+avx2,+fma``, used to
+emulate other CPUs); :func:`llvm_target` names the one in use (it is part of the render
+cache key).
 Before drjit is imported, ``DRJIT_LIBLLVM_PATH`` is pointed at a
 ``libLLVM.so.19*``/``libLLVM-19.so`` (or newer) found in the usual library
 folders, unless the variable is already set.  The choice is printed to stderr
@@ -38,7 +41,7 @@ from typing import Optional
 
 __all__ = ["CANDIDATES", "PORTABLE_TARGET", "ENV_LLVM_TARGET", "VariantError", "find_libllvm", "probe", "choose",
            "check_forced", "mitsuba", "active_variant", "is_mono", "parse_llvm_target", "llvm_target",
-           "host_supports_portable", "renderer"]
+           "host_supports_portable", "renderer", "request_llvm_target"]
 
 CANDIDATES = ("cuda_ad_mono", "llvm_ad_mono", "scalar_rgb")
 ENV_VARIANT = "STRIPEBENCH_VARIANT"
@@ -55,6 +58,7 @@ PORTABLE_TARGET = ("x86-64-v3", None, 8)
 # /proc/cpuinfo flags of x86-64-v3 (abm: lzcnt); sse4.2 etc. are implied by these
 _V3_FLAGS = ("avx", "avx2", "fma", "bmi1", "bmi2", "f16c", "movbe", "abm", "xsave")
 _target: Optional[str] = None  # the descriptor of the target applied in this process
+_asked: Optional[str] = None  # the value request_llvm_target put in the environment (not the user's override)
 _DRJIT_SYMBOLS = {"set": "_Z19jit_llvm_set_targetPKcS0_j", "width": "_Z21jit_llvm_vector_widthv",
                   "cpu": "_Z19jit_llvm_target_cpuv", "features": "_Z24jit_llvm_target_featuresv"}
 
@@ -236,6 +240,29 @@ def _requested():
     if t == PORTABLE_TARGET and not host_supports_portable():
         return None
     return t
+
+
+def request_llvm_target(value: str) -> None:
+    """Ask for the LLVM target ``value`` (a configuration's ``llvm_target``) before this
+    process renders: ``""`` asks for nothing; an explicit ``$STRIPEBENCH_LLVM_TARGET`` wins
+    (it is the override); otherwise the variable is set, so that helper processes started
+    later (render-ahead, Dask workers) inherit it.
+
+    Raises
+    ------
+    ValueError
+        A malformed ``value``, or a process that already renders for another target (the
+        target is fixed once drjit compiles its first kernel; run it in a fresh process).
+    """
+    global _asked
+    wanted = parse_llvm_target(value)  # validates
+    env = os.environ.get(ENV_LLVM_TARGET, "").strip()
+    if not value.strip() or (env and env != _asked):  # nothing asked, or the user's own override
+        return
+    if _target is not None and _requested() != wanted:
+        raise ValueError(f"`llvm_target` = {value!r}, but this process already renders for {_target!r}; "
+                         "run it in a fresh process")
+    _asked = os.environ[ENV_LLVM_TARGET] = value.strip()
 
 
 def llvm_target() -> str:

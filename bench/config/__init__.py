@@ -15,6 +15,9 @@ A configuration is a TOML document::
     real_set = ""             # also evaluate the trackers on photographs: "shipped" or a folder (sim-to-real)
     render_ahead = true       # a helper process renders later frames into the render cache meanwhile
                               # (bench.run.renderahead; results are the same either way)
+    llvm_target = ""          # the LLVM target of the renders: "" (Dr.Jit's native choice), "portable"
+                              # (x86-64-v3, 8 lanes: the same frames on every such CPU; the ci profile's),
+                              # "native" or CPU/WIDTH[/FEATURES]; $STRIPEBENCH_LLVM_TARGET overrides it
 
     [render]                  # shared by every experiment
     width = 512
@@ -377,6 +380,9 @@ class Config:
     # a helper process renders frames ahead into the render cache while the run tracks (bench.run.renderahead);
     # how a run executes, not what it computes: not part of the run's identity (:meth:`identity`)
     render_ahead: bool = True
+    # the LLVM target the renders ask for (scenes.variant.request_llvm_target); $STRIPEBENCH_LLVM_TARGET overrides
+    # it. Part of the identity (it may change the frames), written only when set (OPTIONAL_KEYS)
+    llvm_target: str = ""
 
     def make_trackers(self) -> dict:
         """label -> a new tracker of each setting, in configuration order (plain trackers:
@@ -418,7 +424,7 @@ class Config:
                "baselines": list(self.baselines), "dp": list(self.dp), "n_samples": self.n_samples,
                "n_boot": self.n_boot, "restore": self.restore, "real_set": self.real_set, "render": dict(self.render),
                "experiments": exps}
-        for k in EXECUTION_KEYS:
+        for k in (*EXECUTION_KEYS, *OPTIONAL_KEYS):
             if getattr(self, k) != _default(k):
                 out[k] = getattr(self, k)
         return out
@@ -431,6 +437,7 @@ class Config:
 
 _NOT_KEYS = {"source", "tracker_specs"}
 EXECUTION_KEYS = ("render_ahead",)  # how a run executes, never what it computes (see Config.identity)
+OPTIONAL_KEYS = ("llvm_target",)  # written by Config.to_dict only when set, so that older hashes stay
 _TOP = {f.name for f in fields(Config)} - _NOT_KEYS
 _EXP_KEYS = {f.name for f in fields(Experiment)} - {"overrides"}
 
@@ -538,6 +545,16 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
     render_ahead = data.get("render_ahead", _default("render_ahead"))
     if not isinstance(render_ahead, bool):
         raise ConfigError(f"`render_ahead` must be true or false, got {render_ahead!r}")
+    llvm_target = data.get("llvm_target", _default("llvm_target"))
+    if not isinstance(llvm_target, str):
+        raise ConfigError(f"`llvm_target` must be a string, got {llvm_target!r:.60}")
+    from scenes.variant import parse_llvm_target
+
+    try:
+        parse_llvm_target(llvm_target)
+    except ValueError:
+        raise ConfigError(f"`llvm_target` must be \"\", \"portable\", \"native\" or CPU/WIDTH[/FEATURES] with WIDTH a "
+                          f"power of two in 1..64, got {llvm_target!r:.60}") from None
     render_in = data.get("render", _default("render"))
     if not isinstance(render_in, dict):
         raise ConfigError(f"`render` must be a table, got {render_in!r}")
@@ -617,7 +634,8 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
                               f"({frames} frames of {width}x{height}, {len(specs)} trackers), more than half of "
                               f"this machine's {2 * memory_limit_bytes() / 2**30:.0f} GiB")
     return Config(name, seed, names, baselines, dp, n_samples, n_boot, render, tuple(exps), source,
-                  restore=restore, real_set=real_set, tracker_specs=specs, render_ahead=render_ahead)
+                  restore=restore, real_set=real_set, tracker_specs=specs, render_ahead=render_ahead,
+                  llvm_target=llvm_target)
 
 
 def read_toml(path, what: str = "configuration") -> dict[str, Any]:

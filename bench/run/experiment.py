@@ -17,7 +17,7 @@ import numpy as np
 
 from bench.evaluate import readings, tables as analysis
 from bench.run import renderahead
-from bench.run.plan import angles_for, say, scene_for
+from bench.run.plan import angles_for, renderer_for, say, scene_for
 from bench.run.camera_view import tracker_images
 from bench.config import Config
 from bench.store.checkpoint import STATUS
@@ -68,6 +68,7 @@ def run(config: Config, out_dir=None, *, progress: bool = True, quiet: bool = Fa
     The report is not built here: call :func:`bench.report.run.build_report` on the result.
     """
     t_start = time.perf_counter()
+    renderer_for(config)
     out = Path(out_dir) if out_dir is not None else default_run_dir(config)
     tracker_objs = build_trackers(config.tracker_specs)
     folder = RunFolder(out)

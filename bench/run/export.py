@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.config import Config
-from bench.run.plan import angles_for, say, scene_for
+from bench.run.plan import angles_for, renderer_for, say, scene_for
 from bench.errors import InputError
 from bench.run.camera_view import tracker_images
 from bench.store import frameset as fs
@@ -61,6 +61,7 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
     """
 
     fs.split_of("x", 0, test_fraction)  # validates test_fraction
+    renderer_for(config)
     t0 = time.perf_counter()
     identity = {"export": config.identity(), "test_fraction": float(test_fraction), "format": fs.FORMAT}
     folder = RunFolder(Path(out_dir), kind="export")

@@ -11,7 +11,25 @@ import sys
 
 import numpy as np
 
-__all__ = ["scene_for", "angles_for", "say"]
+__all__ = ["renderer_for", "scene_for", "angles_for", "say"]
+
+
+def renderer_for(config) -> None:
+    """Ask for ``config``'s LLVM target (``llvm_target``) before anything renders
+    (:func:`scenes.variant.request_llvm_target`; ``$STRIPEBENCH_LLVM_TARGET`` overrides it).
+
+    Raises
+    ------
+    bench.errors.ConfigError
+        This process already renders for another target.
+    """
+    from bench.errors import ConfigError
+    from scenes import variant
+
+    try:
+        variant.request_llvm_target(config.llvm_target)
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
 
 
 def scene_for(experiment, config):

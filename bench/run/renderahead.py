@@ -252,6 +252,8 @@ class RenderAhead:
         from scenes import cache as _cache, variant as _variant
 
         env = {_variant.ENV_VARIANT: _variant.choose(), _cache.ENV_CACHE_DIR: str(_cache.cache_root())}
+        if os.environ.get(_variant.ENV_LLVM_TARGET):  # the LLVM target this process renders for
+            env[_variant.ENV_LLVM_TARGET] = os.environ[_variant.ENV_LLVM_TARGET]
         dist = logging.getLogger("distributed")
         self._level = dist.level
         dist.setLevel(logging.ERROR)  # the nanny's notes when it kills a busy worker

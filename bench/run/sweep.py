@@ -271,6 +271,8 @@ def _execute(units: list[dict], on_result: Callable[[int, dict], None], *, sched
 
             # the workers take this process's Mitsuba variant instead of each probing for one
             env = {_variant.ENV_VARIANT: _variant.choose()}
+            if os.environ.get(_variant.ENV_LLVM_TARGET):  # and its LLVM target (a configuration's or the user's)
+                env[_variant.ENV_LLVM_TARGET] = os.environ[_variant.ENV_LLVM_TARGET]
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
                                    dashboard_address=None, env=env, silence_logs=logging.ERROR)
             client = Client(cluster, timeout=connect_timeout_s)
@@ -382,6 +384,9 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
         if not quiet:
             print(msg, file=sys.stderr, flush=True)
 
+    from bench.run.plan import renderer_for
+
+    renderer_for(config)  # before any worker starts: they inherit the target
     out = Path(out_dir) if out_dir is not None else default_sweep_dir(config, sweep)
     units = plan(config, sweep, chunk=chunk)
     source = source_fingerprint()

@@ -121,3 +121,38 @@ def test_renders_do_not_depend_on_the_cpu_the_target_names(tmp_path):
     avx2 = _render_in_child(tmp_path, "haswell/8/+avx,+avx2,+fma,+f16c,+bmi,+bmi2,+lzcnt,+movbe,+popcnt")
     assert portable[:2] == ["llvm_ad_mono", "x86-64-v3/8"] and avx2[1].startswith("haswell/8/")
     assert portable[2] == avx2[2]
+
+
+def test_a_configuration_asks_for_its_target_and_the_environment_overrides_it(monkeypatch):
+    monkeypatch.delenv(V.ENV_LLVM_TARGET, raising=False)
+    monkeypatch.setattr(V, "_asked", None)
+    monkeypatch.setattr(V, "_target", None)
+    V.request_llvm_target("")  # asks for nothing
+    assert V.ENV_LLVM_TARGET not in os.environ
+    V.request_llvm_target("portable")  # set before anything renders, so that helper processes inherit it
+    assert os.environ[V.ENV_LLVM_TARGET] == "portable"
+    V.request_llvm_target("native")  # a later configuration, still before any render, may change it
+    assert os.environ[V.ENV_LLVM_TARGET] == "native"
+    monkeypatch.setenv(V.ENV_LLVM_TARGET, "haswell/8")  # the user's own override wins
+    V.request_llvm_target("portable")
+    assert os.environ[V.ENV_LLVM_TARGET] == "haswell/8"
+    with pytest.raises(ValueError, match="must be 'portable', 'native' or CPU/WIDTH"):
+        V.request_llvm_target("haswell/6")
+
+
+def test_a_process_that_already_rendered_refuses_another_target(monkeypatch):
+    monkeypatch.delenv(V.ENV_LLVM_TARGET, raising=False)
+    monkeypatch.setattr(V, "_asked", None)
+    monkeypatch.setattr(V, "_target", "native znver3/8")
+    with pytest.raises(ValueError, match="already renders for 'native znver3/8'; run it in a fresh process"):
+        V.request_llvm_target("haswell/8")
+    V.request_llvm_target("native")  # the same target: nothing to do
+
+
+def test_the_ci_profile_renders_for_the_portable_target():
+    from bench.config import parse, profile
+
+    cfg = profile("ci")
+    assert cfg.llvm_target == "portable" and cfg.to_dict()["llvm_target"] == "portable"
+    assert "llvm_target" not in profile("quick").to_dict()  # unset: older configurations keep their hash
+    assert parse(cfg.to_dict(), "x").llvm_target == "portable"

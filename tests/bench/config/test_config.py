@@ -75,6 +75,8 @@ def test_empty_tracker_list_means_all_registered():
         ({"render": {"width": 100, "height": 60}}, r"`experiments\[0\]`: .*square pixels"),
         ({"render_ahead": "no"}, r"`render_ahead` must be true or false, got 'no'"),
         ({"render_ahead": 0}, r"`render_ahead` must be true or false, got 0"),
+        ({"llvm_target": 8}, r"`llvm_target` must be a string, got 8"),
+        ({"llvm_target": "haswell/6"}, r"`llvm_target` must be \"\", \"portable\", \"native\" or CPU/WIDTH"),
     ],
 )
 def test_bad_configs_name_the_key_and_value(change, message):

@@ -55,6 +55,7 @@ def _add_score(p) -> None:
     add_out(p, "the scored run's folder", required=True)
     p.add_argument("--label", help="the submission's label (default: the submission folder's name)")
     add_trackers(p, "built-in trackers to run beside it, as for `run` (default: the frame set's configuration's)")
+    p.add_argument("--alone", action="store_true", help="score the submission alone: no built-in tracker beside it")
     p.add_argument("--split", default="all", choices=["all", "dev", "test"], help="which frames to score")
     add_force(p)
     add_quiet(p, "no progress notes")
@@ -66,8 +67,11 @@ def _score(args) -> int:
 
     check_env()
     check_out_folder(args.out)
+    if args.alone and args.trackers is not None:
+        raise UsageError("--alone and --trackers exclude each other: --alone runs no built-in tracker")
     try:
-        out = score(args.dataset, args.submission, args.out, label=args.label, trackers=args.trackers,
+        out = score(args.dataset, args.submission, args.out, label=args.label,
+                    trackers=() if args.alone else args.trackers,
                     split=args.split, quiet=args.quiet, force=args.force)
     except SubmissionError as exc:
         for line in exc.problems:
@@ -100,10 +104,13 @@ def _leaderboard(args) -> int:
     from bench.report.leaderboard import LeaderboardError, build_leaderboard
 
     check_out_folder(args.out)
+    notes = []
     try:
-        page = build_leaderboard(args.runs, args.out, args.rank_by)
+        page = build_leaderboard(args.runs, args.out, args.rank_by, notes)
     except LeaderboardError as exc:
         raise UsageError(str(exc)) from None
+    for n in notes:
+        print(f"stripebench: leaderboard: {n}", file=sys.stderr)
     print(f"stripebench: leaderboard at {page} (and {page.with_suffix('.csv').name})")
     return 0
 

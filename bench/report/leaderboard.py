@@ -2,8 +2,13 @@
 
 Runs are comparable when :func:`bench.run.gate.comparability` finds no
 difference among :data:`bench.run.gate.COMPARED_KEYS` (render size and spp,
-experiments, seed); otherwise the page is refused in one line. Each tracker
-label enters once (from the first run that has it). Per condition, trackers
+experiments, seed); otherwise the page is refused in one line. Each row says
+where it comes from (:data:`ORIGINS`: a submission, a built-in tracker of a scored
+submission's run, a built-in tracker of a run). Every distinct tracker setting enters
+once: a label whose setting (name, parameters, restore; a submission's checksum) was
+already entered by an earlier run is dropped, and a label that another run used for
+another setting enters again as ``label [run]``; each such decision, and a run that
+contributes nothing (no conditions in its summary), is one line of ``notes``. Per condition, trackers
 are ranked (``rank_by``, :data:`RANK_BY`) by the fraction of sample points within
 ±5 mm (``within``, the paper's reading, missing points counted as misses) with its
 Wilson 95 % interval, or by detection over rows (:mod:`bench.evaluate.outcomes`):
@@ -31,11 +36,14 @@ from bench.run import gate
 from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
 
-__all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS", "RANK_BY"]
+__all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS", "RANK_BY",
+           "ORIGINS", "settings_of"]
 
 COLUMNS = ("condition", "rank", "tied", "rank_by", "tracker", "within", "within_low", "within_high", "median_abs_mm",
            "rmse_mm", "n_gross", "n", "f1", "f1_low", "f1_high", "ap", "ap_low", "ap_high", "false_report_rate",
-           "false_points_per_scan", "ms_per_frame", "run", "kind", "git_revision")
+           "false_points_per_scan", "ms_per_frame", "run", "kind", "origin", "git_revision")
+#: Where a row comes from.
+ORIGINS = ("submission", "built-in (scored run)", "built-in (run)")
 #: What a leaderboard can rank by: the ±5 mm fraction (the paper's reading), F1 or AP over rows.
 RANK_BY = ("within", "f1", "ap")
 _NAN = float("nan")
@@ -57,8 +65,39 @@ def _group_of(summary: dict, cond: dict, robust_groups: set) -> str | None:
     return None
 
 
-def leaderboard_rows(runs, rank_by: str = "within") -> list[dict]:
+def settings_of(summary: dict) -> dict[str, tuple[str, str]]:
+    """label -> (origin, setting) of every tracker of a run's summary: the setting is a canonical
+    JSON text of its name, parameters and restore (a submission: its checksum), which says whether
+    two runs' labels are the same tracker.
+
+    Examples
+    --------
+    >>> s = {"kind": "run", "config": {"trackers": ["dp4", {"label": "iso", "name": "dp4",
+    ...                                                     "params": {"h_weight": 1.0}}]}}
+    >>> settings_of(s)["iso"]
+    ('built-in (run)', '{"label": "iso", "name": "dp4", "params": {"h_weight": 1.0}}')
+    """
+    import json
+
+    origin = "built-in (scored run)" if summary.get("kind") == "score" else "built-in (run)"
+    out = {}
+    for t in (summary.get("config") or {}).get("trackers", []):
+        spec = {"label": t, "name": t} if isinstance(t, str) else dict(t)
+        label = spec.get("label", spec.get("name"))
+        spec.pop("timeout_s", None), spec.pop("isolate", None)  # how it runs, not what it computes
+        spec["label"] = label
+        out[label] = (origin, json.dumps(spec, sort_keys=True))
+    sub = summary.get("submission")
+    if summary.get("kind") == "score" and isinstance(sub, dict):
+        out[sub.get("label")] = ("submission", json.dumps({"submission": sub.get("checksum")}))
+    return out
+
+
+def leaderboard_rows(runs, rank_by: str = "within", notes: list | None = None) -> list[dict]:
     """One row per condition x tracker of the runs (:data:`COLUMNS`), ranked by ``rank_by`` (:data:`RANK_BY`).
+
+    ``notes`` (a list), if given, receives one line per setting dropped or renamed and per run
+    that contributes nothing, with the reason.
 
     Raises
     ------
@@ -83,8 +122,27 @@ def leaderboard_rows(runs, rank_by: str = "within") -> list[dict]:
         if diff:
             raise LeaderboardError(f"{str(path)!r} is not comparable with {str(loaded[0][0])!r}: they differ in "
                                    f"{'; '.join(diff)}")
+    notes = [] if notes is None else notes
+    entered: dict[str, tuple[str, str]] = {}  # label -> (setting, run) of the first entry
     seen, per_cond = set(), {}
     for path, s, m in loaded:
+        if not s.get("conditions"):
+            notes.append(f"{path.name}: its summary.json lists no conditions; it adds nothing to the board")
+            continue
+        shown = {}  # label in this run -> label on the board (None: dropped)
+        for label, (origin, setting) in settings_of(s).items():
+            first = entered.get(label)
+            if first is None:
+                entered[label] = (setting, path.name)
+                shown[label] = label
+            elif first[0] == setting:
+                shown[label] = None
+                notes.append(f"{label} of {path.name}: the same setting as {first[1]}'s {label}; kept {first[1]}'s")
+            else:
+                shown[label] = f"{label} [{path.name}]"
+                notes.append(f"{label} of {path.name} is another setting than {first[1]}'s {label}: "
+                             f"shown as {shown[label]!r}")
+        origins = {label: o for label, (o, _) in settings_of(s).items()}
         rob = {(x["group"], x["tracker"]): x for x in s.get("robust", [])}
         det = {(x["group"], x["tracker"]): x for x in s.get("detection", [])}
         groups = {g for g, _ in rob}
@@ -94,17 +152,19 @@ def leaderboard_rows(runs, rank_by: str = "within") -> list[dict]:
                 continue
             mm = m[(m["region"] == "all") & m["experiment"].isin(cond["experiments"])]
             for (gg, label), x in rob.items():
-                if gg != g or (cond["condition"], label) in seen:
+                board = shown.get(label, label)
+                if gg != g or board is None or (cond["condition"], board) in seen:
                     continue
-                seen.add((cond["condition"], label))
+                seen.add((cond["condition"], board))
                 t = mm[mm["tracker"] == label]["ms_per_frame"].astype(float)
                 ms = float(t.mean()) if t.notna().any() else float("nan")
                 d = det.get((f"condition:{cond['condition']}", label), {})
                 per_cond.setdefault(cond["condition"], []).append({
-                    "condition": cond["condition"], "tracker": label, "within": x["within"],
+                    "condition": cond["condition"], "tracker": board, "within": x["within"],
                     "within_low": x["within_low"], "within_high": x["within_high"],
                     "median_abs_mm": x["median_abs_mm"], "rmse_mm": x["rmse_mm"], "n_gross": x["n_gross"],
                     "n": x["n"], "ms_per_frame": ms, "run": path.name, "kind": s["kind"],
+                    "origin": origins.get(label, "built-in (run)"),
                     "git_revision": s.get("git_revision", ""), "rank_by": rank_by,
                     **{f"{k}{suf}": d.get(f"{k}{src}", _NAN) for k in ("f1", "ap")
                        for suf, src in (("", ""), ("_low", "_lo"), ("_high", "_hi"))},
@@ -164,16 +224,17 @@ def _f(v, fmt: str) -> str:
     return format(v, fmt) if _ok(v) else "–"
 
 
-def build_leaderboard(runs, out_dir, rank_by: str = "within") -> Path:
+def build_leaderboard(runs, out_dir, rank_by: str = "within", notes: list | None = None) -> Path:
     """Write ``leaderboard.html`` and ``leaderboard.csv`` into ``out_dir``, ranked by ``rank_by``
-    (:data:`RANK_BY`); returns the page.
+    (:data:`RANK_BY`); returns the page. ``notes``: as :func:`leaderboard_rows` (also on the page).
 
     Raises
     ------
     LeaderboardError
         See :func:`leaderboard_rows`.
     """
-    rows = leaderboard_rows(runs, rank_by)
+    notes = [] if notes is None else notes
+    rows = leaderboard_rows(runs, rank_by, notes)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     buf = io.StringIO()
@@ -197,6 +258,8 @@ def build_leaderboard(runs, out_dir, rank_by: str = "within") -> Path:
              "ranks the reports by the tracker's own score. False points: reports on stripe-less rows per "
              "scan, each a 3-D point where there is no surface. Times are ms per frame (a "
              "submission's own times.csv, else the harness's clock; machine dependent).</p>"]
+    if notes:
+        parts.append("<p>What was left out or renamed:</p><ul>" + "".join(f"<li>{e(n)}</li>" for n in notes) + "</ul>")
     for cond in dict.fromkeys(r["condition"] for r in rows):
         crows = [x for x in rows if x["condition"] == cond]
         lows = [x[f"{rank_by}_low"] for x in crows if _ok(x[f"{rank_by}_low"])]
@@ -216,7 +279,7 @@ def build_leaderboard(runs, out_dir, rank_by: str = "within") -> Path:
                        f"</span><span class='mark' style='left:{xm - 1:.0f}px'></span></span>")
             parts.append(
                 f"<tr><td>{r['rank']}{' <span class=tie>tie</span>' if r['tied'] else ''}</td>"
-                f"<td class='l'><b>{e(r['tracker'])}</b>{' (submission)' if r['kind'] == 'score' else ''}</td>"
+                f"<td class='l'><b>{e(r['tracker'])}</b> <span class='scale'>{e(r['origin'])}</span></td>"
                 f"<td>{_f(r[rank_by], '.3f')}</td><td class='l'>[{_f(lo, '.3f')}, {_f(hi, '.3f')}]</td>"
                 f"<td class='l'>{bar}</td>"
                 + "".join(f"<td>{_f(r[k], '.3f')}</td>" for k in RANK_BY if k != rank_by)

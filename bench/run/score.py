@@ -76,7 +76,8 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
     trackers : sequence of bench.config.TrackerSpec, optional
         Built-in trackers to run on the exported frames beside it (default: the
         frame set's configuration's; its baselines and DP trackers not among
-        them are dropped).
+        them are dropped). An empty sequence: none, the submission is scored alone
+        (no improvement ratios then).
     split : str
         ``all`` frames, or only the ``dev`` or ``test`` ones.
     quiet, force : bool
@@ -104,7 +105,10 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
         raise fs.FrameSetError(f"{str(dataset / 'dataset.json')!r}: its `config` does not match its `config_hash` "
                                f"({config_hash(config.identity())} vs {fset.meta['config_hash']}): edited after export; "
                                "export the frame set again")
-    if trackers is not None:
+    alone = trackers is not None and len(trackers) == 0
+    if alone:
+        config = with_overrides(config, baselines=[], dp=[])
+    elif trackers is not None:
         labels = [s.label for s in trackers]
         config = with_overrides(config, trackers=[s.to_value() for s in trackers],
                                 baselines=[b for b in config.baselines if b in labels],
@@ -113,11 +117,11 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
     sub, problems = fs.read_submission(submission, fset)
     if problems:
         raise SubmissionError(problems)
-    tracker_objs = build_trackers(config.tracker_specs)
+    tracker_objs = {} if alone else build_trackers(config.tracker_specs)
     names = [*tracker_objs, label]
     identity = {"kind": "score", "name": config.name, "dataset": fset.meta["config_hash"],
                 "dataset_revision": fset.meta.get("code_revision"), "submission": sub.checksum, "label": label,
-                "split": split, "config": config.identity()}
+                "split": split, "config": config.identity(), **({"alone": True} if alone else {})}
     folder = RunFolder(Path(out_dir), kind="score")
     folder.open(identity, code_fingerprint(tracker_objs.values()), force=force, say=lambda m: say(m, False))
     try:

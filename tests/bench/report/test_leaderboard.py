@@ -35,6 +35,7 @@ def test_rows_rank_every_tracker_once_per_condition(tiny_run, scored_run):
     assert within == sorted(within, reverse=True)
     mine, dp8 = (next(r for r in cone if r["tracker"] == t) for t in ("mine", "dp8"))
     assert mine["within"] == dp8["within"] and mine["kind"] == "score" and dp8["kind"] == "run"
+    assert mine["origin"] == "submission" and dp8["origin"] == "built-in (run)"
     leader = cone[0]
     for i, b in enumerate(cone[1:], start=2):  # the interval rule against the rank's leader decides ties and ranks
         overlap = b["within_high"] >= leader["within_low"]
@@ -58,7 +59,7 @@ def test_ties_do_not_chain_down_the_table():
 def test_page_and_csv(tiny_run, scored_run, tmp_path):
     page = build_leaderboard([tiny_run[0], scored_run], tmp_path / "lb")
     text = page.read_text()
-    assert "patchy cone" in text and "mine</b> (submission)" in text
+    assert "patchy cone" in text and "mine</b> <span class='scale'>submission</span>" in text
     rows = leaderboard_rows([tiny_run[0], scored_run])
     assert text.count("class='track'") == sum(r["within"] == r["within"] for r in rows)  # one interval track per ranked row
     with (tmp_path / "lb" / "leaderboard.csv").open() as fh:
@@ -70,3 +71,36 @@ def test_incomparable_runs_are_refused_in_one_line(tiny_run, gate_run, tmp_path)
         build_leaderboard([tiny_run[0], gate_run[0]], tmp_path / "lb")
     with pytest.raises(LeaderboardError, match="finished run"):
         build_leaderboard([tmp_path], tmp_path / "lb")
+
+
+def test_every_row_names_its_origin_and_duplicates_are_said(tiny_run, scored_run):
+    """Issue 37 item 9: the scored run first, then the run: the run's built-ins (the same settings,
+    re-tracked by score on the exported frames) are dropped with a note, never mislabelled."""
+    notes = []
+    rows = leaderboard_rows([scored_run, tiny_run[0]], notes=notes)
+    cone = {r["tracker"]: r for r in rows if r["condition"] == "patchy cone"}
+    assert cone["mine"]["origin"] == "submission"
+    assert {cone[t]["origin"] for t in cone if t != "mine"} == {"built-in (scored run)"}
+    assert any(n.startswith(f"dp8 of {tiny_run[0].name}: the same setting as {scored_run.name}'s dp8") for n in notes)
+
+
+def test_a_label_with_other_parameters_enters_again_and_an_empty_run_is_said(tiny_run, tmp_path):
+    import json
+    import shutil
+
+    other = tmp_path / "other"
+    shutil.copytree(tiny_run[0], other)
+    s = json.loads((other / "summary.json").read_text())
+    s["config"]["trackers"] = [t if t != "dp4" else {"label": "dp4", "name": "dp4", "params": {"h_weight": 1.0}}
+                               for t in s["config"]["trackers"]]
+    (other / "summary.json").write_text(json.dumps(s))
+    empty = tmp_path / "empty"
+    shutil.copytree(tiny_run[0], empty)
+    s.pop("conditions")
+    (empty / "summary.json").write_text(json.dumps(s))
+    notes = []
+    rows = leaderboard_rows([tiny_run[0], other, empty], notes=notes)
+    names = {r["tracker"] for r in rows if r["condition"] == "patchy cone"}
+    assert "dp4" in names and "dp4 [other]" in names and "dp8 [other]" not in names
+    assert f"dp4 of other is another setting than {tiny_run[0].name}'s dp4: shown as 'dp4 [other]'" in notes
+    assert "empty: its summary.json lists no conditions; it adds nothing to the board" in notes

@@ -178,3 +178,21 @@ def test_score_refuses_a_damaged_frame_set_in_one_line(tiny_export, tmp_path, ed
     with pytest.raises(fs.FrameSetError, match=message) as err:
         score(root, tmp_path / "s", tmp_path / "run", quiet=True)
     assert "\n" not in str(err.value)
+
+
+def test_a_submission_scored_alone(tiny_run, tiny_export, tmp_path):
+    import pandas as pd
+
+    from bench.run.score import score
+
+    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export), "dp4", tmp_path / "mine")
+    out = score(tiny_export, sub, tmp_path / "run", trackers=(), quiet=True)
+    m = pd.read_csv(out / "metrics.csv")
+    assert set(m["tracker"]) == {"mine"}
+    run = pd.read_csv(tiny_run[0] / "metrics.csv")
+    a = m.drop(columns=["tracker"]).reset_index(drop=True)
+    b = run[run["tracker"] == "dp4"].drop(columns=["tracker"]).reset_index(drop=True)
+    pd.testing.assert_frame_equal(a, b[a.columns])  # the same figures as dp4's in the run
+    from bench.report.run import build_report
+
+    assert build_report(out, quiet=True).is_file()  # the page of a run without built-ins

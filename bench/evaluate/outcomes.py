@@ -484,8 +484,11 @@ def bootstrap_frames(codes, scores=None, *, n_boot: int = 1000, seed: int = 0, l
 
 
 def _bootstrap_ap(frames, scores, weights) -> np.ndarray:
-    """AP of each resample (rows weighted by their frame's draw count), all resamples at once."""
-    frame_of = np.concatenate([np.full(c.size, i) for i, c in enumerate(frames)])
+    """AP of each resample (rows weighted by their frame's draw count): one ranking of all reports,
+    then a compiled pass per resample (:func:`bench.evaluate._ap_kernel.ap_resamples`)."""
+    from bench.evaluate._ap_kernel import ap_resamples
+
+    frame_of = np.concatenate([np.full(c.size, i, dtype=np.int64) for i, c in enumerate(frames)])
     c = np.concatenate(frames)
     s = np.concatenate(scores)
     pos_rows = np.isin(c, (HIT, WRONG, MISSED))
@@ -500,18 +503,7 @@ def _bootstrap_ap(frames, scores, weights) -> np.ndarray:
     if key.size == 0:
         out[n_pos > 0] = 0.0
         return out
-    last = np.r_[np.flatnonzero(key[1:] != key[:-1]), key.size - 1]
-    for lo in range(0, weights.shape[0], 256):  # bounded memory: 256 resamples x reports at a time
-        wt = weights[lo:lo + 256][:, fr].astype(np.float64)  # (b, n_reports)
-        ctp = np.cumsum(wt * tp, axis=1)[:, last]
-        cfp = np.cumsum(wt * ~tp, axis=1)[:, last]
-        npos = n_pos[lo:lo + 256].astype(np.float64)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            prec = np.where(ctp + cfp > 0, ctp / (ctp + cfp), 0.0)
-            rec = ctp / npos[:, None]
-        env = np.flip(np.maximum.accumulate(np.flip(prec, axis=1), axis=1), axis=1)
-        dr = np.diff(np.concatenate([np.zeros((rec.shape[0], 1)), rec], axis=1), axis=1)
-        ap = np.sum(dr * env, axis=1)
-        ap[npos == 0] = np.nan
-        out[lo:lo + 256] = ap
+    last = np.zeros(key.size, dtype=np.bool_)
+    last[np.r_[np.flatnonzero(key[1:] != key[:-1]), key.size - 1]] = True
+    ap_resamples(np.ascontiguousarray(weights, dtype=np.int64), fr, tp, last, np.asarray(n_pos, dtype=np.int64), out)
     return out

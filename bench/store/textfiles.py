@@ -14,7 +14,7 @@ all of them:
 
 CSV tables (manifests, references, frame lists, submissions) are parsed by
 :func:`loads_csv`, as spreadsheets write them: a leading UTF-8 byte-order mark is
-dropped, rows end only at ``\n``, ``\r\n`` or ``\r`` outside quotes (a U+2028,
+dropped, rows end only at LF, CRLF or CR outside quotes (a U+2028,
 U+2029 or U+0085 inside a field is that field's text, not a new row), and a field
 may hold up to :data:`MAX_CSV_FIELD` characters.
 
@@ -225,7 +225,7 @@ def read_toml_file(path, what: str = "TOML file", *, error: type[Exception] = In
 
 
 def loads_csv(text: str, where: str, *, error: type[Exception] = InputError, header: bool = True):
-    """The rows of a CSV table, read as a spreadsheet writes it.
+    r"""The rows of a CSV table, read as a spreadsheet writes it.
 
     Parameters
     ----------

@@ -43,6 +43,7 @@ import numpy as np
 
 from ._base import Track, Tracker
 from ._params import Choice, Real, StrList
+from .processes import kill_group, popen_group
 
 __all__ = ["ExternalTracker", "png_bytes", "parse_answer"]
 
@@ -192,15 +193,22 @@ class ExternalTracker(Tracker):
         with contextlib.suppress(FileNotFoundError):
             os.remove(out)
         args = [a.replace("{image}", img).replace("{background}", bg).replace("{out}", out) for a in self.command]
-        try:
-            proc = subprocess.run(args, stdin=subprocess.DEVNULL, capture_output=True, timeout=self.timeout_s)
-        except subprocess.TimeoutExpired:
-            raise TimeoutError(f"{self.command[0]} took longer than timeout_s = {self.timeout_s:g} s "
-                               "(killed)") from None
+        try:  # its own process group: a timeout kills it and every process it started
+            proc = popen_group(args, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         except OSError as exc:
             raise RuntimeError(f"cannot run {self.command[0]!r}: {exc.strerror or exc}") from None
+        try:
+            _, stderr = proc.communicate(timeout=self.timeout_s)
+        except subprocess.TimeoutExpired:
+            kill_group(proc)
+            proc.communicate()
+            raise TimeoutError(f"{self.command[0]} took longer than timeout_s = {self.timeout_s:g} s "
+                               "(killed, with every process it started)") from None
+        except BaseException:
+            kill_group(proc)
+            raise
         if proc.returncode != 0:
-            raise RuntimeError(f"{self.command[0]} exited with status {proc.returncode}: {_last_line(proc.stderr)}")
+            raise RuntimeError(f"{self.command[0]} exited with status {proc.returncode}: {_last_line(stderr)}")
         try:
             with open(out, encoding="utf-8") as fh:
                 text = fh.read()
@@ -212,8 +220,8 @@ class ExternalTracker(Tracker):
         proc = self.__dict__.get("_proc")
         if proc is None or proc.poll() is not None:
             try:
-                proc = subprocess.Popen(list(self.command), stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                        stderr=subprocess.DEVNULL, bufsize=0)
+                proc = popen_group(list(self.command), stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                   stderr=subprocess.DEVNULL, bufsize=0)
             except OSError as exc:
                 raise RuntimeError(f"cannot run {self.command[0]!r}: {exc.strerror or exc}") from None
             self.__dict__["_proc"] = proc
@@ -255,8 +263,8 @@ class ExternalTracker(Tracker):
                 try:
                     proc.wait(timeout=1.0)
                 except subprocess.TimeoutExpired:
-                    proc.kill()
-                    proc.wait()
+                    pass
+            kill_group(proc)  # and whatever it left running
             with contextlib.suppress(OSError):
                 proc.stdout.close()
 

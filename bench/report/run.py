@@ -388,12 +388,18 @@ def _draw(jobs: list, workers: int, meanwhile) -> list[Path]:
         _warn(f"figures drawn in this process: the worker processes failed ({type(why).__name__}: {why})")
         return [f(*a, **k) for f, a, k in jobs]
 
-    # forkserver: a clean child (no Dr.Jit or Dask threads of a run forked mid-flight)
-    ctx = multiprocessing.get_context("forkserver" if "forkserver" in multiprocessing.get_all_start_methods()
-                                      else "spawn")
+    import os
+
+    from trackers.processes import die_with_parent
+
+    # spawn: a clean child (no Dr.Jit or Dask threads of a run forked mid-flight), started by this
+    # process itself, so that the kernel kills it when this process dies, whatever the signal
+    # (a forkserver's children outlive a killed parent, and keep its stdout open)
+    ctx = multiprocessing.get_context("spawn")
     pool = None
     try:
-        pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+        pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
+                                                      initializer=die_with_parent, initargs=(os.getpid(),))
         futures = [pool.submit(f, *a, **k) for f, a, k in jobs]
     except OSError as exc:  # no worker process could start: everything here
         if pool is not None:

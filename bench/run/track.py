@@ -240,6 +240,9 @@ def _worker(conn, module: str, qualname: str, params: dict) -> None:  # pragma: 
     import importlib
 
     import trackers
+    from trackers.processes import die_with_parent
+
+    die_with_parent()  # a worker never outlives the run that started it
 
     try:
         cls = importlib.import_module(module)

@@ -148,3 +148,24 @@ def test_the_parameter_table_holds_for_the_external_tracker():
     t = ExternalTracker([sys.executable, "-c", "open(r'{out}', 'w').write('0,2\\n')"])
     check_parameter_constraints(t)
     t.close()
+
+
+@pytest.mark.skipif(shutil.which("bash") is None or not sys.platform.startswith("linux"), reason="needs bash, Linux")
+@pytest.mark.parametrize("mode", ["per-frame", "persistent"])
+def test_a_timeout_kills_every_process_the_program_started(tmp_path, mode):
+    """Issue 37 item 2: `bash -c "sleep 41; true"` used to leave its `sleep` running (and `run` waited for it)."""
+    import time
+
+    marker = f"sleep 41.{mode}"  # a command line of our own, to find the grandchild by
+    script = tmp_path / "s.sh"
+    script.write_text(f"#!/bin/bash\nexec -a '{marker}' sleep 41 &\nwait\n")
+    script.chmod(0o755)
+    t = ExternalTracker([str(script)], mode=mode, timeout_s=1.0)
+    start = time.monotonic()
+    with pytest.raises(TimeoutError, match="killed"):
+        t.track(_frame())
+    assert time.monotonic() - start < 20  # never waits for the grandchild
+    t.close()
+    time.sleep(0.5)
+    left = subprocess.run(["pgrep", "-f", marker], capture_output=True, text=True).stdout.split()
+    assert left == [], f"processes left: {left}"

@@ -56,7 +56,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from bench.config import Config, StripebenchError
+from bench.config import Config, ConfigError, StripebenchError
 from bench.config.sweep import Sweep, load, parse_sweep, sweep_keys  # noqa: F401  (the [sweep] table's schema)
 from bench.store.files import config_hash
 from bench.evaluate.curves import PAPER_POINT  # noqa: F401  (re-exported: the paper's operating point)
@@ -379,6 +379,12 @@ def run_sweep(config: Config, sweep: Sweep, out_dir=None, *, scheduler: str | No
         scheduler_address(scheduler, "`scheduler`")  # 'sync' or tcp://HOST:PORT, parsed before connecting
     if timeout_s is not None:
         finite_float("`timeout_s`", timeout_s, low=0, low_open=True)
+    if _engine_name(scheduler, workers) != "sync":  # Dask runs a unit in a worker thread of a daemonic process
+        held = [s.label for s in config.tracker_specs if s.timeout_s is not None or s.isolate]
+        if held:
+            raise ConfigError(f"tracker setting {held[0]!r} has `timeout_s` or `isolate`, which only the sync "
+                              "scheduler honours (a Dask worker runs trackers in a thread, where neither a time "
+                              "limit nor a worker process can be set up); run with --scheduler sync, or drop them")
 
     def say(msg):
         if not quiet:

@@ -307,6 +307,23 @@ def test_bad_engine_arguments(tmp_path):
     assert not (tmp_path / "config.json").exists()  # refused before anything was written
 
 
+@pytest.mark.parametrize("setting", [{"name": "dp4", "timeout_s": 5.0}, {"name": "dp4", "isolate": True}])
+def test_timeout_s_and_isolate_are_refused_where_dask_cannot_honour_them(tmp_path, setting):
+    """Issue 37 item 3: a Dask worker runs a unit in a thread of a daemonic process, where neither SIGALRM
+    nor a worker process can be set up; the sync scheduler honours both."""
+    import copy
+
+    base = copy.deepcopy(BASE)
+    base["trackers"] = [setting]
+    base["baselines"], base["dp"] = [], []
+    cfg = parse(base)
+    s = parse_sweep(dict(GRID), cfg)
+    for scheduler in (None, "tcp://127.0.0.1:8786"):
+        with pytest.raises(ConfigError, match="has `timeout_s` or `isolate`, which only the sync scheduler honours"):
+            run_sweep(cfg, s, tmp_path / "out", scheduler=scheduler)
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.slow
 def test_a_worker_with_other_code_stops_the_sweep(tmp_path, monkeypatch):
     real_unit = sw.run_unit

@@ -61,6 +61,11 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
     """
 
     fs.split_of("x", 0, test_fraction)  # validates test_fraction
+    for exp in config.experiments:  # before anything renders or is written
+        camera = scene_for(exp, config).params.get("camera", "mono")
+        if camera != "mono":
+            raise InputError(f"experiment {exp.key!r} has a colour camera (camera = {camera!r}): its trackers see "
+                             "a float frame through the channel rule, and a frame set holds 8-bit frames only")
     renderer_for(config)
     t0 = time.perf_counter()
     identity = {"export": config.identity(), "test_fraction": float(test_fraction), "format": fs.FORMAT}

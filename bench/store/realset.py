@@ -25,6 +25,7 @@ centre of that pixel.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -62,6 +63,11 @@ class DatasetError(StripebenchError, ValueError):
         self.problems = list(problems)
         super().__init__(self.problems[0] if len(self.problems) == 1 else
                          f"{len(self.problems)} problems: " + "; ".join(self.problems))
+
+
+#: The most pixels an image may have (134 M; Pillow's own guard warns from 89 M and refuses from 179 M);
+#: larger files are refused in one line.
+MAX_PIXELS = 2**27
 
 
 def read_image(path) -> np.ndarray:
@@ -117,6 +123,11 @@ def read_image(path) -> np.ndarray:
         raise ImageError(f"{str(p)!r}: expected a grey or RGB image, got shape {img.shape}")
     if img.dtype.kind not in "uif":
         raise ImageError(f"{str(p)!r}: unsupported pixel type {img.dtype}")
+    if img.size > 3 * MAX_PIXELS:
+        raise ImageError(f"{str(p)!r}: {img.shape[1]}x{img.shape[0]} pixels, more than the {MAX_PIXELS:,} read")
+    if img.dtype.kind == "f" and not np.isfinite(img).all():
+        bad = int(np.count_nonzero(~np.isfinite(img)))
+        raise ImageError(f"{str(p)!r}: {bad} NaN or infinite pixel value(s); a frame must be finite")
     return img
 
 
@@ -149,7 +160,12 @@ def _read_pillow(data: bytes) -> np.ndarray:
 
     from PIL import Image
 
-    with Image.open(io.BytesIO(data)) as im:
+    with warnings.catch_warnings():  # the size is bounded by MAX_PIXELS below, with its own one-line message
+        warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+        im = Image.open(io.BytesIO(data))
+    with im:
+        if im.width * im.height > MAX_PIXELS:
+            raise ValueError(f"{im.width}x{im.height} pixels, more than the {MAX_PIXELS:,} read")
         if im.mode in ("CMYK", "YCbCr", "LAB", "HSV", "P", "PA", "1"):
             im = im.convert("RGBA" if im.mode == "PA" or (im.mode == "P" and "transparency" in im.info) else "RGB")
         return np.asarray(im)

@@ -78,3 +78,16 @@ def test_export_refuses_a_bad_test_fraction(tiny_dict, tmp_path):
 
     with pytest.raises(ValueError, match="test_fraction"):
         export(parse(copy.deepcopy(tiny_dict)), tmp_path / "x", test_fraction=1.5, quiet=True)
+
+
+def test_a_colour_camera_is_refused_before_anything_is_rendered(tiny_dict, tmp_path):
+    """Issue 37 item 7: it was refused only after the earlier experiments' frames were written."""
+    from bench.config import parse
+    from bench.errors import InputError
+    from bench.run.export import export
+
+    d = copy.deepcopy(tiny_dict)
+    d["experiments"] = [d["experiments"][0], {**d["experiments"][0], "name": "colour", "camera": "rgb"}]
+    with pytest.raises(InputError, match=r"experiment 'colour' has a colour camera \(camera = 'rgb'\)"):
+        export(parse(d), tmp_path / "x", quiet=True)
+    assert not (tmp_path / "x").exists()

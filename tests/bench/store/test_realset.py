@@ -324,3 +324,24 @@ def test_a_field_beyond_the_bound_is_one_line(tmp_path):
     images, problems = real.validate_dataset(root)
     assert images == [] and len(problems) == 1
     assert problems[0].startswith("manifest.csv: not a readable CSV table (a field is longer than")
+
+
+def test_a_nan_float_tiff_is_one_line_and_pillow_size_warnings_never_leak(tmp_path, monkeypatch):
+    """Issue 37 item 7: a NaN float TIFF and a PNG over Pillow's decompression-bomb size printed warnings."""
+    import warnings
+
+    from PIL import Image
+
+    a = np.full((20, 30), 10.0, np.float32)
+    a[3, 4] = np.nan
+    tifffile.imwrite(tmp_path / "nan.tif", a)
+    with pytest.raises(real.ImageError, match=r"nan.tif': 1 NaN or infinite pixel value\(s\); a frame must be finite"):
+        real.read_image(tmp_path / "nan.tif")
+    iio.imwrite(tmp_path / "big.png", _stripe())
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", 400)  # Pillow warns (a "decompression bomb") above 400 px
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert real.read_image(tmp_path / "big.png").shape == (20, 30)
+    monkeypatch.setattr(real, "MAX_PIXELS", 500)  # our own bound: one line
+    with pytest.raises(real.ImageError, match=r"30x20 pixels, more than the 500 read"):
+        real.read_image(tmp_path / "big.png")

@@ -31,6 +31,18 @@ PNG = {"pil_kwargs": {"compress_level": 1}}
 default here, and the files came out smaller)."""
 
 
+def save(fig, path, dpi: int) -> Path:
+    """Write ``fig`` as the PNG ``path`` and close it; an OS error (a full disk) names the file."""
+    plt = _plt()
+    try:
+        fig.savefig(path, dpi=dpi, **PNG)
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
+    finally:
+        plt.close(fig)
+    return Path(path)
+
+
 def _plt():
     import matplotlib
 
@@ -70,9 +82,7 @@ def fig_tracking(image, cost_field, tracks: dict, truth_columns, path, title: st
         a.set_ylabel("row (px)")
     if title:
         fig.suptitle(title)
-    fig.savefig(path, dpi=90, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 90)
 
 
 #: The colour of false reports (a column on a row with no stripe: a false 3-D point) in every figure.
@@ -105,9 +115,7 @@ def fig_gallery(image, truth_columns, tracks: dict, path, title: str = "") -> Pa
     ax.set_xlabel("column (px)")
     ax.set_ylabel("row (px)")
     ax.set_title(title, fontsize=9)
-    fig.savefig(path, dpi=80, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 80)
 
 
 def clip_for_plot(errors, cap: float = SAMPLE_CAP_MM):
@@ -216,9 +224,7 @@ def fig_samples(samples, dp: str, baseline, path, title: str = "", stat=None, ro
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0) if len(bases) == 1 else (0.0, -0.13), fontsize=7,
                   ncol=1 if len(bases) == 1 else 2)
     axes[0][0].set_ylabel("depth error (mm), symlog beyond ±10")
-    fig.savefig(path, dpi=90, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 90)
 
 
 def fig_bars(metrics, path, metric: str = "hit_rate", title: str = "") -> Path:
@@ -243,9 +249,7 @@ def fig_bars(metrics, path, metric: str = "hit_rate", title: str = "") -> Path:
         ax.set_ylim(0, 1.02)
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     ax.set_title(title or f"{metric} on the object, per experiment")
-    fig.savefig(path, dpi=90, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 90)
 
 
 def fig_curves(table, key: str, path, metric: str = "hit_rate", title: str = "", mark=None) -> Path:
@@ -267,9 +271,7 @@ def fig_curves(table, key: str, path, metric: str = "hit_rate", title: str = "",
     ax.set_ylabel(metric)
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     ax.set_title(title, fontsize=9)
-    fig.savefig(path, dpi=90, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 90)
 
 
 def fig_pr(curves: dict, path, title: str = "") -> Path:
@@ -296,9 +298,7 @@ def fig_pr(curves: dict, path, title: str = "") -> Path:
     ax.legend(fontsize=6.5, loc="lower left", ncol=2, framealpha=0.8)
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=90, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 90)
 
 
 def _quads(points):
@@ -384,6 +384,10 @@ def fig_shapes(surfaces: dict, path, title: str = "", camera_cm=(0.0, 0.0, 0.0),
         plotter.add_text(text + (f"; {len(fp)} false points" if fp.size else ""), font_size=11)
         plotter.camera_position = [tuple(eye), tuple(centre), (0.0, 0.0, 1.0)]
         plotter.reset_camera_clipping_range()
-    plotter.screenshot(str(path))
-    plotter.close()
+    try:
+        plotter.screenshot(str(path))
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
+    finally:
+        plotter.close()
     return Path(path)

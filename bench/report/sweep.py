@@ -16,7 +16,7 @@ import numpy as np
 
 from bench.report.html import page
 from bench.store.files import atomic_write_text
-from bench.report.figures import PNG, tracker_colour
+from bench.report.figures import save, tracker_colour
 from bench.evaluate.curves import CURVE_METRICS, PAPER_POINT, _paper_or_default, curves, per_unit_costs, reference_point
 
 __all__ = ["reference_point", "curves", "per_unit_costs", "curve_figure", "build_report", "CURVE_METRICS",
@@ -92,9 +92,7 @@ def curve_figure(curve_records: list[dict], sweep_dict: dict, path, metrics=CURV
         fig.legend(handles, labels, loc="outside right upper", fontsize=8)
     if title:
         fig.suptitle(title, fontsize=9)
-    fig.savefig(path, dpi=110, **PNG)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path, 110)
 
 
 def _img(path: Path) -> str:

@@ -385,3 +385,24 @@ def test_same_config_and_seed_give_byte_identical_metrics(tmp_path, config_file)
     assert main(["run", str(config_file), "--out", str(b), "--quiet", "--no-report", "--no-render-ahead"]) == 0
     for name in ("metrics.csv", "samples.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes()
+
+
+def test_a_full_disk_during_the_report_names_the_figure(tiny_run, tmp_path, capsys, monkeypatch):
+    """Issue 37 item 7: matplotlib writes through a file object, so its OSError named no file."""
+    import errno
+    import shutil
+
+    from matplotlib.figure import Figure
+
+    from bench.report import run as report_run
+
+    run_dir = tmp_path / "run"
+    shutil.copytree(tiny_run[0], run_dir)
+
+    def full(self, *a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")  # as from a write on an open file: no filename
+
+    monkeypatch.setattr(Figure, "savefig", full)
+    monkeypatch.setattr(report_run, "figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
+    assert main(["report", str(run_dir), "--quiet"]) == 2
+    one_line_err(capsys, "no space left on the device", str(run_dir / "figures"), ".png")

@@ -28,6 +28,9 @@ def _add_export(p) -> None:
                    default=0.3, metavar="F",
                    help="share of frames in the test split (truth in truth_test/; 0 .. 1, default 0.3)")
     add_seed(p, "seed for renders and the split")
+    p.add_argument("--participants", type=Path, metavar="DIR",
+                   help="also write a participants' bundle to DIR: the frame set without the test split's truth "
+                        "(hand it out; keep --out to score the submissions)")
     add_force(p)
     add_quiet(p, "no progress notes")
 
@@ -43,8 +46,17 @@ def _export(args) -> int:
         config = with_overrides(config, seed=args.seed)
     check_env()
     check_out_folder(args.out)
+    if args.participants is not None:
+        check_out_folder(args.participants, "--participants")
+        if args.participants.resolve() == args.out.resolve():
+            raise UsageError("--participants must be another folder than --out")
     out = export(config, args.out, test_fraction=args.test_fraction, quiet=args.quiet, force=args.force)
     print(f"stripebench: frame set at {out}")
+    if args.participants is not None:
+        from bench.run.export import participants_bundle
+
+        bundle = participants_bundle(out, args.participants, force=args.force)
+        print(f"stripebench: participants' bundle (no test truth) at {bundle}")
     return 0
 
 

@@ -7,6 +7,12 @@ in a run (``frame.image`` and ``frame.background`` are uint8 arrays: the PNGs
 hold them losslessly) with its per-row truth. The files and their readers are
 :mod:`bench.store.frameset`. The folder is a run folder of kind ``export``
 (locked while written, refused if it holds another run unless ``force``).
+
+Two parties (as BOP and Middlebury run their benchmarks): the organiser exports the
+frame set and keeps it; :func:`participants_bundle` copies it without the test
+split's truth (``truth_test/``) for the participants, who track every frame and send
+back a submission; the organiser scores it on the full set (``stripebench score``).
+A bundle scores its ``dev`` split only.
 """
 
 from __future__ import annotations
@@ -26,7 +32,7 @@ from bench.store.files import atomic_write_bytes, atomic_write_text, config_hash
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.store.runfolder import RunFolder
 
-__all__ = ["export", "TEST_FRACTION", "UNITS"]
+__all__ = ["export", "participants_bundle", "TEST_FRACTION", "UNITS"]
 
 TEST_FRACTION = 0.3  # share of frames held out as `test` (their truth in truth_test/)
 UNITS = {"angle_deg": "deg (mirror angle theta)", "row": "px (image row, 0 at the top)",
@@ -131,3 +137,42 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
         return root
     finally:
         folder.unlock()
+
+
+def participants_bundle(frameset, out_dir, *, force: bool = False) -> Path:
+    """Copy the frame set ``frameset`` to ``out_dir`` without its test truth: the bundle a
+    benchmark's organiser hands out while keeping the test split's truth for scoring.
+
+    The bundle holds ``dataset.json`` (with ``"test_truth": "withheld"``), ``frames.csv``,
+    ``images/`` and ``truth/`` (the dev split); ``stripebench score`` on it scores
+    ``--split dev`` only.
+
+    Raises
+    ------
+    bench.store.frameset.FrameSetError
+        ``frameset`` is not a frame set (or is a bundle itself).
+    bench.store.runfolder.RunFolderError
+        ``out_dir`` holds another run or files (without ``force``), or is ``frameset`` itself.
+    """
+    import shutil
+
+    src = fs.read_frameset(frameset)
+    if src.meta.get("test_truth") == "withheld":
+        raise fs.FrameSetError(f"{str(frameset)!r} is a participants' bundle already (its test truth is withheld)")
+    out = Path(out_dir)
+    if out.resolve() == src.root.resolve():
+        raise fs.FrameSetError("the participants' bundle must go to another folder than the frame set")
+    folder = RunFolder(out, kind="bundle")
+    folder.open({"bundle_of": src.meta["config_hash"], "format": fs.FORMAT}, code_fingerprint(), force=force,
+                say=lambda m: say(m, False))
+    try:
+        root = folder.path
+        for sub in ("images", fs.TRUTH_DIRS["dev"]):
+            if (root / sub).exists():
+                shutil.rmtree(root / sub)
+            shutil.copytree(src.root / sub, root / sub)
+        atomic_write_bytes(root / "frames.csv", (src.root / "frames.csv").read_bytes())
+        fs.write_dataset_json(root / "dataset.json", {**src.meta, "test_truth": "withheld"})
+    finally:
+        folder.unlock()
+    return root

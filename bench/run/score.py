@@ -100,6 +100,9 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
     t_start = time.perf_counter()
     dataset, submission = Path(dataset), Path(submission)
     fset = fs.read_frameset(dataset)
+    if fset.meta.get("test_truth") == "withheld" and split != "dev":
+        raise fs.FrameSetError(f"{str(dataset)!r} is a participants' bundle: its test truth is withheld, so it "
+                               "scores --split dev only; the organiser scores the test split on the full frame set")
     config = parse(fset.meta["config"], "dataset.json", machine=False)
     if config_hash(config.identity()) != fset.meta["config_hash"]:
         raise fs.FrameSetError(f"{str(dataset / 'dataset.json')!r}: its `config` does not match its `config_hash` "

@@ -59,7 +59,7 @@ FORMAT = 2  # run.json: 1 had no `kind` (every such folder is a synthetic run)
 _READS = (1, 2)
 #: The kinds of run folder, and what each is called in messages.
 KINDS = {"run": "run", "real": "real run", "sweep": "sweep", "track": "track output", "score": "score",
-         "export": "exported frame set"}
+         "export": "exported frame set", "bundle": "participants' bundle"}
 #: Per kind, the folder of resumable files kept when the code changes (each checks its own fingerprint).
 RESUMABLE = {"run": "scans", "sweep": "units"}
 #: Kinds whose folder gathers outputs over several commands: not cleared when the code changes.

@@ -91,3 +91,24 @@ def test_a_colour_camera_is_refused_before_anything_is_rendered(tiny_dict, tmp_p
     with pytest.raises(InputError, match=r"experiment 'colour' has a colour camera \(camera = 'rgb'\)"):
         export(parse(d), tmp_path / "x", quiet=True)
     assert not (tmp_path / "x").exists()
+
+
+def test_a_participants_bundle_withholds_the_test_truth(tiny_run, tiny_export, tmp_path):
+    """Issue 37 item 10: the organiser keeps the frame set, participants get it without truth_test/."""
+    from bench.run.export import participants_bundle
+    from bench.run.score import score
+
+    bundle = participants_bundle(tiny_export, tmp_path / "bundle")
+    assert (bundle / "truth").is_dir() and not (bundle / "truth_test").exists()
+    assert sorted(p.name for p in (bundle / "images").iterdir()) == sorted(p.name for p in (tiny_export / "images").iterdir())
+    meta = json.loads((bundle / "dataset.json").read_text())
+    assert meta["test_truth"] == "withheld" and meta["config_hash"] == json.loads(
+        (tiny_export / "dataset.json").read_text())["config_hash"]
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    (sub / "submission.csv").write_text("frame,row,col\n")
+    with pytest.raises(fs.FrameSetError, match="participants' bundle: its test truth is withheld"):
+        score(bundle, sub, tmp_path / "run", trackers=(), quiet=True)
+    assert (score(bundle, sub, tmp_path / "dev", trackers=(), split="dev", quiet=True) / "metrics.csv").is_file()
+    with pytest.raises(fs.FrameSetError, match="a participants' bundle already"):
+        participants_bundle(bundle, tmp_path / "again")

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.evaluate.outcomes import HIT_PX, average_precision, detection_figures, hits, outcome_counts, row_outcomes
+from bench.evaluate.outcomes import HIT_PX, hits, outcome_record
 
 __all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "false_lock_rate",
            "frame_record", "hits", "OUTLIER_PX", "HIT_PX"]
@@ -155,13 +155,5 @@ def frame_record(pred, truth, depth_pred_mm=None, depth_true_mm=None, false_cols
         n_lit=int(np.count_nonzero(~np.isnan(truth))),
         n_detected=int(np.count_nonzero(~np.isnan(pred))),
     )
-    codes = row_outcomes(pred, truth, state)
-    counts = outcome_counts(codes)
-    rec.update(counts)
-    rec.update(detection_figures(counts))
-    if score is None:
-        rec.update(ap=float("nan"), ap_constant=False)
-    else:
-        ap = average_precision(np.where(np.isnan(pred), np.nan, np.asarray(score, dtype=np.float64)), codes)
-        rec.update(ap=ap["ap"], ap_constant=bool(ap["constant"]))
+    rec.update(outcome_record(pred, truth, state, score))
     return rec

@@ -48,7 +48,7 @@ import numpy as np
 __all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
            "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
-           "COUNT_KEYS", "FIGURE_KEYS"]
+           "COUNT_KEYS", "FIGURE_KEYS", "outcome_record"]
 
 #: A row is a hit when the reported column is within this many px of the truth (the one hit rule).
 HIT_PX = 3.0
@@ -289,6 +289,39 @@ def detection_figures(counts) -> dict[str, float]:
         h, w, m, f, q = (int(v) for v in np.asarray(counts)[:5])
     return {"precision": _div(h, h + w + f), "recall": _div(h, h + w + m),
             "f1": _div(2 * h, 2 * h + 2 * w + f + m), "false_report_rate": _div(f, f + q)}
+
+
+def outcome_record(pred, truth, state=None, score=None, tol_px: float = HIT_PX) -> dict:
+    """One frame's (or photograph's) detection record: the outcome counts (:data:`COUNT_KEYS`),
+    their figures (:data:`FIGURE_KEYS`), ``ap`` (of ``score`` over the rows; NaN without one)
+    and ``ap_constant``. The one definition every metric record uses.
+
+    Parameters
+    ----------
+    pred, truth : array_like (H,)
+        Reported and true columns (NaN: none), px.
+    state : array_like (H,), optional
+        Row states (:func:`row_outcomes`; default from ``truth``).
+    score : array_like (H,), optional
+        The tracker's per-row score (only reported rows count).
+    tol_px : float
+
+    Examples
+    --------
+    >>> r = outcome_record([10.0, np.nan, 7.0], [10.5, 4.0, np.nan], score=[2.0, 0.0, 1.0])
+    >>> r["n_hit"], r["n_missed"], r["n_false"], r["ap"]
+    (1, 1, 1, 0.5)
+    """
+    pred = np.asarray(pred, dtype=np.float64)
+    codes = row_outcomes(pred, truth, state, tol_px)
+    counts = outcome_counts(codes)
+    rec = {**counts, **detection_figures(counts)}
+    if score is None:
+        rec.update(ap=float("nan"), ap_constant=False)
+    else:
+        ap = average_precision(np.where(np.isnan(pred), np.nan, np.asarray(score, dtype=np.float64)), codes)
+        rec.update(ap=ap["ap"], ap_constant=bool(ap["constant"]))
+    return rec
 
 
 def _ranked(scores, codes):

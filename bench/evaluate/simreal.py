@@ -51,8 +51,7 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     >>> m["n_false"], m["precision"], m["false_report_rate"]
     (1, 0.3333333333333333, 1.0)
     """
-    from bench.evaluate.outcomes import (average_precision, detection_figures, fallback_states, outcome_counts,
-                                         row_outcomes)
+    from bench.evaluate.outcomes import fallback_states, outcome_record
 
     if not (isinstance(tol_px, (int, float)) and tol_px >= 0 and math.isfinite(tol_px)):
         raise ValueError(f"`tol_px` must be a finite number >= 0, got {tol_px!r}")
@@ -73,15 +72,7 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
         "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
         "n_ref": n_ref,
     }
-    codes = row_outcomes(c, r, fallback_states(r) if state is None else state, tol_px)
-    counts = outcome_counts(codes)
-    out.update(counts)
-    out.update(detection_figures(counts))
-    if score is None:
-        out.update(ap=float("nan"), ap_constant=False)
-    else:
-        ap = average_precision(np.where(det, np.asarray(score, dtype=np.float64), np.nan), codes)
-        out.update(ap=ap["ap"], ap_constant=bool(ap["constant"]))
+    out.update(outcome_record(c, r, fallback_states(r) if state is None else state, score, tol_px))
     return out
 
 

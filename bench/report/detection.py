@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.report.html import esc, interval, pct
+from bench.report.html import esc, interval, pct, rank_labels
 
 __all__ = ["detection_glance", "pr_curves", "condition_groups"]
 
@@ -45,18 +45,8 @@ def detection_glance(summary) -> str:
     groups = [g for g in condition_groups(summary) if any(k[0] == g[1] for k in det)]
     if not groups:
         return ""
-    labels = list(dict.fromkeys(r["tracker"] for r in summary["detection"]))
-    mean = {}
-    for lab in labels:
-        v = np.array([det[(g, lab)]["f1"] for _, g, _ in groups if (g, lab) in det], float)
-        v = v[np.isfinite(v)]
-        mean[lab] = float(v.mean()) if v.size else float("nan")
-    labels.sort(key=lambda lab: -mean[lab] if np.isfinite(mean[lab]) else 1.0)
-    best = {}
-    for _, g, _ in groups:
-        cand = [(det[(g, lab)]["f1"], lab) for lab in labels if (g, lab) in det and np.isfinite(det[(g, lab)]["f1"])]
-        if cand:
-            best[g] = max(cand)[1]
+    labels, best = rank_labels(det, list(dict.fromkeys(r["tracker"] for r in summary["detection"])),
+                               [g for _, g, _ in groups], "f1")
     rows = []
     for rank, lab in enumerate(labels, 1):
         cells = []

@@ -67,3 +67,53 @@ def page(title: str, body: str, *, css: str = "") -> str:
     """
     return (f"<!doctype html><html><head><meta charset='utf-8'><title>{esc(title)}</title>"
             f"<style>{BASE_CSS}{css}</style></head><body>{body}</body></html>")
+
+
+def rank_labels(table: dict, labels: list, groups: list, value: str, tiebreak: str | None = None):
+    """The order of ``labels`` in an at-a-glance table and each group's best label.
+
+    Parameters
+    ----------
+    table : dict
+        ``(group, label) -> row`` (a dict holding ``value`` and ``tiebreak``).
+    labels, groups : list
+    value : str
+        The figure ranked by (higher is better).
+    tiebreak : str, optional
+        Between equal ``value`` in a group, the lower of this wins (NaN loses).
+
+    Returns
+    -------
+    ordered : list
+        ``labels`` by their mean ``value`` over ``groups``, best first (no finite value: last).
+    best : dict
+        group -> the label with the highest ``value`` there (then the lowest ``tiebreak``, then
+        the first in ``ordered``).
+
+    Examples
+    --------
+    >>> t = {("a", "x"): {"f": 0.9}, ("a", "y"): {"f": 0.8}, ("b", "y"): {"f": 1.0}}
+    >>> rank_labels(t, ["x", "y"], ["a", "b"], "f")
+    (['x', 'y'], {'a': 'x', 'b': 'y'})
+    """
+    import math
+
+    def finite(v) -> bool:
+        return isinstance(v, (int, float)) and math.isfinite(v)
+
+    mean = {}
+    for lab in labels:
+        vals = [table[(g, lab)][value] for g in groups if (g, lab) in table and finite(table[(g, lab)][value])]
+        mean[lab] = sum(vals) / len(vals) if vals else float("nan")
+    ordered = sorted(labels, key=lambda lab: -mean[lab] if finite(mean[lab]) else 1.0)
+    best = {}
+    for g in groups:
+        cand = [lab for lab in ordered if (g, lab) in table and finite(table[(g, lab)][value])]
+        if cand:
+            def key(lab, g=g):
+                r = table[(g, lab)]
+                t = r[tiebreak] if tiebreak is not None else 0.0
+                return (r[value], -t if finite(t) else -math.inf)
+
+            best[g] = max(cand, key=key)
+    return ordered, best

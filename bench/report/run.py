@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.evaluate import readings
-from bench.report.html import page
+from bench.report.html import page, rank_labels
 from bench.evaluate.metrics import hit_rate
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM
 from bench.evaluate.tables import false_points, restored_points
@@ -234,20 +234,8 @@ def glance_table(summary) -> str:
     groups = _groups(summary)
     if not groups or not rob:
         return ""
-    labels = list(dict.fromkeys(r["tracker"] for r in summary["robust"]))
-    mean = {}
-    for lab in labels:
-        vals = np.array([rob[(g, lab)]["within"] for _, g, _ in groups if (g, lab) in rob], float)
-        vals = vals[np.isfinite(vals)]
-        mean[lab] = float(vals.mean()) if vals.size else float("nan")
-    labels.sort(key=lambda lab: -mean[lab] if np.isfinite(mean[lab]) else 1.0)
-    best = {}
-    for _, g, _ in groups:
-        cand = [(rob[(g, lab)]["within"], -rob[(g, lab)]["median_abs_mm"], lab) for lab in labels
-                if (g, lab) in rob and np.isfinite(rob[(g, lab)]["within"])]
-        if cand:
-            top = max(cand, key=lambda c: (c[0], np.nan_to_num(c[1], nan=-np.inf)))
-            best[g] = top[2]
+    labels, best = rank_labels(rob, list(dict.fromkeys(r["tracker"] for r in summary["robust"])),
+                               [g for _, g, _ in groups], "within", "median_abs_mm")
     head = "".join(f"<th>{_esc(t)}</th>" for t, _, _ in groups)
     cfg = summary.get("config", {})
     kinds = _readings(cfg) if cfg else {}

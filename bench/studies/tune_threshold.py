@@ -49,6 +49,8 @@ __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid"
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
 DEFAULT_OUT = "results/runs/tune_threshold"
+
+
 def load_profile(path) -> TuneThresholdProfile:
     """Read and validate a profile (:func:`bench.config.tune.load_threshold_profile` with the hard-frame kinds).
 

@@ -534,7 +534,7 @@ class DPTracker(Tracker):
         total_cost)`` (see :func:`shortest_path`)."""
         img = check_image(image)
         bg = check_background(background, img.shape)
-        self._validate_params()
+        self.validate_params()
         img = self.seen_frame(img, bg)
         hc, D = _work_arrays(img.shape)
         rows, cols, D = _solve(*_half_cost(img, self.eps, hc), self.connectivity == 8, float(self.h_weight), D)
@@ -560,7 +560,7 @@ class DPTracker(Tracker):
         """
         img = check_image(image)
         bg = check_background(background, img.shape)
-        self._validate_params()
+        self.validate_params()
         frame = self.seen_frame(img, bg)
         return (frame,) + self._readings(frame)
 

@@ -265,7 +265,7 @@ class DPGapTracker(DPTracker):
 
         img = check_image(image)
         bg = check_background(background, img.shape)
-        self._validate_params()
+        self.validate_params()
         img = self.seen_frame(img, bg)
         hc, rowmin, _, _ = _half_cost(img, self.eps)
         off, s = self.off_costs(img, rowmin)

@@ -258,7 +258,7 @@ def _tracker_spec(path: str, value, registered: list[str], build: bool = True) -
         raise ConfigError(f"`{path}.params` has an unknown parameter of {spec.name!r} among {bad}; "
                           f"valid: {valid}") from None
     try:
-        tracker._validate_params()
+        tracker.validate_params()
     except (TypeError, ValueError) as exc:
         raise ConfigError(f"`{path}.params`: {exc}") from None
     return spec

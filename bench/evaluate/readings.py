@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bench.evaluate.formats import interval, pct
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM, within
 
 __all__ = ["READINGS", "PAPER_READING", "PAPER_WHY", "reading_of", "claim_verdicts", "paper_claims",
@@ -154,12 +155,8 @@ def headline_group(robust: list[dict], conditions: list[dict]) -> tuple[str, lis
     return (g if g in groups else c["experiments"][0]), list(c["experiments"])
 
 
-def _pct(v) -> str:
-    return "–" if v is None or not np.isfinite(v) else f"{100 * v:.0f} %"
 
 
-def _iv(lo, hi) -> str:
-    return "[–]" if not (np.isfinite(lo) and np.isfinite(hi)) else f"[{100 * lo:.0f}, {100 * hi:.0f}]"
 
 
 def paper_claims(config: dict, robust: list[dict], improvement: list[dict], verdicts: list[dict],
@@ -252,20 +249,20 @@ def paper_claims(config: dict, robust: list[dict], improvement: list[dict], verd
 def claim_sentence(entry: dict, within_mm: float = WITHIN_MM, paper_improvement: float = PAPER_IMPROVEMENT) -> str:
     """One plain-text sentence on a :func:`paper_claims` entry (not HTML: escape it to show it)."""
     f, c, b, d = entry["figures"], entry["claims"], entry["baseline"], entry["dp"]
-    ratio = f"RMSE ratio {_pct(f['ratio_value'])} {_iv(f['ratio_low'], f['ratio_high'])}"
+    ratio = f"RMSE ratio {pct(f['ratio_value'])} {interval(f['ratio_low'], f['ratio_high'])}"
     if f.get("n_missing_dp") or f.get("n_missing_baseline"):
         ratio += (f" over the {f['ratio_n']} of {f['n_samples']} pairs where both have a depth ({b} has none at "
                   f"{f['n_missing_baseline']}, {d} at {f['n_missing_dp']})")
     precise = {"reproduced": "reproduced", "contradicted": f"contradicted ({b} is more precise)",
                "mixed": "mixed (the two statistics disagree)",
                "not shown": "not shown (the intervals overlap)"}[c["more_precise"]]
-    imp = {"reproduced": "reproduced", "exceeded": f"exceeded (DP improves more than {_pct(paper_improvement)})",
+    imp = {"reproduced": "reproduced", "exceeded": f"exceeded (DP improves more than {pct(paper_improvement)})",
            "not reproduced": "not reproduced", "undefined": "undefined (too few pairs)"}[c["improvement"]]
     head = f"{b} ({entry['description']})" if entry["reading"] else b
-    s = (f"Against {head}: {d} puts {_pct(f['dp_within'])} {_iv(f['dp_within_low'], f['dp_within_high'])} of the "
+    s = (f"Against {head}: {d} puts {pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} of the "
          f"samples within ±{within_mm:g} mm (most samples: {c['most_within']}) against "
-         f"{_pct(f['baseline_within'])} {_iv(f['baseline_within_low'], f['baseline_within_high'])}; "
-         f"DP more precise: {precise}; the {_pct(paper_improvement)} improvement: {imp}, {ratio}.")
+         f"{pct(f['baseline_within'])} {interval(f['baseline_within_low'], f['baseline_within_high'])}; "
+         f"DP more precise: {precise}; the {pct(paper_improvement)} improvement: {imp}, {ratio}.")
     if entry.get("outside") and entry.get("outside_undetectable") is not None and entry["reading"] != "filled":
         s += (f" {entry['outside_undetectable']} of {b}'s {entry['outside']} samples outside ±{within_mm:g} mm lie "
               f"where the threshold detects no stripe.")

@@ -1,4 +1,6 @@
-"""The one HTML page shell of every report (run, real run, sweep, leaderboard), and escaping.
+"""The report toolkit: the one HTML page shell of every report (run, real run, sweep, leaderboard),
+escaping, embedded images, the at-a-glance ranking, and the number formatters (re-exported from
+their home, :mod:`bench.evaluate.formats`).
 
 Every string that comes from a configuration, a data set, a file name or a
 tracker goes through :func:`esc`, which also escapes quotes, so it is safe in
@@ -7,9 +9,12 @@ text and in attribute values alike.
 
 from __future__ import annotations
 
+import base64
 import html
 
-__all__ = ["esc", "page", "pct", "interval", "BASE_CSS"]
+from bench.evaluate.formats import fixed, interval, num, pct, signed
+
+__all__ = ["esc", "page", "pct", "interval", "num", "signed", "fixed", "png_img", "rank_labels", "BASE_CSS"]
 
 #: The style every page shares; a page adds its own rules after it.
 BASE_CSS = ("body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
@@ -30,31 +35,15 @@ def esc(value) -> str:
     return html.escape(str(value), quote=True)
 
 
-def pct(value) -> str:
-    """A fraction in per cent to the unit, ``–`` when missing.
+def png_img(data: bytes, alt: str, style: str = "max-width:100%") -> str:
+    """An ``<img>`` holding the PNG ``data`` itself (a page that needs no other file).
 
     Examples
     --------
-    >>> pct(0.934), pct(float("nan")), pct(None)
-    ('93 %', '–', '–')
+    >>> png_img(b"abc", "a<b")
+    '<img src="data:image/png;base64,YWJj" alt="a&lt;b" style="max-width:100%">'
     """
-    import math
-
-    return "–" if value is None or not math.isfinite(value) else f"{100 * value:.0f} %"
-
-
-def interval(low, high) -> str:
-    """``[96, 99]``: an interval of fractions in per cent, ``[–]`` when missing.
-
-    Examples
-    --------
-    >>> interval(0.912, 0.954), interval(None, 0.5)
-    ('[91, 95]', '[–]')
-    """
-    import math
-
-    ok = low is not None and high is not None and math.isfinite(low) and math.isfinite(high)
-    return f"[{100 * low:.0f}, {100 * high:.0f}]" if ok else "[–]"
+    return f'<img src="data:image/png;base64,{base64.b64encode(data).decode("ascii")}" alt="{esc(alt)}" style="{esc(style)}">'
 
 
 def page(title: str, body: str, *, css: str = "") -> str:

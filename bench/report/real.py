@@ -7,12 +7,11 @@ writes ``report.html`` of a finished real run from its saved files.
 
 from __future__ import annotations
 
-import base64
 from pathlib import Path
 
 import numpy as np
 
-from bench.report.html import esc, interval, page, pct
+from bench.report.html import esc, interval, page, pct, png_img
 from bench.report.palette import REFERENCE_COLOUR, tracker_colour, tracker_rgb
 from bench.store import realset as real
 
@@ -116,7 +115,7 @@ def _img_tag(path: Path, max_w: int = 360) -> str:
     img = iio.imread(path)
     step = max(1, int(np.ceil(img.shape[1] / max_w)))
     small = img[::step, ::step]
-    return f"<img src='data:image/png;base64,{base64.b64encode(_png_bytes(small)).decode()}' alt='{esc(path.name)}'>"
+    return png_img(_png_bytes(small), path.name, "")
 
 
 def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> None:

@@ -13,7 +13,6 @@ Fig. 7, Fig. 8/9 with error maps, and the full metrics.
 
 from __future__ import annotations
 
-import base64
 import html
 import json
 import sys
@@ -22,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.evaluate import readings
-from bench.report.html import page, rank_labels
+from bench.report.html import esc, interval, num, page, pct, png_img, rank_labels, signed
 from bench.evaluate.metrics import hit_rate
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM
 from bench.evaluate.tables import false_points, restored_points
@@ -56,32 +55,18 @@ def _groups(summary) -> list[tuple[str, str, list[str]]]:
     return out
 
 
-def _pct(v) -> str:
-    return "–" if v is None or not np.isfinite(v) else f"{100 * v:.0f} %"
 
 
-def _iv(low, high) -> str:
-    """``[96, 99]``: an interval of fractions in per cent, ``[–]`` when missing."""
-    ok = low is not None and high is not None and np.isfinite(low) and np.isfinite(high)
-    return f"[{100 * low:.0f}, {100 * high:.0f}]" if ok else "[–]"
 
 
-def _esc(text) -> str:
-    """``text`` escaped for HTML text and attribute values alike."""
-    return html.escape(str(text), quote=True)
 
 
 def _warn(msg: str) -> None:
     print(msg, file=sys.stderr)
 
 
-def _num(v, unit="") -> str:
-    return "–" if v is None or not np.isfinite(v) else f"{v:.2g}{unit}"
 
 
-def _signed(v) -> str:
-    """``+0.81`` / ``-0.03``: a signed error to two decimals, ``–`` when missing."""
-    return "–" if v is None or not np.isfinite(v) else f"{v:+.2f}"
 
 
 def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
@@ -96,18 +81,18 @@ def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
     ...                   "dp_figures": f, "baseline_figures": g, "ratio": r}).split(" (")[0]
     'dp4 is more precise than threshold by both the ±5 mm fraction and the RMSE ratio'
     """
-    d, b = _esc(v["dp"]), _esc(v["baseline"])
+    d, b = esc(v["dp"]), esc(v["baseline"])
     fd, fb, r = v["dp_figures"], v["baseline_figures"], v["ratio"]
-    within = (f"{_pct(fd['within'])} [{_pct(fd['within_low'])}, {_pct(fd['within_high'])}] of the samples within "
-              f"±{within_mm:g} mm against {_pct(fb['within'])} [{_pct(fb['within_low'])}, {_pct(fb['within_high'])}]")
-    ratio = ("RMSE ratio 1 - S_DP/S_noDP " + (f"{_pct(r['value'])} [{_pct(r['low'])}, {_pct(r['high'])}]"
+    within = (f"{pct(fd['within'])} [{pct(fd['within_low'])}, {pct(fd['within_high'])}] of the samples within "
+              f"±{within_mm:g} mm against {pct(fb['within'])} [{pct(fb['within_low'])}, {pct(fb['within_high'])}]")
+    ratio = ("RMSE ratio 1 - S_DP/S_noDP " + (f"{pct(r['value'])} [{pct(r['low'])}, {pct(r['high'])}]"
                                                if r is not None else "–"))
     if r is not None and (r.get("n_missing_dp") or r.get("n_missing_baseline")):
         ratio += (f" over the {r['n']} of {r['n_samples']} pairs where both have a depth ({b} has none at "
                   f"{r['n_missing_baseline']}, {d} at {r['n_missing_dp']})")
-    extra = (f"median |error| {_num(fd['median_abs_mm'], ' mm')} against {_num(fb['median_abs_mm'], ' mm')}; "
+    extra = (f"median |error| {num(fd['median_abs_mm'], ' mm')} against {num(fb['median_abs_mm'], ' mm')}; "
              f"gross errors (&gt; 50 mm) {fd['n_gross']} against {fb['n_gross']}")
-    w, m = _esc(v["within"]), _esc(v["rmse"])
+    w, m = esc(v["within"]), esc(v["rmse"])
     if w == m and w != "tie":
         other = b if w == d else d
         head = f"{w} is more precise than {other} by both the ±{within_mm:g} mm fraction and the RMSE ratio"
@@ -130,20 +115,20 @@ _CLAIM_MARK = {"reproduced": "✔ reproduced", "exceeded": "▲ exceeded", "not 
 def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
     """One headline sentence (HTML, escaped) on a :func:`bench.evaluate.readings.paper_claims` entry."""
     f, k = c["figures"], c["claims"]
-    d, b = _esc(c["dp"]), _esc(c["baseline"])
+    d, b = esc(c["dp"]), esc(c["baseline"])
     pairs = ""
     if f.get("n_missing_dp") or f.get("n_missing_baseline"):
         pairs = (f" over the {f['ratio_n']} of {f['n_samples']} pairs where both have a depth ({b}: none at "
                  f"{f['n_missing_baseline']})")
-    who = f"<b><code>{b}</code></b>" + (f" ({_esc(c['description'])})" if c["reading"] else "")
+    who = f"<b><code>{b}</code></b>" + (f" ({esc(c['description'])})" if c["reading"] else "")
     if c["paper_reading"]:
         who += ", <i>the reading the paper's text supports</i>"
     return (f"{who}: most samples within ±{within_mm:g} mm with DP <b>{_CLAIM_MARK[k['most_within']]}</b> "
-            f"({d} {_pct(f['dp_within'])} {_iv(f['dp_within_low'], f['dp_within_high'])} against "
-            f"{_pct(f['baseline_within'])} {_iv(f['baseline_within_low'], f['baseline_within_high'])}); "
-            f"DP more precise <b>{_CLAIM_MARK[k['more_precise']]}</b>; the {_pct(paper_improvement)} improvement "
-            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {_pct(f['ratio_value'])} "
-            f"{_iv(f['ratio_low'], f['ratio_high'])}{pairs}).")
+            f"({d} {pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} against "
+            f"{pct(f['baseline_within'])} {interval(f['baseline_within_low'], f['baseline_within_high'])}); "
+            f"DP more precise <b>{_CLAIM_MARK[k['more_precise']]}</b>; the {pct(paper_improvement)} improvement "
+            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {pct(f['ratio_value'])} "
+            f"{interval(f['ratio_low'], f['ratio_high'])}{pairs}).")
 
 
 def claims_html(summary) -> str:
@@ -168,14 +153,14 @@ def claims_html(summary) -> str:
     why = ""
     paper = next((c for c in claims if c["paper_reading"]), None)
     if paper is not None:
-        why = (f"<details class='why'><summary>Why <code>{_esc(paper['baseline'])}</code> is the reading the "
-               f"paper's text supports</summary><p>{_esc(PAPER_WHY[:1].upper() + PAPER_WHY[1:])}.</p>"
-               "<ul>" + "".join(f"<li>{_esc(c['sentence'])}</li>" for c in claims) + "</ul></details>")
+        why = (f"<details class='why'><summary>Why <code>{esc(paper['baseline'])}</code> is the reading the "
+               f"paper's text supports</summary><p>{esc(PAPER_WHY[:1].upper() + PAPER_WHY[1:])}.</p>"
+               "<ul>" + "".join(f"<li>{esc(c['sentence'])}</li>" for c in claims) + "</ul></details>")
     if title.lower().startswith("the paper's condition: "):
         title = title[len("the paper's condition: "):]
-    return (f"<h2>Is the paper's claim reproduced?</h2><p class='lead'>In the paper's condition ({_esc(title)}; "
-            f"{_esc(', '.join(c0['experiments']))}; {c0['figures']['n']} sample points; DP = "
-            f"<code>{_esc(c0['dp'])}</code>), per reading of its \"method without DP\", with 95 % intervals:</p>"
+    return (f"<h2>Is the paper's claim reproduced?</h2><p class='lead'>In the paper's condition ({esc(title)}; "
+            f"{esc(', '.join(c0['experiments']))}; {c0['figures']['n']} sample points; DP = "
+            f"<code>{esc(c0['dp'])}</code>), per reading of its \"method without DP\", with 95 % intervals:</p>"
             f"<ul class='claims'>{items}</ul>" + why)
 
 
@@ -209,7 +194,7 @@ def _verdicts_folded(summary) -> str:
         lead = "" if title.lower().startswith("the paper's condition") else (
             "The paper's condition: " if k == 0 else "Condition: ")
         shown = title if lead else title[:1].upper() + title[1:]
-        parts.append(f"<details><summary><b>{lead}{_esc(shown)}</b> <small>({_esc(', '.join(keys))}; {n} sample "
+        parts.append(f"<details><summary><b>{lead}{esc(shown)}</b> <small>({esc(', '.join(keys))}; {n} sample "
                      f"points)</small></summary>" + items(vs) + "</details>")
     pooled = by_group.get("all", [])
     if pooled and len(_groups(summary)) > 1:
@@ -236,7 +221,7 @@ def glance_table(summary) -> str:
         return ""
     labels, best = rank_labels(rob, list(dict.fromkeys(r["tracker"] for r in summary["robust"])),
                                [g for _, g, _ in groups], "within", "median_abs_mm")
-    head = "".join(f"<th>{_esc(t)}</th>" for t, _, _ in groups)
+    head = "".join(f"<th>{esc(t)}</th>" for t, _, _ in groups)
     cfg = summary.get("config", {})
     kinds = _readings(cfg) if cfg else {}
     rows = []
@@ -248,18 +233,18 @@ def glance_table(summary) -> str:
                 cells.append("<td>–</td>")
                 continue
             star = " ★" if best.get(g) == lab else ""
-            txt = (f"<span class='w'><b>{_pct(r['within'])}{star}</b> <small>{_iv(r['within_low'], r['within_high'])}"
-                   f"</small></span><br><small>{_num(r['median_abs_mm'])} mm · {_signed(r.get('median_mm'))} · "
+            txt = (f"<span class='w'><b>{pct(r['within'])}{star}</b> <small>{interval(r['within_low'], r['within_high'])}"
+                   f"</small></span><br><small>{num(r['median_abs_mm'])} mm · {signed(r.get('median_mm'))} · "
                    f"{r['n_gross']} gross</small>")
             cells.append(f"<td style='background:{_cell_colour(r['within'])}'>{txt}</td>")
         note = readings.READINGS.get(kinds.get(lab) or "", "")
         restore = _restore_of(summary, lab)
         tip = f"{note}; restoration {restore}" if note else f"restoration {restore}"
-        rows.append(f"<tr><td>{rank}</td><th title=\"{_esc(tip)}\">{_esc(lab)}</th>{''.join(cells)}</tr>")
+        rows.append(f"<tr><td>{rank}</td><th title=\"{esc(tip)}\">{esc(lab)}</th>{''.join(cells)}</tr>")
     within = summary.get("within_mm", 5.0)
     own = [lab for lab in labels if _restore_of(summary, lab) != summary.get("restore", "rows")]
-    restored = (f"restoration <code>{_esc(summary.get('restore', 'rows'))}</code>"
-                + "".join(f", <code>{_esc(_restore_of(summary, x))}</code> for <code>{_esc(x)}</code>" for x in own))
+    restored = (f"restoration <code>{esc(summary.get('restore', 'rows'))}</code>"
+                + "".join(f", <code>{esc(_restore_of(summary, x))}</code> for <code>{esc(x)}</code>" for x in own))
     return (f"<h2>At a glance: samples within ±{within:g} mm, per tracker and condition</h2><p class='note'>"
             f"Per cell: the fraction of the sample points whose depth error on the restored surface ({restored}) "
             f"is within ±{within:g} mm (the paper's Fig. 10 band; no depth counts as outside) with its Wilson 95 % "
@@ -287,7 +272,7 @@ def _improvement_tables(summary) -> str:
             for d, b in pairs:
                 i = by.get((g, d, b, stat))
                 cells.append("<td>–</td>" if i is None else
-                             f"<td><b>{_pct(i['value'])}</b> [{_pct(i['low'])}, {_pct(i['high'])}]"
+                             f"<td><b>{pct(i['value'])}</b> [{pct(i['low'])}, {pct(i['high'])}]"
                              f" <small>n={i['n']}</small></td>")
             name = "pooled over unlike conditions" if g == "all" else g
             rows.append(f"<tr><td>{html.escape(name)}</td>{''.join(cells)}</tr>")
@@ -522,9 +507,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
 
 
 def _img(path: Path, width: str = "100%") -> str:
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return f'<img src="data:image/png;base64,{data}" alt="{html.escape(path.stem)}" style="max-width:{width}">'
-
+    return png_img(path.read_bytes(), path.stem, f"max-width:{width}")
 
 def build_report(run_dir, *, quiet: bool = False) -> Path:
     """Write ``figures/*.png`` and ``report.html`` for a finished run."""
@@ -534,7 +517,7 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
     s, metrics = data["summary"], data["metrics"]
     cfg = s["config"]
     own = {k: v for k, v in s.get("restore_by_tracker", {}).items() if v != s.get("restore", "rows")}
-    parts = [f"<h1>stripebench run <code>{_esc(run_dir.name)}</code></h1>", claims_html(s), glance_table(s),
+    parts = [f"<h1>stripebench run <code>{esc(run_dir.name)}</code></h1>", claims_html(s), glance_table(s),
              detection_glance(s)]
     if figs["pr"]:
         parts.append("<h2>Precision and recall over rows, per condition</h2><p>Each tracker's reports taken in "
@@ -545,12 +528,12 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
     parts.append("<h2>Which tracker is more precise, per condition</h2><p>A statistic decides only when its 95 % "
                  "intervals do: the ±5 mm fractions' Wilson intervals must not overlap; the RMSE ratio's bootstrap "
                  "interval must exclude 0. Open a condition to read its verdicts.</p>" + _verdicts_folded(s))
-    parts.append(f"<h2>This run</h2><p>Configuration <code>{_esc(cfg['name'])}</code> "
-                 f"({_esc(s.get('config_source', ''))}), seed {s['seed']}, git {_esc(s['git_revision'])}, Mitsuba "
-                 f"variant(s) {_esc(', '.join(s['variants']))}, wall time {s['wall_s']:.0f} s, restoration "
-                 f"<code>{_esc(s.get('restore', 'rows'))}</code>"
-                 + "".join(f", <code>{_esc(k)}</code>: <code>{_esc(v)}</code>" for k, v in own.items())
-                 + f". Versions: {_esc(', '.join(f'{k} {v}' for k, v in s['versions'].items()))}.</p>")
+    parts.append(f"<h2>This run</h2><p>Configuration <code>{esc(cfg['name'])}</code> "
+                 f"({esc(s.get('config_source', ''))}), seed {s['seed']}, git {esc(s['git_revision'])}, Mitsuba "
+                 f"variant(s) {esc(', '.join(s['variants']))}, wall time {s['wall_s']:.0f} s, restoration "
+                 f"<code>{esc(s.get('restore', 'rows'))}</code>"
+                 + "".join(f", <code>{esc(k)}</code>: <code>{esc(v)}</code>" for k, v in own.items())
+                 + f". Versions: {esc(', '.join(f'{k} {v}' for k, v in s['versions'].items()))}.</p>")
     if figs["samples"]:
         parts.append("<h2>Every sample (Fig. 10)</h2><p>Depth error of each sample point with and without DP; the "
                      "axis is linear within ±10 mm and logarithmic beyond, so no error is hidden (beyond "

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import html
 import math
 
+from bench.evaluate.formats import fixed
+from bench.report.html import esc
 from bench.evaluate.simreal import sim_to_real_sentences
 
 __all__ = ["sim_to_real_html", "sim_to_real_by_class_html"]
@@ -12,10 +13,10 @@ __all__ = ["sim_to_real_html", "sim_to_real_by_class_html"]
 
 def sim_to_real_html(result: dict) -> str:
     """An HTML fragment: the sentences and the table of :func:`sim_to_real`."""
-    rows = "".join(f"<tr><td>{html.escape(t['tracker'])}</td><td>{t['synthetic']:.3f}</td><td>{t['real']:.3f}</td>"
+    rows = "".join(f"<tr><td>{esc(t['tracker'])}</td><td>{t['synthetic']:.3f}</td><td>{t['real']:.3f}</td>"
                    f"<td>{t['delta']:+.3f}</td><td>{t['rank_synthetic']:g}</td><td>{t['rank_real']:g}</td></tr>"
                    for t in result["table"])
-    text = "".join(f"<p>{html.escape(s)}</p>" for s in sim_to_real_sentences(result))
+    text = "".join(f"<p>{esc(s)}</p>" for s in sim_to_real_sentences(result))
     return (f"<section class='sim-to-real'><h2>Renders vs photographs</h2>{text}<table><tr><th>tracker</th>"
             f"<th>synthetic hit rate</th><th>real hit rate</th><th>real - synthetic</th><th>rank (synthetic)</th>"
             f"<th>rank (real)</th></tr>{rows}</table>{_detection_html(result.get('detection') or {})}</section>")
@@ -32,17 +33,15 @@ def _detection_html(detection: dict) -> str:
     trackers = list(dict.fromkeys(t["tracker"] for r in detection.values() for t in r["table"]))
     by = {k: {t["tracker"]: t for t in r["table"]} for k, r in detection.items()}
     head = "".join(f"<th>{_DETECTION_NAMES.get(k, k)}<br>synthetic / real</th>" for k in detection)
-    body = "".join(f"<tr><td>{html.escape(n)}</td>" + "".join(
-        f"<td>{_num(by[k][n]['synthetic'])} / {_num(by[k][n]['real'])}</td>" if n in by[k] else "<td>–</td>"
+    body = "".join(f"<tr><td>{esc(n)}</td>" + "".join(
+        f"<td>{fixed(by[k][n]['synthetic'])} / {fixed(by[k][n]['real'])}</td>" if n in by[k] else "<td>–</td>"
         for k in detection) + "</tr>" for n in trackers)
-    rho = "; ".join(f"{_DETECTION_NAMES.get(k, k)}: Spearman's rho {_num(r['spearman_rho'], '.2f')}"
+    rho = "; ".join(f"{_DETECTION_NAMES.get(k, k)}: Spearman's rho {fixed(r['spearman_rho'], '.2f')}"
                     for k, r in detection.items())
-    return (f"<p>Both halves of detection (a report on a row with no stripe is a false one): {html.escape(rho)}."
+    return (f"<p>Both halves of detection (a report on a row with no stripe is a false one): {esc(rho)}."
             f"</p><table><tr><th>tracker</th>{head}</tr>{body}</table>")
 
 
-def _num(v: float, fmt: str = ".3f") -> str:
-    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
 
 
 def sim_to_real_by_class_html(by_class: dict) -> str:
@@ -53,10 +52,9 @@ def sim_to_real_by_class_html(by_class: dict) -> str:
     matched = by_class.get("matched", [])
     if not matched:
         return ""
-    esc = html.escape
     cls_rows = "".join(
         f"<tr><td>{esc(c['condition'])}</td><td>{'yes' if c['rendered'] else 'no'}</td><td>{c['n_photographs']}</td>"
-        f"<td>{esc(', '.join(c['photographs']))}</td><td>{c['n']}</td><td>{_num(c['spearman_rho'], '.2f')}</td></tr>"
+        f"<td>{esc(', '.join(c['photographs']))}</td><td>{c['n']}</td><td>{fixed(c['spearman_rho'], '.2f')}</td></tr>"
         for c in by_class["classes"])
     rates = {c["condition"]: {t["tracker"]: t for t in c["table"]} for c in by_class["classes"] if c["condition"] in matched}
     overall = {t["tracker"]: t for t in by_class["overall"]["table"]}
@@ -64,10 +62,10 @@ def sim_to_real_by_class_html(by_class: dict) -> str:
     head = "".join(f"<th>{esc(c)}<br>synthetic / real</th>" for c in matched)
     body = "".join(
         f"<tr><td>{esc(k)}</td>" + "".join(
-            f"<td>{_num(rates[c][k]['synthetic'])} / {_num(rates[c][k]['real'])}</td>" if k in rates[c] else "<td>–</td>"
+            f"<td>{fixed(rates[c][k]['synthetic'])} / {fixed(rates[c][k]['real'])}</td>" if k in rates[c] else "<td>–</td>"
             for c in matched)
-        + f"<td>{_num(overall[k]['synthetic'])} / {_num(overall[k]['real'])}</td>"
-        f"<td>{_num(by_class['mean_abs_delta'].get(k, float('nan')))}</td></tr>" for k in trackers)
+        + f"<td>{fixed(overall[k]['synthetic'])} / {fixed(overall[k]['real'])}</td>"
+        f"<td>{fixed(by_class['mean_abs_delta'].get(k, float('nan')))}</td></tr>" for k in trackers)
     o = by_class["overall"]
     rho = ("too few trackers with distinct rates for a rank correlation" if math.isnan(o["spearman_rho"])
            else f"Spearman's rho = {o['spearman_rho']:.2f} across {o['n']} trackers")

@@ -7,14 +7,12 @@ with matplotlib (Agg).
 
 from __future__ import annotations
 
-import base64
-import html
 import json
 from pathlib import Path
 
 import numpy as np
 
-from bench.report.html import page
+from bench.report.html import esc, page, png_img
 from bench.store.files import atomic_write_text
 from bench.report.figures import save, tracker_colour
 from bench.evaluate.curves import CURVE_METRICS, PAPER_POINT, _paper_or_default, curves, per_unit_costs, reference_point
@@ -95,9 +93,6 @@ def curve_figure(curve_records: list[dict], sweep_dict: dict, path, metrics=CURV
     return save(fig, path, 110)
 
 
-def _img(path: Path) -> str:
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return f'<img src="data:image/png;base64,{data}" alt="{html.escape(path.stem)}" style="max-width:100%">'
 
 
 def build_report(sweep_dir) -> Path:
@@ -113,20 +108,20 @@ def build_report(sweep_dir) -> Path:
     fig = curve_figure(summary["curves"], sd, sweep_dir / "figures" / "sweep.png",
                        title=f"{summary['config']['name']}: mean over {n_rep} repeat(s), band = 95 % t interval")
     rows = "".join(
-        f"<tr><td>{html.escape(str(r['experiment']))}</td><td>{html.escape(r['key'])}</td>"
-        f"<td>{html.escape(str(r['value']))}</td><td>{html.escape(r['tracker'])}</td><td>{r['metric']}</td>"
+        f"<tr><td>{esc(str(r['experiment']))}</td><td>{esc(r['key'])}</td>"
+        f"<td>{esc(str(r['value']))}</td><td>{esc(r['tracker'])}</td><td>{r['metric']}</td>"
         f"<td>{r['mean']:.4g}</td><td>{r['low']:.4g}</td><td>{r['high']:.4g}</td><td>{r['n']}</td></tr>"
         for r in summary["curves"])
     costs = "".join(f"<li>{c['width']}x{c['height']}: {c['render_s_per_frame']:.3f} s per rendered frame "
                     f"({c['render_s_per_later_frame']:.3f} s after the first of each batch), "
                     f"{1e3 * c['eval_s_per_evaluation']:.1f} ms per frame x grid point x repeat "
                     f"({c['units']} unit(s))</li>" for c in summary["costs"])
-    body = f"""<h1>Sweep: {html.escape(summary['config']['name'])}</h1>
-<p>Grid: {html.escape(json.dumps(sd))}; seed {summary['seed']}; engine {html.escape(str(summary['engine'].get('engine')))};
-wall {summary['wall_s']:.1f} s; git {html.escape(summary['git_revision'])}.
-A repeat varies {html.escape(summary['repeat_varies'])}. Metrics on the object's rows
+    body = f"""<h1>Sweep: {esc(summary['config']['name'])}</h1>
+<p>Grid: {esc(json.dumps(sd))}; seed {summary['seed']}; engine {esc(str(summary['engine'].get('engine')))};
+wall {summary['wall_s']:.1f} s; git {esc(summary['git_revision'])}.
+A repeat varies {esc(summary['repeat_varies'])}. Metrics on the object's rows
 (the paper's operating point, 400 lux and 3 mW, is marked).</p>
-{_img(fig)}
+{png_img(fig.read_bytes(), fig.stem)}
 <h2>Measured costs</h2><ul>{costs}</ul>
 <h2>Curve data</h2><table><tr><th>experiment</th><th>key</th><th>value</th><th>tracker</th><th>metric</th>
 <th>mean</th><th>low</th><th>high</th><th>n</th></tr>{rows}</table>

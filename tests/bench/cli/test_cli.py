@@ -93,3 +93,21 @@ def test_docs_config_names_every_key_of_the_schema():
         assert f"`{k}`" in doc or f"`{k.split('.')[-1]}`" in doc, k
     for k in (*TOP_KEYS, *TUNE_RENDER_KEYS, "repeats"):
         assert f"`{k}`" in doc or k in doc, k
+
+
+def test_the_module_docstring_lists_every_command():
+    """The command list in bench.cli's docstring is checked against the command tree (issue 36's drift list)."""
+    import re
+
+    import bench.cli as cli
+    from bench.cli.studies import PERF
+
+    doc = " ".join(cli.__doc__.split())
+    for group, commands in cli.command_groups():
+        listed = re.search(rf"``{group}``(: ([^;]*))?", doc)
+        assert listed, f"group {group!r} missing from bench.cli's docstring"
+        names = [c.name for c in commands]
+        if names != [group]:
+            assert listed.group(2) is not None and all(n in listed.group(2) for n in names), (group, names)
+    perf = re.search(r"perf \{([^}]*)\}", doc).group(1)
+    assert [s.strip() for s in perf.split(",")] == [c.name for c in PERF]

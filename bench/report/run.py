@@ -24,7 +24,7 @@ from bench.evaluate import readings
 from bench.report.html import esc, interval, num, page, pct, png_img, rank_labels, signed
 from bench.evaluate.metrics import hit_rate
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM
-from bench.evaluate.tables import false_points, restored_points
+from bench.evaluate.tables import false_points, restore_of, restored_points
 from bench.report.detection import condition_groups, detection_glance, pr_curves
 from bench.store.runfolder import load_run
 from bench.store.files import atomic_write_text
@@ -39,8 +39,10 @@ def _readings(cfg: dict) -> dict[str, str | None]:
 
 
 def _restore_of(summary, label: str) -> str:
-    """How ``label``'s missed rows were restored in this run (its setting's own ``restore``, else the run's)."""
-    return summary.get("restore_by_tracker", {}).get(label, summary.get("restore", "rows"))
+    """How ``label``'s missed rows were restored in this run (:func:`bench.evaluate.tables.restore_of` of the
+    summary's ``restore_by_tracker``; a label it lacks: the run's ``restore``)."""
+    by_label = summary.get("restore_by_tracker") or {}
+    return restore_of(by_label, label) if label in by_label else summary.get("restore", "rows")
 
 
 def _groups(summary) -> list[tuple[str, str, list[str]]]:

@@ -33,6 +33,7 @@ import numpy as np
 
 from bench.errors import StripebenchError
 from bench.store.textfiles import loads_csv
+from bench.evaluate.colour import LASER_INDEX
 from bench.evaluate.outcomes import GAP_ROWS, NO_STRIPE, STATES, fallback_states
 
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
@@ -43,10 +44,9 @@ __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "Imag
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
 CHANNELS = ("auto", "r", "g", "b", "gray", "excess")
-LASERS = ("red", "green", "blue")
+LASERS = tuple(LASER_INDEX)  # ("red", "green", "blue"): the laser colours and their channels, one home
 ROTATIONS = (0, 90, 180, 270)
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
-_LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
 _CHANNEL_INDEX = {"r": 0, "g": 1, "b": 2}
 MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
 MANIFEST_OPTIONAL = ("rotate", "channel", "condition", "source_repo", "source_commit", "source_path", "license", "notes")
@@ -229,7 +229,7 @@ def select_channel(image, channel: str = "auto", laser: str = "red") -> np.ndarr
     f = img.astype(np.float64)
     if channel == "gray":
         return 0.2126 * f[..., 0] + 0.7152 * f[..., 1] + 0.0722 * f[..., 2]
-    k = _LASER_INDEX[laser]
+    k = LASER_INDEX[laser]
     others = [i for i in range(3) if i != k]
     return np.maximum(f[..., k] - 0.5 * (f[..., others[0]] + f[..., others[1]]), 0.0)
 

@@ -79,6 +79,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage as ndi
 
+from bench.evaluate.colour import LASER_INDEX
 from bench.evaluate.outcomes import HIT_PX, hits
 
 __all__ = ["KINDS", "VOIDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
@@ -88,7 +89,6 @@ KINDS = ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "satu
 #: The kinds of stripe-less stretch (see the module docstring).
 VOIDS = ("edge", "shadow", "mirror", "dark", "textured")
 _SIZES = ((240, 320), (300, 400), (480, 512))
-_LASER_INDEX = {"red": 0, "green": 1, "blue": 2}
 
 
 @dataclass(frozen=True)
@@ -127,12 +127,12 @@ class HardFrame:
     @property
     def laser_channel(self) -> np.ndarray:
         """The laser's colour channel, (H, W) uint8: the frame a mono camera behind a filter sees."""
-        return np.ascontiguousarray(self.rgb[..., _LASER_INDEX[self.laser]])
+        return np.ascontiguousarray(self.rgb[..., LASER_INDEX[self.laser]])
 
     @property
     def laser_channel_off(self) -> np.ndarray:
         """The laser's colour channel of the laser-off frame, (H, W) uint8."""
-        return np.ascontiguousarray(self.rgb_off[..., _LASER_INDEX[self.laser]])
+        return np.ascontiguousarray(self.rgb_off[..., LASER_INDEX[self.laser]])
 
 
 def _stripe_path(rng, H: int, W: int) -> tuple[np.ndarray, np.ndarray, list]:
@@ -205,7 +205,7 @@ def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -
     rng = np.random.default_rng([KINDS.index(kind), int(seed)])
     H, W = _SIZES[int(rng.integers(0, len(_SIZES)))]
     laser = "green" if rng.uniform() < 0.35 else "red"
-    k = _LASER_INDEX[laser]
+    k = LASER_INDEX[laser]
     coloured = bool(rng.uniform() < 0.5) if colour_background is None else bool(colour_background)
     centre, absent, stretches = _stripe_path(rng, H, W)
     rows = np.arange(H)

@@ -87,7 +87,8 @@ def test_portable_target_needs_every_x86_64_v3_flag(tmp_path, monkeypatch):
 
 
 def test_the_default_target_is_native_and_portable_is_set_only_on_a_capable_cpu(monkeypatch):
-    monkeypatch.delenv(V.ENV_LLVM_TARGET, raising=False)
+    monkeypatch.setenv(V.ENV_LLVM_TARGET, "")  # recorded, so that the test's own changes are undone
+    monkeypatch.delenv(V.ENV_LLVM_TARGET)
     monkeypatch.setattr(V, "host_supports_portable", lambda cpuinfo="/proc/cpuinfo": True)
     assert V._requested() is None  # the default: this CPU's own code (fastest here)
     monkeypatch.setenv(V.ENV_LLVM_TARGET, "portable")  # what the regression gate renders with
@@ -124,7 +125,8 @@ def test_renders_do_not_depend_on_the_cpu_the_target_names(tmp_path):
 
 
 def test_a_configuration_asks_for_its_target_and_the_environment_overrides_it(monkeypatch):
-    monkeypatch.delenv(V.ENV_LLVM_TARGET, raising=False)
+    monkeypatch.setenv(V.ENV_LLVM_TARGET, "")  # recorded, so that the test's own changes are undone
+    monkeypatch.delenv(V.ENV_LLVM_TARGET)
     monkeypatch.setattr(V, "_asked", None)
     monkeypatch.setattr(V, "_target", None)
     V.request_llvm_target("")  # asks for nothing
@@ -141,7 +143,8 @@ def test_a_configuration_asks_for_its_target_and_the_environment_overrides_it(mo
 
 
 def test_a_process_that_already_rendered_refuses_another_target(monkeypatch):
-    monkeypatch.delenv(V.ENV_LLVM_TARGET, raising=False)
+    monkeypatch.setenv(V.ENV_LLVM_TARGET, "")  # recorded, so that the test's own changes are undone
+    monkeypatch.delenv(V.ENV_LLVM_TARGET)
     monkeypatch.setattr(V, "_asked", None)
     monkeypatch.setattr(V, "_target", "native znver3/8")
     with pytest.raises(ValueError, match="already renders for 'native znver3/8'; run it in a fresh process"):

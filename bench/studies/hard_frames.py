@@ -182,6 +182,131 @@ def _smooth_field(rng, H, W, scale):
     return f / (f.std() + 1e-12)
 
 
+@dataclass
+class _Look:
+    """A frame's surfaces and light before noise: what each kind sets (:data:`_LOOKS`)."""
+
+    albedo: np.ndarray  # (H, W)
+    ambient: np.ndarray  # (H, W) DN on white
+    sigma: float  # the stripe's Gaussian width, px
+    amp: float  # the stripe's brightness on white, DN
+    read: float  # read noise, DN
+    gain: float  # shot noise: variance gain x signal
+    extra: np.ndarray  # (H, W) white light added on top of everything (glints, lamps), DN
+    laser_extra: np.ndarray  # (H, W) laser light besides the stripe (glow, reflections), DN on white
+
+
+def _printed(s, rng, H, W, centre, absent) -> None:
+    """The ``printed`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.full((H, W), 0.85)
+    for _ in range(int(rng.integers(8, 25))):  # print blocks and lines
+        h, w = int(rng.integers(2, H // 6)), int(rng.integers(2, W // 5))
+        y, x = int(rng.integers(0, H - h)), int(rng.integers(0, W - w))
+        s.albedo[y:y + h, x:x + w] = rng.uniform(0.05, 0.3)
+    s.albedo = ndi.gaussian_filter(s.albedo, 0.7)
+    s.ambient = rng.uniform(120, 200) * (1 + 0.1 * _smooth_field(rng, H, W, 40))
+    s.amp = rng.uniform(40, 90)
+    s.sigma = rng.uniform(0.9, 2.0)
+
+
+def _noisy_floor(s, rng, H, W, centre, absent) -> None:
+    """The ``noisy_floor`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.clip(0.5 + 0.12 * ndi.gaussian_filter(rng.normal(0, 1, (H, W)), 0.6) / 0.35
+                       + 0.1 * _smooth_field(rng, H, W, 25), 0.05, 1.0)
+    s.ambient = rng.uniform(80, 150) * np.ones((H, W))
+    s.amp = rng.uniform(160, 320)
+    s.sigma = rng.uniform(0.6, 1.1)
+    s.read = 3.0
+
+
+def _polished(s, rng, H, W, centre, absent) -> None:
+    """The ``polished`` kind's surfaces, light and stripe (see the module docstring)."""
+    veins = np.abs(_smooth_field(rng, H, W, 6))
+    s.albedo = np.clip(0.25 + 0.1 * _smooth_field(rng, H, W, 30) + 0.25 * np.exp(-4 * veins)
+                       + 0.03 * rng.normal(0, 1, (H, W)), 0.05, 1.0)
+    s.ambient = rng.uniform(60, 140) * np.ones((H, W))
+    s.amp = rng.uniform(200, 450)
+    s.sigma = rng.uniform(1.0, 2.5)
+    s.extra = 300.0 * _blobs(rng, H, W, int(rng.integers(2, 7)), 1.0, 3)
+    shift = rng.choice([-1, 1]) * rng.uniform(8, 30)
+    refl = 0.25 * _profile(centre + shift, W, 3 * s.sigma)  # the mirrored stripe, blurred
+    s.laser_extra = s.amp * refl * (~absent)[:, None]
+
+
+def _daylight(s, rng, H, W, centre, absent) -> None:
+    """The ``daylight`` kind's surfaces, light and stripe (see the module docstring)."""
+    yy, xx = np.mgrid[0:H, 0:W]
+    ang = rng.uniform(0, 2 * np.pi)
+    ramp = np.cos(ang) * xx / W + np.sin(ang) * yy / H
+    ramp = (ramp - ramp.min()) / (np.ptp(ramp) + 1e-12)
+    s.ambient = rng.uniform(60, 110) + rng.uniform(80, 160) * ramp
+    s.albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 15), 0.1, 1.0)
+    wx = int(rng.choice([0, W - W // 6]))  # a window at one side, clipping, in the upper rows (half the frames)
+    wy = int(rng.uniform(0.1, 0.3) * H) if rng.uniform() < 0.5 else 0
+    s.albedo[:wy, wx:wx + W // 6] = 1.0
+    s.ambient[:wy, wx:wx + W // 6] = 400.0
+    s.amp = rng.uniform(100, 200)
+    s.sigma = rng.uniform(1.0, 2.5)
+    s.read = 2.5
+
+
+def _noisy_sensor(s, rng, H, W, centre, absent) -> None:
+    """The ``noisy_sensor`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 30), 0.2, 1.0)
+    s.ambient = rng.uniform(20, 60) * np.ones((H, W))
+    s.amp = rng.uniform(110, 190)
+    s.sigma = rng.uniform(1.2, 2.2)
+    s.read, s.gain = rng.uniform(8, 14), 0.3
+
+
+def _saturated_wide(s, rng, H, W, centre, absent) -> None:
+    """The ``saturated_wide`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.clip(0.85 + 0.08 * _smooth_field(rng, H, W, 20), 0.3, 1.0)
+    s.ambient = rng.uniform(25, 70) * np.ones((H, W))
+    s.amp = rng.uniform(700, 2500)
+    s.sigma = rng.uniform(2.5, 5.0)
+    glow = _profile(centre, W, rng.uniform(10, 20))
+    s.laser_extra = 0.06 * s.amp * glow / glow.max() * (~absent)[:, None]
+    near = np.zeros((H, W))
+    yy, xx = np.mgrid[0:H, 0:W]
+    for _ in range(int(rng.integers(3, 8))):  # glints within 40 px of the stripe
+        r0 = int(rng.integers(0, H))
+        cx = centre[r0] + rng.choice([-1, 1]) * rng.uniform(12, 40)
+        near += np.exp(-((yy - r0) ** 2 + (xx - cx) ** 2) / (2 * rng.uniform(1.5, 3) ** 2))
+    s.extra += 200.0 * near
+
+
+def _thin_faint(s, rng, H, W, centre, absent) -> None:
+    """The ``thin_faint`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.clip(0.6 + 0.1 * _smooth_field(rng, H, W, 20), 0.2, 1.0)
+    s.ambient = rng.uniform(15, 40) * np.ones((H, W))
+    s.amp = rng.uniform(50, 100)
+    s.sigma = rng.uniform(0.5, 0.8)
+    s.extra = 600.0 * _blobs(rng, H, W, 1, 6, 14)  # a lamp
+
+
+def _plain(s, rng, H, W, centre, absent) -> None:
+    """The ``plain`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.full((H, W), 0.8)
+    s.ambient = np.full((H, W), rng.uniform(5, 20))
+    s.amp = rng.uniform(120, 220)
+
+
+def _dim(s, rng, H, W, centre, absent) -> None:
+    """The ``dim`` kind's surfaces, light and stripe (see the module docstring)."""
+    s.albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 30), 0.2, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(1.0, 5.0))
+    s.amp = rng.uniform(4.0, 40.0)
+    s.sigma = rng.uniform(0.7, 1.6)
+    s.read, s.gain = rng.uniform(0.2, 0.6), 0.05
+
+
+#: Each kind's look, applied to the defaults in :func:`hard_frame` (the draws in this order).
+_LOOKS = {"printed": _printed, "noisy_floor": _noisy_floor, "polished": _polished, "daylight": _daylight,
+          "noisy_sensor": _noisy_sensor, "saturated_wide": _saturated_wide, "thin_faint": _thin_faint,
+          "plain": _plain, "dim": _dim}
+
+
 def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -> HardFrame:
     """One seeded synthetic photograph of ``kind`` (see the module docstring).
 
@@ -214,91 +339,11 @@ def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -
         choice = int(rng.integers(0, 3))
         tint = (np.array([1.0, 0.35, 0.3]) if choice == 0 else np.array([1.0, 0.8, 0.55]) if choice == 1
                 else np.array([0.35, 0.8, 0.35]))
-    albedo = np.ones((H, W))
-    ambient = np.full((H, W), 20.0)
-    sigma = rng.uniform(1.0, 2.0)
-    amp = rng.uniform(80, 160)
-    read, gain = 1.5, 0.05
-    extra = np.zeros((H, W))  # white light added on top of everything (glints, lamps), DN
-    laser_extra = np.zeros((H, W))  # laser light besides the stripe (glow, reflections), DN on white
-    if kind == "printed":
-        albedo = np.full((H, W), 0.85)
-        for _ in range(int(rng.integers(8, 25))):  # print blocks and lines
-            h, w = int(rng.integers(2, H // 6)), int(rng.integers(2, W // 5))
-            y, x = int(rng.integers(0, H - h)), int(rng.integers(0, W - w))
-            albedo[y:y + h, x:x + w] = rng.uniform(0.05, 0.3)
-        albedo = ndi.gaussian_filter(albedo, 0.7)
-        ambient = rng.uniform(120, 200) * (1 + 0.1 * _smooth_field(rng, H, W, 40))
-        amp = rng.uniform(40, 90)
-        sigma = rng.uniform(0.9, 2.0)
-    elif kind == "noisy_floor":
-        albedo = np.clip(0.5 + 0.12 * ndi.gaussian_filter(rng.normal(0, 1, (H, W)), 0.6) / 0.35
-                         + 0.1 * _smooth_field(rng, H, W, 25), 0.05, 1.0)
-        ambient = rng.uniform(80, 150) * np.ones((H, W))
-        amp = rng.uniform(160, 320)
-        sigma = rng.uniform(0.6, 1.1)
-        read = 3.0
-    elif kind == "polished":
-        veins = np.abs(_smooth_field(rng, H, W, 6))
-        albedo = np.clip(0.25 + 0.1 * _smooth_field(rng, H, W, 30) + 0.25 * np.exp(-4 * veins)
-                         + 0.03 * rng.normal(0, 1, (H, W)), 0.05, 1.0)
-        ambient = rng.uniform(60, 140) * np.ones((H, W))
-        amp = rng.uniform(200, 450)
-        sigma = rng.uniform(1.0, 2.5)
-        extra = 300.0 * _blobs(rng, H, W, int(rng.integers(2, 7)), 1.0, 3)
-        shift = rng.choice([-1, 1]) * rng.uniform(8, 30)
-        refl = 0.25 * _profile(centre + shift, W, 3 * sigma)  # the mirrored stripe, blurred
-        laser_extra = amp * refl * (~absent)[:, None]
-    elif kind == "daylight":
-        yy, xx = np.mgrid[0:H, 0:W]
-        ang = rng.uniform(0, 2 * np.pi)
-        ramp = np.cos(ang) * xx / W + np.sin(ang) * yy / H
-        ramp = (ramp - ramp.min()) / (np.ptp(ramp) + 1e-12)
-        ambient = rng.uniform(60, 110) + rng.uniform(80, 160) * ramp
-        albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 15), 0.1, 1.0)
-        wx = int(rng.choice([0, W - W // 6]))  # a window at one side, clipping, in the upper rows (half the frames)
-        wy = int(rng.uniform(0.1, 0.3) * H) if rng.uniform() < 0.5 else 0
-        albedo[:wy, wx:wx + W // 6] = 1.0
-        ambient[:wy, wx:wx + W // 6] = 400.0
-        amp = rng.uniform(100, 200)
-        sigma = rng.uniform(1.0, 2.5)
-        read = 2.5
-    elif kind == "noisy_sensor":
-        albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 30), 0.2, 1.0)
-        ambient = rng.uniform(20, 60) * np.ones((H, W))
-        amp = rng.uniform(110, 190)
-        sigma = rng.uniform(1.2, 2.2)
-        read, gain = rng.uniform(8, 14), 0.3
-    elif kind == "saturated_wide":
-        albedo = np.clip(0.85 + 0.08 * _smooth_field(rng, H, W, 20), 0.3, 1.0)
-        ambient = rng.uniform(25, 70) * np.ones((H, W))
-        amp = rng.uniform(700, 2500)
-        sigma = rng.uniform(2.5, 5.0)
-        glow = _profile(centre, W, rng.uniform(10, 20))
-        laser_extra = 0.06 * amp * glow / glow.max() * (~absent)[:, None]
-        near = np.zeros((H, W))
-        yy, xx = np.mgrid[0:H, 0:W]
-        for _ in range(int(rng.integers(3, 8))):  # glints within 40 px of the stripe
-            r0 = int(rng.integers(0, H))
-            cx = centre[r0] + rng.choice([-1, 1]) * rng.uniform(12, 40)
-            near += np.exp(-((yy - r0) ** 2 + (xx - cx) ** 2) / (2 * rng.uniform(1.5, 3) ** 2))
-        extra += 200.0 * near
-    elif kind == "thin_faint":
-        albedo = np.clip(0.6 + 0.1 * _smooth_field(rng, H, W, 20), 0.2, 1.0)
-        ambient = rng.uniform(15, 40) * np.ones((H, W))
-        amp = rng.uniform(50, 100)
-        sigma = rng.uniform(0.5, 0.8)
-        extra = 600.0 * _blobs(rng, H, W, 1, 6, 14)  # a lamp
-    elif kind == "plain":
-        albedo = np.full((H, W), 0.8)
-        ambient = np.full((H, W), rng.uniform(5, 20))
-        amp = rng.uniform(120, 220)
-    elif kind == "dim":
-        albedo = np.clip(0.6 + 0.15 * _smooth_field(rng, H, W, 30), 0.2, 1.0)
-        ambient = np.full((H, W), rng.uniform(1.0, 5.0))
-        amp = rng.uniform(4.0, 40.0)
-        sigma = rng.uniform(0.7, 1.6)
-        read, gain = rng.uniform(0.2, 0.6), 0.05
+    s = _Look(albedo=np.ones((H, W)), ambient=np.full((H, W), 20.0), sigma=rng.uniform(1.0, 2.0),
+              amp=rng.uniform(80, 160), read=1.5, gain=0.05, extra=np.zeros((H, W)), laser_extra=np.zeros((H, W)))
+    _LOOKS[kind](s, rng, H, W, centre, absent)
+    albedo, ambient, sigma, amp, read, gain, extra, laser_extra = (s.albedo, s.ambient, s.sigma, s.amp, s.read,
+                                                                    s.gain, s.extra, s.laser_extra)
     for a, b, void in stretches:  # what the stripe-less stretches show instead of the stripe
         if void == "mirror":
             shift = rng.choice([-1, 1]) * rng.uniform(10, 60)

@@ -34,3 +34,9 @@ def test_plateau_middles_and_bad_arguments():
         hard_frame("snow", 0)
     with pytest.raises(ValueError, match="`seed` must be an integer >= 0, got -1"):
         hard_frame("plain", -1)
+
+
+def test_every_kind_has_its_look_and_no_other():
+    from bench.studies import hard_frames as hf
+
+    assert tuple(hf._LOOKS) == hf.KINDS

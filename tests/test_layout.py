@@ -225,3 +225,10 @@ def test_the_one_home_check_finds_a_copy_of_the_rule(tmp_path):
         assert _compared_tolerances(copy) == ["bench/_probe_copy_of_the_hit_rule.py:2"]
     finally:
         copy.unlink()
+
+
+def test_layout_md_lists_every_module_from_its_docstring():
+    """docs/layout.md's module list is written by scripts/layout_md.py from the code (issue 36)."""
+    out = subprocess.run([sys.executable, str(REPO / "scripts" / "layout_md.py"), "--check"], capture_output=True,
+                         text=True, cwd=REPO)
+    assert out.returncode == 0, out.stderr

@@ -70,8 +70,12 @@ def fig_tracking(image, cost_field, tracks: dict, truth_columns, path, title: st
     fig, ax = plt.subplots(1, 3, figsize=(15, 5.0), constrained_layout=True)
     ax[0].imshow(image, cmap="gray", vmin=0, vmax=255)
     ax[0].set_title("(a) frame (8-bit)")
-    im = ax[1].imshow(cost_field, cmap="jet")
-    fig.colorbar(im, ax=ax[1], shrink=0.8, label="accumulated cost")
+    if cost_field is not None:
+        im = ax[1].imshow(cost_field, cmap="jet")
+        fig.colorbar(im, ax=ax[1], shrink=0.8, label="accumulated cost")
+    else:  # a run saved before the cost field was (figdata format 3): the report does not recompute it
+        ax[1].text(0.5, 0.5, "not saved by this run\n(rerun it to draw the cost field)", ha="center", va="center",
+                   transform=ax[1].transAxes)
     ax[1].set_title("(b) DP accumulated cost (4-conn.)")
     ax[2].imshow(image, cmap="gray", vmin=0, vmax=255)
     _draw_tracks(ax[2], tracks, truth_columns)

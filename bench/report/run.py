@@ -394,6 +394,14 @@ def _draw(jobs: list, workers: int, meanwhile) -> list[Path]:
             raise
 
 
+def _default_rig(scene: str, cfg: dict):
+    """The rig of a run that did not save its own (summaries before it did): the scene's default at the
+    run's frame size."""
+    import scenes
+
+    return scenes.make(scene, width=int(cfg["render"].get("width", 512)), height=int(cfg["render"].get("height", 480))).rig
+
+
 def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
                  workers: int | None = None) -> dict[str, list[Path]]:
     """Write every figure of a run into ``run_dir/figures``; returns them by
@@ -403,15 +411,16 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
     this process draws the 3-D ones."""
     import pandas as pd
 
-    import scenes
-
     from bench.report import figures
     from bench.config import parse
+    from scenes.rig import Rig
 
     run_dir = Path(run_dir)
     data = load_run(run_dir, say=_warn) if data is None else data
     summary, metrics, samples = data["summary"], data["metrics"], data["samples"]
     cfg = summary["config"]
+    # each experiment's rig as the run saved it (runs before it was saved: the scene's default rig)
+    rigs = {s["experiment"]: Rig(**s["rig"]) for s in summary.get("scans", []) if isinstance(s.get("rig"), dict)}
     config = parse(cfg, "summary.json", machine=False)
     figdir = run_dir / "figures"
     figdir.mkdir(exist_ok=True)
@@ -425,10 +434,8 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
         jobs.append((section, (function, args, kwargs)))
 
     fd = data["figdata"]
-    if fd is not None:
-        from trackers.dp import accumulated_cost
-
-        later("tracking", figures.fig_tracking, fd.image, accumulated_cost(fd.image, connectivity=4), fd.columns,
+    if fd is not None:  # the cost field as the run saved it (None from runs before figdata format 3)
+        later("tracking", figures.fig_tracking, fd.image, fd.cost_field, fd.columns,
               fd.truth_columns, figdir / "fig7_tracking.png",
               title=f"{fd.experiment} at mirror angle {fd.mirror_angle_deg:.2f} deg "
                     "(the frame where the trackers miss most)")
@@ -486,8 +493,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
                 continue
             done.add(exp.scene)
             scan = data["scans"][exp.key]
-            rig = scenes.make(exp.scene, width=int(cfg["render"].get("width", 512)),
-                              height=int(cfg["render"].get("height", 480))).rig
+            rig = rigs.get(exp.key) or _default_rig(exp.scene, cfg)
             names = [n for n in show if n in scan.columns]
             surf = {"ground truth": restored_points(scan, None, rig)[0]}
             errs, fps = {}, {}

@@ -10,6 +10,7 @@ the figure data in :mod:`bench.store.figdata`, the summary's builder in
 from __future__ import annotations
 
 import concurrent.futures
+import dataclasses
 import time
 from pathlib import Path
 
@@ -33,6 +34,15 @@ from bench.evaluate.outcomes import GROSS_MM, PAPER_IMPROVEMENT, WITHIN_MM
 __all__ = ["run", "scan_tables", "finish_run", "default_run_dir", "load_run", "distinct_trackers", "PAPER_IMPROVEMENT"]
 
 GALLERY_FRAMES = 2  # frames per experiment in the report's failure gallery
+
+
+def figure_data(experiment: str, angle_deg: float, image, background, truth_columns, columns: dict) -> FigData:
+    """Fig. 7's data for the report, with the paper's accumulated cost field (Fig. 7b, 4-connected)
+    computed here, by the run, so that the report only reads it."""
+    from trackers.dp import accumulated_cost
+
+    return FigData(experiment, angle_deg, image, background, truth_columns, columns,
+                   accumulated_cost(image, connectivity=4))
 
 
 def _conditions(config: Config) -> list[dict]:
@@ -131,13 +141,14 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
             image, background = tracker_images(frame, scene.params)
             gallery.append(GalleryFrame(exp.key, int(i), image, frame.truth.columns, cols))
             if fig7 is None:
-                fig7 = FigData(exp.key, float(angles[i]), image, background, frame.truth.columns, cols)
+                fig7 = figure_data(exp.key, float(angles[i]), image, background, frame.truth.columns, cols)
         recs, samps = scan_tables(config, k, exp, scene.rig, res)
         records += recs
         samples += samps
         failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
         scan_info.append({"experiment": exp.key, "frames": int(len(angles)), "wall_s": wall,
                           "render_s": res.render_seconds, "variant": res.variant, "failures": failures,
+                          "rig": dataclasses.asdict(scene.rig),
                           "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5] for n in res.messages}})
         for n, c in failures.items():
             if c:

@@ -30,7 +30,7 @@ from bench.config import ConfigError, parse, with_overrides
 from bench.run.plan import say
 from bench.store import frameset as fs
 from bench.store.checkpoint import FALSE_K, ScanResult, write_checkpoint
-from bench.store.figdata import FigData, GalleryFrame
+from bench.store.figdata import GalleryFrame
 from bench.store.files import RunFolderError, config_hash
 from bench.store.provenance import code_fingerprint
 from bench.store.runfolder import RunFolder, safe_dir_name
@@ -90,7 +90,7 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
     bench.store.frameset.FrameSetError, bench.config.ConfigError, bench.store.runfolder.RunFolderError
         Not a frame set, a bad label or tracker setting, a folder that cannot be used.
     """
-    from bench.run.experiment import GALLERY_FRAMES, finish_run, scan_tables
+    from bench.run.experiment import GALLERY_FRAMES, figure_data, finish_run, scan_tables
     from bench.run.track import build_trackers, track_frame
     from bench.evaluate import tables as analysis
     from scenes.rig import Rig
@@ -175,11 +175,11 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                 cols = {n: res.columns[n][i] for n in res.columns}
                 gallery.append(GalleryFrame(exp.key, int(i), images[i][0], res.truth_columns[i], cols))
                 if fig7 is None:
-                    fig7 = FigData(exp.key, float(res.angles[i]), images[i][0], images[i][1],
-                                   res.truth_columns[i], cols)
+                    fig7 = figure_data(exp.key, float(res.angles[i]), images[i][0], images[i][1],
+                                       res.truth_columns[i], cols)
             failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
             scan_info.append({"experiment": exp.key, "frames": len(frames), "wall_s": time.perf_counter() - t0,
-                              "render_s": 0.0, "variant": res.variant, "failures": failures,
+                              "render_s": 0.0, "variant": res.variant, "failures": failures, "rig": dict(meta["rig"]),
                               "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5]
                                                    for n in res.messages}})
             say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(frames)} frames scored", quiet)

@@ -1,13 +1,15 @@
 """What a run's figures show: Fig. 7's frame (``figdata.npz``) and the failure gallery (``gallery.npz``).
 
-Both files carry a ``format`` array (2); files without one are format 1 (the
-same arrays: read as they are), other numbers are refused. The readers return
+Both files carry a ``format`` array (3); files without one are format 1 (the
+same arrays: read as they are), other numbers are refused. Format 3 adds Fig. 7's
+DP cost field, computed by the run, so that the report draws it without recomputing. The readers return
 the data as objects (:class:`FigData`, :class:`GalleryFrame`), so the array
 keys below are written and parsed here only.
 
 ``figdata.npz``: ``experiment`` (), ``mirror_angle_deg`` (), ``image`` (H, W),
 ``background`` (H, W), ``truth_columns`` (H,) px, ``trackers`` (T,),
-``columns/<name>`` (H,) px, ``format`` ().
+``columns/<name>`` (H,) px, ``cost_field`` (H, W) (format 3: the paper's accumulated cost,
+4-connected, of ``image``), ``format`` ().
 
 ``gallery.npz``: ``keys`` (N,) = ``<experiment>/<frame index>`` in sorted order and
 per key ``<key>/image`` (H, W), ``<key>/truth`` (H,) px, ``<key>/labels`` (T,),
@@ -24,8 +26,8 @@ from bench.store.files import read_npz, save_npz
 
 __all__ = ["FORMAT", "FigData", "GalleryFrame", "write_figdata", "read_figdata", "write_gallery", "read_gallery"]
 
-FORMAT = 2
-_READS = (1, 2)
+FORMAT = 3
+_READS = (1, 2, 3)
 
 
 @dataclass(frozen=True)
@@ -38,6 +40,7 @@ class FigData:
     background: np.ndarray | None  # (H, W) or None (format-1 files without one)
     truth_columns: np.ndarray  # (H,) px
     columns: dict  # tracker -> (H,) px
+    cost_field: np.ndarray | None = None  # (H, W): Fig. 7b, the DP accumulated cost (None: an older file)
 
 
 @dataclass(frozen=True)
@@ -60,17 +63,19 @@ def _format_problem(a: dict) -> str | None:
     if f is None:
         return None
     if f.shape != () or f.dtype.kind not in "iu" or int(f) not in _READS:
-        return f"of format {f.tolist()!r} (this stripebench reads format 1 or 2)"
+        return f"of format {f.tolist()!r} (this stripebench reads format {', '.join(map(str, _READS))})"
     return None
 
 
 def write_figdata(path, fig: FigData) -> None:
-    """Write ``fig`` to ``path`` (format 2), atomically; ``OSError`` names the file."""
+    """Write ``fig`` to ``path`` (format 3), atomically; ``OSError`` names the file."""
     arrays = {"experiment": np.array(fig.experiment), "mirror_angle_deg": np.array(float(fig.mirror_angle_deg)),
               "image": fig.image, "truth_columns": fig.truth_columns, "trackers": np.array(sorted(fig.columns)),
               "format": np.array(FORMAT), **{f"columns/{n}": c for n, c in fig.columns.items()}}
     if fig.background is not None:
         arrays["background"] = fig.background
+    if fig.cost_field is not None:
+        arrays["cost_field"] = fig.cost_field
     save_npz(path, **arrays)
 
 
@@ -94,13 +99,16 @@ def read_figdata(path) -> tuple[FigData | None, str | None]:
     bg = fd.get("background")
     if bg is not None and bg.shape != img.shape:
         return None, f"background of shape {bg.shape} for an image of shape {img.shape}"
+    cost = fd.get("cost_field")
+    if cost is not None and cost.shape != img.shape:
+        return None, f"cost_field of shape {cost.shape} for an image of shape {img.shape}"
     names = [str(n) for n in np.atleast_1d(fd["trackers"])]
     for n in names:
         c = fd.get(f"columns/{n}")
         if c is None or c.shape != (H,):
             return None, f"columns of {n!r} missing or not of shape ({H},)"
     return FigData(str(fd["experiment"]), float(fd["mirror_angle_deg"]), img, bg, fd["truth_columns"],
-                   {n: fd[f"columns/{n}"] for n in names}), None
+                   {n: fd[f"columns/{n}"] for n in names}, cost), None
 
 
 def write_gallery(path, frames) -> None:

@@ -70,6 +70,35 @@ def test_a_report_reads_only_what_the_run_saved(tiny_run, tmp_path, monkeypatch)
     assert build_report(copy, quiet=True).is_file()
 
 
+def test_the_report_draws_the_saved_cost_field_and_rigs_without_recomputing(tiny_run, tmp_path, monkeypatch):
+    """Fig. 7b's cost field and each experiment's rig come from the run's files (issue 36)."""
+    import json
+    import shutil
+
+    import numpy as np
+
+    import scenes
+    import trackers.dp
+    from bench.report.run import build_report
+    from bench.store.figdata import read_figdata
+
+    out, _ = tiny_run
+    fd, why = read_figdata(out / "figdata.npz")
+    assert why is None and np.array_equal(fd.cost_field, trackers.dp.accumulated_cost(fd.image, connectivity=4))
+    summary = json.loads((out / "summary.json").read_text())
+    assert all(isinstance(s["rig"], dict) for s in summary["scans"])
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+
+    def refuse(*a, **k):
+        raise AssertionError("the report recomputed what the run saved")
+
+    monkeypatch.setattr(trackers.dp, "accumulated_cost", refuse)
+    monkeypatch.setattr(scenes, "make", refuse)
+    monkeypatch.setattr("bench.report.run.figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
+    assert build_report(copy, quiet=True).is_file()
+
+
 EVIL = "<script>alert('x')</script> \"q\""
 
 

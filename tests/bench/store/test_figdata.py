@@ -22,13 +22,28 @@ def test_figure_data_of_another_format_or_shape_is_refused(tmp_path):
     p = tmp_path / "f.npz"
     write_figdata(p, _fig())
     a = load_npz(p)
-    save_npz(p, **{**a, "format": np.array(3)})
-    assert read_figdata(p) == (None, "of format 3 (this stripebench reads format 1 or 2)")
+    save_npz(p, **{**a, "format": np.array(4)})
+    assert read_figdata(p) == (None, "of format 4 (this stripebench reads format 1, 2, 3)")
+    save_npz(p, **{**a, "cost_field": np.zeros((2, 2))})
+    assert "cost_field of shape (2, 2)" in read_figdata(p)[1]
     save_npz(p, **{**a, "columns/t": np.zeros(5)})
     assert "columns of 't'" in read_figdata(p)[1]
     a.pop("format")  # format 1: the same arrays without a number, read as they are
     save_npz(p, **a)
     assert read_figdata(p)[0] is not None
+
+
+def test_the_cost_field_round_trips_and_older_files_have_none(tmp_path):
+    import dataclasses
+
+    p = tmp_path / "f.npz"
+    cost = np.linspace(0, 1, 48).reshape(6, 8)
+    write_figdata(p, dataclasses.replace(_fig(), cost_field=cost))
+    assert np.array_equal(read_figdata(p)[0].cost_field, cost)
+    a = load_npz(p)
+    a.pop("cost_field")
+    save_npz(p, **{**a, "format": np.array(2)})  # a format-2 file: no cost field saved
+    assert read_figdata(p)[0].cost_field is None
 
 
 def test_the_gallery_round_trips_in_key_order(tmp_path):

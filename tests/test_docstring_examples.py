@@ -37,7 +37,7 @@ WITHOUT_EXAMPLES = {
     "trackers._registry", "trackers._stats", "trackers._subpixel", "trackers.centroid", "trackers.dp_subpixel",
     "trackers.processes", "scenes", "scenes._checks", "scenes.contact_sheet", "scenes.laser", "scenes.params",
     "scenes.radiometry", "scenes.registry", "scenes.rows", "scenes.truth", "bench", "bench.api", "bench.cli",
-    "bench.cli.common", "bench.cli.info", "bench.cli.real", "bench.cli.run", "bench.cli.studies", "bench.cli.submit",
+    "bench.cli.common", "bench.cli.gate_spread", "bench.cli.info", "bench.cli.real", "bench.cli.run", "bench.cli.studies", "bench.cli.submit",
     "bench.cli.sweep", "bench.config.profiles", "bench.config.tune", "bench.evaluate", "bench.evaluate._ap_kernel",
     "bench.evaluate.triangulation", "bench.report", "bench.report.real", "bench.report.simreal", "bench.report.sweep",
     "bench.run", "bench.run.export", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",

@@ -3,7 +3,7 @@
 Every command is a :class:`bench.cli.common.Command` in the ``COMMANDS`` of its
 group's module (``run``: reproduce, run, report, check, compare; ``real``:
 track, real; ``submit``: export, score, leaderboard; ``sweep``; ``studies``:
-estimators, translucency, tune, perf {trackers, scenes, sweep, shiny,
+estimators, translucency, tune, spread, perf {trackers, scenes, sweep, shiny,
 sampling, lit, mis}; ``info``: trackers, scenes; a test
 checks this list against :func:`command_groups`), built from an
 ``add_arguments(parser)`` and a ``run(args)``. The options they share (``--out``,

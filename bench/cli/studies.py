@@ -1,4 +1,4 @@
-"""The study commands: ``estimators``, ``translucency``, ``tune``, ``perf {trackers,scenes,sweep,shiny,sampling,lit,mis}``.
+"""The study commands: ``estimators``, ``translucency``, ``tune``, ``spread``, ``perf {trackers,scenes,sweep,shiny,sampling,lit,mis}``.
 
 Each study keeps its options and its work in its own module
 (:mod:`bench.studies`: ``add_arguments(parser)`` and ``command(args)``, from which
@@ -45,6 +45,9 @@ COMMANDS = (
     _study("bench.studies.estimators", "estimators", "the sub-pixel estimator study on analytic stripes"),
     _study("bench.studies.translucency", "translucency", "the subsurface-scattering bias study", renders=True),
     _study("bench.studies.tune", "tune", "choose a default by its committed procedure: `tune dp` (the DP's h_weight)",
+           renders=True),
+    _study("bench.studies.gate_spread", "spread",
+           "the gated metrics' spread across machine configurations, and the gate's tolerances from it",
            renders=True),
     Command("perf", "speed benchmarks: `perf` (= `perf trackers`), `perf scenes`, `perf sweep`, `perf shiny`, `perf sampling`, `perf lit`, `perf mis`",
             lambda parser: parser.add_argument("--strict", action="store_true",

@@ -21,7 +21,7 @@ Baseline files are format 2 (:data:`FORMAT`): format 1 plus ``renderer`` (the
 Mitsuba variant and LLVM target that rendered the baseline's frames, see
 :func:`scenes.variant.renderer`; a run rendered otherwise is not comparable)
 and ``tolerance_source`` (how the tolerances were derived: by
-:mod:`bench.cli.gate_spread` from the spread measured across machine
+:mod:`bench.studies.gate_spread` from the spread measured across machine
 configurations, or ``"defaults"``). Format 1 files are read as format 2 with
 neither; any other format is refused in one line.
 """
@@ -151,7 +151,7 @@ def write_baseline(run_dir, path, *, tolerances: dict | None = None, tolerance_s
     ``tolerances`` (``{metric: {direction, abs, rel}}``) and ``tolerance_source`` replace the defaults;
     without them, a valid baseline already at ``path`` whose tolerances were derived
     (``tolerance_source`` not ``"defaults"``) keeps its tolerances and their source, so
-    ``check --update`` does not undo :mod:`bench.cli.gate_spread`.
+    ``check --update`` does not undo :mod:`bench.studies.gate_spread`.
     """
     from bench.store.files import atomic_write_text
 
@@ -197,13 +197,13 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
     >>> validate_baseline({"format": 3, "metrics": {}})
     Traceback (most recent call last):
     ...
-    bench.errors.InputError: baseline is format 3: this stripebench reads baseline formats 1 and 2 (regenerate it with `stripebench check RUN --baseline FILE --update` or `python -m bench.cli.gate_spread`)
+    bench.errors.InputError: baseline is format 3: this stripebench reads baseline formats 1 and 2 (regenerate it with `stripebench check RUN --baseline FILE --update` or `stripebench spread`)
     """
     if isinstance(doc, dict) and "metrics" in doc and doc.get("format") not in READ_FORMATS \
             and isinstance(doc.get("format"), int) and not isinstance(doc.get("format"), bool):
         raise InputError(f"{where} is format {doc['format']}: this stripebench reads baseline formats "
                          f"{' and '.join(map(str, READ_FORMATS))} (regenerate it with `stripebench check RUN "
-                         "--baseline FILE --update` or `python -m bench.cli.gate_spread`)")
+                         "--baseline FILE --update` or `stripebench spread`)")
     fmt = doc.get("format") if isinstance(doc, dict) else None
     if type(fmt) is not int or fmt not in READ_FORMATS or "metrics" not in doc:  # true == 1 and 1.0 == 1: not formats
         raise InputError(f"{where} is not a stripebench baseline (format {_FORMAT})"

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bench.cli import gate_spread as gs
+from bench.studies import gate_spread as gs
 from bench.run import gate
 from bench.cli import main
 
@@ -116,6 +116,10 @@ def test_bad_arguments_are_one_line_and_exit_2(tmp_path, capsys):
     assert "including 'here'" in capsys.readouterr().err
     assert gs.main(["--out", str(tmp_path), "--safety", "0.5"]) == 2
     assert "`safety` must be a number >= 1" in capsys.readouterr().err
+    from bench.cli import main  # the same procedure in the command tree: `stripebench spread`
+
+    assert main(["spread", "--out", str(tmp_path), "--gates", "nope"]) == 2
+    assert capsys.readouterr().err.strip() == "gate_spread: `--gates` must name some of ci, real, got 'nope'"
 
 
 # -- the baseline format ------------------------------------------------------------------
@@ -181,7 +185,7 @@ def test_update_keeps_derived_tolerances_and_their_source(gate_run, tmp_path):
     out, _ = gate_run
     p = tmp_path / "b.json"
     tols = {m: {"direction": d, "abs": a * 3, "rel": r} for m, (d, a, r) in gate.TOLERANCES.items()}
-    source = {"procedure": "python -m bench.cli.gate_spread", "safety": 2.0}
+    source = {"procedure": "stripebench spread", "safety": 2.0}
     gate.write_baseline(out, p, tolerances=tols, tolerance_source=source)
     assert main(["check", str(out), "--baseline", str(p), "--update"]) == 0
     doc = gate.load_baseline(p)

@@ -3,7 +3,7 @@
 A mono-camera frame (``scenes`` parameter ``camera = "mono"``) goes to the trackers as it is.
 A colour-camera frame (``camera = "rgb"``) carries ``frame.rgb`` (and ``frame.rgb_background``);
 the trackers get the 2-D image that ``stripebench track`` would make of the same photograph:
-:func:`bench.store.realset.select_channel` with the same ``channel`` rule (default ``"auto"``) and the laser's
+:func:`bench.evaluate.pixels.select_channel` with the same ``channel`` rule (default ``"auto"``) and the laser's
 colour named from its wavelength (:func:`laser_colour`).
 """
 
@@ -15,7 +15,7 @@ __all__ = ["laser_colour", "tracker_images"]
 
 
 def laser_colour(wavelength_nm: float) -> str:
-    """``"blue"`` below 490 nm, ``"green"`` below 580 nm, else ``"red"`` (the name :func:`bench.store.realset.select_channel`
+    """``"blue"`` below 490 nm, ``"green"`` below 580 nm, else ``"red"`` (the name :func:`bench.evaluate.pixels.select_channel`
     takes).
 
     Examples
@@ -44,7 +44,7 @@ def tracker_images(frame, params=None, channel: str = "auto") -> tuple[np.ndarra
     -------
     image, background : ndarray (H, W)
         ``frame.image`` and ``frame.background`` for a mono frame; for a colour frame
-        :func:`bench.store.realset.select_channel` of ``frame.rgb`` and ``frame.rgb_background``
+        :func:`bench.evaluate.pixels.select_channel` of ``frame.rgb`` and ``frame.rgb_background``
         (float64 for ``excess``/``gray``, uint8 for a plain channel).
 
     Raises
@@ -52,7 +52,7 @@ def tracker_images(frame, params=None, channel: str = "auto") -> tuple[np.ndarra
     ValueError
         A colour frame without ``params`` holding ``laser_wavelength_nm``; an unknown ``channel``.
     """
-    from bench.store.realset import select_channel
+    from bench.evaluate.pixels import select_channel
 
     if getattr(frame, "rgb", None) is None:
         return frame.image, frame.background

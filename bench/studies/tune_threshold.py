@@ -148,7 +148,7 @@ def apply_rule(rgb, laser: str, rule):
     ``'laser'`` or a knee of :func:`bench.evaluate.colour.saturation_blend`; a grey
     photograph (2-D, or three equal channels) is returned as it is."""
     from bench.evaluate.colour import LASER_INDEX, saturation_blend
-    from bench.store.realset import select_channel
+    from bench.evaluate.pixels import select_channel
 
     img = np.asarray(rgb)
     if img.ndim == 2 or (np.array_equal(img[..., 0], img[..., 1]) and np.array_equal(img[..., 0], img[..., 2])):
@@ -195,7 +195,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     import trackers
 
     from bench.evaluate.outcomes import detection_figures
-    from bench.store.realset import rotate_image
+    from bench.evaluate.pixels import rotate_image
     from bench.studies.tuning import Tally
 
     def say(msg):

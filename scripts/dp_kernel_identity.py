@@ -14,29 +14,31 @@ and on a float64 signed difference of every third of them (24 frames, as a laser
 * ``dp_gap``'s fields ``F`` and ``Foff`` (``sweep``) with the tracker's own off and switch costs,
   8-connectivity at 0.25 and 4-connectivity at 1.
 
+The kernels of this checkout are called through their public entry points (:mod:`trackers.dp_stages`,
+thin calls of the kernels the trackers run); those of ``REV`` are the files as they were, loaded
+from git under other names and called directly (that revision had no such entry points).
+
 Prints the number of comparisons and of differences (each difference named); exit status 1 if any.
-Run with the project's Python from a git checkout: ``python scripts/dp_kernel_identity.py [REV]``
+Run with the project's Python (installed editable from this git checkout, whose packages it
+imports): ``python scripts/dp_kernel_identity.py [REV]``
 (default ``79eba0f``, the last revision with the scalar loops).
 """
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))  # the repository root
+import trackers
+from bench.studies.perf.frames import varied_frames
+from trackers import dp_stages as S
 
-import trackers  # noqa: E402
-from bench.studies.perf.frames import varied_frames  # noqa: E402
-from trackers import _dp_gap as G  # noqa: E402
-from trackers import _dp_kernels as K  # noqa: E402
-from trackers.dp import _half_cost  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]  # the git checkout the old revision is read from
 
 DEFAULT_REV = "79eba0f"
 CONFIGS = ((False, 1.0), (False, 0.25), (True, 1.0), (True, 0.25))
@@ -71,50 +73,51 @@ def compare(OK, OG) -> tuple[int, list[str]]:
         rm0 = np.empty(H)
         ce0 = np.empty(H, np.int64)
         (OK.half_cost_u8 if img.dtype == np.uint8 else OK.half_cost_float)(img, 1.0, hc0, rm0, ce0)
-        hc, rm, ce, rc = _half_cost(img, 1.0)
+        hc, rm, ce, rc = S.half_costs(img, 1.0)
         count += 1
         if not (hc0.tobytes() == hc.tobytes() and rm0.tobytes() == rm.tobytes() and np.array_equal(ce0, ce)):
             diffs.append(f"{label}: half costs")
         for conn8, hw in CONFIGS:
-            D0, D1, D2 = (np.empty_like(hc) for _ in range(3))
+            conn = 8 if conn8 else 4
+            D0 = np.empty_like(hc)
             s0 = OK.accumulate(hc, conn8, True, D0, rm, ce, hw)
-            s1 = K.accumulate(hc, conn8, True, D1, rm, ce, hw, rc)
-            s2 = K.accumulate(hc, conn8, True, D2, rm, ce, hw)
-            marks = [np.zeros((H, W), np.uint8) for _ in range(2)]
-            rows = [np.empty(H * W, np.int64) for _ in range(4)]
-            cols = [np.empty(H * W, np.int64) for _ in range(4)]
-            n0 = OK.optimal_nodes(D0, hc, conn8, 1e-11, marks[0], rows[0], cols[0], hw)
-            n1 = K.optimal_nodes(D1, hc, conn8, 1e-11, marks[1], rows[1], cols[1], hw)
-            p0 = OK.backtrack(D0, hc, conn8, rows[2], cols[2], hw)
-            p1 = K.backtrack(D1, hc, conn8, rows[3], cols[3], hw)
+            D1, s1 = S.distance_field(hc, rm, ce, conn, hw, right=rc)
+            D2, s2 = S.distance_field(hc, rm, ce, conn, hw)
+            mark0 = np.zeros((H, W), np.uint8)
+            rows0, cols0 = np.empty(H * W, np.int64), np.empty(H * W, np.int64)
+            n0 = OK.optimal_nodes(D0, hc, conn8, 1e-11, mark0, rows0, cols0, hw)
+            mark1, rows1, _ = S.optimal_nodes(D1, hc, conn, hw, tol=1e-11)
+            p0 = OK.backtrack(D0, hc, conn8, rows0, cols0, hw)  # bottom to top
+            path_r, path_c = S.backtrack(D1, hc, conn, hw)  # top to bottom
             count += 1
-            same = (D0.tobytes() == D1.tobytes() == D2.tobytes() and s0 == s1 == s2 and np.array_equal(*marks)
-                    and n0 == n1 and p0 == p1 and np.array_equal(rows[2][:p0], rows[3][:p1])
-                    and np.array_equal(cols[2][:p0], cols[3][:p1]))
+            same = (D0.tobytes() == D1.tobytes() == D2.tobytes() and s0 == s1 == s2 and np.array_equal(mark0, mark1)
+                    and n0 == rows1.size and p0 == path_r.size and np.array_equal(rows0[:p0][::-1], path_r)
+                    and np.array_equal(cols0[:p0][::-1], path_c))
             if not same:
                 diffs.append(f"{label}: {8 if conn8 else 4}-conn h_weight={hw:g} (sweeps {s0} / {s1})")
         if W < 960:
-            D0, D1 = np.empty_like(hc), np.empty_like(hc)
+            D0 = np.empty_like(hc)
             OK.accumulate(hc, True, False, D0, rm, ce, 0.5)
-            K.accumulate(hc, True, False, D1, rm, ce, 0.5, rc)
+            D1, _ = S.distance_field(hc, rm, ce, 8, 0.5, right=rc, exact=True)
             count += 1
             if D0.tobytes() != D1.tobytes():
                 diffs.append(f"{label}: the exact field")
         off, s = gap.off_costs(img, rm)
         ho = np.full(H, 0.5 * off)
         for conn8, hw in ((True, 0.25), (False, 1.0)):
-            F0, F1 = np.empty((H, W)), np.empty((H, W))
-            f0, f1 = np.empty(H), np.empty(H)
+            F0, f0 = np.empty((H, W)), np.empty(H)
             OG.sweep(hc, ho, s, conn8, hw, F0, f0)
-            G.sweep(hc, ho, s, conn8, hw, F1, f1)
+            F1, f1 = S.gap_fields(hc, ho, s, 8 if conn8 else 4, hw)
             count += 1
             if F0.tobytes() != F1.tobytes() or f0.tobytes() != f1.tobytes():
                 diffs.append(f"{label}: dp_gap {8 if conn8 else 4}-conn h_weight={hw:g}")
     return count, diffs
 
 
-def main() -> int:
-    rev = sys.argv[1] if len(sys.argv) > 1 else DEFAULT_REV
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("rev", nargs="?", default=DEFAULT_REV, help=f"the earlier revision (default {DEFAULT_REV})")
+    rev = p.parse_args(argv).rev
     with tempfile.TemporaryDirectory() as tmp:
         OK = load_old(rev, "trackers/_dp_kernels.py", Path(tmp), "old_dp_kernels")
         OG = load_old(rev, "trackers/_dp_gap.py", Path(tmp), "old_dp_gap")

@@ -2,12 +2,13 @@
 
 For ``dp4`` and ``dp8`` (default parameters) on the frames of one size of
 ``bench.studies.perf.frames.varied_frames(2, seed=0)`` (default 512x480, 18 frames): the whole
-``track()``, the half costs (``trackers.dp._half_cost``), the solve (``_dp_kernels.accumulate``),
-the labelling of the optimal nodes (``optimal_nodes``), the row summaries (``_dp_rows.marked_rows``)
-and the reporting rule (``trackers.dp._reporting_rule``). Each part is timed alone on the arrays the
-tracker would give it, as the least of ``--repeats`` calls in the thread's CPU time; the table shows
-the median over the frames in ms. The parts do not add up to ``track()`` exactly (validation, the
-``Track`` and the Python between them are not listed, and each part alone runs with warm caches).
+``track()``, the half costs, the solve, the labelling of the optimal nodes, the row summaries and
+the reporting rule (the stages of :mod:`trackers.dp_stages`: ``half_costs``, ``distance_field``,
+``optimal_nodes``, ``row_readings``, ``reporting_rule``, each a thin call of the tracker's own
+kernel). Each part is timed alone on the arrays the tracker would give it, as the least of
+``--repeats`` calls in the thread's CPU time; the table shows the median over the frames in ms.
+The parts do not add up to ``track()`` exactly (validation, the ``Track`` and the Python between
+them are not listed, and each part alone runs with warm caches).
 
 Run with the project's Python: ``python scripts/dp_profile.py [--size 512x480] [--repeats 7]``.
 """
@@ -15,19 +16,13 @@ Run with the project's Python: ``python scripts/dp_profile.py [--size 512x480] [
 from __future__ import annotations
 
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
-
-import trackers  # noqa: E402
-from bench.studies.perf.frames import varied_frames  # noqa: E402
-from trackers import _dp_kernels as K  # noqa: E402
-from trackers import _dp_rows as R  # noqa: E402
-from trackers.dp import _TIE_TOL, ROW_RULES, _half_cost, _reporting_rule  # noqa: E402
+import trackers
+from bench.studies.perf.frames import varied_frames
+from trackers import dp_stages as S
 
 PARTS = ("track", "half costs", "solve", "labelling", "row summaries", "reporting rule")
 
@@ -43,7 +38,6 @@ def least_ms(fn, repeats: int) -> float:
 
 def profile(name: str, frames, repeats: int) -> dict[str, float]:
     t = trackers.make(name)
-    conn8 = t.connectivity == 8
     hw = float(t.h_weight)
     out = {p: [] for p in PARTS}
     for img in frames:
@@ -51,28 +45,27 @@ def profile(name: str, frames, repeats: int) -> dict[str, float]:
         t.track(img)
         out["track"].append(least_ms(lambda: t.track(img), repeats))
         hc = np.empty((H, W))
-        out["half costs"].append(least_ms(lambda: _half_cost(img, t.eps, hc), repeats))
-        hc, rowmin, centre, rightc = _half_cost(img, t.eps, hc)
+        out["half costs"].append(least_ms(lambda: S.half_costs(img, t.eps, hc), repeats))
+        hc, rowmin, centre, rightc = S.half_costs(img, t.eps, hc)
         D = np.empty((H, W))
-        out["solve"].append(least_ms(lambda: K.accumulate(hc, conn8, True, D, rowmin, centre, hw, rightc), repeats))
+        out["solve"].append(least_ms(lambda: S.distance_field(hc, rowmin, centre, t.connectivity, hw, right=rightc,
+                                                              out=D), repeats))
         rows = np.empty(H * W, np.int64)
         cols = np.empty(H * W, np.int64)
 
-        def label():
-            mark = np.zeros((H, W), np.uint8)
-            return K.optimal_nodes(D, hc, conn8, _TIE_TOL, mark, rows, cols, hw), mark
+        def label():  # a zeroed label array per call, as the tracker allocates it
+            return S.optimal_nodes(D, hc, t.connectivity, hw, rows=rows, cols=cols)
 
         out["labelling"].append(least_ms(label, repeats))
-        n, mark = label()
-        col, contrast, side_sd = np.empty(H), np.empty(H), np.empty(H)
-        span = np.empty(H, np.int64)
+        mark, rows_n, cols_n = label()
+        readings = (np.empty(H), np.empty(H), np.empty(H), np.empty(H, np.int64))
 
         def summaries():
-            R.marked_rows(img, mark, rows[:n], cols[:n], int(t.side_inner), int(t.side_outer), ROW_RULES[t.row_rule],
-                          col, contrast, side_sd, span)
+            S.row_readings(img, mark, rows_n, cols_n, t.side_inner, t.side_outer, t.row_rule, out=readings)
 
         out["row summaries"].append(least_ms(summaries, repeats))
-        out["reporting rule"].append(least_ms(lambda: _reporting_rule(img, contrast, side_sd, span, t), repeats))
+        _, contrast, side_sd, span = readings
+        out["reporting rule"].append(least_ms(lambda: S.reporting_rule(img, contrast, side_sd, span, t), repeats))
     return {p: float(np.median(v)) for p, v in out.items()}
 
 

@@ -23,15 +23,11 @@ Run with the project's Python: ``python scripts/dp_row_rules.py [--no-render]``.
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
-
-import trackers  # noqa: E402
-from trackers.testing import make_stripe_image  # noqa: E402
+import trackers
+from trackers.testing import make_stripe_image
 
 #: label -> (row_rule, max_walk) of the DP trackers
 RULES = {"mean": ("mean", None), "crossing": ("crossing", None), "brightest": ("brightest", None),
@@ -89,8 +85,8 @@ def measure(frames, name, h_weight):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--no-render", action="store_true")
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--no-render", action="store_true", help="only the synthetic frames (no Mitsuba renders)")
     args = p.parse_args()
     sets = [("synthetic: jump + cut (6 frames, 160x120)", synthetic())]
     if not args.no_render:

@@ -43,7 +43,6 @@ crosses clutter in a room without a visible line stay ``unknown``.
 from __future__ import annotations
 
 import argparse
-import sys
 import tomllib
 from pathlib import Path
 
@@ -166,7 +165,6 @@ def state_bar(img: np.ndarray, states: np.ndarray, rotate_deg: int) -> np.ndarra
 def make_refs() -> None:
     import imageio.v3 as iio
 
-    sys.path.insert(0, str(ROOT))
     from bench.evaluate.outcomes import STATE_NAMES, fallback_states
     from bench.report.real import overlay
     from bench.store import realset as real

@@ -16,17 +16,14 @@ Run from a checkout with the project's Python:
 
 from __future__ import annotations
 
+import argparse
 import hashlib
 import pickle
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
-
-import trackers  # noqa: E402
-from bench.studies.perf.frames import varied_frames  # noqa: E402
+import trackers
+from bench.studies.perf.frames import varied_frames
 
 
 def digest() -> dict:
@@ -44,10 +41,13 @@ def digest() -> dict:
     return out
 
 
-def main() -> None:
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("out", nargs="?", help="also write the entries to this pickle file")
+    args = p.parse_args(argv)
     out = digest()
-    if len(sys.argv) > 1:
-        with open(sys.argv[1], "wb") as fh:
+    if args.out:
+        with open(args.out, "wb") as fh:
             pickle.dump(out, fh)
     print(len(out), hashlib.sha256(pickle.dumps(sorted(out.items()))).hexdigest())
 

@@ -183,6 +183,36 @@ def test_the_layout_check_sees_function_level_imports(tmp_path):
     assert {"bench.report", "bench.cli"} <= _imports(f, "bench", root=tmp_path)
 
 
+def _argparse_outside_cli(root: pathlib.Path = REPO) -> list[str]:
+    """``file: what`` for every module of ``bench`` outside ``bench/cli/`` that imports argparse or defines
+    an ``add_arguments`` (issue 36: every argparse part lives in the command layer)."""
+    bad = []
+    for f in sorted(p for p in (root / "bench").rglob("*.py") if "__pycache__" not in p.parts):
+        rel = f.relative_to(root)
+        if rel.parts[:2] == ("bench", "cli"):
+            continue
+        if any(name == "argparse" or name.startswith("argparse.") for name in _imports(f, "bench", root=root)):
+            bad.append(f"{rel}: imports argparse")
+        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name == "add_arguments":
+                bad.append(f"{rel}:{node.lineno}: defines add_arguments")
+    return bad
+
+
+def test_only_the_command_layer_knows_argparse():
+    """Studies and the library expose plain functions; their options are bench/cli's (one module per group)."""
+    assert _argparse_outside_cli() == []
+
+
+def test_the_argparse_check_finds_a_parser_outside_the_command_layer(tmp_path):
+    (tmp_path / "bench" / "studies").mkdir(parents=True)
+    (tmp_path / "bench" / "cli").mkdir()
+    (tmp_path / "bench" / "studies" / "x.py").write_text("def add_arguments(parser):\n    import argparse\n")
+    (tmp_path / "bench" / "cli" / "x.py").write_text("import argparse\n\ndef add_arguments(parser):\n    pass\n")
+    assert _argparse_outside_cli(tmp_path) == ["bench/studies/x.py: imports argparse",
+                                               "bench/studies/x.py:1: defines add_arguments"]
+
+
 # -- one home for the scoring rules (bench.evaluate.outcomes) ------------------------------------------
 _TOLERANCES = {"tol_px", "hit_px", "HIT_PX", "threshold_px", "OUTLIER_PX", "within_mm", "WITHIN_MM", "gross_mm",
                "GROSS_MM"}
@@ -232,3 +262,46 @@ def test_layout_md_lists_every_module_from_its_docstring():
     out = subprocess.run([sys.executable, str(REPO / "scripts" / "layout_md.py"), "--check"], capture_output=True,
                          text=True, cwd=REPO)
     assert out.returncode == 0, out.stderr
+
+
+# -- bench uses scenes through its public interface (scenes.__all__ and scenes.PUBLIC_MODULES) -------------------
+def _scenes_modules_used(path: pathlib.Path, root: pathlib.Path = REPO) -> list[tuple[int, str]]:
+    """``(line, module)`` for every scenes submodule ``path`` imports (``import scenes.x``, ``from scenes.x import
+    ...``, ``from scenes import x``) or reaches as an attribute (``scenes.x.y``)."""
+    submodules = {p.stem for p in (root / "scenes").glob("*.py") if p.stem != "__init__"}
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name.split(".")[1]) for a in node.names if a.name.startswith("scenes.")]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").split(".")[0] == "scenes":
+            if node.module == "scenes":
+                out += [(node.lineno, a.name) for a in node.names if a.name in submodules]
+            else:
+                out.append((node.lineno, node.module.split(".")[1]))
+        elif (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "scenes"
+              and node.attr in submodules):
+            out.append((node.lineno, node.attr))
+    return sorted(out)
+
+
+def test_bench_uses_only_the_public_interface_of_scenes():
+    """bench imports of scenes only the names of ``scenes.__all__`` and the modules of ``scenes.PUBLIC_MODULES``
+    (issue 36): the rest of scenes can move without touching bench."""
+    import scenes
+
+    bad = [f"{f.relative_to(REPO)}:{line} uses scenes.{mod}" for f in _files("bench")
+           for line, mod in _scenes_modules_used(f) if mod not in scenes.PUBLIC_MODULES]
+    assert not bad, "bench reaches into scenes outside scenes.__all__ / scenes.PUBLIC_MODULES:\n" + "\n".join(bad)
+    missing = [n for n in scenes.__all__ if not hasattr(scenes, n)]
+    assert not missing and set(scenes.PUBLIC_MODULES) <= {p.stem for p in (REPO / "scenes").glob("*.py")}, missing
+
+
+def test_the_scenes_interface_check_finds_a_private_module(tmp_path):
+    (tmp_path / "scenes").mkdir()
+    for name in ("__init__", "scene", "variant", "masks"):
+        (tmp_path / "scenes" / f"{name}.py").write_text("")
+    f = tmp_path / "user.py"
+    f.write_text("import scenes\nfrom scenes import variant, make\n\ndef g():\n    from scenes.scene import render_pass\n"
+                 "    import scenes.masks\n    return scenes.variant, scenes.make, scenes.masks.grow\n")
+    assert _scenes_modules_used(f, root=tmp_path) == [(2, "variant"), (5, "scene"), (6, "masks"), (7, "masks"),
+                                                      (7, "variant")]

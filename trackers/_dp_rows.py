@@ -2,7 +2,8 @@
 
 The solver (:mod:`trackers._dp_kernels`) finds the optimal paths; this module
 turns the labelled optimal-path nodes into one column, a contrast and a local
-noise estimate per row. Callers allocate the outputs.
+noise estimate per row. Callers allocate the outputs. The public entry point
+(for scripts and notebooks) is :func:`trackers.dp_stages.row_readings`.
 """
 
 from __future__ import annotations
@@ -34,7 +35,8 @@ def marked_rows(image, mark, rows, cols, inner, outer, rule, out_col, contrast, 
     ``contrast[r]``
         the intensity at that column (``RULE_MEAN``: the mean intensity of
         the labelled nodes) minus the mean of the side pixels ``inner`` to
-        ``outer`` columns left and right of it (clipped to the image).
+        ``outer`` columns left and right of it (clipped to the image; 0 if
+        no side pixel is in the image).
     ``side_sd[r]``
         the standard deviation of those side pixels (NaN if fewer than two).
     ``span[r]``
@@ -42,9 +44,14 @@ def marked_rows(image, mark, rows, cols, inner, outer, rule, out_col, contrast, 
         labelled node (0 if none).
 
     Where the stripe stays above half its height (over the darkest pixel
-    within ``outer``) for more than ``inner - 2`` columns on a side, that
-    side's window moves out by the difference, so a wide or saturated stripe
-    is not taken for its own background.
+    within ``outer``) for more than ``inner - 2`` columns on a side (counted
+    up to 64), that side's window moves out by the difference, so a wide or
+    saturated stripe is not taken for its own background.
+
+    ``image`` is (H, W) uint8 or float64, ``mark`` (H, W) uint8, ``rows`` and
+    ``cols`` (n,) int64 (each labelled node once), ``inner <= outer`` >= 1;
+    the outputs are (H,) float64, float64, float64 and int64. Tests:
+    ``tests/trackers/test_dp_rows.py`` (a plain-Python reference).
     """
     H, W = image.shape
     cnts = np.zeros(H, np.int64)

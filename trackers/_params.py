@@ -143,7 +143,7 @@ class Choice:
     ValueError: `estimator` must be one of 'gauss3', 'parabolic', got 'cubic'
     """
 
-    values: frozenset
+    values: frozenset | tuple  # a tuple keeps an order for those who list it (bench.config.checks.describe)
 
     def check(self, name: str, value) -> None:
         check_choice(name, value, self.values)

@@ -27,6 +27,10 @@ Public functions
   then backtracking), for tests and teaching.
 - :func:`accumulated_cost` - the paper's accumulated cost field (Fig. 7b).
 
+The trackers' stages one at a time (half costs, field, labelling, row
+readings, reporting rule), for profiling and kernel checks, are in
+:mod:`trackers.dp_stages`.
+
 Trackers ``dp4`` and ``dp8`` (:class:`DP4Tracker`, :class:`DP8Tracker`).
 """
 

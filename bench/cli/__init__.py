@@ -6,9 +6,11 @@ track, real; ``submit``: export, score, leaderboard; ``sweep``; ``studies``:
 estimators, translucency, tune, spread, perf {trackers, scenes, sweep, shiny,
 sampling, lit, mis}; ``info``: trackers, scenes; a test
 checks this list against :func:`command_groups`), built from an
-``add_arguments(parser)`` and a ``run(args)``. The options they share (``--out``,
+``add_arguments(parser)`` and a ``run(args)``; a study command's ``run`` calls the
+study's plain function with the parsed options (:func:`bench.cli.common.study_command`),
+and only this package knows argparse. The options they share (``--out``,
 ``--quiet``, ``--seed``, ``--trackers``, counts, finite numbers) are defined once
-in :mod:`bench.config.options`.
+in :mod:`bench.cli.options` (their value checks in :mod:`bench.config.options`).
 
 Exit status: 0 success, 1 a failed check (``stripebench check``/``compare``,
 ``perf trackers --strict``, a file ``track`` could not read), 2 a usage, configuration,
@@ -27,7 +29,7 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import LazyParser, UsageError, add_commands, check_variant
-from bench.config.options import HelpFormatter, OneLineParser, plain
+from bench.cli.options import HelpFormatter, OneLineParser, plain
 
 __all__ = ["main", "build_parser", "plain", "version", "tracker_table", "UsageError", "command_groups"]
 

@@ -1,5 +1,5 @@
 """What every ``stripebench`` command shares: the command record, lazily built parsers, the usage error,
-the checks of the environment. The option types themselves are :mod:`bench.config.options`."""
+the checks of the environment. The option types themselves are :mod:`bench.cli.options`."""
 
 from __future__ import annotations
 
@@ -9,10 +9,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from bench.config.options import HelpFormatter, OneLineParser, first_paragraph
+from bench.cli.options import HelpFormatter, OneLineParser, first_paragraph
 from bench.errors import StripebenchError
 
-__all__ = ["Command", "UsageError", "LazyParser", "add_commands", "check_env", "check_out_folder", "check_variant"]
+__all__ = ["Command", "UsageError", "LazyParser", "add_commands", "check_env", "check_out_folder", "check_variant", "call",
+           "study_command", "standalone"]
 
 
 class UsageError(StripebenchError, ValueError):
@@ -27,7 +28,8 @@ class Command:
     parsed or its help shown, so a command's heavy imports cost nothing to the
     others); ``run(args) -> int`` does the work. ``description`` (plain text,
     default the help) heads ``stripebench NAME -h``; ``renders`` marks commands that
-    use Mitsuba (``$STRIPEBENCH_VARIANT`` is checked before them).
+    use Mitsuba (``$STRIPEBENCH_VARIANT`` is checked before them); ``calls`` (``"module:function"``)
+    names the plain function a study command calls with its options (:func:`study_command`).
     """
 
     name: str
@@ -39,6 +41,7 @@ class Command:
     renders: bool = False
     subcommands: tuple = ()
     default_subcommand: str | None = None
+    calls: str | None = None
 
 
 class LazyParser(OneLineParser):
@@ -150,3 +153,56 @@ def description_of(module_name: str) -> Callable[[], str]:
 def namespace(**kw) -> argparse.Namespace:
     """An ``argparse.Namespace`` (for calling a command's ``run`` from code)."""
     return argparse.Namespace(**kw)
+
+
+def study_command(name: str, help: str, add_arguments: Callable, calls: str, *, renders: bool = False,
+                  description: str | Callable[[], str] | None = None, epilog: str | None = None) -> Command:
+    """A command that calls a study's plain function (``calls``: ``"module:function"``) with its options
+    (:func:`call`); the module is imported only when the command runs or its help is shown, and the
+    first paragraph of its docstring is the command's description unless ``description`` is given."""
+    module, _, function = calls.partition(":")
+
+    def run(args):
+        import importlib
+
+        return call(getattr(importlib.import_module(module), function), args)
+
+    return Command(name, help, add_arguments, run, description=description or description_of(module), epilog=epilog,
+                   renders=renders, calls=calls)
+
+
+def call(fn: Callable, args: argparse.Namespace, **extra):
+    """``fn(**options)``: a study's plain function called with the parsed options it names (each
+    keyword parameter of ``fn`` is the ``dest`` of an option; ``extra`` adds or overrides some).
+    The namespace's other entries (the command tree's own, a parent command's options) are not passed."""
+    import inspect
+
+    params = inspect.signature(fn).parameters
+    kw = {k: v for k, v in vars(args).items() if k in params}
+    return fn(**{**kw, **extra})
+
+
+def options_of(add_arguments: Callable) -> list[str]:
+    """The ``dest`` of every option ``add_arguments(parser)`` adds (a test checks them against the plain
+    function each command calls)."""
+    parser = OneLineParser(prog="t", add_help=False)
+    add_arguments(parser)
+    return [a.dest for a in parser._actions]
+
+
+def standalone(command: Command, prog: str, argv=None) -> int:
+    """Run one command outside the tree (a ``python -m bench.cli.NAME`` entry point): its parser alone,
+    the same one-line errors and plain-text help; an expected failure
+    (:class:`bench.errors.StripebenchError`) is one line on stderr and exit status 2."""
+    import sys
+
+    parser = LazyParser(prog=prog, formatter_class=HelpFormatter, loader=command.add_arguments,
+                        description=command.description if isinstance(command.description, str) else command.help,
+                        description_loader=command.description if callable(command.description) else None,
+                        epilog=command.epilog)
+    args = parser.parse_args(argv)
+    try:
+        return int(command.run(args) or 0)
+    except StripebenchError as exc:
+        print(f"stripebench: error: {exc}", file=sys.stderr)
+        return 2

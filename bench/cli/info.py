@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from bench.cli.common import Command
-from bench.config.options import plain
+from bench.cli.options import plain
 
 __all__ = ["COMMANDS", "tracker_table"]
 

@@ -6,7 +6,8 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder
-from bench.config.options import REAL_DEFAULTS, add_force, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
+from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
+from bench.config.options import REAL_DEFAULTS
 
 __all__ = ["COMMANDS"]
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_env, check_out_folder
 from bench.config import PROFILES
-from bench.config.options import add_force, add_out, add_quiet, add_seed, add_trackers
+from bench.cli.options import add_force, add_out, add_quiet, add_seed, add_trackers
 
 __all__ = ["COMMANDS", "add_run_options", "run_config"]
 

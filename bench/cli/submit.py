@@ -11,7 +11,8 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_env, check_out_folder
-from bench.config.options import add_force, add_out, add_quiet, add_seed, add_trackers, arg_type, finite_float
+from bench.cli.options import add_force, add_out, add_quiet, add_seed, add_trackers, arg_type
+from bench.config.options import finite_float
 
 __all__ = ["COMMANDS"]
 

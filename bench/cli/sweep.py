@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_env, check_out_folder
-from bench.config.options import (MAX_TIMEOUT_S, add_force, add_out, add_quiet, add_seed, arg_type, finite_float, positive_int,
-                                  scheduler_address, workers_value)
+from bench.cli.options import add_force, add_out, add_quiet, add_seed, arg_type
+from bench.config.options import MAX_TIMEOUT_S, finite_float, positive_int, scheduler_address, workers_value
 
 __all__ = ["COMMANDS"]
 

@@ -1,11 +1,8 @@
-"""Command-line options shared by every ``stripebench`` command and study: types, limits, defaults.
+"""The values of the command-line options: their checks, limits and defaults (no argparse here).
 
-Each option is defined once here and added to a parser by its ``add_*``
-function; the defaults are read from the schema (:class:`bench.config.Config`,
-:data:`REAL_DEFAULTS`), never repeated. The value checks are plain functions
-raising :class:`bench.config.ConfigError` (so the library and the command line
-share them); :func:`arg_type` turns one into an argparse type, whose message
-argparse prints as one line (``stripebench: error: argument --x: ...``).
+The value checks are plain functions raising :class:`bench.config.ConfigError`, so the
+library and the command line share them; the command line's parsers, argparse types
+and shared options (``--out``, ``--seed``, ...) are :mod:`bench.cli.options`.
 
 Examples
 --------
@@ -21,20 +18,16 @@ bench.errors.ConfigError: --timeout must be a finite number > 0, got 'nan'
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import re
-import sys
-from pathlib import Path
 
-from bench.config import MAX_N_BOOT, MIN_N_BOOT, ConfigError, parse_trackers_arg
+from bench.config import ConfigError
 from bench.evaluate.outcomes import HIT_PX
 
-__all__ = ["OneLineParser", "HelpFormatter", "arg_type", "positive_int", "int_in_range", "finite_float",
-           "finite_floats", "size_value", "seed_value", "workers_value", "cpu_count", "scheduler_address", "plain_tracker_names",
-           "add_out", "add_quiet", "add_seed", "add_trackers", "add_n_boot", "add_tol", "REAL_DEFAULTS",
-           "SCHEDULER_SCHEMES", "MAX_TIMEOUT_S", "study_parser", "study_main", "plain", "first_paragraph"]
+__all__ = ["positive_int", "int_in_range", "finite_float", "finite_floats", "size_value", "seed_value", "spp_value",
+           "workers_value", "cpu_count", "scheduler_address", "plain_tracker_names", "REAL_DEFAULTS",
+           "SCHEDULER_SCHEMES", "MAX_TIMEOUT_S"]
 
 #: Defaults of a real-photograph run (``stripebench real``; a configuration's ``real_set`` uses the same).
 REAL_DEFAULTS = {"tol_px": HIT_PX, "n_boot": 2000, "seed": 0}
@@ -42,31 +35,6 @@ REAL_DEFAULTS = {"tol_px": HIT_PX, "n_boot": 2000, "seed": 0}
 SCHEDULER_SCHEMES = ("tcp", "tls")
 #: Largest ``--timeout`` (a year, s): beyond it asyncio's timers overflow.
 MAX_TIMEOUT_S = 365 * 86400.0
-
-
-class OneLineParser(argparse.ArgumentParser):
-    """argparse with one-line errors (``stripebench: error: ...``, exit status 2)."""
-
-    def error(self, message):
-        self.exit(2, f"stripebench: error: {message} (see `{self.prog} -h`)\n")
-
-
-class HelpFormatter(argparse.RawDescriptionHelpFormatter):
-    """Descriptions as written (plain text), option defaults shown where they are given."""
-
-
-def arg_type(check, name: str):
-    """An argparse ``type`` from a check ``check(name, text) -> value`` raising :class:`ConfigError`."""
-
-    def convert(text):
-        try:
-            return check(name, text)
-        except ConfigError as exc:
-            msg = str(exc)
-            raise argparse.ArgumentTypeError(msg[len(name) + 1:] if msg.startswith(name + " ") else msg) from None
-
-    convert.__name__ = name.lstrip("-").replace("-", "_")
-    return convert
 
 
 def int_in_range(name: str, value, low: int, high: int | None = None) -> int:
@@ -144,7 +112,7 @@ def size_value(name: str, text) -> tuple[int, int]:
     >>> size_value("--size", "128x120")
     (128, 120)
     """
-    from scenes.params import MAX_SIZE
+    from scenes import MAX_SIZE
 
     parts = str(text).lower().split("x")
     if len(parts) != 2:
@@ -200,95 +168,8 @@ def scheduler_address(value: str, name: str = "--scheduler") -> str:
 
 
 def plain_tracker_names(specs, name: str = "--trackers") -> list[str]:
-    """The names of tracker settings that must be plain names (the studies run each tracker with its defaults)."""
-    if any(s.params or s.label != s.name for s in specs):
+    """The names of tracker settings (:class:`bench.config.TrackerSpec`, or names) that must be plain names
+    (the studies run each tracker with its defaults)."""
+    if any(not isinstance(s, str) and (s.params or s.label != s.name) for s in specs):
         raise ConfigError(f"{name}: this command runs each tracker with its defaults; give plain names")
-    return [s.name for s in specs]
-
-
-# -- the shared options ---------------------------------------------------------------------------------------------
-
-def add_out(parser, help: str, *, required: bool = False, default=None) -> None:
-    """``--out DIR``: the output folder."""
-    extra = f" (default: {default})" if default is not None and "default" not in help else ""
-    parser.add_argument("--out", type=Path, required=required, default=Path(default) if default else None,
-                        metavar="DIR", help=help + extra)
-
-
-def add_force(parser, extra: str = "") -> None:
-    """``--force``: clear ``--out`` first when it holds another configuration's or kind's run (or other files)."""
-    parser.add_argument("--force", action="store_true",
-                        help="clear --out first if it holds another configuration's or kind's run (or other files)"
-                             + extra)
-
-
-def add_quiet(parser, help: str = "no progress bars or notes") -> None:
-    """``--quiet``."""
-    parser.add_argument("--quiet", action="store_true", help=help)
-
-
-def add_seed(parser, help: str = "seed for renders, noise, samples and bootstrap", default=None) -> None:
-    """``--seed N`` (an integer >= 0)."""
-    extra = f" (default {default})" if default is not None else ""
-    parser.add_argument("--seed", type=arg_type(seed_value, "--seed"), default=default, metavar="N", help=help + extra)
-
-
-def add_trackers(parser, help: str) -> None:
-    """``--trackers LIST``: comma-separated names or TOML inline tables, as in configurations
-    (:func:`bench.config.parse_trackers_arg`); the value is a tuple of :class:`bench.config.TrackerSpec`."""
-    parser.add_argument("--trackers", type=arg_type(lambda n, t: parse_trackers_arg(t, n), "--trackers"),
-                        metavar="LIST", help=help)
-
-
-def add_n_boot(parser) -> None:
-    """``--n-boot N``: bootstrap resamples."""
-    parser.add_argument("--n-boot", type=arg_type(lambda n, v: int_in_range(n, v, MIN_N_BOOT, MAX_N_BOOT), "--n-boot"),
-                        default=REAL_DEFAULTS["n_boot"], metavar="N",
-                        help=f"bootstrap resamples over images ({MIN_N_BOOT} .. {MAX_N_BOOT}; "
-                             f"default {REAL_DEFAULTS['n_boot']})")
-
-
-def add_tol(parser) -> None:
-    """``--tol PX``: the hit tolerance of real runs (finite, > 0)."""
-    parser.add_argument("--tol", type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--tol"),
-                        default=REAL_DEFAULTS["tol_px"], metavar="PX",
-                        help=f"hit tolerance in px (finite, > 0; default {REAL_DEFAULTS['tol_px']:g})")
-
-
-def plain(text: str) -> str:
-    """Docstring text for a terminal: reStructuredText roles and literals removed.
-
-    Examples
-    --------
-    >>> plain("see :func:`bench.run` and ``--out``")
-    'see bench.run and --out'
-    """
-    text = re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", text)
-    return text.replace("``", "")
-
-
-def first_paragraph(doc: str) -> str:
-    """The first paragraph of a docstring as plain text (a command's description)."""
-    return plain((doc or "").strip().split("\n\n")[0])
-
-
-def study_main(prog: str, doc: str, add_arguments, command, argv=None) -> int:
-    """A study's ``main(argv)``: the parser built by the study's ``add_arguments``, then
-    ``command(args)``; an expected failure (:class:`bench.errors.StripebenchError`) is one
-    line on stderr and exit status 2, as on the ``stripebench`` command line."""
-    from bench.errors import StripebenchError
-
-    parser = study_parser(prog, first_paragraph(doc))
-    add_arguments(parser)
-    args = parser.parse_args(argv)
-    try:
-        return int(command(args) or 0)
-    except StripebenchError as exc:
-        print(f"stripebench: error: {exc}", file=sys.stderr)
-        return 2
-
-
-def study_parser(prog: str, description: str) -> OneLineParser:
-    """The parser of a study's own ``main(argv)`` (``python -m bench.studies...``): the same
-    one-line errors and plain-text help as the ``stripebench`` command tree."""
-    return OneLineParser(prog=prog, description=description, formatter_class=HelpFormatter)
+    return [s if isinstance(s, str) else s.name for s in specs]

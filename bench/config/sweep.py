@@ -25,8 +25,11 @@ import numbers
 from dataclasses import dataclass
 from typing import Any
 
-from bench.config import (Config, ConfigError, memory_limit_bytes, parse, read_toml, scene_override_keys,
-                          scene_value_problem)
+from bench.config.checks import Int, require
+from bench.config.limits import memory_limit_bytes, scene_value_problem
+from bench.config.loading import read_toml
+from bench.config.schema import Config, parse, scene_override_keys
+from bench.errors import ConfigError
 
 __all__ = ["Sweep", "parse_sweep", "load", "sweep_keys", "MAX_POINTS", "MAX_REPEATS", "MAX_EVALUATIONS",
            "ROW_BYTES", "estimate_rows"]
@@ -35,6 +38,8 @@ __all__ = ["Sweep", "parse_sweep", "load", "sweep_keys", "MAX_POINTS", "MAX_REPE
 MAX_POINTS = 100_000
 #: Most repeats per grid point.
 MAX_REPEATS = 1000
+#: ``repeats``, in the trackers' constraint types (:mod:`bench.config.checks`).
+REPEATS = Int(low=1, high=MAX_REPEATS)
 #: Most evaluations (one frame at one grid point and one repeat), summed over the experiments.
 MAX_EVALUATIONS = 10**8
 #: Estimated driver memory per row of the results table (a dict of ~30 fields, then a DataFrame row), bytes.
@@ -83,7 +88,7 @@ def estimate_rows(config: Config, n_points: int, repeats: int) -> int:
 
 
 def _frames(config: Config) -> int:
-    from scenes.params import DEFAULTS
+    from scenes import DEFAULTS
 
     return sum(len(e.angles) if e.angles is not None else (e.n_angles or DEFAULTS["n_angles"])
                for e in config.experiments)
@@ -123,9 +128,7 @@ def parse_sweep(table, config: Config) -> Sweep:
 
     if not isinstance(table, dict):
         raise ConfigError(f"`sweep` must be a table, got {table!r}")
-    repeats = table.get("repeats", 1)
-    if isinstance(repeats, bool) or not isinstance(repeats, numbers.Integral) or not 1 <= repeats <= MAX_REPEATS:
-        raise ConfigError(f"`sweep.repeats` must be an integer 1 .. {MAX_REPEATS}, got {repeats!r}")
+    repeats = require("sweep.repeats", table.get("repeats", 1), REPEATS)
     lengths = {}
     for key, values in table.items():
         if key == "repeats":

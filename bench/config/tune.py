@@ -21,18 +21,22 @@ A tuning profile is a TOML document with exactly these keys (all required)::
 
 Every value is checked with the limits of a run configuration (the same
 :data:`bench.config.RENDER_KEYS` bounds, :func:`bench.config.check_scene` on each
-experiment); every problem raises :class:`bench.config.ConfigError` with one line.
+experiment) and the numbers with the trackers' constraint types (:data:`CONSTRAINTS`,
+:data:`GAP_CONSTRAINTS`, :data:`THRESHOLD_CONSTRAINTS`; :mod:`bench.config.checks`);
+every problem raises :class:`bench.config.ConfigError` with one line.
 The procedure itself is :mod:`bench.studies.tune`.
 """
 
 from __future__ import annotations
 
-import math
-import numbers
 import pathlib
 from dataclasses import dataclass, field
 
-from bench.config import RENDER_KEYS, ConfigError, check_scene, read_toml, scene_override_keys
+from bench.config.checks import Bool, Choice, Int, Real, accepts, describe, require
+from bench.config.limits import check_scene
+from bench.config.loading import read_toml
+from bench.config.schema import RENDER_KEYS, scene_override_keys
+from bench.errors import ConfigError
 
 __all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_RENDER_KEYS", "DEFAULT_PROFILE",
            "GapProfile", "load_gap_profile", "GAP_TOP_KEYS", "GAP_DEFAULT_PROFILE", "TuneThresholdProfile",
@@ -44,6 +48,9 @@ TOP_KEYS = ("name", "seed", "trackers", "h_weights", "hit_px", "tie", "render", 
 #: A tuning profile's ``[render]`` table: the run's :data:`bench.config.RENDER_KEYS` but ``ambient_spp``
 #: (the scans use the scene's), plus ``n_angles`` (frames per scan).
 TUNE_RENDER_KEYS = tuple(k for k in RENDER_KEYS if k != "ambient_spp") + ("n_angles",)
+#: The numbers of a ``tune dp`` profile (of ``h_weights``: each value; the ``[render]`` sizes are integers
+#: 1 .. :data:`scenes.params.MAX_SIZE`).
+CONSTRAINTS = {"seed": Int(low=0), "h_weights": Real(low=0, low_open=True), "hit_px": Real(low=0), "tie": Real(low=0)}
 
 
 @dataclass
@@ -60,10 +67,6 @@ class TuneProfile:
     experiments: list[dict] = field(default_factory=list)
 
 
-def _finite(x) -> bool:
-    return isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(x)
-
-
 def parse_profile(data) -> TuneProfile:
     """Validate a tuning profile dict (as read from TOML).
 
@@ -72,7 +75,7 @@ def parse_profile(data) -> TuneProfile:
     ConfigError
         A missing or unknown key or a bad value, named in the message.
     """
-    from scenes.params import MAX_SIZE
+    from scenes import MAX_SIZE
 
     if not isinstance(data, dict):
         raise ConfigError(f"`profile` must be a table, got {type(data).__name__}")
@@ -84,9 +87,7 @@ def parse_profile(data) -> TuneProfile:
             raise ConfigError(f"`profile` lacks the key {key!r}")
     if not isinstance(data["name"], str) or not data["name"]:
         raise ConfigError(f"`name` must be a non-empty string, got {data['name']!r}")
-    seed = data["seed"]
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ConfigError(f"`seed` must be an integer >= 0, got {seed!r}")
+    seed = require("seed", data["seed"], CONSTRAINTS["seed"])
     import trackers
 
     names = data["trackers"]
@@ -95,21 +96,14 @@ def parse_profile(data) -> TuneProfile:
     for n in names:
         if not isinstance(n, str) or n not in trackers.available() or "h_weight" not in trackers.make(n).get_params():
             raise ConfigError(f"`trackers` must name trackers with an h_weight parameter, got {n!r}")
-    hws = data["h_weights"]
-    if not isinstance(hws, list) or not hws or any(not _finite(h) or h <= 0 for h in hws):
-        raise ConfigError(f"`h_weights` must be a non-empty list of finite numbers > 0, got {hws!r}")
-    if len(set(hws)) != len(hws):
-        raise ConfigError(f"`h_weights` must not repeat a value, got {hws!r}")
+    hws = _grid(data, "h_weights", CONSTRAINTS["h_weights"])
     for key in ("hit_px", "tie"):
-        v = data[key]
-        if not _finite(v) or not v >= 0:
-            raise ConfigError(f"`{key}` must be a finite number >= 0, got {v!r}")
+        require(key, data[key], CONSTRAINTS[key])
     render = data["render"]
     if not isinstance(render, dict) or set(render) != set(TUNE_RENDER_KEYS):
         raise ConfigError(f"`render` must have exactly the keys {sorted(TUNE_RENDER_KEYS)}, got {render!r}")
     for k, v in render.items():
-        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_SIZE[k]:
-            raise ConfigError(f"`render.{k}` must be an integer 1 .. {MAX_SIZE[k]}, got {v!r}")
+        require(f"render.{k}", v, Int(low=1, high=MAX_SIZE[k]))
     exps = data["experiments"]
     if not isinstance(exps, list) or not exps:
         raise ConfigError("`experiments` must be a non-empty list of tables")
@@ -151,6 +145,10 @@ GAP_DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tu
 GAP_TOP_KEYS = {"name", "seed", "tracker", "off_rel", "switch_rows", "hit_px", "tie", "render", "experiments",
                 "seeds", "kinds", "real", "dp_trackers", "k_sigma", "max_gap", "min_run"}
 GAP_RENDER_KEYS = {"width", "height", "spp", "n_angles"}
+#: The numbers and switches of a ``tune dp_gap`` profile (of a list: each value; ``max_gap`` also ``"none"``).
+GAP_CONSTRAINTS = {"seed": Int(low=0), "seeds": Int(low=0), "off_rel": Real(low=0.0, high=1.0),
+                   "switch_rows": Real(low=0.0), "hit_px": Real(low=0, finite=False), "tie": Real(low=0, finite=False),
+                   "real": Bool(), "k_sigma": Real(low=0), "max_gap": Int(low=0), "min_run": Int(low=1)}
 
 
 @dataclass
@@ -179,13 +177,11 @@ def _fail(msg: str):
     raise ConfigError(msg)
 
 
-def _grid(data, key, low, high=None):
+def _grid(data, key, constraint: Real):
+    """A grid of distinct values ``constraint`` accepts."""
     vals = data[key]
-    if (not isinstance(vals, list) or not vals
-            or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < low
-                   or (high is not None and v > high) for v in vals)):
-        bound = f"in [{low}, {high}]" if high is not None else f">= {low}"
-        _fail(f"`{key}` must be a non-empty list of finite numbers {bound}, got {vals!r}")
+    if not isinstance(vals, list) or not vals or not all(accepts(constraint, v) for v in vals):
+        _fail(f"`{key}` must be a non-empty list of {describe(constraint, plural=True)}, got {vals!r}")
     if len(set(vals)) != len(vals):
         _fail(f"`{key}` must not repeat a value, got {vals!r}")
     return [float(v) for v in vals]
@@ -207,9 +203,8 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
     for key in sorted(GAP_TOP_KEYS):
         if key not in data:
             _fail(f"`profile` lacks the key {key!r}")
-    seed = data["seed"]
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        _fail(f"`seed` must be an integer >= 0, got {seed!r}")
+    c = GAP_CONSTRAINTS
+    seed = require("seed", data["seed"], c["seed"])
     import trackers
 
     name = data["tracker"]
@@ -220,24 +215,21 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
                                         or not {"k_sigma", "max_gap", "min_run"} <= set(trackers.make(n).get_params())
                                         for n in dps):
         _fail(f"`dp_trackers` must list trackers with k_sigma, max_gap and min_run parameters, got {dps!r}")
-    off = _grid(data, "off_rel", 0.0, 1.0)
-    sw = _grid(data, "switch_rows", 0.0)
+    off = _grid(data, "off_rel", c["off_rel"])
+    sw = _grid(data, "switch_rows", c["switch_rows"])
     for key in ("hit_px", "tie"):
-        v = data[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
-            _fail(f"`{key}` must be a number >= 0, got {v!r}")
+        require(key, data[key], c[key])
     seeds = data["seeds"]
-    if not isinstance(seeds, list) or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds):
-        _fail(f"`seeds` must be a list of integers >= 0, got {seeds!r}")
+    if not isinstance(seeds, list) or not all(accepts(c["seeds"], x) for x in seeds):
+        _fail(f"`seeds` must be a list of {describe(c['seeds'], plural=True)}, got {seeds!r}")
     ks = data["kinds"]
-    if not isinstance(ks, list) or any(k not in tuple(kinds) for k in ks):
+    if not isinstance(ks, list) or not all(accepts(Choice(tuple(kinds)), k) for k in ks):
         _fail(f"`kinds` must be a list of {', '.join(kinds)}, got {ks!r}")
-    if not isinstance(data["real"], bool):
-        _fail(f"`real` must be true or false, got {data['real']!r}")
+    require("real", data["real"], c["real"])
     render, exps = _render_experiments(data)
     return GapProfile(str(data["name"]), seed, name, off, sw, float(data["hit_px"]), float(data["tie"]), render, exps,
-                      [int(x) for x in seeds], list(ks), data["real"], list(dps), _grid(data, "k_sigma", 0),
-                      _none_int_grid(data, "max_gap", 0), _int_grid(data, "min_run", 1))
+                      [int(x) for x in seeds], list(ks), data["real"], list(dps), _grid(data, "k_sigma", c["k_sigma"]),
+                      _none_int_grid(data, "max_gap", c["max_gap"]), _int_grid(data, "min_run", c["min_run"]))
 
 
 # ---------------------------------------------------------------------------------------------------- threshold
@@ -245,6 +237,15 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
 THRESHOLD_TOP_KEYS = {"name", "seeds", "kinds", "real", "hit_px", "tie", "tie_px", "trackers", "k_sigma",
                       "prominence", "min_run", "width_ratio", "frac", "colour_trackers", "colour_rules", "steger_k_sigma",
                       "steger_prominence", "steger_min_run", "seed", "render", "renders"}
+#: The numbers and switches of a ``tune threshold`` profile (of a list: each value; ``width_ratio`` also
+#: ``"none"``; each of ``colour_rules`` a knee or one of :data:`COLOUR_RULE_NAMES`).
+THRESHOLD_CONSTRAINTS = {"seeds": Int(low=0), "seed": Int(low=0), "real": Bool(), "hit_px": Real(low=0, finite=False),
+                         "tie": Real(low=0, finite=False), "tie_px": Real(low=0, finite=False), "k_sigma": Real(low=0),
+                         "prominence": Real(low=0), "min_run": Int(low=1), "width_ratio": Real(low=1.0),
+                         "frac": Real(low=0, high=0.99), "colour_rules": Real(low=0, high=1),
+                         "steger_k_sigma": Real(low=0), "steger_prominence": Real(low=0), "steger_min_run": Int(low=1)}
+#: The named rules ``colour_rules`` may list besides knees (:mod:`bench.evaluate.colour`).
+COLOUR_RULE_NAMES = Choice(("excess", "laser"))
 
 
 @dataclass
@@ -274,45 +275,44 @@ class TuneThresholdProfile:
     renders: list[dict] = field(default_factory=list)
 
 
-def _int_grid(data, key, low):
+def _int_grid(data, key, constraint: Int):
+    """A grid of distinct integers ``constraint`` accepts."""
     vals = data[key]
-    if (not isinstance(vals, list) or not vals
-            or any(isinstance(v, bool) or not isinstance(v, int) or v < low for v in vals)):
-        _fail(f"`{key}` must be a non-empty list of integers >= {low}, got {vals!r}")
+    if not isinstance(vals, list) or not vals or not all(accepts(constraint, v) for v in vals):
+        _fail(f"`{key}` must be a non-empty list of {describe(constraint, plural=True)}, got {vals!r}")
     if len(set(vals)) != len(vals):
         _fail(f"`{key}` must not repeat a value, got {vals!r}")
     return [int(v) for v in vals]
 
 
-def _none_int_grid(data, key, low):
-    """A grid of integers >= ``low`` or ``"none"`` (None: no limit), distinct."""
+def _none_int_grid(data, key, constraint: Int):
+    """A grid of integers ``constraint`` accepts or ``"none"`` (None: no limit), distinct."""
     vals = data[key]
     if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
-            or any(v != "none" and (isinstance(v, bool) or not isinstance(v, int) or v < low) for v in vals)):
-        _fail(f"`{key}` must list distinct integers >= {low} or 'none', got {vals!r}")
+            or not all(v == "none" or accepts(constraint, v) for v in vals)):
+        _fail(f"`{key}` must list distinct {describe(constraint, plural=True)} or 'none', got {vals!r}")
     return [None if v == "none" else int(v) for v in vals]
 
 
-def _none_real_grid(data, key, low):
-    """A grid of finite numbers >= ``low`` or ``"none"`` (None: no limit), distinct."""
+def _none_real_grid(data, key, constraint: Real):
+    """A grid of finite numbers ``constraint`` accepts or ``"none"`` (None: no limit), distinct."""
     vals = data[key]
     if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
-            or any(v != "none" and (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
-                                    or v < low) for v in vals)):
-        _fail(f"`{key}` must list distinct numbers >= {low} or 'none', got {vals!r}")
+            or not all(v == "none" or accepts(constraint, v) for v in vals)):
+        # worded "numbers", not describe()'s "finite numbers": the message as it was
+        _fail(f"`{key}` must list distinct numbers >= {constraint.low} or 'none', got {vals!r}")
     return [None if v == "none" else float(v) for v in vals]
 
 
 def _render_experiments(data, keys=GAP_RENDER_KEYS, exp_key="experiments", allow_empty=False):
     """The ``[render]`` table (exactly ``keys``) and the experiments of ``exp_key``, validated."""
-    from scenes.params import MAX_SIZE
+    from scenes import MAX_SIZE
 
     render = data["render"]
     if not isinstance(render, dict) or set(render) != set(keys):
         _fail(f"`render` must have exactly the keys {sorted(keys)}, got {render!r}")
     for k, v in render.items():
-        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_SIZE[k]:
-            _fail(f"`render.{k}` must be an integer 1 .. {MAX_SIZE[k]}, got {v!r}")
+        require(f"render.{k}", v, Int(low=1, high=MAX_SIZE[k]))
     exps = data[exp_key]
     if not isinstance(exps, list) or (not exps and not allow_empty):
         _fail(f"`{exp_key}` must be a {'' if allow_empty else 'non-empty '}list of tables")
@@ -341,23 +341,18 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     missing = sorted(THRESHOLD_TOP_KEYS - set(data))
     if missing:
         raise ConfigError(f"`profile` lacks the key(s) {missing}")
+    c = THRESHOLD_CONSTRAINTS
     seeds = data["seeds"]
-    if not isinstance(seeds, list) or not seeds or any(isinstance(s, bool) or not isinstance(s, int) or s < 0
-                                                        for s in seeds):
-        raise ConfigError(f"`seeds` must be a non-empty list of integers >= 0, got {seeds!r}")
-    seed = data["seed"]
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        _fail(f"`seed` must be an integer >= 0, got {seed!r}")
+    if not isinstance(seeds, list) or not seeds or not all(accepts(c["seeds"], s) for s in seeds):
+        raise ConfigError(f"`seeds` must be a non-empty list of {describe(c['seeds'], plural=True)}, got {seeds!r}")
+    seed = require("seed", data["seed"], c["seed"])
     allowed = tuple(kinds)
     kinds = data["kinds"]
-    if not isinstance(kinds, list) or not kinds or any(k not in allowed for k in kinds):
+    if not isinstance(kinds, list) or not kinds or not all(accepts(Choice(allowed), k) for k in kinds):
         raise ConfigError(f"`kinds` must be a non-empty list of {', '.join(allowed)}, got {kinds!r}")
-    if not isinstance(data["real"], bool):
-        raise ConfigError(f"`real` must be true or false, got {data['real']!r}")
+    require("real", data["real"], c["real"])
     for key in ("hit_px", "tie", "tie_px"):
-        v = data[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
-            raise ConfigError(f"`{key}` must be a number >= 0, got {v!r}")
+        require(key, data[key], c[key])
     import trackers
 
     for key in ("trackers", "colour_trackers"):
@@ -369,15 +364,14 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
             raise ConfigError(f"`trackers` must name trackers with k_sigma, prominence and min_run, got {n!r}")
     rules = data["colour_rules"]
     if (not isinstance(rules, list) or not rules or len(set(map(str, rules))) != len(rules)
-            or any(not (r in ("excess", "laser") or (not isinstance(r, bool) and isinstance(r, (int, float))
-                                                     and 0 <= r <= 1)) for r in rules)):
+            or not all(accepts(COLOUR_RULE_NAMES, r) or accepts(c["colour_rules"], r) for r in rules)):
         raise ConfigError(f"`colour_rules` must list distinct knees in [0, 1], 'excess' or 'laser', got {rules!r}")
     render, renders = _render_experiments(data, exp_key="renders", allow_empty=True)
     return TuneThresholdProfile(
         str(data["name"]), [int(s) for s in seeds], list(kinds), data["real"], float(data["hit_px"]),
-        float(data["tie"]), float(data["tie_px"]), list(data["trackers"]), _grid(data, "k_sigma", 0),
-        _grid(data, "prominence", 0), _int_grid(data, "min_run", 1), _none_real_grid(data, "width_ratio", 1.0),
-        _grid(data, "frac", 0, 0.99),
+        float(data["tie"]), float(data["tie_px"]), list(data["trackers"]), _grid(data, "k_sigma", c["k_sigma"]),
+        _grid(data, "prominence", c["prominence"]), _int_grid(data, "min_run", c["min_run"]),
+        _none_real_grid(data, "width_ratio", c["width_ratio"]), _grid(data, "frac", c["frac"]),
         list(data["colour_trackers"]), [r if isinstance(r, str) else float(r) for r in rules],
-        _grid(data, "steger_k_sigma", 0), _grid(data, "steger_prominence", 0), _int_grid(data, "steger_min_run", 1),
-        seed, render, renders)
+        _grid(data, "steger_k_sigma", c["steger_k_sigma"]), _grid(data, "steger_prominence", c["steger_prominence"]),
+        _int_grid(data, "steger_min_run", c["steger_min_run"]), seed, render, renders)

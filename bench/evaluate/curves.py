@@ -18,7 +18,7 @@ __all__ = ["reference_point", "curves", "per_unit_costs", "CURVE_METRICS", "PAPE
 CURVE_METRICS = ("hit_rate", "depth_rmse_mm", "within_5mm")
 PAPER_POINT = {"ambient_lux": 400.0, "laser_power_mw": 3.0}  # the paper's operating point
 def _paper_or_default(key: str):
-    from scenes.params import DEFAULTS
+    from scenes import DEFAULTS
 
     return PAPER_POINT.get(key, DEFAULTS.get(key))
 

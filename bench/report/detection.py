@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.report.html import esc, interval, pct, rank_labels
+from bench.report.html import interval, pct, ranked_table
 
 __all__ = ["detection_glance", "pr_curves", "condition_groups"]
 
@@ -19,12 +19,6 @@ def condition_groups(summary) -> list[tuple[str, str, list[str]]]:
     """(title, detection group, experiment keys) per condition, in configuration order."""
     return [(c["condition"], f"condition:{c['condition']}", list(c["experiments"]))
             for c in summary.get("conditions", [])]
-
-
-def _colour(x: float) -> str:
-    if x is None or not np.isfinite(x):
-        return "#ffffff"
-    return f"hsl({120.0 * float(np.clip(x, 0.0, 1.0)):.0f}, 70%, 85%)"
 
 
 def detection_glance(summary) -> str:
@@ -45,24 +39,15 @@ def detection_glance(summary) -> str:
     groups = [g for g in condition_groups(summary) if any(k[0] == g[1] for k in det)]
     if not groups:
         return ""
-    labels, best = rank_labels(det, list(dict.fromkeys(r["tracker"] for r in summary["detection"])),
-                               [g for _, g, _ in groups], "f1")
-    rows = []
-    for rank, lab in enumerate(labels, 1):
-        cells = []
-        for _, g, _ in groups:
-            r = det.get((g, lab))
-            if r is None:
-                cells.append("<td>–</td>")
-                continue
-            star = " ★" if best.get(g) == lab else ""
-            ap = pct(r.get("ap")) + (" <small>(one point)</small>" if r.get("ap_constant") else "")
-            cells.append(f"<td style='background:{_colour(r.get('f1'))}'><span class='w'><b>F1 {pct(r.get('f1'))}"
-                         f"{star}</b> <small>{interval(r.get('f1_lo'), r.get('f1_hi'))}</small></span><br><small>"
-                         f"false reports {pct(r.get('false_report_rate'))} · AP {ap} · "
-                         f"{r.get('false_points_per_scan', float('nan')):.0f} false points/scan</small></td>")
-        rows.append(f"<tr><td>{rank}</td><th>{esc(lab)}</th>{''.join(cells)}</tr>")
-    head = "".join(f"<th>{esc(t)}</th>" for t, _, _ in groups)
+
+    def cell(r, star):
+        ap = pct(r.get("ap")) + (" <small>(one point)</small>" if r.get("ap_constant") else "")
+        return (f"<span class='w'><b>F1 {pct(r.get('f1'))}{star}</b> <small>{interval(r.get('f1_lo'), r.get('f1_hi'))}"
+                f"</small></span><br><small>false reports {pct(r.get('false_report_rate'))} · AP {ap} · "
+                f"{r.get('false_points_per_scan', float('nan')):.0f} false points/scan</small>")
+
+    table = ranked_table(det, list(dict.fromkeys(r["tracker"] for r in summary["detection"])),
+                         [(t, g) for t, g, _ in groups], "f1", cell)
     return ("<h2>At a glance: detection, both halves, per tracker and condition</h2><p class='note'>Every row of "
             "every frame is a hit (a column within 3 px of the truth), wrong (further off), missed (a stripe row "
             "with nothing reported), false (a column on a row with no stripe: past an edge, in shadow, on a "
@@ -71,8 +56,7 @@ def detection_glance(summary) -> str:
             "frames; the false-report rate (false / stripe-less rows); AP, the average precision of the "
             "tracker's own score ranking its reports (threshold-free; \"one point\" where every report has the "
             "same score); and the false 3-D points per scan. ★ best F1 of the condition; rows ranked by the "
-            "mean F1.</p><table class='glance'><colgroup><col style='width:3.2em'><col style='width:9.5em'>"
-            f"</colgroup><tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")
+            "mean F1.</p>" + table)
 
 
 def pr_curves(scans: dict, keys, labels=None) -> dict:

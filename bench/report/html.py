@@ -1,5 +1,5 @@
 """The report toolkit: the one HTML page shell of every report (run, real run, sweep, leaderboard),
-escaping, embedded images, the at-a-glance ranking, and the number formatters (re-exported from
+escaping, tables, embedded images, the at-a-glance ranking, and the number formatters (re-exported from
 their home, :mod:`bench.evaluate.formats`).
 
 Every string that comes from a configuration, a data set, a file name or a
@@ -11,10 +11,13 @@ from __future__ import annotations
 
 import base64
 import html
+import math
+from pathlib import Path
 
-from bench.evaluate.formats import fixed, interval, num, pct, signed
+from bench.evaluate.formats import MISSING, fixed, interval, num, pct, signed
 
-__all__ = ["esc", "page", "pct", "interval", "num", "signed", "fixed", "png_img", "rank_labels", "BASE_CSS"]
+__all__ = ["esc", "page", "pct", "interval", "num", "signed", "fixed", "png_img", "png_file", "table", "frame_table",
+           "fraction_colour", "rank_labels", "ranked_table", "BASE_CSS"]
 
 #: The style every page shares; a page adds its own rules after it.
 BASE_CSS = ("body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
@@ -44,6 +47,66 @@ def png_img(data: bytes, alt: str, style: str = "max-width:100%") -> str:
     '<img src="data:image/png;base64,YWJj" alt="a&lt;b" style="max-width:100%">'
     """
     return f'<img src="data:image/png;base64,{base64.b64encode(data).decode("ascii")}" alt="{esc(alt)}" style="{esc(style)}">'
+
+
+def png_file(path, width: str = "100%") -> str:
+    """:func:`png_img` of the PNG file ``path`` (alt text: its name without the suffix), at most ``width`` wide.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = Path(d) / "fig7.png"
+    ...     _ = p.write_bytes(b"abc")
+    ...     png_file(p, "49%")
+    '<img src="data:image/png;base64,YWJj" alt="fig7" style="max-width:49%">'
+    """
+    path = Path(path)
+    return png_img(path.read_bytes(), path.stem, f"max-width:{width}")
+
+
+def table(head, rows) -> str:
+    """A ``<table>``: one header row, then one row per item of ``rows``.
+
+    Parameters
+    ----------
+    head : iterable of str
+        The header cells' HTML (escaped by the caller), each put in a ``<th>``.
+    rows : iterable of iterable of str
+        Each row's cells' HTML (escaped by the caller), each put in a ``<td>``.
+
+    Examples
+    --------
+    >>> table(["tracker", "hit rate"], [[esc("a<b"), fixed(0.5)], ["c", MISSING]])
+    '<table><tr><th>tracker</th><th>hit rate</th></tr><tr><td>a&lt;b</td><td>0.500</td></tr><tr><td>c</td><td>–</td></tr></table>'
+    """
+    body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>" for r in rows)
+    return "<table><tr>" + "".join(f"<th>{h}</th>" for h in head) + f"</tr>{body}</table>"
+
+
+def frame_table(frame, fmt: str = ".3g", *, index: bool = True) -> str:
+    """A pandas DataFrame as an HTML table: numbers by ``format(v, fmt)``, a missing one as ``–``, no border.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> "<td>0.33</td>" in frame_table(pd.DataFrame({"x": [1 / 3]}), ".2f", index=False)
+    True
+    """
+    return frame.to_html(index=index, float_format=lambda v: format(v, fmt), na_rep=MISSING, border=0)
+
+
+def fraction_colour(x) -> str:
+    """A cell's background for a fraction: red (0) to green (1); white where it is missing.
+
+    Examples
+    --------
+    >>> fraction_colour(1.0), fraction_colour(0.25), fraction_colour(None)
+    ('hsl(120, 70%, 85%)', 'hsl(30, 70%, 85%)', '#ffffff')
+    """
+    if x is None or not math.isfinite(x):
+        return "#ffffff"
+    return f"hsl({120.0 * min(max(float(x), 0.0), 1.0):.0f}, 70%, 85%)"
 
 
 def page(title: str, body: str, *, css: str = "") -> str:
@@ -85,8 +148,6 @@ def rank_labels(table: dict, labels: list, groups: list, value: str, tiebreak: s
     >>> rank_labels(t, ["x", "y"], ["a", "b"], "f")
     (['x', 'y'], {'a': 'x', 'b': 'y'})
     """
-    import math
-
     def finite(v) -> bool:
         return isinstance(v, (int, float)) and math.isfinite(v)
 
@@ -106,3 +167,48 @@ def rank_labels(table: dict, labels: list, groups: list, value: str, tiebreak: s
 
             best[g] = max(cand, key=key)
     return ordered, best
+
+
+def ranked_table(table: dict, labels: list, groups: list, value: str, cell, *, tiebreak: str | None = None,
+                 tip=None) -> str:
+    """An at-a-glance table: one row per label, ranked (:func:`rank_labels`), one cell per group,
+    coloured by ``value`` (:func:`fraction_colour`).
+
+    Parameters
+    ----------
+    table : dict
+        ``(group, label) -> row``, as :func:`rank_labels` takes it.
+    labels : list
+    groups : list of (str, str)
+        (column title, group) per column, in order; the title is escaped here.
+    value, tiebreak : str
+        As :func:`rank_labels`.
+    cell : callable
+        ``cell(row, star)``: the HTML inside a cell; ``star`` is ``" ★"`` for the best label of the
+        group, else ``""``. A label without a row in a group has ``–``.
+    tip : callable, optional
+        ``tip(label)``: a tooltip on the label (escaped here).
+
+    Examples
+    --------
+    >>> t = {("a", "x"): {"f": 0.5}, ("a", "y"): {"f": 1.0}}
+    >>> out = ranked_table(t, ["x", "y"], [("A", "a")], "f", lambda r, star: f"{pct(r['f'])}{star}")
+    >>> out.split("</colgroup>")[1]
+    "<tr><th>rank</th><th>tracker</th><th>A</th></tr><tr><td>1</td><th>y</th><td style='background:hsl(120, 70%, 85%)'>100 % ★</td></tr><tr><td>2</td><th>x</th><td style='background:hsl(60, 70%, 85%)'>50 %</td></tr></table>"
+    """
+    ordered, best = rank_labels(table, labels, [g for _, g in groups], value, tiebreak)
+    rows = []
+    for rank, lab in enumerate(ordered, 1):
+        cells = []
+        for _, g in groups:
+            r = table.get((g, lab))
+            if r is None:
+                cells.append("<td>–</td>")
+                continue
+            star = " ★" if best.get(g) == lab else ""
+            cells.append(f"<td style='background:{fraction_colour(r.get(value))}'>{cell(r, star)}</td>")
+        title = "" if tip is None else f' title="{esc(tip(lab))}"'
+        rows.append(f"<tr><td>{rank}</td><th{title}>{esc(lab)}</th>{''.join(cells)}</tr>")
+    head = "".join(f"<th>{esc(t)}</th>" for t, _ in groups)
+    return ("<table class='glance'><colgroup><col style='width:3.2em'><col style='width:9.5em'></colgroup>"
+            f"<tr><th>rank</th><th>tracker</th>{head}</tr>{''.join(rows)}</table>")

@@ -31,7 +31,7 @@ import math
 from pathlib import Path
 
 from bench.errors import InputError
-from bench.report.html import esc, page
+from bench.report.html import esc, fixed, page
 from bench.run import gate
 from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
@@ -220,10 +220,6 @@ def _ok(v) -> bool:
     return isinstance(v, (int, float)) and math.isfinite(v)
 
 
-def _f(v, fmt: str) -> str:
-    return format(v, fmt) if _ok(v) else "–"
-
-
 def build_leaderboard(runs, out_dir, rank_by: str = "within", notes: list | None = None) -> Path:
     """Write ``leaderboard.html`` and ``leaderboard.csv`` into ``out_dir``, ranked by ``rank_by``
     (:data:`RANK_BY`); returns the page. ``notes``: as :func:`leaderboard_rows` (also on the page).
@@ -280,12 +276,12 @@ def build_leaderboard(runs, out_dir, rank_by: str = "within", notes: list | None
             parts.append(
                 f"<tr><td>{r['rank']}{' <span class=tie>tie</span>' if r['tied'] else ''}</td>"
                 f"<td class='l'><b>{e(r['tracker'])}</b> <span class='scale'>{e(r['origin'])}</span></td>"
-                f"<td>{_f(r[rank_by], '.3f')}</td><td class='l'>[{_f(lo, '.3f')}, {_f(hi, '.3f')}]</td>"
+                f"<td>{fixed(r[rank_by], '.3f')}</td><td class='l'>[{fixed(lo, '.3f')}, {fixed(hi, '.3f')}]</td>"
                 f"<td class='l'>{bar}</td>"
-                + "".join(f"<td>{_f(r[k], '.3f')}</td>" for k in RANK_BY if k != rank_by)
-                + f"<td>{_f(r['false_report_rate'], '.3f')}</td><td>{_f(r['false_points_per_scan'], '.0f')}</td>"
-                f"<td>{_f(r['median_abs_mm'], '.2f')}</td><td>{_f(r['rmse_mm'], '.2f')}</td><td>{r['n_gross']}</td>"
-                f"<td>{r['n']}</td><td>{_f(r['ms_per_frame'], '.2f')}</td><td class='l'>{e(r['run'])}</td>"
+                + "".join(f"<td>{fixed(r[k], '.3f')}</td>" for k in RANK_BY if k != rank_by)
+                + f"<td>{fixed(r['false_report_rate'], '.3f')}</td><td>{fixed(r['false_points_per_scan'], '.0f')}</td>"
+                f"<td>{fixed(r['median_abs_mm'], '.2f')}</td><td>{fixed(r['rmse_mm'], '.2f')}</td><td>{r['n_gross']}</td>"
+                f"<td>{r['n']}</td><td>{fixed(r['ms_per_frame'], '.2f')}</td><td class='l'>{e(r['run'])}</td>"
                 f"<td class='l'><code>{e(str(r['git_revision'])[:12])}</code></td></tr>")
         parts.append("</table>")
     path = out_dir / "leaderboard.html"

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.report.html import esc, interval, page, pct, png_img
+from bench.report.html import esc, interval, page, pct, png_img, table
 from bench.report.palette import REFERENCE_COLOUR, tracker_colour, tracker_rgb
 from bench.store import realset as real
 
@@ -132,9 +132,8 @@ def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> Non
                     f"<td>{d.get('n_false', '–')} / {d.get('n_false', 0) + d.get('n_quiet', 0)}</td></tr>")
     per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values="hit_rate")
     per = per[labels]
-    head = "".join(f"<th>{e(lab)}</th>" for lab in labels)
-    table = "".join(f"<tr><td>{e(str(name))}</td>" + "".join(f"<td>{v:.2f}</td>" for v in r) + "</tr>"
-                   for name, r in zip(per.index, per.to_numpy()))
+    per_image = table(["image"] + [e(lab) for lab in labels],
+                      [[e(str(name))] + [f"{v:.2f}" for v in r] for name, r in zip(per.index, per.to_numpy())])
     key = " ".join(f"<span style='background:{tracker_colour(lab)};padding:0 6px'>&nbsp;</span> {e(lab)}"
                    for lab in labels)
     key += f" <span style='background:{REFERENCE_COLOUR};padding:0 6px'>&nbsp;</span> reference"
@@ -145,9 +144,9 @@ def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> Non
         tags = "".join(f"<figure>{_img_tag(out / 'overlays' / f'{n}.png')}<figcaption>{e(n)}: hit rate "
                        f"{col[n]:.2f}</figcaption></figure>" for n in names)
         worst.append(f"<h3>{e(lab)}</h3><div class='row'>{tags}</div>")
-    notes = "".join(f"<tr><td>{e(im.name)}</td><td>{e(im.meta.get('source_repo', ''))}</td>"
-                    f"<td>{e(im.meta.get('license', ''))}</td><td>{e(im.meta.get('notes', ''))}</td></tr>"
-                    for im in images)
+    notes = table(["image", "source", "license", "notes"],
+                  [[e(im.name), e(im.meta.get("source_repo", "")), e(im.meta.get("license", "")),
+                    e(im.meta.get("notes", ""))] for im in images])
     body = f"""<h1>Real photographs: {summary['n_images']} images, tolerance {summary['tol_px']:g} px</h1>
 <p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']};
 hit rate, MAE and coverage: means over images with 95 % bootstrap intervals over images. Detection, both
@@ -158,9 +157,9 @@ rate and AP (the tracker's score ranking its reports) pooled over the photograph
 intervals over photographs.</p>
 <table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th><th>precision</th>
 <th>recall</th><th>F1</th><th>false reports</th><th>AP</th><th>false / stripe-less rows</th></tr>{''.join(rows)}</table>
-<h2>Hit rate per image</h2><table><tr><th>image</th>{head}</tr>{table}</table>
+<h2>Hit rate per image</h2>{per_image}
 <h2>The worst images per tracker</h2><p>{key}</p>{''.join(worst)}
-<h2>Images</h2><table><tr><th>image</th><th>source</th><th>license</th><th>notes</th></tr>{notes}</table>
+<h2>Images</h2>{notes}
 """
     from bench.store.files import atomic_write_text
     from bench.store.realrun import LAYOUT

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.report.html import esc, page, png_img
+from bench.report.html import esc, page, png_file
 from bench.store.files import atomic_write_text
 from bench.report.figures import save, tracker_colour
 from bench.evaluate.curves import CURVE_METRICS, PAPER_POINT, _paper_or_default, curves, per_unit_costs, reference_point
@@ -121,7 +121,7 @@ def build_report(sweep_dir) -> Path:
 wall {summary['wall_s']:.1f} s; git {esc(summary['git_revision'])}.
 A repeat varies {esc(summary['repeat_varies'])}. Metrics on the object's rows
 (the paper's operating point, 400 lux and 3 mW, is marked).</p>
-{png_img(fig.read_bytes(), fig.stem)}
+{png_file(fig)}
 <h2>Measured costs</h2><ul>{costs}</ul>
 <h2>Curve data</h2><table><tr><th>experiment</th><th>key</th><th>value</th><th>tracker</th><th>metric</th>
 <th>mean</th><th>low</th><th>high</th><th>n</th></tr>{rows}</table>

@@ -83,7 +83,7 @@ def default_sweep_dir(config: Config, sweep: Sweep) -> Path:
 def _rerender_keys() -> frozenset:
     """Scene keys that change the cached unit renders (:data:`scenes.params.RENDER_KEYS`, a scene notion:
     not the ``[render]`` table's :data:`bench.config.RENDER_KEYS`)."""
-    from scenes.params import RENDER_KEYS as RERENDER_KEYS
+    from scenes import RENDER_KEYS as RERENDER_KEYS
 
     return frozenset(RERENDER_KEYS)
 

@@ -160,7 +160,7 @@ def truth_csv(columns, points_cm, part, false_columns=None) -> str:
     row,col,part,x_cm,y_cm,z_cm,false_cols
     1,2.5,object,1.0,2.0,3.0,
     """
-    from scenes.frame import PARTS
+    from scenes import PARTS
 
     buf = io.StringIO()
     buf.write(",".join(TRUTH_COLUMNS) + "\n")

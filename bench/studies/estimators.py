@@ -25,7 +25,8 @@ import pathlib
 
 import numpy as np
 
-__all__ = ["stripe_frame", "run_study", "write_csv", "plot", "add_arguments", "command", "main", "FIELDS", "DEFAULTS"]
+__all__ = ["stripe_frame", "run_study", "write_csv", "plot", "study", "FIELDS", "DEFAULTS", "MAX_FRAMES",
+           "BACKGROUND_DN"]
 
 #: Columns of the table, in order.
 FIELDS = ("tracker", "sigma_px", "peak_dn", "noise_dn", "rows", "reported", "mean_abs_px", "rmse_px", "bias_px",
@@ -198,66 +199,56 @@ def _summary(results, peak, noise, sigmas) -> str:
 DEFAULTS = {"sigmas": [0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0], "peaks": [30.0, 100.0, 200.0],
             "noises": [0.0, 1.0, 2.0, 4.0], "frames": 8, "seed": 0, "out": "results/runs/estimators"}
 MAX_FRAMES = 10_000  # 64-row frames per cell
+#: The frames' background level, DN.
+BACKGROUND_DN = _BACKGROUND
 
 
-def add_arguments(parser) -> None:
-    """The study's options (``stripebench estimators``, ``python -m bench.studies.estimators``)."""
-    from bench.config.options import (add_out, add_seed, add_trackers, arg_type, finite_float, finite_floats,
-                                      positive_int)
+def study(*, out=DEFAULTS["out"], sigmas=DEFAULTS["sigmas"], peaks=DEFAULTS["peaks"], noises=DEFAULTS["noises"],
+          frames: int = DEFAULTS["frames"], seed: int = DEFAULTS["seed"], trackers=None, plot_peak=None,
+          no_plot: bool = False) -> int:
+    """Run the study and write its table and figure into ``out`` (``stripebench estimators``).
 
-    def floats(low_open):
-        return lambda name, text: finite_floats(name, text, low=0, low_open=low_open)
+    Parameters
+    ----------
+    out : path
+        Output folder (created).
+    sigmas, peaks, noises : list of float
+        The grid: stripe sigmas (px, > 0), peak levels (DN above :data:`BACKGROUND_DN`, > 0),
+        noise sigmas (DN, >= 0).
+    frames : int
+        64-row frames per cell.
+    seed : int
+        Seed of the frames.
+    trackers : sequence of str or :class:`bench.config.TrackerSpec`, optional
+        Plain tracker names (default: every sub-pixel tracker).
+    plot_peak : float, optional
+        The peak level plotted (one of ``peaks``; default the middle one).
+    no_plot : bool
+        Write the table only.
 
-    add_out(parser, "output folder", default=DEFAULTS["out"])
-    parser.add_argument("--sigmas", type=arg_type(floats(True), "--sigmas"), default=DEFAULTS["sigmas"],
-                        metavar="LIST", help="stripe sigmas in px, comma-separated, finite and > 0")
-    parser.add_argument("--peaks", type=arg_type(floats(True), "--peaks"), default=DEFAULTS["peaks"], metavar="LIST",
-                        help=f"peak levels in DN above {_BACKGROUND:g} DN, finite and > 0")
-    parser.add_argument("--noises", type=arg_type(floats(False), "--noises"), default=DEFAULTS["noises"],
-                        metavar="LIST", help="noise sigmas in DN, finite and >= 0")
-    parser.add_argument("--frames", type=arg_type(lambda n, v: positive_int(n, v, MAX_FRAMES), "--frames"),
-                        default=DEFAULTS["frames"], metavar="N",
-                        help=f"64-row frames per cell (1 .. {MAX_FRAMES}; default {DEFAULTS['frames']})")
-    add_seed(parser, "seed of the frames", default=DEFAULTS["seed"])
-    add_trackers(parser, "comma-separated tracker names (default: every sub-pixel tracker)")
-    parser.add_argument("--plot-peak", type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True),
-                                                     "--plot-peak"),
-                        metavar="DN", help="peak level plotted (default: the middle one)")
-    parser.add_argument("--no-plot", action="store_true", help="write the table only")
-
-
-def command(args) -> int:
-    """Run the study with parsed options (see :func:`add_arguments`); every bad value raises
-    :class:`bench.config.ConfigError` before any work."""
+    Returns
+    -------
+    int
+        0. Every bad value raises :class:`bench.config.ConfigError` before any work.
+    """
     from bench.config import ConfigError
     from bench.config.options import plain_tracker_names
 
-    names = plain_tracker_names(args.trackers) if args.trackers else None
+    names = plain_tracker_names(trackers) if trackers else None
     if not _subpixel_trackers(names):
         raise ConfigError("--trackers: none of the selected trackers is a sub-pixel tracker")
-    peaks = args.peaks
-    plot_peak = args.plot_peak if args.plot_peak is not None else sorted(peaks)[len(peaks) // 2]
+    if plot_peak is None:
+        plot_peak = sorted(peaks)[len(peaks) // 2]
     if plot_peak not in peaks:
         raise ConfigError(f"--plot-peak {plot_peak:g} is not one of --peaks")
-    results = run_study(args.sigmas, peaks, args.noises, frames=args.frames, seed=args.seed, tracker_names=names)
-    out = pathlib.Path(args.out)
+    results = run_study(sigmas, peaks, noises, frames=frames, seed=seed, tracker_names=names)
+    out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(results, out / "estimators.csv")
     print(f"wrote {out / 'estimators.csv'} ({len(results)} lines)")
-    if not args.no_plot:
+    if not no_plot:
         plot(results, out / "estimators.png", plot_peak)
         print(f"wrote {out / 'estimators.png'}")
-    for noise in args.noises:
-        print(_summary(results, plot_peak, noise, args.sigmas))
+    for noise in noises:
+        print(_summary(results, plot_peak, noise, sigmas))
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.estimators``: the same options as ``stripebench estimators``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench estimators", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

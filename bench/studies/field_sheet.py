@@ -1,6 +1,6 @@
 """The field profile's conditions at a glance, and what each costs to render.
 
-``python -m bench.studies.field_sheet docs/field_conditions.png`` renders the middle mirror angle of every
+``python -m bench.cli.field_sheet docs/field_conditions.png`` (:func:`sheet`) renders the middle mirror angle of every
 experiment of ``bench/config/profiles/field.toml`` (its own size and settings) and writes a contact sheet
 of the photographs as the colour camera developed them, titled with each ``condition``.
 ``--cost`` also renders two more frames per experiment with the render cache off and prints the
@@ -9,14 +9,13 @@ second one's wall and process CPU seconds (the first pays for loading the scene 
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["frames", "render_cost", "contact_sheet", "main"]
+__all__ = ["frames", "render_cost", "contact_sheet", "sheet"]
 
 
 def _scenes(config):
@@ -77,26 +76,38 @@ def contact_sheet(items, path, columns: int = 4) -> Path:
     return path
 
 
-def main(argv=None) -> int:
-    from bench.config import profile
+def sheet(out, *, cost: bool = False, config=None) -> int:
+    """Write the contact sheet of the field profile's conditions to ``out`` (a ``.png``), and with ``cost``
+    print each experiment's render cost per frame (``python -m bench.cli.field_sheet``).
 
-    p = argparse.ArgumentParser(prog="python -m bench.studies.field_sheet", description=__doc__.splitlines()[0])
-    p.add_argument("out", type=Path, help="PNG file to write")
-    p.add_argument("--cost", action="store_true", help="also print each experiment's render cost per frame")
-    args = p.parse_args(argv)
-    if args.out.suffix.lower() != ".png":
-        print(f"stripebench: `out` must be a .png file, got {str(args.out)!r}", file=sys.stderr)
+    Parameters
+    ----------
+    out : path
+        The PNG file to write.
+    cost : bool
+        Also render two more frames per experiment, render cache off, and print the second one's wall and
+        CPU seconds (:func:`render_cost`).
+    config : bench.config.Config, optional
+        The configuration whose experiments are shown (default: the ``field`` profile).
+
+    Returns
+    -------
+    int
+        0, or 2 (one line on stderr) when ``out`` is not a ``.png`` file.
+    """
+    out = Path(out)
+    if out.suffix.lower() != ".png":
+        print(f"stripebench: `out` must be a .png file, got {str(out)!r}", file=sys.stderr)
         return 2
-    config = profile("field")
-    contact_sheet(frames(config), args.out)
-    print(f"wrote {args.out}")
-    if args.cost:
+    if config is None:
+        from bench.config import profile
+
+        config = profile("field")
+    contact_sheet(frames(config), out)
+    print(f"wrote {out}")
+    if cost:
         w, h = config.render.get("width", 512), config.render.get("height", 480)
         print(f"render cost per frame at {w}x{h} (cache off, scene loaded):")
         for key, wall, cpu in render_cost(config):
             print(f"  {key:28s} wall {wall:6.2f} s   CPU {cpu:6.2f} s")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -7,7 +7,7 @@ profile, or the real-photograph set) once per :class:`Machine`, each in a
 child process with its own empty render cache, and compares every gated
 metric of every (experiment, tracker, region) across them.
 
-Usage (``stripebench spread``; ``python -m bench.studies.gate_spread`` is the same)::
+Usage (``stripebench spread``, :func:`study`; ``python -m bench.cli.gate_spread`` is the same)::
 
     stripebench spread --out /tmp/spread                   # measure, print the table
     stripebench spread --out /tmp/spread --write results/baselines
@@ -37,7 +37,6 @@ spread is measured and printed but not used for tolerances.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -51,7 +50,7 @@ from typing import Mapping, Sequence
 from bench.run import gate
 
 __all__ = ["Machine", "MACHINES", "REFERENCE", "SAFETY", "GATES", "entry_ranges", "metric_spread",
-           "derive_tolerances", "measure", "add_arguments", "command", "main"]
+           "derive_tolerances", "measure", "study"]
 
 #: The factor between the measured spread and the tolerance.
 SAFETY = 2.0
@@ -326,47 +325,60 @@ def _child(argv: Sequence[str]) -> int:
     return 0
 
 
-def add_arguments(parser) -> None:
-    """The options of ``stripebench spread``."""
-    parser.add_argument("--out", type=Path, required=True, help="folder for the runs, their caches and spread.json")
-    parser.add_argument("--gates", default="ci,real", help="comma-separated gates (ci, real)")
-    parser.add_argument("--machines", default=",".join(m.name for m in MACHINES),
-                        help=f"comma-separated machines (default all: {', '.join(m.name for m in MACHINES)})")
-    parser.add_argument("--safety", type=float, default=SAFETY, help=f"factor on the spread (default {SAFETY:g})")
-    parser.add_argument("--reuse", action="store_true",
-                        help="read the runs already finished in --out (same machines) instead of running them again")
-    parser.add_argument("--write", type=Path, metavar="DIR",
-                        help="write DIR/ci.json and DIR/real.json from the reference runs with the derived tolerances")
+def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m in MACHINES), safety: float = SAFETY,
+          reuse: bool = False, write=None) -> int:
+    """Run the procedure (``stripebench spread``): measure every gate on every machine, print the table,
+    write ``OUT/spread.json`` and, with ``write``, the baselines.
 
+    Parameters
+    ----------
+    out : path
+        Folder for the runs, their caches and ``spread.json``.
+    gates : str
+        Comma-separated gates (some of :data:`GATES`).
+    machines : str
+        Comma-separated machines (some of :data:`MACHINES`, including :data:`REFERENCE`).
+    safety : float
+        The factor on the spread.
+    reuse : bool
+        Read the runs already finished in ``out`` (same machines) instead of running them again.
+    write : path, optional
+        Write ``WRITE/ci.json`` and ``WRITE/real.json`` from the reference runs with the derived tolerances.
 
-def command(a) -> int:
-    """Run the procedure with parsed options; 0, 1 (NaN flips: no tolerance covers them) or 2 (a bad option,
-    a failed run: one line)."""
+    Returns
+    -------
+    int
+        0, 1 (NaN flips: no tolerance covers them) or 2 (a bad option, a failed run: one line on stderr,
+        ``gate_spread: ...``).
+    """
+    out = Path(out)
+    write = None if write is None else Path(write)
     try:
-        gates = [g.strip() for g in a.gates.split(",") if g.strip()]
+        gates_text, gates = gates, [g.strip() for g in gates.split(",") if g.strip()]
         bad = [g for g in gates if g not in GATES]
         if bad or not gates:
-            raise ValueError(f"`--gates` must name some of {', '.join(GATES)}, got {a.gates!r}")
+            raise ValueError(f"`--gates` must name some of {', '.join(GATES)}, got {gates_text!r}")
         by_name = {m.name: m for m in MACHINES}
-        names = [n.strip() for n in a.machines.split(",") if n.strip()]
+        machines_text = machines
+        names = [n.strip() for n in machines_text.split(",") if n.strip()]
         bad = [n for n in names if n not in by_name]
         if bad or REFERENCE not in names:
             raise ValueError(f"`--machines` must name some of {', '.join(by_name)} including {REFERENCE!r}, "
-                             f"got {a.machines!r}")
+                             f"got {machines_text!r}")
         machines = [by_name[n] for n in names]
-        derive_tolerances({}, {}, a.safety)  # validates --safety before minutes of runs
+        derive_tolerances({}, {}, safety)  # validates --safety before minutes of runs
         real_trackers = REAL_TRACKERS if "real" in gates else ""
-        docs = measure(a.out, gates=gates, machines=machines, real_trackers=real_trackers, reuse=a.reuse,
+        docs = measure(out, gates=gates, machines=machines, real_trackers=real_trackers, reuse=reuse,
                        log=lambda s: print(s, file=sys.stderr))
     except (ValueError, RuntimeError, FileNotFoundError) as exc:
         print(f"gate_spread: {exc}", file=sys.stderr)
         return 2
-    report, status = {"safety": a.safety, "machines": [vars(m) | {"env": dict(m.env)} for m in machines]}, 0
+    report, status = {"safety": safety, "machines": [vars(m) | {"env": dict(m.env)} for m in machines]}, 0
     for g in gates:
         gated = {m.name: docs[g][m.name] for m in machines if m.gated}
         ranges = entry_ranges(gated)
         floors = gate.REAL_TOLERANCES if g == "real" else gate.TOLERANCES
-        tols = derive_tolerances(ranges, floors, a.safety)
+        tols = derive_tolerances(ranges, floors, safety)
         spread = metric_spread(ranges)
         flips = sorted({e for s in spread.values() for e in s["nan_flips"]})
         if flips:
@@ -376,7 +388,7 @@ def command(a) -> int:
         print(_table(g, docs[g], machines, tols) + "\n")
         informational = [(m, {REFERENCE: docs[g][REFERENCE], m.name: docs[g][m.name]}) for m in machines
                          if not m.gated]
-        source = {"procedure": "stripebench spread", "safety": a.safety,
+        source = {"procedure": "stripebench spread", "safety": safety,
                   "machines": [m.name for m in machines if m.gated],
                   "spread": {m: {"max_range": s["max_range"], "entry": s["entry"], "differing": s["differing"]}
                              for m, s in spread.items()}}
@@ -384,26 +396,20 @@ def command(a) -> int:
                      "wall_s": {n: d["wall_s"] and round(d["wall_s"], 1) for n, d in docs[g].items()},
                      "informational": {m.name: metric_spread(entry_ranges(pair)) for m, pair in informational},
                      # the tolerances each ungated machine would need against the reference (not used)
-                     "tolerances_if_gated": {m.name: derive_tolerances(entry_ranges(pair), floors, a.safety)
+                     "tolerances_if_gated": {m.name: derive_tolerances(entry_ranges(pair), floors, safety)
                                              for m, pair in informational},
                      "renderers": {n: d.get("renderer", "") for n, d in docs[g].items()}}
-        if a.write is not None and not flips:
-            path = a.write / GATES[g][1]
-            doc = gate.write_baseline(a.out / f"{g}-{REFERENCE}", path, tolerances=tols, tolerance_source=source)
+        if write is not None and not flips:
+            path = write / GATES[g][1]
+            doc = gate.write_baseline(out / f"{g}-{REFERENCE}", path, tolerances=tols, tolerance_source=source)
             print(f"gate_spread: wrote {path} ({len(doc['metrics'])} entries)", file=sys.stderr)
-    (a.out / "spread.json").write_text(json.dumps(report, indent=1, sort_keys=True, default=str) + "\n")
+    (out / "spread.json").write_text(json.dumps(report, indent=1, sort_keys=True, default=str) + "\n")
     return status
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m bench.studies.gate_spread``: the child runs (``_child``), or the procedure as ``stripebench spread``."""
-    argv = list(sys.argv[1:] if argv is None else argv)
-    if argv[:1] == ["_child"]:
-        return _child(argv[1:])
-    p = argparse.ArgumentParser(prog="stripebench spread", description=__doc__.splitlines()[0])
-    add_arguments(p)
-    return command(p.parse_args(argv))
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    # the child runs of :func:`measure` (the procedure itself is ``stripebench spread``)
+    if sys.argv[1:2] != ["_child"]:
+        sys.exit("usage: python -m bench.studies.gate_spread _child THREADS -- CLI ARGS "
+                 "(the procedure is `stripebench spread`)")
+    sys.exit(_child(sys.argv[2:]))

@@ -34,8 +34,9 @@ import numpy as np
 
 from bench.evaluate.stats import mad_scale
 
-__all__ = ["add_arguments", "command", "DEFAULTS", "FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "stripe_widths_px", "run_study",
-           "summarise", "render_noise", "write_csv", "plot", "main"]
+__all__ = ["study", "DEFAULTS", "MAX_ANGLES", "FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "stripe_widths_px", "run_study",
+           "summarise", "render_noise", "write_csv", "plot", "objects_value", "materials_value", "width_value",
+           "spp_count", "spp_list"]
 
 #: Columns of ``translucency.csv``.
 FIELDS = ("object", "material", "incidence_lo_deg", "incidence_hi_deg", "tracker", "rows", "reported",
@@ -404,7 +405,7 @@ def _choices(what: str, valid):
 
 
 def _size(name, text):
-    from scenes.params import MAX_SIZE
+    from scenes import MAX_SIZE
 
     from bench.config import ConfigError
     from bench.config.options import positive_int
@@ -437,60 +438,73 @@ def _materials():
 
 
 def _spp(name, text):
-    from scenes.params import MAX_SIZE
+    from scenes import MAX_SIZE
 
     from bench.config.options import positive_int
 
     return positive_int(name, text, MAX_SIZE["spp"])
 
 
-def add_arguments(parser) -> None:
-    """The study's options (``stripebench translucency``, ``python -m bench.studies.translucency``)."""
-    from bench.config.options import add_out, add_quiet, add_seed, add_trackers, arg_type, positive_int
-
-    add_out(parser, "output folder", default=DEFAULTS["out"])
-    parser.add_argument("--objects", type=arg_type(_choices("object", _objects), "--objects"),
-                        default=DEFAULTS["objects"], metavar="LIST",
-                        help=f"comma-separated objects (default {','.join(DEFAULTS['objects'])})")
-    parser.add_argument("--materials", type=arg_type(_choices("material", _materials), "--materials"),
-                        default=DEFAULTS["materials"], metavar="LIST",
-                        help=f"comma-separated materials (default {','.join(DEFAULTS['materials'])})")
-    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, MAX_ANGLES), "--angles"),
-                        default=DEFAULTS["angles"], metavar="N",
-                        help=f"mirror angles per object (1 .. {MAX_ANGLES}; default {DEFAULTS['angles']})")
-    parser.add_argument("--size", type=arg_type(_size, "--size"), default=DEFAULTS["size"], metavar="PX",
-                        help=f"image width, px, a multiple of 16 (height = 15/16 of it; default {DEFAULTS['size']})")
-    parser.add_argument("--spp", type=arg_type(_spp, "--spp"),
-                        default=DEFAULTS["spp"], metavar="N",
-                        help=f"laser-pass samples per pixel (default {DEFAULTS['spp']})")
-    add_seed(parser, "seed of the renders and the noise", default=DEFAULTS["seed"])
-    add_trackers(parser, "comma-separated tracker names (default: every sub-pixel tracker)")
-    parser.add_argument("--plot-tracker", default=DEFAULTS["plot_tracker"], metavar="NAME",
-                        help=f"tracker of the bias panel (default {DEFAULTS['plot_tracker']})")
-    parser.add_argument("--spp-study", type=arg_type(_spps, "--spp-study"), metavar="SPPS",
-                        help="also measure render noise vs these spp (e.g. 16,64,256) on the first object, every material")
-    parser.add_argument("--skip-study", action="store_true", help="with --spp-study: only the render-noise study")
-    add_quiet(parser)
+#: The checks of the study's option values, ``check(name, text) -> value`` raising
+#: :class:`bench.config.ConfigError` (the command line's types: :mod:`bench.cli.studies`).
+objects_value = _choices("object", _objects)
+materials_value = _choices("material", _materials)
+width_value = _size
+spp_count = _spp
+spp_list = _spps
 
 
-def command(args) -> int:
-    """Run the study with parsed options (see :func:`add_arguments`); every bad value raises
-    :class:`bench.config.ConfigError` before any work."""
+def study(*, out=DEFAULTS["out"], objects=DEFAULTS["objects"], materials=DEFAULTS["materials"],
+          angles: int = DEFAULTS["angles"], size: int = DEFAULTS["size"], spp: int = DEFAULTS["spp"],
+          seed: int = DEFAULTS["seed"], trackers=None, plot_tracker: str = DEFAULTS["plot_tracker"],
+          spp_study=None, skip_study: bool = False, quiet: bool = False) -> int:
+    """Run the study and write its tables and figure into ``out`` (``stripebench translucency``).
+
+    Parameters
+    ----------
+    out : path
+        Output folder (created).
+    objects, materials : list of str
+        The objects and materials rendered.
+    angles : int
+        Mirror angles per object.
+    size : int
+        Image width, px, a multiple of 16 (the height is 15/16 of it).
+    spp : int
+        Laser-pass samples per pixel.
+    seed : int
+        Seed of the renders and the noise.
+    trackers : sequence of str or :class:`bench.config.TrackerSpec`, optional
+        Plain tracker names (default: every sub-pixel tracker).
+    plot_tracker : str
+        Tracker of the bias panel (the first selected sub-pixel tracker if it is not selected).
+    spp_study : list of int, optional
+        Also measure the render noise against these spp on the first object, every material.
+    skip_study : bool
+        With ``spp_study``: only the render-noise study.
+    quiet : bool
+        No progress bars.
+
+    Returns
+    -------
+    int
+        0. Every bad value raises :class:`bench.config.ConfigError` before any work.
+    """
     from bench.config import ConfigError
     from bench.config.options import plain_tracker_names
 
-    if args.skip_study and not args.spp_study:
+    if skip_study and not spp_study:
         raise ConfigError("--skip-study needs --spp-study")
-    names = plain_tracker_names(args.trackers) if args.trackers else None
+    names = plain_tracker_names(trackers) if trackers else None
     if not _subpixel_trackers(names):
         raise ConfigError("--trackers: none of the selected trackers is a sub-pixel tracker")
-    plot_tracker = args.plot_tracker if names is None or args.plot_tracker in names else _subpixel_trackers(names)[0].name
-    width = args.size
-    out = pathlib.Path(args.out)
+    plot_tracker = plot_tracker if names is None or plot_tracker in names else _subpixel_trackers(names)[0].name
+    width = size
+    out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    if not args.skip_study:
-        records = run_study(args.objects, args.materials, n_angles=args.angles, width=width, height=width * 15 // 16,
-                            spp=args.spp, seed=args.seed, tracker_names=names, progress=not args.quiet)
+    if not skip_study:
+        records = run_study(objects, materials, n_angles=angles, width=width, height=width * 15 // 16,
+                            spp=spp, seed=seed, tracker_names=names, progress=not quiet)
         summary = summarise(records, width)
         write_csv(summary, out / "translucency.csv")
         print(f"wrote {out / 'translucency.csv'} ({len(summary)} lines)")
@@ -503,11 +517,11 @@ def command(args) -> int:
                 print(f"{r['object']:<7}{r['material']:<9}{r['incidence_lo_deg']:>4.0f}-{r['incidence_hi_deg']:<3.0f}"
                       f"{r['fwhm_px']:>9.2f}{r['width1090_px']:>7.2f}{r['peak_rel']:>6.2f}  {r['bias_mm']:+.3f} "
                       f"({r['spread_mm']:.3f}), {r['median_mm']:+.3f} [{r['iqr_mm']:.3f}] n={r['rows']}")
-    if args.spp_study:
+    if spp_study:
         noise = []
-        for m in args.materials:
-            noise += render_noise(args.objects[0], m, args.spp_study, width=width, height=width * 15 // 16,
-                                  seed=args.seed, tracker=plot_tracker)
+        for m in materials:
+            noise += render_noise(objects[0], m, spp_study, width=width, height=width * 15 // 16,
+                                  seed=seed, tracker=plot_tracker)
         write_csv(noise, out / "render_noise.csv", NOISE_FIELDS)
         print(f"wrote {out / 'render_noise.csv'}")
         for r in noise:
@@ -516,14 +530,3 @@ def command(args) -> int:
                   f"(robust {r['sensor_noise_mad_px']:.4f}), {r['s_per_frame']:.2f} s/frame "
                   f"({r['cpu_s_per_frame']:.2f} CPU s)")
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.translucency``: the same options as ``stripebench translucency``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench translucency", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

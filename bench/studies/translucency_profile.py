@@ -1,6 +1,6 @@
 """The fast translucent path against the reference: ``translucency = "profile"`` vs ``"volpath"``.
 
-Usage: ``python -m bench.studies.translucency_profile [--objects plane,sphere,hand] [--materials skin]
+Usage: ``python -m bench.cli.translucency_profile [--objects plane,sphere,hand] [--materials skin]
 [--angles 3] [--size 512] [--seeds 1,2] [--out results/runs/translucency-profile]``
 
 For each object x translucent material, at ``--angles`` mirror angles over the middle 80 % of the
@@ -63,10 +63,11 @@ import numpy as np
 
 from bench.evaluate.stats import mad_scale
 
-__all__ = ["add_arguments", "command", "main", "DEFAULTS", "PATH_FIELDS", "COMPARE_FIELDS", "ANGLE_FIELDS",
+__all__ = ["study", "DEFAULTS", "PATH_FIELDS", "COMPARE_FIELDS", "ANGLE_FIELDS",
            "TABLE_FIELDS", "SINGLE_FIELDS",
            "BIAS_TOL_MM", "WIDTH_TOL", "N_BOOT", "WIDTH_ROWS", "SENSOR_DRAWS", "BOARD_YAWS_DEG", "scene_kwargs",
-           "centres", "aligned_fwhm", "measure_case", "compare", "single_scatter"]
+           "centres", "aligned_fwhm", "measure_case", "compare", "single_scatter", "objects_value", "materials_value",
+           "width_value", "seeds_value"]
 
 #: Criteria of issue 24: |median bias (profile) - median bias (volpath)| <= 0.05 mm (parabolic and core
 #: centroid), the noise-matched FWHM within 5 %, the profile path's noise below the sensor's (robust centre
@@ -368,9 +369,9 @@ def single_scatter(material: str, yaws=BOARD_YAWS_DEG, *, spp: int = 64, width: 
     import dataclasses
 
     from scenes import description, rig as _rig, shapes, subsurface
-    from scenes.backend import LoadedScene
-    from scenes.laser import profile
-    from scenes.objects import SceneObject
+    from scenes import LoadedScene
+    from scenes import laser_profile as profile
+    from scenes import SceneObject
 
     rig = _rig.Rig().with_size(width, width * 15 // 16)
     laser = profile(0.2, 90.0)
@@ -467,34 +468,46 @@ def _size(name, text):
     return w
 
 
-def add_arguments(parser) -> None:
-    """The study's options (``python -m bench.studies.translucency_profile``)."""
-    from bench.config.options import add_out, add_quiet, arg_type, positive_int
-
-    add_out(parser, "output folder", default=DEFAULTS["out"])
-    parser.add_argument("--objects", type=arg_type(_names("object", _objects), "--objects"),
-                        default=DEFAULTS["objects"], metavar="LIST",
-                        help=f"comma-separated objects (default {','.join(DEFAULTS['objects'])})")
-    parser.add_argument("--materials", type=arg_type(_names("material", _translucent), "--materials"),
-                        default=DEFAULTS["materials"], metavar="LIST",
-                        help=f"comma-separated translucent materials (default {','.join(DEFAULTS['materials'])})")
-    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, 1000), "--angles"),
-                        default=DEFAULTS["angles"], metavar="N", help=f"mirror angles per case (default {DEFAULTS['angles']})")
-    parser.add_argument("--size", type=arg_type(_size, "--size"), default=DEFAULTS["size"], metavar="PX",
-                        help=f"image width, px, a multiple of 16 (default {DEFAULTS['size']})")
-    parser.add_argument("--seeds", type=arg_type(_seeds, "--seeds"), default=DEFAULTS["seeds"], metavar="A,B",
-                        help="the two render seeds (default 1,2; the paper run's is 0)")
-    parser.add_argument("--single-scatter", action="store_true",
-                        help="instead: volpath's single scattering on turned boards against Chandrasekhar's")
-    add_quiet(parser)
+#: The checks of the study's option values, ``check(name, text) -> value`` raising
+#: :class:`bench.config.ConfigError` (the command line's types: :mod:`bench.cli.studies`).
+objects_value = _names("object", _objects)
+materials_value = _names("material", _translucent)
+width_value = _size
+seeds_value = _seeds
+_single_scatter = single_scatter
 
 
-def command(args) -> int:
-    """Run the study with parsed options (see :func:`add_arguments`)."""
-    out = pathlib.Path(args.out)
+def study(*, out=DEFAULTS["out"], objects=DEFAULTS["objects"], materials=DEFAULTS["materials"],
+          angles: int = DEFAULTS["angles"], size: int = DEFAULTS["size"], seeds=DEFAULTS["seeds"],
+          single_scatter: bool = False, quiet: bool = False) -> int:
+    """Run the comparison and write its tables into ``out`` (``python -m bench.cli.translucency_profile``).
+
+    Parameters
+    ----------
+    out : path
+        Output folder (created).
+    objects, materials : list of str
+        The objects and translucent materials.
+    angles : int
+        Mirror angles per case.
+    size : int
+        Image width, px, a multiple of 16.
+    seeds : list of two int
+        The two render seeds.
+    single_scatter : bool
+        Instead: volpath's single scattering on turned boards against Chandrasekhar's (:func:`single_scatter`).
+    quiet : bool
+        No progress bars.
+
+    Returns
+    -------
+    int
+        0.
+    """
+    out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    if args.single_scatter:
-        rows = [r for m in args.materials for r in single_scatter(m)]
+    if single_scatter:
+        rows = [r for m in materials for r in _single_scatter(m)]  # the function; the flag shadows its name
         _write(rows, out / "single_scatter.csv", SINGLE_FIELDS)
         print(f"wrote {out / 'single_scatter.csv'}")
         print("| material | board yaw | in-section incidence / view | energy: volpath, theory, with offset | "
@@ -506,7 +519,7 @@ def command(args) -> int:
                   f"{r['shift_volpath_mm']:+.4f}, {r['shift_theory_mm']:+.4f}, {r['shift_theory_offset_mm']:+.4f} |")
         return 0
     tables = []
-    for material in args.materials:
+    for material in materials:
         from scenes import subsurface
 
         spec = subsurface.spec_for(material)
@@ -516,18 +529,18 @@ def command(args) -> int:
                        "diffuse_reflectance": t.diffuse_reflectance, "megabytes": t.collided.nbytes / 1e6,
                        "mfp_mm": spec.mfp_mm, "photons": spec.photons})
     _write(tables, out / "profiles.csv", TABLE_FIELDS)
-    paths, comps, angles = [], [], []
-    for material in args.materials:
-        for obj in args.objects:
-            m = measure_case(obj, material, angles=args.angles, width=args.size, seeds=args.seeds,
-                             progress=not args.quiet)
-            lines, cmp, per_angle = compare(obj, material, m, seed=args.seeds[0])
+    paths, comps, per_angles = [], [], []
+    for material in materials:
+        for obj in objects:
+            m = measure_case(obj, material, angles=angles, width=size, seeds=seeds,
+                             progress=not quiet)
+            lines, cmp, per_angle = compare(obj, material, m, seed=seeds[0])
             paths += lines
             comps.append(cmp)
-            angles += per_angle
+            per_angles += per_angle
             _write(paths, out / "paths.csv", PATH_FIELDS)
             _write(comps, out / "comparison.csv", COMPARE_FIELDS)
-            _write(angles, out / "angles.csv", ANGLE_FIELDS)
+            _write(per_angles, out / "angles.csv", ANGLE_FIELDS)
     print(f"wrote {out / 'profiles.csv'}, {out / 'paths.csv'}, {out / 'comparison.csv'} and {out / 'angles.csv'}")
     for t in tables:
         print(f"{t['material']}: line-spread table computed in {t['wall_s']:.1f} s ({t['cpu_s']:.1f} CPU s), "
@@ -545,14 +558,3 @@ def command(args) -> int:
               f"{c['fwhm_ratio']:.3f} ({c['fwhm_matched_ratio']:.3f}) | {c['z_volpath']:.2f} / {c['z_profile']:.2f} | "
               f"{v['s_per_frame']:.1f} / {p['s_per_frame']:.2f} |")
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.translucency_profile``."""
-    from bench.config.options import study_main
-
-    return study_main("python -m bench.studies.translucency_profile", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

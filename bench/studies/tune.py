@@ -32,8 +32,8 @@ import numpy as np
 from bench.evaluate.metrics import hits
 from bench.config.tune import DEFAULT_PROFILE, TuneProfile, load_profile  # noqa: F401  (the profile's schema)
 
-__all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "add_arguments", "command", "main",
-           "DEFAULT_PROFILE"]
+__all__ = ["TuneProfile", "load_profile", "hit_fraction", "choose", "run", "study", "DEFAULT_PROFILE", "DEFAULT_OUT",
+           "WHAT"]
 
 DEFAULT_OUT = "results/runs/tune_dp"
 WHAT = ("dp", "dp_gap", "threshold")  # what can be tuned: `dp`, the DP trackers' h_weight; `dp_gap`, its off level and switch cost
@@ -179,48 +179,27 @@ def _plot(profile, records, scores, chosen, path):
     plt.close(fig)
 
 
-def add_arguments(parser, *, what: bool = True) -> None:
-    """The procedure's options (``stripebench tune dp``; ``python -m bench.studies.tune`` without ``what``)."""
-    from bench.config.options import add_out, add_quiet
+def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> int:
+    """Run the procedure and print the chosen ``h_weight`` (``stripebench tune dp``).
 
-    if what:
-        parser.add_argument("what", choices=WHAT, help="what to tune: dp (the DP trackers' h_weight), dp_gap "
-                                                        "(dp_gap's off_rel and switch_rows), threshold (the "
-                                                        "threshold trackers' per-row detection, com_bg's level, "
-                                                        "the auto colour rule)")
-    parser.add_argument("--profile", type=pathlib.Path, default=None if what else DEFAULT_PROFILE, metavar="TOML",
-                        help="tuning profile (default: bench/config/profiles/tune_<what>.toml)")
-    add_out(parser, "output folder (default: results/runs/tune_<what>)", default=None if what else DEFAULT_OUT)
-    add_quiet(parser, "no progress bars")
+    Parameters
+    ----------
+    profile : path
+        The tuning profile (TOML).
+    out : path
+        Output folder (created).
+    quiet : bool
+        No progress bars.
 
-
-def command(args) -> int:
-    """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
-    (one line) before any scan."""
-    what = getattr(args, "what", "dp")
-    if what in ("dp_gap", "threshold"):
-        import importlib
-
-        other = importlib.import_module("bench.studies.tune_gap" if what == "dp_gap" else "bench.studies.tune_threshold")
-        args.profile = other.DEFAULT_PROFILE if args.profile is None else args.profile
-        args.out = other.DEFAULT_OUT if args.out is None else args.out
-        return other.command(args)
-    profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
-    out = pathlib.Path(DEFAULT_OUT if args.out is None else args.out)
-    chosen, scores, _ = run(profile, out, progress=not args.quiet)
+    Returns
+    -------
+    int
+        0. A bad profile raises :class:`bench.config.ConfigError` (one line) before any scan.
+    """
+    profile = load_profile(profile)
+    out = pathlib.Path(out)
+    chosen, scores, _ = run(profile, out, progress=not quiet)
     curve = ", ".join(f"{h:g}: {scores[h]:.3f}" for h in sorted(scores, reverse=True))
     print(f"chosen h_weight = {chosen:g} (mean hit fraction {scores[chosen]:.3f}; by h_weight {curve}); "
           f"{out / 'tune.csv'}")
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.tune``: ``stripebench tune dp`` with the same options."""
-    from bench.config.options import study_main
-
-    return study_main("python -m bench.studies.tune", __doc__, lambda p: add_arguments(p, what=False), command,
-                      argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -33,7 +33,8 @@ import numpy as np
 
 from bench.config.tune import GAP_DEFAULT_PROFILE as DEFAULT_PROFILE, GapProfile, load_gap_profile
 
-__all__ = ["GapProfile", "load_profile", "choose", "choose_rule", "run", "main"]
+__all__ = ["GapProfile", "load_profile", "choose", "choose_rule", "run", "study", "DEFAULT_PROFILE",
+           "DEFAULT_OUT"]
 
 
 def load_profile(path) -> GapProfile:
@@ -194,24 +195,28 @@ def _plot(profile, scores, chosen, path):
 DEFAULT_OUT = "results/runs/tune_dp_gap"
 
 
-def add_arguments(parser) -> None:
-    """The procedure's options (``stripebench tune dp_gap``; ``python -m bench.studies.tune_gap``)."""
-    from bench.config.options import add_out, add_quiet
+def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> int:
+    """Run the procedure and print its choices (``stripebench tune dp_gap``).
 
-    parser.add_argument("--profile", type=pathlib.Path, default=DEFAULT_PROFILE, metavar="TOML",
-                        help="tuning profile (default: bench/config/profiles/tune_dp_gap.toml)")
-    add_out(parser, "output folder", default=DEFAULT_OUT)
-    add_quiet(parser, "no progress bars")
+    Parameters
+    ----------
+    profile : path
+        The tuning profile (TOML).
+    out : path
+        Output folder (created).
+    quiet : bool
+        No progress bars.
 
-
-def command(args) -> int:
-    """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
-    (one line) before any scan."""
+    Returns
+    -------
+    int
+        0; a bad profile raises :class:`bench.config.ConfigError` (one line) before any scan.
+    """
     from bench.studies.tune_threshold import figure_lines
 
-    profile = load_profile(args.profile)
-    out = pathlib.Path(args.out)
-    chosen, summary, records = run(profile, out, progress=not args.quiet)
+    profile = load_profile(profile)
+    out = pathlib.Path(out)
+    chosen, summary, records = run(profile, out, progress=not quiet)
     k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
     k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
@@ -222,14 +227,3 @@ def command(args) -> int:
         print("\n".join(figure_lines(summary["figures"][stage])))
     print(f"{out / 'tune_gap.csv'}")
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.tune_gap``: ``stripebench tune dp_gap`` with the same options."""
-    from bench.config.options import study_main
-
-    return study_main("python -m bench.studies.tune_gap", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -45,7 +45,7 @@ import numpy as np
 from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
-           "apply_rule", "run", "figure_lines", "main"]
+           "apply_rule", "run", "figure_lines", "study", "DEFAULT_PROFILE", "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
 DEFAULT_OUT = "results/runs/tune_threshold"
@@ -315,22 +315,26 @@ def figure_lines(figures: dict) -> list[str]:
     return lines
 
 
-def add_arguments(parser) -> None:
-    """The procedure's options (``stripebench tune threshold``; ``python -m bench.studies.tune_threshold``)."""
-    from bench.config.options import add_out, add_quiet
+def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> int:
+    """Run the procedure and print its choices (``stripebench tune threshold``).
 
-    parser.add_argument("--profile", type=pathlib.Path, default=DEFAULT_PROFILE, metavar="TOML",
-                        help="tuning profile (default: bench/config/profiles/tune_threshold.toml)")
-    add_out(parser, "output folder", default=DEFAULT_OUT)
-    add_quiet(parser, "no progress lines")
+    Parameters
+    ----------
+    profile : path
+        The tuning profile (TOML).
+    out : path
+        Output folder (created).
+    quiet : bool
+        No progress lines.
 
-
-def command(args) -> int:
-    """Run the procedure with parsed options; a bad profile raises :class:`bench.config.ConfigError`
-    (one line) before any work."""
-    profile = load_profile(args.profile)
-    out = pathlib.Path(args.out)
-    chosen, summary, records = run(profile, out, progress=not args.quiet)
+    Returns
+    -------
+    int
+        0; a bad profile raises :class:`bench.config.ConfigError` (one line) before any work.
+    """
+    profile = load_profile(profile)
+    out = pathlib.Path(out)
+    chosen, summary, records = run(profile, out, progress=not quiet)
 
     def top(stage):
         best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]
@@ -351,14 +355,3 @@ def command(args) -> int:
     print("\n".join(figure_lines(summary["figures"]["stage4"])))
     print(f"{out / 'tune.csv'}")
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.tune_threshold``: ``stripebench tune threshold`` with the same options."""
-    from bench.config.options import study_main
-
-    return study_main("python -m bench.studies.tune_threshold", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

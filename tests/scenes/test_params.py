@@ -103,7 +103,7 @@ def test_translucency_defaults_to_the_reference_and_is_checked():
     assert P.validate({})["translucency"] == "volpath"
     assert P.validate({"translucency": "profile", "material": "skin"})["translucency"] == "profile"
     assert P.validate({"translucency": "profile"})["translucency"] == "profile"  # opaque materials ignore it
-    assert "translucency" not in P.RENDER_KEYS  # in the cache key only as "profile" (scenes.Scene._optics_fields)
+    assert "translucency" not in P.RENDER_KEYS  # in the cache key only as "profile" (scenes.render_key.optics_fields)
     for bad in ("mc", None, True):
         with pytest.raises(ValueError, match=rf"`translucency` must be one of 'volpath', 'profile', got {bad!r}"):
             P.validate({"translucency": bad})

@@ -14,15 +14,12 @@ light falls outside (the mask would then drop light, a bias): run it after chang
 
 from __future__ import annotations
 
-import sys
-from typing import Optional, Sequence
-
 import numpy as np
 
 import scenes
 from scenes import description
 
-__all__ = ["add_arguments", "command", "main", "GEOMETRIES", "MATERIALS"]
+__all__ = ["study", "GEOMETRIES", "MATERIALS"]
 
 GEOMETRIES = (("wall", "none"), ("none", "table"), ("wall", "table"))
 """``(background, support)`` of the checked cases."""
@@ -41,37 +38,38 @@ def check_frame(s, theta: float, spp: int, seed: int = 5):
     return int(outside.sum()), float(img[outside].sum() / total) if total > 0 else 0.0, float(lit.mean())
 
 
-def add_arguments(parser) -> None:
-    """The check's options (``stripebench perf lit``)."""
-    from bench.config.options import arg_type, positive_int, size_value
+def study(*, sizes=((128, 120), (256, 240), (512, 480)), every: int = 2, spp: int = 16) -> int:
+    """Count the pixels with direct laser light outside ``Scene.lit_pixels`` on every object, geometry
+    and material (``stripebench perf lit``).
 
-    def sizes(name, text):
-        return [size_value(name, t) for t in str(text).split(",") if t]
+    Parameters
+    ----------
+    sizes : sequence of (int, int)
+        Image sizes.
+    every : int
+        Every ``every``-th default mirror angle.
+    spp : int
+        Samples per pixel of the whole-image render.
 
-    parser.add_argument("--sizes", type=arg_type(sizes, "--sizes"), default=[(128, 120), (256, 240), (512, 480)],
-                        metavar="LIST", help="comma-separated image sizes (default 128x120,256x240,512x480)")
-    parser.add_argument("--every", type=arg_type(lambda n, v: positive_int(n, v, 100), "--every"), default=2,
-                        metavar="K", help="every K-th default mirror angle (default 2)")
-    parser.add_argument("--spp", type=arg_type(lambda n, v: positive_int(n, v, 4096), "--spp"), default=16,
-                        metavar="N", help="samples per pixel of the whole-image render (default 16)")
-
-
-def command(args) -> int:
-    """Run the check with parsed options."""
+    Returns
+    -------
+    int
+        0, or 1 when a frame has direct light outside ``lit_pixels``.
+    """
     from scenes import variant
 
-    print(f"direct light (path, max depth {description.DIRECT_DEPTH}, {args.spp} spp) outside Scene.lit_pixels; "
+    print(f"direct light (path, max depth {description.DIRECT_DEPTH}, {spp} spp) outside Scene.lit_pixels; "
           f"renderer {variant.renderer()}")
     print(f"{'size':>8} {'object':<7} {'background':<10} {'support':<7} {'material':<9} {'frames':>6} "
           f"{'outside px':>10} {'outside light':>13} {'lit share':>9}")
     frames = bad = 0
-    for w, h in args.sizes:
-        for obj in scenes.objects.OBJECTS:
+    for w, h in sizes:
+        for obj in scenes.OBJECTS:
             for background, support in GEOMETRIES:
                 for material in MATERIALS:
                     s = scenes.make(obj, material=material, background=background, support=support, width=w,
                                     height=h, cache=False)
-                    rows = [check_frame(s, float(a), args.spp) for a in s.default_angles()[::args.every]]
+                    rows = [check_frame(s, float(a), spp) for a in s.default_angles()[::every]]
                     out = sum(r[0] for r in rows)
                     frames += len(rows)
                     bad += sum(r[0] > 0 for r in rows)
@@ -80,14 +78,3 @@ def command(args) -> int:
                           flush=True)
     print(f"{frames} frames: {bad} with direct light outside lit_pixels")
     return 1 if bad else 0
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m bench.studies.perf.lit``: the same options as ``stripebench perf lit``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench perf lit", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

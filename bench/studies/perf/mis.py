@@ -21,11 +21,10 @@ z off, centroid shift in units of the sensor's; stripe energy), the other pixels
 from __future__ import annotations
 
 import time
-from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["add_arguments", "command", "main", "render_mis"]
+__all__ = ["study", "render_mis"]
 
 
 def render_mis(case, camera_spp: int, light_spp: int, seed: int) -> np.ndarray:
@@ -33,27 +32,12 @@ def render_mis(case, camera_spp: int, light_spp: int, seed: int) -> np.ndarray:
     the direct light plus the MIS-weighted bounce light (:meth:`scenes.backend.LoadedScene.bounce_mis`):
     unit radiance (H, W), 0 off the object's pixels."""
     from scenes import description
-    from scenes.scene import render_pass
+    from scenes import render_pass
 
     objpx = case.split
     direct = render_pass(case.laser_scene, case.pose, description.LaserPass("path", description.DIRECT_DEPTH, "all"),
                          objpx & case.scene.lit_pixels(case.theta), camera_spp, seed)
     return direct + case.laser_scene.bounce_mis(case.pose, objpx, camera_spp, light_spp, seed + 1)
-
-
-def add_arguments(parser) -> None:
-    from bench.config.options import arg_type, int_in_range, positive_int
-
-    parser.add_argument("--materials", default="polished,glazed", metavar="LIST",
-                        help="comma-separated shiny materials (default polished,glazed)")
-    parser.add_argument("--objects", default="cone,hand", metavar="LIST",
-                        help="comma-separated objects (default cone,hand)")
-    parser.add_argument("--counts", default="4+2,8+2,8+4,16+2", metavar="LIST",
-                        help="comma-separated camera+light counts (default 4+2,8+2,8+4,16+2)")
-    parser.add_argument("--angles", type=arg_type(lambda n, v: int_in_range(n, v, 1, 9), "--angles"), default=2,
-                        metavar="N", help="calibration angles per case (default 2)")
-    parser.add_argument("--ref-object-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--ref-object-spp"),
-                        default=1024, metavar="N", help="spp of the object pass's reference (default 1024)")
 
 
 def _counts(text: str):
@@ -70,27 +54,49 @@ def _counts(text: str):
     return out
 
 
-def command(args) -> int:
+def study(*, materials: str = "polished,glazed", objects: str = "cone,hand", counts: str = "4+2,8+2,8+4,16+2",
+          angles: int = 2, ref_object_spp: int = 1024) -> int:
+    """Render the shiny objects' pass by MIS at several camera + light counts against their own
+    reference and print the table (``stripebench perf mis``).
+
+    Parameters
+    ----------
+    materials : str
+        Comma-separated shiny materials.
+    objects : str
+        Comma-separated objects.
+    counts : str
+        Comma-separated camera+light counts (e.g. ``8+4``).
+    angles : int
+        Calibration angles per case.
+    ref_object_spp : int
+        Sample count of the object pass's reference.
+
+    Returns
+    -------
+    int
+        0; bad values raise :class:`bench.errors.InputError`.
+    """
     import scenes
     from bench.errors import InputError
     from bench.studies.perf import sampling as S
-    from scenes.objects import OBJECTS
+    from scenes import OBJECTS
 
-    mats = [m for m in args.materials.split(",") if m]
+    mats = [m for m in materials.split(",") if m]
     shiny = [m for m in S.MATERIALS if S.laser_candidates(m)[0][0] == "split"]
     if not mats or any(m not in shiny for m in mats):
-        raise InputError(f"--materials must name some of {', '.join(shiny)}, got {args.materials!r}")
-    objs = [o for o in args.objects.split(",") if o]
+        raise InputError(f"--materials must name some of {', '.join(shiny)}, got {materials!r}")
+    objs = [o for o in objects.split(",") if o]
     if not objs or any(o not in OBJECTS for o in objs):
-        raise InputError(f"--objects must name some of {', '.join(OBJECTS)}, got {args.objects!r}")
-    counts = _counts(args.counts)
+        raise InputError(f"--objects must name some of {', '.join(OBJECTS)}, got {objects!r}")
+    counts = _counts(counts)
     print("| case | render | z stripe | z off | centre | energy | CPU s |\n| --- | --- | --- | --- | --- | --- | --- |",
           flush=True)
     for material in mats:
         for obj in objs:
             probe = scenes.make(obj, material=material, cache=False, seed=S.SEED, **S._TABLE)
-            for theta in S.calibration_angles(probe, args.angles):
-                case = S._Case(material, obj, S._TABLE, float(theta), 16, 16, args.ref_object_spp)
+            for theta in S.calibration_angles(probe, angles):
+                case = S._Case(material, obj, S._TABLE, float(theta), 16, 16, ref_object_spp)
                 rows = [("path@3 16 (today)", lambda: case.render(case.object_pass, 16, 11))]
                 rows += [(f"mis {a}+{b}", lambda a=a, b=b: render_mis(case, a, b, 11)) for a, b in counts]
                 for label, fn in rows:
@@ -102,14 +108,3 @@ def command(args) -> int:
                     print(f"| {case.label} | {label} | {m['stripe']:.2f} | {m['off']:.2f} | {m['centre']:.2f} | "
                           f"{m['energy']:.4f} | {cost:.2f} |", flush=True)
     return 0
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m bench.studies.perf.mis``: the same options as ``stripebench perf mis``."""
-    from bench.config.options import study_main
-
-    return study_main("python -m bench.studies.perf.mis", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

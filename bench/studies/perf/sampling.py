@@ -73,13 +73,13 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
 __all__ = ["MATERIALS", "AMBIENT_ONLY", "CASES", "SEED", "Z_MAX", "ENERGY_TOL", "AMBIENT_CANDIDATES", "REF_OBJECT_SPP",
            "OBJECT_SPP", "calibration_angles",
-           "laser_candidates", "centroid_sd_px", "add_arguments", "command", "main"]
+           "laser_candidates", "centroid_sd_px", "measure", "choose", "choose_objects", "study"]
 
 MATERIALS = ("matte", "patchy", "absorbing", "glossy", "polished", "glazed", "specular")
 """The materials the procedure measures (every opaque and shiny one)."""
@@ -341,7 +341,7 @@ class _Case:
     def render(self, laser_pass, spp: int, seed: int) -> np.ndarray:
         """One laser pass (:class:`scenes.description.LaserPass`) as ``Scene.render`` renders it: on
         its pixels (:meth:`scenes.Scene.pass_pixels`), zero elsewhere."""
-        from scenes.scene import render_pass
+        from scenes import render_pass
 
         mask = self.scene.pass_pixels(self.theta, (laser_pass,))[0]
         return render_pass(self.laser_scene, self.pose, laser_pass, mask, spp, seed)
@@ -517,29 +517,6 @@ def choose_objects(result: dict) -> Dict[str, Optional[int]]:
     return out
 
 
-def _records(cands: dict) -> list:
-    return [{"label": c[0], "spp": list(c[1]), **rec} for c, rec in cands.items()]
-
-
-def _from_records(records: list) -> dict:
-    return {(r["label"], tuple(r["spp"])): {k: v for k, v in r.items() if k not in ("label", "spp")}
-            for r in records}
-
-
-def _jsonable(result: dict) -> dict:
-    return {"laser": _records(result["laser"]),
-            "ambient": [{"spp": n, **rec} for n, rec in result["ambient"].items()],
-            "object": {key: _records(c) for key, c in result.get("object", {}).items()},
-            "cases": result["cases"], "checks": result.get("checks", [])}
-
-
-def _from_jsonable(d: dict) -> dict:
-    ambient = {int(r["spp"]): {k: v for k, v in r.items() if k != "spp"} for r in d["ambient"]}
-    return {"laser": _from_records(d["laser"]), "ambient": ambient,
-            "object": {key: _from_records(r) for key, r in d.get("object", {}).items()},
-            "cases": d["cases"], "checks": d.get("checks", [])}
-
-
 def _table(material: str, result: dict, chosen) -> str:
     lines = [f"| `{material}` laser | z stripe | z off | centre | energy | CPU s | passes |",
              "| --- | --- | --- | --- | --- | --- | --- |"]
@@ -563,121 +540,84 @@ def _table(material: str, result: dict, chosen) -> str:
     return "\n".join(lines)
 
 
-def _write(path: Path, results: Dict[str, dict], chosen: Dict[str, tuple], argv_text: str) -> None:
-    from bench.store.files import atomic_write_text
+def study(*, angles: int = 2, ref_spp: int = 144, ref_ambient_spp: int = 144, ref_object_spp: int = REF_OBJECT_SPP,
+          materials=None, write: bool = False, save=None, from_file=None) -> int:
+    """Measure (or read) every material's candidates, print the tables and the choices, and with ``write``
+    write them into :mod:`scenes.sampling` (``stripebench perf sampling``).
 
-    laser = {m: c[0][1] for m, c in chosen.items() if c[0] is not None}
-    kinds = {m: c[0][0] for m, c in chosen.items() if c[0] is not None}
-    ambient = {m: c[1] for m, c in chosen.items() if c[1] is not None}
-    measured = {}
-    for m, c in chosen.items():
-        if c[0] is None or c[1] is None:
-            continue
-        w = results[m]["laser"][c[0]]["worst"]
-        measured[m] = {"z_stripe": round(w["stripe"], 3), "z_off": round(w["off"], 3),
-                       "centre": round(w["centre"], 3), "energy": round(w["energy"], 4),
-                       "z_ambient": round(results[m]["ambient"][c[1]]["z"], 3), "cases": len(results[m]["cases"])}
-    from scenes.sampling import FIXED_SPP
+    Parameters
+    ----------
+    angles : int
+        Calibration angles per case (:func:`calibration_angles`).
+    ref_spp, ref_ambient_spp : int
+        Sample counts of the laser and ambient references.
+    ref_object_spp : int
+        Sample count of a shiny object's own reference, on its pixels.
+    materials : str, optional
+        Comma-separated materials (default :data:`MATERIALS` and :data:`AMBIENT_ONLY`; with ``from_file``,
+        those the file has).
+    write : bool
+        Write the choices into ``scenes/sampling.py`` (:func:`bench.studies.perf.sampling_tables.write_tables`);
+        needs every one of :data:`MATERIALS`.
+    save : path, optional
+        Also write the measurements (every candidate, every material) as JSON.
+    from_file : path, optional
+        Choose (and write) from measurements saved by ``save`` instead of rendering.
 
-    object_spp, measured_object = {}, {}
-    for m in chosen:
-        for key, n in choose_objects(results[m]).items():
-            if n is not None:
-                object_spp.setdefault(m, {})[key] = n
-            shown = FIXED_SPP if n is None else n
-            rec = results[m]["object"][key].get(("path", (shown,)))
-            if rec is not None:
-                w = rec["worst"]
-                measured_object.setdefault(m, {})[key] = {
-                    "spp": shown, "certified": n is not None, "z_stripe": round(w["stripe"], 3),
-                    "z_off": round(w["off"], 3), "centre": round(w["centre"], 3), "energy": round(w["energy"], 4)}
-    text = path.read_text()
-    start, end = "# --- generated: begin ---\n", "# --- generated: end ---\n"
-    head, rest = text.split(start)
-    _, tail = rest.split(end)
-    body = (f"# by `{argv_text}`\n"
-            f"LASER_KIND = {kinds!r}\n"
-            f"LASER_SPP = {laser!r}\n"
-            f"AMBIENT_SPP = {ambient!r}\n"
-            f"MEASURED = {measured!r}\n"
-            f"OBJECT_SPP = {object_spp!r}\n"
-            f"MEASURED_OBJECT = {measured_object!r}\n")
-    atomic_write_text(path, head + start + body + end + tail)
-
-
-def add_arguments(parser) -> None:
-    """The procedure's options (``stripebench perf sampling``)."""
-    from bench.config.options import arg_type, int_in_range, positive_int
-
-    parser.add_argument("--angles", type=arg_type(lambda n, v: int_in_range(n, v, 1, 9), "--angles"), default=2,
-                        metavar="N", help="calibration angles per case (default 2)")
-    parser.add_argument("--ref-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--ref-spp"),
-                        default=144, metavar="N", help="spp of the laser references (default 144)")
-    parser.add_argument("--ref-ambient-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536),
-                                                           "--ref-ambient-spp"),
-                        default=144, metavar="N", help="spp of the ambient references (default 144)")
-    parser.add_argument("--ref-object-spp", type=arg_type(lambda n, v: positive_int(n, v, 65536), "--ref-object-spp"),
-                        default=REF_OBJECT_SPP, metavar="N",
-                        help=f"spp of a shiny object's own reference, on its pixels (default {REF_OBJECT_SPP})")
-    parser.add_argument("--materials", default=None, metavar="LIST",
-                        help=f"comma-separated materials (default {','.join(MATERIALS + AMBIENT_ONLY)}; with --from, "
-                             "those the file has)")
-    parser.add_argument("--write", action="store_true", help="write the choices into scenes/sampling.py")
-    parser.add_argument("--save", metavar="FILE", default=None,
-                        help="also write the measurements (every candidate, every material) as JSON")
-    parser.add_argument("--from", dest="from_file", metavar="FILE", default=None,
-                        help="choose (and --write) from measurements saved by --save instead of rendering")
-
-
-def command(args) -> int:
-    """Run the procedure with parsed options."""
+    Returns
+    -------
+    int
+        0; bad values raise :class:`bench.errors.InputError`.
+    """
     from bench.errors import InputError
+    from bench.studies.perf import sampling_tables as tables
     from scenes import sampling
 
     known = MATERIALS + AMBIENT_ONLY
     saved = None
-    if args.from_file:
+    if from_file:
         try:
-            saved = json.loads(Path(args.from_file).read_text())
+            saved = json.loads(Path(from_file).read_text())
             options = saved["options"]
-            saved_results = {m: _from_jsonable(r) for m, r in saved["results"].items()}
+            saved_results = {m: tables.from_json(r) for m, r in saved["results"].items()}
         except (OSError, ValueError, KeyError, TypeError) as exc:
-            raise InputError(f"--from {args.from_file}: not a file of `stripebench perf sampling --save` ({exc})")
-    if args.materials is None:
-        args.materials = ",".join(m for m in known if saved is None or m in saved_results)
-    materials = [m for m in args.materials.split(",") if m]
+            raise InputError(f"--from {from_file}: not a file of `stripebench perf sampling --save` ({exc})")
+    if materials is None:
+        materials = ",".join(m for m in known if saved is None or m in saved_results)
+    materials_text = materials
+    materials = [m for m in materials_text.split(",") if m]
     bad = [m for m in materials if m not in known]
     if bad or not materials:
         raise InputError(f"--materials must name some of {', '.join(MATERIALS + AMBIENT_ONLY)}, "
-                         f"got {args.materials!r}")
-    if args.write and not set(MATERIALS) <= set(materials):
+                         f"got {materials_text!r}")
+    if write and not set(MATERIALS) <= set(materials):
         raise InputError(f"--write needs every one of {', '.join(MATERIALS)} in --materials")
     results, chosen = {}, {}
     if saved is not None:
-        args.angles, args.ref_spp, args.ref_ambient_spp = options["angles"], options["ref_spp"], options["ref_ambient_spp"]
-        args.ref_object_spp = options.get("ref_object_spp")
+        angles, ref_spp, ref_ambient_spp = options["angles"], options["ref_spp"], options["ref_ambient_spp"]
+        ref_object_spp = options.get("ref_object_spp")
         missing = [m for m in materials if m not in saved_results]
         if missing:
-            raise InputError(f"--from {args.from_file} lacks the material(s) {', '.join(missing)}")
+            raise InputError(f"--from {from_file} lacks the material(s) {', '.join(missing)}")
     for material in materials:
         if saved is not None:
             results[material] = saved_results[material]
         else:
             print(f"{material}:", file=sys.stderr, flush=True)
-            results[material] = measure(material, args.angles, args.ref_spp, args.ref_ambient_spp,
-                                        ref_object_spp=args.ref_object_spp)
+            results[material] = measure(material, angles, ref_spp, ref_ambient_spp,
+                                        ref_object_spp=ref_object_spp)
         chosen[material] = choose(results[material])
         print(_table(material, results[material], chosen[material]) + "\n", flush=True)
-    if args.save:
+    if save:
         from bench.store.files import atomic_write_text
 
-        doc = {"format": 1, "options": {"angles": args.angles, "ref_spp": args.ref_spp,
-                                        "ref_ambient_spp": args.ref_ambient_spp,
-                                        "ref_object_spp": args.ref_object_spp},
-               "results": {m: _jsonable(r) for m, r in results.items()}}
+        doc = {"format": 1, "options": {"angles": angles, "ref_spp": ref_spp,
+                                        "ref_ambient_spp": ref_ambient_spp,
+                                        "ref_object_spp": ref_object_spp},
+               "results": {m: tables.to_json(r) for m, r in results.items()}}
         if saved is not None and "provenance" in saved:
             doc["provenance"] = saved["provenance"]
-        atomic_write_text(Path(args.save), json.dumps(doc, indent=1) + "\n")
+        atomic_write_text(Path(save), json.dumps(doc, indent=1) + "\n")
     print("| material | laser pass(es) | ambient spp |\n| --- | --- | --- |")
     for m, (laser, amb) in chosen.items():
         text = "none passes (fixed counts kept)" if laser is None else f"{laser[0]} {'+'.join(map(str, laser[1]))}"
@@ -686,21 +626,11 @@ def command(args) -> int:
         for key, n in choose_objects(results[m]).items():
             print(f"| `{m}` object pass, {key} | "
                   f"{'none passes (fixed count kept)' if n is None else f'path {n}'} | |")
-    if args.write:
-        argv = (f"stripebench perf sampling --from {args.from_file} --write" if args.from_file else
-                f"stripebench perf sampling --angles {args.angles} --ref-spp {args.ref_spp} "
-                f"--ref-ambient-spp {args.ref_ambient_spp} --ref-object-spp {args.ref_object_spp} --write")
-        _write(Path(sampling.__file__), results, chosen, argv)
+    if write:
+        argv = (f"stripebench perf sampling --from {from_file} --write" if from_file else
+                f"stripebench perf sampling --angles {angles} --ref-spp {ref_spp} "
+                f"--ref-ambient-spp {ref_ambient_spp} --ref-object-spp {ref_object_spp} --write")
+        objects = {m: choose_objects(results[m]) for m in chosen}
+        tables.write_tables(Path(sampling.__file__), results, chosen, objects, argv)
         print(f"wrote {sampling.__file__}", file=sys.stderr)
     return 0
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m bench.studies.perf.sampling``: the same options as ``stripebench perf sampling``."""
-    from bench.config.options import study_main
-
-    return study_main("python -m bench.studies.perf.sampling", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

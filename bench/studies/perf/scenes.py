@@ -25,18 +25,16 @@ the same cache); ``--frames 0`` skips the scan.
 
 from __future__ import annotations
 
-import sys
 import tempfile
 import time
-from typing import Optional, Sequence
 
 import numpy as np
 
 import scenes
 from scenes import description
-from scenes.scene import render_pass
+from scenes import render_pass
 
-__all__ = ["add_arguments", "command", "main"]
+__all__ = ["study", "FRAME_VS_BARE", "object_value", "materials_value"]
 
 
 FRAME_VS_BARE = 1.2
@@ -105,41 +103,50 @@ def _materials(name, text):
     return materials
 
 
-def add_arguments(parser) -> None:
-    """The benchmark's options (``stripebench perf scenes``)."""
-    from bench.config.options import arg_type, int_in_range, positive_int, spp_value
-
-    parser.add_argument("--object", type=arg_type(_object, "--object"), default="hand",
-                        help="the scanned object (default hand)")
-    parser.add_argument("--frames", type=arg_type(lambda n, v: int_in_range(n, v, 0, 100000), "--frames"),
-                        default=100, metavar="N", help="frames of the timed scan; 0 skips it (default 100)")
-    parser.add_argument("--per-material", type=arg_type(lambda n, v: positive_int(n, v, 1000), "--per-material"),
-                        default=6, metavar="N", help="frames timed per material (default 6)")
-    parser.add_argument("--materials", type=arg_type(_materials, "--materials"), default=list(scenes.MATERIALS),
-                        metavar="LIST", help="comma-separated materials (default: all; the translucent ones cost ~15x matte)")
-    parser.add_argument("--spp", type=arg_type(spp_value, "--spp"), default="auto", metavar="auto|N",
-                        help="laser-pass samples per pixel (default auto: scenes.sampling)")
-    parser.add_argument("--ambient-spp", type=arg_type(spp_value, "--ambient-spp"), default="auto", metavar="auto|N",
-                        help="ambient-pass samples per pixel (default auto)")
-    parser.add_argument("--strict", action="store_true", help=f"exit 1 if frame / bare > {FRAME_VS_BARE}")
-    parser.add_argument("--background", default="wall", choices=("wall", "none"))
-    parser.add_argument("--support", default="none", choices=("none", "table"))
+#: The checks of ``--object`` and ``--materials`` (``check(name, text) -> value``; :mod:`bench.cli.perf`).
+object_value = _object
+materials_value = _materials
 
 
-def command(args) -> int:
-    """Run the benchmark with parsed options."""
+def study(*, object: str = "hand", frames: int = 100, per_material: int = 6, materials=None, spp="auto",
+          ambient_spp="auto", strict: bool = False, background: str = "wall", support: str = "none") -> int:
+    """Time every material's frames against the bare render, then a scan cold and cached
+    (``stripebench perf scenes``).
+
+    Parameters
+    ----------
+    object : str
+        The scanned object.
+    frames : int
+        Frames of the timed scan; 0 skips it.
+    per_material : int
+        Frames timed per material.
+    materials : list of str, optional
+        The materials (default: every one of ``scenes.MATERIALS``).
+    spp, ambient_spp : "auto" or int
+        Laser-pass and ambient-pass samples per pixel.
+    strict : bool
+        Return 1 if frame / bare exceeds :data:`FRAME_VS_BARE`.
+    background, support : str
+        The scene's geometry.
+
+    Returns
+    -------
+    int
+        0, or 1 with ``strict`` when the target is missed.
+    """
     from scenes import materials as M, variant
 
-    materials = args.materials
-    geometry = {"background": args.background, "support": args.support}
-    print(f"512x480, laser spp {args.spp}, ambient spp {args.ambient_spp}, object {args.object}, "
-          f"background {args.background}, support {args.support}, renderer {variant.renderer()}")
+    materials = list(scenes.MATERIALS) if materials is None else materials
+    geometry = {"background": background, "support": support}
+    print(f"512x480, laser spp {spp}, ambient spp {ambient_spp}, object {object}, "
+          f"background {background}, support {support}, renderer {variant.renderer()}")
     print(f"{'material':<10} {'frames/s':>8} {'CPU s/frame':>11} {'laser s':>8} {'ambient s':>9} {'truth s':>8} "
           f"{'frame/bare CPU':>14} {'wall':>5}  passes (spp)")
     missed = []
     for m in materials:
         fps, cpu, (tl, ta, tt), ratio, (passes, counts, amb) = _per_material(
-            args.object, m, args.per_material, geometry, args.spp, args.ambient_spp)
+            object, m, per_material, geometry, spp, ambient_spp)
         text = " + ".join(f"{p.kind}@{p.max_depth}:{n}" for p, n in zip(passes, counts)) + f"; ambient {amb}"
         print(f"{m:<10} {fps:8.2f} {cpu:11.3f} {tl:8.3f} {ta:9.3f} {tt:8.3f} {ratio[0]:14.2f} {ratio[1]:5.2f}  {text}",
               flush=True)
@@ -147,28 +154,17 @@ def command(args) -> int:
             missed.append(f"{m} {ratio[0]:.2f}")
     if missed:
         print(f"target missed: frame / bare <= {FRAME_VS_BARE} ({', '.join(missed)})")
-    if args.strict and missed:
+    if strict and missed:
         return 1
-    if args.frames == 0:
+    if frames == 0:
         return 0
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-") as tmp:
         for label in ("cold", "cached"):
-            s = scenes.make(args.object, material="matte", cache_dir=tmp, **geometry)
-            angles = np.linspace(*s.default_angles()[[0, -1]], args.frames)
+            s = scenes.make(object, material="matte", cache_dir=tmp, **geometry)
+            angles = np.linspace(*s.default_angles()[[0, -1]], frames)
             t0 = time.perf_counter()
             for _ in s.scan(angles, progress=False):
                 pass
-            print(f"{args.frames}-frame scan of {args.object}/matte, {label}: {time.perf_counter() - t0:.1f} s",
+            print(f"{frames}-frame scan of {object}/matte, {label}: {time.perf_counter() - t0:.1f} s",
                   flush=True)
     return 0
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m bench.studies.perf.scenes``: the same options as ``stripebench perf scenes``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench perf scenes", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

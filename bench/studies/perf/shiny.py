@@ -37,9 +37,8 @@ frame that loads the scene and compiles the kernels) for ``matte``, ``specular``
 
 from __future__ import annotations
 
-import sys
 import time
-from typing import Optional, Sequence
+from typing import Optional
 
 import numpy as np
 from scipy import ndimage
@@ -47,7 +46,7 @@ from scipy import ndimage
 import scenes
 from scenes import description
 
-__all__ = ["add_arguments", "command", "main", "CASES"]
+__all__ = ["study", "CASES"]
 
 CASES = (("cone", "polished", 2.3), ("cone", "glazed", 2.3), ("sphere", "polished", 0.0),
          ("sphere", "glazed", 0.0), ("hand", "polished", 0.0))
@@ -138,42 +137,47 @@ def _cost(spp: Optional[int]):
         print(f"  {material:<9} {(time.perf_counter() - t0) / 3:6.2f} s/frame", flush=True)
 
 
-def add_arguments(parser) -> None:
-    """The study's options (``stripebench perf shiny``)."""
-    from bench.config.options import arg_type, int_in_range, positive_int, size_value
+def study(*, size=(128, 120), spp=(4, 16), ref_spp: int = 4096, cases: int = len(CASES), mask: bool = False,
+          sweep: int = 0, support: str = "none", cost: bool = False, cost_spp=None) -> int:
+    """Compare the laser-pass integrators on the shiny :data:`CASES` against a reference, and print
+    the table (``stripebench perf shiny``).
 
-    def spp(name):
-        return arg_type(lambda n, v: positive_int(n, v, 65536), name)
+    Parameters
+    ----------
+    size : (int, int)
+        Width and height.
+    spp : sequence of int
+        Sample counts of the compared renders.
+    ref_spp : int
+        Sample count of the reference.
+    cases : int
+        The first ``cases`` of :data:`CASES`.
+    mask : bool
+        Also measure the false stripe's energy near the truth's mask.
+    sweep : int
+        Scan this many default angles per shiny material (0: none).
+    support : str
+        ``"none"`` or ``"table"``, for ``mask`` and ``sweep``.
+    cost : bool
+        Also time ``Scene.render`` per frame at 512x480.
+    cost_spp : int, optional
+        Sample count of ``cost`` (default: the scene's).
 
-    parser.add_argument("--size", type=arg_type(size_value, "--size"), default=(128, 120), metavar="WxH",
-                        help="WIDTHxHEIGHT (default 128x120)")
-    parser.add_argument("--spp", type=spp("--spp"), nargs="+", default=[4, 16], metavar="N",
-                        help="spp of the compared renders (default 4 16)")
-    parser.add_argument("--ref-spp", type=spp("--ref-spp"), default=4096, metavar="N",
-                        help="spp of the reference (default 4096)")
-    parser.add_argument("--cases", type=arg_type(lambda n, v: int_in_range(n, v, 0, len(CASES)), "--cases"),
-                        default=len(CASES), metavar="N", help=f"the first N of CASES (0 .. {len(CASES)})")
-    parser.add_argument("--mask", action="store_true", help="the false stripe's energy near the truth's mask")
-    parser.add_argument("--sweep", type=arg_type(lambda n, v: int_in_range(n, v, 0, 10000), "--sweep"), default=0,
-                        metavar="N", help="scan N default angles per shiny material")
-    parser.add_argument("--support", default="none", choices=["none", "table"], help="for --mask and --sweep")
-    parser.add_argument("--cost", action="store_true", help="also time Scene.render per frame at 512x480")
-    parser.add_argument("--cost-spp", type=spp("--cost-spp"), default=None, metavar="N",
-                        help="spp of --cost (default: the scene's)")
-
-
-def command(args) -> int:
-    """Run the study with parsed options."""
-    width, height = args.size
-    for name, material, theta in CASES[:args.cases]:
-        s, out, regions = _renders(name, material, theta, width, height, args.spp, args.ref_spp)
+    Returns
+    -------
+    int
+        0.
+    """
+    width, height = size
+    for name, material, theta in CASES[:cases]:
+        s, out, regions = _renders(name, material, theta, width, height, spp, ref_spp)
         ref = out["ref"]
         sigma = s.sensor.noise_dn(ref)
-        print(f"\n{name}/{material} at {theta} deg, {width}x{height}, reference split@{args.ref_spp} "
+        print(f"\n{name}/{material} at {theta} deg, {width}x{height}, reference split@{ref_spp} "
               f"(peak {ref[regions['object']].max(initial=0):.0f} DN on the object, "
               f"{ref[regions['wall-off']].max(initial=0):.1f} DN on the wall off the plane)")
         print(f"  {'render':<14}" + "".join(f"{r + ' E/Eref':>17}{'z':>7}" for r in regions))
-        for label in ["ref_path", "ref_pt"] + [f"{k}@{spp}" for spp in args.spp for k in ("path", "ptracer", "split")]:
+        for label in ["ref_path", "ref_pt"] + [f"{k}@{spp}" for spp in spp for k in ("path", "ptracer", "split")]:
             row = f"  {label:<14}"
             for m in regions.values():
                 e_ref = ref[m].sum()
@@ -181,21 +185,10 @@ def command(args) -> int:
                 z = np.sqrt(np.mean(((out[label][m] - ref[m]) / sigma[m]) ** 2)) if m.any() else np.nan
                 row += f"{ratio:17.3f}{z:7.3f}"
             print(row, flush=True)
-    if args.mask:
-        _mask(width, height, args.support)
-    if args.sweep:
-        _sweep(args.sweep, width, height, args.support)
-    if args.cost:
-        _cost(args.cost_spp)
+    if mask:
+        _mask(width, height, support)
+    if sweep:
+        _sweep(sweep, width, height, support)
+    if cost:
+        _cost(cost_spp)
     return 0
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m bench.studies.perf.shiny``: the same options as ``stripebench perf shiny``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench perf shiny", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -21,23 +21,23 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["add_arguments", "command", "main", "TARGET_RATIO"]
+__all__ = ["study", "TARGET_RATIO"]
 
 TARGET_RATIO = 1.3
 
 
-def _config(args, lux: list[float], power: list[float]) -> str:
-    w, h = args.size
-    trackers = ", ".join(f'"{t}"' for t in args.trackers.split(","))
-    return (f'name = "perf-sweep"\nseed = 0\ntrackers = [{trackers}]\nbaselines = []\ndp = []\nn_samples = 150\n'
+def _config(lux: list[float], power: list[float], *, scene: str, material: str, size, angles: int, spp,
+            trackers: str, repeats: int) -> str:
+    w, h = size
+    names = ", ".join(f'"{t}"' for t in trackers.split(","))
+    return (f'name = "perf-sweep"\nseed = 0\ntrackers = [{names}]\nbaselines = []\ndp = []\nn_samples = 150\n'
             f'[render]\nwidth = {int(w)}\nheight = {int(h)}\n'
-            + ('spp = "auto"\nambient_spp = "auto"\n' if args.spp == "auto" else f'spp = {args.spp}\n')
-            + f'[[experiments]]\nscene = "{args.scene}"\nmaterial = "{args.material}"\nn_angles = {args.angles}\n'
-            f'[sweep]\nambient_lux = {lux}\nlaser_power_mw = {power}\nrepeats = {args.repeats}\n')
+            + ('spp = "auto"\nambient_spp = "auto"\n' if spp == "auto" else f'spp = {spp}\n')
+            + f'[[experiments]]\nscene = "{scene}"\nmaterial = "{material}"\nn_angles = {angles}\n'
+            f'[sweep]\nambient_lux = {lux}\nlaser_power_mw = {power}\nrepeats = {repeats}\n')
 
 
 def _timed_sweep(config_text: str, out: Path, tmp: Path, label: str) -> tuple[float, dict]:
@@ -59,63 +59,66 @@ def _timed_sweep(config_text: str, out: Path, tmp: Path, label: str) -> tuple[fl
     return wall, summary
 
 
-def add_arguments(parser) -> None:
-    """The benchmark's options (``stripebench perf sweep``)."""
-    from bench.config.options import add_trackers, arg_type, finite_floats, positive_int, size_value, spp_value
+def study(*, scene: str = "cone", material: str = "patchy", size=(256, 240), angles: int = 10, spp="auto",
+          trackers=None, lux=(0.0, 100.0, 400.0, 1000.0, 2000.0), power=(1.0, 3.0, 10.0), repeats: int = 1,
+          trials: int = 2, out=None) -> int:
+    """Time a ``lux`` x ``power`` sweep grid against its single point (400 lux, 3 mW), each a fresh
+    ``stripebench sweep`` process with a cold render cache (``stripebench perf sweep``).
 
-    def nonneg(name):
-        return arg_type(lambda n, v: finite_floats(n, v, low=0), name)
+    Parameters
+    ----------
+    scene, material : str
+        The object and its material.
+    size : (int, int)
+        Width and height.
+    angles : int
+        Mirror angles.
+    spp : "auto" or int
+        Laser-pass samples per pixel (``"auto"``: the ambient pass's too).
+    trackers : sequence of str or :class:`bench.config.TrackerSpec`, optional
+        Plain tracker names (default threshold, centroid, dp4, dp8).
+    lux, power : sequence of float
+        The grid's ambient lux and laser powers (mW).
+    repeats : int
+        Repeats per grid point.
+    trials : int
+        Cold runs of each, alternated; the medians are compared.
+    out : path, optional
+        Where the sweeps go (default: a temporary folder).
 
-    parser.add_argument("--scene", default="cone", help="the object (default cone)")
-    parser.add_argument("--material", default="patchy", help="its material (default patchy)")
-    parser.add_argument("--size", type=arg_type(size_value, "--size"), default=(256, 240), metavar="WxH",
-                        help="WIDTHxHEIGHT (16:15; default 256x240)")
-    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, 10000), "--angles"), default=10,
-                        metavar="N", help="mirror angles (default 10)")
-    parser.add_argument("--spp", type=arg_type(spp_value, "--spp"),
-                        default="auto", metavar="auto|N",
-                        help="laser-pass samples per pixel, or auto (scenes.sampling; the ambient pass then too) "
-                             "(default auto)")
-    add_trackers(parser, "comma-separated tracker names (default threshold,centroid,dp4,dp8)")
-    parser.add_argument("--lux", type=nonneg("--lux"), default=[0.0, 100.0, 400.0, 1000.0, 2000.0], metavar="LIST",
-                        help="ambient lux of the grid (default 0,100,400,1000,2000)")
-    parser.add_argument("--power", type=nonneg("--power"), default=[1.0, 3.0, 10.0], metavar="LIST",
-                        help="laser powers, mW, of the grid (default 1,3,10)")
-    parser.add_argument("--repeats", type=arg_type(lambda n, v: positive_int(n, v, 1000), "--repeats"), default=1,
-                        metavar="N", help="repeats per grid point (default 1)")
-    parser.add_argument("--trials", type=arg_type(lambda n, v: positive_int(n, v, 100), "--trials"), default=2,
-                        metavar="N", help="cold runs of each, alternated; the medians are compared (default 2)")
-    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
-                        help="where the sweeps go (default: a temporary folder)")
-
-
-def command(args) -> int:
-    """Run the benchmark with parsed options (the sweep configurations it writes are checked first)."""
+    Returns
+    -------
+    int
+        0, or 1 when the grid costs more than :data:`TARGET_RATIO` times the single point; the sweep
+        configurations it writes are checked first.
+    """
     from bench.config import parse
     from bench.config.options import plain_tracker_names
     from bench.config.sweep import parse_sweep
 
-    args.trackers = ",".join(plain_tracker_names(args.trackers)) if args.trackers else "threshold,centroid,dp4,dp8"
-    lux, power = args.lux, args.power
+    trackers = ",".join(plain_tracker_names(trackers)) if trackers else "threshold,centroid,dp4,dp8"
+    setup = {"scene": scene, "material": material, "size": size, "angles": angles, "spp": spp, "trackers": trackers,
+             "repeats": repeats}
+    lux, power = [float(x) for x in lux], [float(x) for x in power]  # TOML arrays
     import tomllib
 
     for grid in ((lux, power), ([400.0], [3.0])):  # both configurations, checked before any sweep runs
-        doc = tomllib.loads(_config(args, *grid))
+        doc = tomllib.loads(_config(*grid, **setup))
         table = doc.pop("sweep")
         parse_sweep(table, parse(doc))
     singles, grids = [], []
     with tempfile.TemporaryDirectory(prefix="stripebench-perf-sweep-") as tmp_s:
         tmp = Path(tmp_s)
-        out = args.out or tmp / "out"
-        for k in range(args.trials):
-            singles.append(_timed_sweep(_config(args, [400.0], [3.0]), out, tmp, f"single{k}"))
-            grids.append(_timed_sweep(_config(args, lux, power), out, tmp, f"grid{k}"))
+        out = Path(out) if out else tmp / "out"
+        for k in range(trials):
+            singles.append(_timed_sweep(_config([400.0], [3.0], **setup), out, tmp, f"single{k}"))
+            grids.append(_timed_sweep(_config(lux, power, **setup), out, tmp, f"grid{k}"))
     n = len(lux) * len(power)
     w1 = float(np.median([w for w, _ in singles]))
     wg = float(np.median([w for w, _ in grids]))
     ratio = wg / w1
-    print(f"sweep cost, {args.scene}/{args.material} {args.size[0]}x{args.size[1]}, {args.angles} angles, spp {args.spp}, "
-          f"trackers {args.trackers}, {args.repeats} repeat(s), cold render cache, sequential, fresh processes:")
+    print(f"sweep cost, {scene}/{material} {size[0]}x{size[1]}, {angles} angles, spp {spp}, "
+          f"trackers {trackers}, {repeats} repeat(s), cold render cache, sequential, fresh processes:")
     print(f"  single point (400 lux, 3 mW): {w1:7.1f} s wall (median of {', '.join(f'{w:.1f}' for w, _ in singles)})")
     print(f"  grid: median of {', '.join(f'{w:.1f}' for w, _ in grids)} s")
     print(f"  {len(lux)} lux x {len(power)} power grid ({n} points): {wg:7.1f} s wall  -> {ratio:.2f}x the single "
@@ -129,14 +132,3 @@ def command(args) -> int:
                       f"evaluation {1e3 * c['eval_s_per_evaluation']:.1f} ms per frame x point x repeat "
                       f"({c['evaluations']}); sweep inside the process {s['wall_s']:.1f} s")
     return 0 if ratio <= TARGET_RATIO else 1
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m bench.studies.perf.sweep``: the same options as ``stripebench perf sweep``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench perf sweep", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

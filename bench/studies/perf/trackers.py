@@ -39,7 +39,7 @@ Instead of the synthetic set: your own frames with ``--frames`` (``.npy`` or
 
 from __future__ import annotations
 
-import json
+import json as _json  # `json` is an option of study()
 import os
 import pathlib
 import subprocess
@@ -51,7 +51,7 @@ import numpy as np
 
 from trackers.dp import DEFAULT_H_WEIGHT
 
-__all__ = ["add_arguments", "command", "frame_ms", "time_trackers", "time_solver", "time_mcp", "first_call_seconds", "main",
+__all__ = ["study", "frame_ms", "time_trackers", "time_solver", "time_mcp", "first_call_seconds", "MAX_REPEATS",
            "CLOCKS", "TARGET_H_WEIGHT", "SOLVER_VS_MCP", "H_WEIGHT_SLOWDOWN", "MS_TARGETS", "RATIO_TARGETS"]
 
 #: The h_weight whose speed is checked against the isotropic solve: the DP
@@ -173,69 +173,78 @@ def _fmt(v, spec):
 MAX_REPEATS = 1000  # --per-kind, --repeats, --mcp-every
 
 
-def add_arguments(parser) -> None:
-    """The benchmark's options (``stripebench perf trackers``; ``stripebench perf`` alone runs it with these defaults)."""
-    from bench.config.options import add_seed, add_trackers, arg_type, positive_int
+def study(*, trackers=None, frames=None, per_kind: int = 2, seed: int = 0, repeats: int = 3, mcp_every: int = 4,
+          clock: str = "cpu", real=None, no_jit: bool = False, strict: bool = False, json=None) -> int:
+    """Time every tracker and the exact solver against MCP, print the figures and the verdicts
+    (``stripebench perf trackers``).
 
-    def count(name):
-        return arg_type(lambda n, v: positive_int(n, v, MAX_REPEATS), name)
+    Parameters
+    ----------
+    trackers : sequence of str or :class:`bench.config.TrackerSpec`, optional
+        Plain tracker names (default: every registered tracker).
+    frames : list of path, optional
+        Time on these frames (``.npy`` or PNG) instead of the synthetic set.
+    per_kind : int
+        Synthetic frames per kind and size (:func:`bench.studies.perf.frames.varied_frames`).
+    seed : int
+        Seed of the synthetic frames.
+    repeats : int
+        Calls per frame; the least counts.
+    mcp_every : int
+        Time MCP on every n-th frame.
+    clock : str
+        ``"cpu"`` (this thread's CPU time) or ``"wall"`` (:data:`CLOCKS`).
+    real : str, optional
+        Time on the frames of a real set (``""``: the shipped ``bench/data/real``).
+    no_jit : bool
+        Skip the first-call (JIT) measurements.
+    strict : bool
+        Return 1 if a target is missed.
+    json : path, optional
+        Also write the figures as JSON.
 
-    add_trackers(parser, "comma-separated tracker names (default: all registered)")
-    parser.add_argument("--frames", nargs="+", metavar="FILE", help="time on these frames (.npy or PNG)")
-    parser.add_argument("--per-kind", type=count("--per-kind"), default=2, metavar="N",
-                        help="synthetic frames per kind and size (default 2)")
-    add_seed(parser, "seed of the synthetic frames", default=0)
-    parser.add_argument("--repeats", type=count("--repeats"), default=3, metavar="N",
-                        help="calls per frame, the least counts (default 3)")
-    parser.add_argument("--mcp-every", type=count("--mcp-every"), default=4, metavar="N",
-                        help="time MCP on every n-th frame (default 4)")
-    parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu",
-                        help="cpu: this thread's CPU time (default; robust on a shared machine), or wall")
-    parser.add_argument("--real", nargs="?", const="", metavar="DIR",
-                        help="time on the frames of a real set (default: the shipped bench/data/real)")
-    parser.add_argument("--no-jit", action="store_true", help="skip the first-call (JIT) measurements")
-    parser.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
-    parser.add_argument("--json", type=pathlib.Path, metavar="FILE", help="also write the figures as JSON")
-
-
-def command(args) -> int:
-    """Run the benchmark with parsed options; bad inputs raise :class:`bench.config.ConfigError` first."""
-    import trackers
+    Returns
+    -------
+    int
+        0, or 1 with ``strict`` when a target is missed; bad inputs raise
+        :class:`bench.config.ConfigError` first.
+    """
+    import trackers as registry  # `trackers` is the option
 
     from bench.config import ConfigError
     from bench.config.options import plain_tracker_names
     from bench.studies.perf.frames import varied_frames
 
-    names = trackers.available() if not args.trackers else plain_tracker_names(args.trackers)
-    if args.frames and args.real is not None:
+    names = registry.available() if not trackers else plain_tracker_names(trackers)
+    if frames and real is not None:
         raise ConfigError("give --frames or --real, not both")
-    if args.json is not None and args.json.exists() and not args.json.is_file():
-        raise ConfigError(f"--json must name a file, got {str(args.json)!r}")
-    if args.real is not None:
-        from bench.store import realset as real
+    if json is not None and pathlib.Path(json).exists() and not pathlib.Path(json).is_file():
+        raise ConfigError(f"--json must name a file, got {str(json)!r}")
+    if real is not None:
+        from bench.store import realset
 
         try:
-            labelled = [(im.name, im.load()[0]) for im in real.load_dataset(args.real or real.SHIPPED)]
-        except real.DatasetError as exc:
+            labelled = [(im.name, im.load()[0]) for im in realset.load_dataset(real or realset.SHIPPED)]
+        except realset.DatasetError as exc:
             raise ConfigError(f"--real: {exc}") from None
     else:
-        labelled = _load_frames(args.frames) if args.frames else varied_frames(args.per_kind, seed=args.seed)
+        labelled = _load_frames(frames) if frames else varied_frames(per_kind, seed=seed)
     frames = [f for _, f in labelled]
     small = np.array([f.shape == (480, 512) for f in frames])
     sizes = sorted({f"{f.shape[1]}x{f.shape[0]}" for f in frames})
-    print(f"stripebench perf: {len(frames)} frame(s) ({', '.join(sizes)}), least of {args.repeats} call(s) per "
-          f"frame, {args.clock} time; MCP_Geometric on frames 0, {args.mcp_every}, {2 * args.mcp_every}, ... "
+    print(f"stripebench perf: {len(frames)} frame(s) ({', '.join(sizes)}), least of {repeats} call(s) per "
+          f"frame, {clock} time; MCP_Geometric on frames 0, {mcp_every}, {2 * mcp_every}, ... "
           f"({os.cpu_count()} cores)", flush=True)
 
     solver = {}
     for conn in (4, 8):
         for hw in (1.0, TARGET_H_WEIGHT):
-            solver[conn, hw] = time_solver(frames, conn, hw, args.repeats, args.clock)
-    sub = np.arange(0, len(frames), args.mcp_every)
-    mcp = {conn: time_mcp([frames[k] for k in sub], conn, 1, args.clock) for conn in (4, 8)}
-    ms = time_trackers(names, frames, args.repeats, args.clock)
+            solver[conn, hw] = time_solver(frames, conn, hw, repeats, clock)
+    sub = np.arange(0, len(frames), mcp_every)
+    mcp = {conn: time_mcp([frames[k] for k in sub], conn, 1, clock) for conn in (4, 8)}
+    ms = time_trackers(names, frames, repeats, clock)
     jit = {}
-    if not args.no_jit:
+    if not no_jit:
         with tempfile.TemporaryDirectory() as empty:
             for n in names:
                 jit[n] = (first_call_seconds(n, os.path.join(empty, n)), first_call_seconds(n, None))
@@ -248,7 +257,7 @@ def command(args) -> int:
     rows = []
     for n in names:
         a = ms[n]
-        conn = getattr(trackers.make(n), "connectivity", None)  # the DP trackers: against MCP on their graph
+        conn = getattr(registry.make(n), "connectivity", None)  # the DP trackers: against MCP on their graph
         ratio = float(np.median(mcp[conn] / a[sub])) if conn in mcp else None
         r = {"tracker": n, "median_ms": float(np.median(a)), "worst_ms": float(a.max()), "median_ms_512x480": med_small(a),
              "speedup_vs_mcp": ratio,
@@ -294,24 +303,13 @@ def command(args) -> int:
             verdicts.append((f"{r['tracker']} {ratio:.2f}x {ref} (target <= {factor:g}x)", ratio <= factor))
     for text, ok in verdicts:
         print(f"  {text}: {'met' if ok else 'MISSED'}")
-    if args.json:
-        args.json.write_text(json.dumps(
+    if json:
+        pathlib.Path(json).write_text(_json.dumps(
             {"frames": [label for label, _ in labelled], "mcp_frames": sub.tolist(), "trackers": rows,
              "solver": solver_rows, "solver_ms_per_frame": per_kind,
              "verdicts": [{"text": t, "met": ok} for t, ok in verdicts]}, indent=2))
     missed = sum(not ok for _, ok in verdicts)
-    if args.strict and missed:
+    if strict and missed:
         print(f"stripebench perf: {missed} target(s) missed", file=sys.stderr)
         return 1
     return 0
-
-
-def main(argv=None) -> int:
-    """``python -m bench.studies.perf.trackers``: the same options as ``stripebench perf trackers``."""
-    from bench.config.options import study_main
-
-    return study_main("stripebench perf trackers", __doc__, add_arguments, command, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

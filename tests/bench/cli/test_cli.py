@@ -100,7 +100,7 @@ def test_the_module_docstring_lists_every_command():
     import re
 
     import bench.cli as cli
-    from bench.cli.studies import PERF
+    from bench.cli.perf import PERF
 
     doc = " ".join(cli.__doc__.split())
     for group, commands in cli.command_groups():

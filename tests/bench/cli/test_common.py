@@ -7,7 +7,7 @@ import sys
 import pytest
 
 from bench.cli.common import Command, LazyParser, UsageError, add_commands, check_env, check_out_folder
-from bench.config.options import OneLineParser
+from bench.cli.options import OneLineParser
 from bench.errors import StripebenchError
 from cli_helpers import REPO
 

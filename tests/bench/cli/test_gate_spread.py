@@ -110,11 +110,13 @@ def test_the_machines_include_the_reference_and_are_named_uniquely():
 
 
 def test_bad_arguments_are_one_line_and_exit_2(tmp_path, capsys):
-    assert gs.main(["--out", str(tmp_path), "--gates", "nope"]) == 2
+    from bench.cli.gate_spread import main as old_name  # `python -m bench.cli.gate_spread`
+
+    assert old_name(["--out", str(tmp_path), "--gates", "nope"]) == 2
     assert capsys.readouterr().err.strip() == "gate_spread: `--gates` must name some of ci, real, got 'nope'"
-    assert gs.main(["--out", str(tmp_path), "--machines", "one-core"]) == 2
+    assert old_name(["--out", str(tmp_path), "--machines", "one-core"]) == 2
     assert "including 'here'" in capsys.readouterr().err
-    assert gs.main(["--out", str(tmp_path), "--safety", "0.5"]) == 2
+    assert gs.study(out=tmp_path, safety=0.5) == 2  # the plain function: the same checks
     assert "`safety` must be a number >= 1" in capsys.readouterr().err
     from bench.cli import main  # the same procedure in the command tree: `stripebench spread`
 

@@ -394,7 +394,7 @@ def test_a_full_disk_during_the_report_names_the_figure(tiny_run, tmp_path, caps
 
     from matplotlib.figure import Figure
 
-    from bench.report import run as report_run
+    from bench.report import runfigures
 
     run_dir = tmp_path / "run"
     shutil.copytree(tiny_run[0], run_dir)
@@ -403,6 +403,6 @@ def test_a_full_disk_during_the_report_names_the_figure(tiny_run, tmp_path, caps
         raise OSError(errno.ENOSPC, "No space left on device")  # as from a write on an open file: no filename
 
     monkeypatch.setattr(Figure, "savefig", full)
-    monkeypatch.setattr(report_run, "figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
+    monkeypatch.setattr(runfigures, "figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
     assert main(["report", str(run_dir), "--quiet"]) == 2
     one_line_err(capsys, "no space left on the device", str(run_dir / "figures"), ".png")

@@ -36,10 +36,49 @@ def test_the_python_m_entry_points_are_built_from_the_same_options():
         out = subprocess.run([sys.executable, *argv, "-h"], capture_output=True, text=True, cwd=REPO, check=True).stdout
         return sorted(w for w in out.split() if w.startswith("--"))
 
-    assert options(["-m", "bench.studies.estimators"]) == options(["-m", "bench.cli", "estimators"])
-    tree = build_parser()
-    tree.parse_args(["perf", "trackers", "--no-jit"])  # loads the lazy sub-parser
-    assert options(["-m", "bench.studies.perf.trackers"]) == options(["-m", "bench.cli", "perf", "trackers"])
+    assert options(["-m", "bench.cli.gate_spread"]) == options(["-m", "bench.cli", "spread"])
+    assert "--single-scatter" in options(["-m", "bench.cli.translucency_profile"])
+    assert options(["-m", "bench.cli.field_sheet"]) == ["--cost", "--help"]
+
+
+def _study_commands():
+    from bench.cli import command_groups
+    from bench.cli.studies import FIELD_SHEET, TRANSLUCENCY_PROFILE
+
+    out = [FIELD_SHEET, TRANSLUCENCY_PROFILE]
+    for _, commands in command_groups():
+        for c in commands:
+            out += [c, *c.subcommands]
+    return [c for c in out if c.calls]
+
+
+def test_every_option_of_a_study_command_is_a_parameter_of_its_plain_function():
+    import importlib
+    import inspect
+
+    from bench.cli.common import options_of
+
+    commands = _study_commands()
+    assert {c.name for c in commands} >= {"estimators", "translucency", "spread", "trackers", "sampling", "mis",
+                                          "field_sheet", "translucency_profile"}
+    for c in commands:
+        module, _, function = c.calls.partition(":")
+        params = inspect.signature(getattr(importlib.import_module(module), function)).parameters
+        assert all(p.kind == p.KEYWORD_ONLY or p.name == "out" for p in params.values()), c.calls
+        missing = [d for d in options_of(c.add_arguments) if d not in params]
+        assert not missing, (c.calls, missing)
+
+
+def test_every_tune_procedure_takes_the_tune_options():
+    import importlib
+    import inspect
+
+    from bench.cli.common import options_of
+    from bench.cli.tune import COMMAND, PROCEDURES
+
+    for module in PROCEDURES.values():
+        params = inspect.signature(importlib.import_module(module).study).parameters
+        assert [d for d in options_of(COMMAND.add_arguments) if d != "what"] == [p for p in params], module
 
 
 def test_perf_alone_is_perf_trackers_and_its_sub_commands_parse():
@@ -58,7 +97,7 @@ def test_perf_strict_alone_runs_perf_trackers_strict(monkeypatch):
     import bench.studies.perf.trackers as T
 
     seen = {}
-    monkeypatch.setattr(T, "command", lambda args: seen.setdefault("strict", args.strict) and 0)
+    monkeypatch.setattr(T, "study", lambda strict=False, **kw: seen.setdefault("strict", strict) and 0)
     for argv, strict in ((["perf", "--strict"], True), (["perf"], False)):
         seen.clear()
         args = build_parser().parse_args(argv)

@@ -160,9 +160,10 @@ def test_schema_has_one_home():
     from dataclasses import fields
 
     from bench import config
+    from bench.config import schema
     from scenes.params import DEFAULTS
 
-    assert config._TOP == {f.name for f in fields(config.Config)} - {"source", "tracker_specs"}
+    assert schema._TOP == {f.name for f in fields(config.Config)} - {"source", "tracker_specs"}
     assert set(config.scene_override_keys()) == set(DEFAULTS) - set(config.HARNESS_KEYS)
     assert config.parse({"experiments": [{"scene": "plane"}]}).n_samples == config.Config.n_samples
 

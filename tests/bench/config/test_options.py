@@ -1,6 +1,5 @@
-"""The shared option types and their limits (bench/config/options.py)."""
+"""The option values' checks and limits (bench/config/options.py; the argparse side: tests/bench/cli/test_options.py)."""
 
-import argparse
 import math
 
 import pytest
@@ -69,34 +68,13 @@ def test_size_value():
             O.size_value("--size", bad)
 
 
-def test_arg_type_gives_argparse_its_message_without_the_name(capsys):
-    p = O.OneLineParser(prog="t")
-    p.add_argument("--t", type=O.arg_type(lambda n, v: O.finite_float(n, v, low=0, low_open=True), "--t"))
-    assert math.isclose(p.parse_args(["--t", "2.5"]).t, 2.5)
-    with pytest.raises(SystemExit) as exc:
-        p.parse_args(["--t", "nan"])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert exc.value.code == 2 and err == ["stripebench: error: argument --t: must be a finite number > 0, "
-                                           "got 'nan' (see `t -h`)"]
+def test_plain_tracker_names_refuses_settings_and_takes_names():
+    from bench.config import parse_trackers_arg
 
-
-def test_trackers_option_is_the_configuration_syntax():
-    p = argparse.ArgumentParser()
-    O.add_trackers(p, "h")
-    specs = p.parse_args(["--trackers", 'threshold,{label="d",name="dp4",params={h_weight=1.0}}']).trackers
-    assert [(s.label, s.name, s.params) for s in specs] == [("threshold", "threshold", {}),
-                                                            ("d", "dp4", {"h_weight": 1.0})]
+    specs = parse_trackers_arg('threshold,{label="d",name="dp4",params={h_weight=1.0}}', "--trackers")
     with pytest.raises(ConfigError, match="give plain names"):
         O.plain_tracker_names(specs)
-    assert O.plain_tracker_names(specs[:1]) == ["threshold"]
-
-
-def test_real_defaults_are_the_real_commands_defaults():
-    p = argparse.ArgumentParser()
-    O.add_tol(p)
-    O.add_n_boot(p)
-    args = p.parse_args([])
-    assert args.tol == O.REAL_DEFAULTS["tol_px"] and args.n_boot == O.REAL_DEFAULTS["n_boot"]
+    assert O.plain_tracker_names(specs[:1]) == ["threshold"] and O.plain_tracker_names(["dp4"]) == ["dp4"]
 
 
 def test_spp_value_takes_auto_or_a_count():

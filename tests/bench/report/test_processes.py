@@ -12,7 +12,7 @@ import pytest
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 # a process that draws two "figures" (30 s sleeps) in worker processes, as a report does
-CHILD = ("import time, sys; from bench.report.run import _draw; "
+CHILD = ("import time, sys; from bench.report.runfigures import _draw; "
          "_draw([(time.sleep, (30,), {}), (time.sleep, (30,), {})], 2, lambda: print('drawing', flush=True))")
 
 

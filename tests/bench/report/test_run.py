@@ -4,7 +4,8 @@ import re
 
 import pytest
 
-from bench.report.run import _sweeps, glance_table, verdict_sentence
+from bench.report.run import glance_table, verdict_sentence
+from bench.report.runfigures import _sweeps
 
 
 def _fig(within, lo, hi, med, gross, n=100):
@@ -56,6 +57,7 @@ def test_a_report_reads_only_what_the_run_saved(tiny_run, tmp_path, monkeypatch)
     import shutil
 
     from bench import config as config_mod
+    from bench.config import schema
     from bench.report.run import build_report
 
     out, _ = tiny_run
@@ -64,7 +66,7 @@ def test_a_report_reads_only_what_the_run_saved(tiny_run, tmp_path, monkeypatch)
     summary = json.loads((copy / "summary.json").read_text())
     summary["config"]["real_set"] = str(tmp_path / "a-real-set-that-was-moved")
     (copy / "summary.json").write_text(json.dumps(summary))
-    monkeypatch.setattr(config_mod, "memory_limit_bytes", lambda: 1)
+    monkeypatch.setattr(schema, "memory_limit_bytes", lambda: 1)  # where `parse` looks it up
     with pytest.raises(config_mod.ConfigError):  # the live checks would refuse this configuration here
         config_mod.parse(summary["config"])
     assert build_report(copy, quiet=True).is_file()
@@ -95,8 +97,30 @@ def test_the_report_draws_the_saved_cost_field_and_rigs_without_recomputing(tiny
 
     monkeypatch.setattr(trackers.dp, "accumulated_cost", refuse)
     monkeypatch.setattr(scenes, "make", refuse)
-    monkeypatch.setattr("bench.report.run.figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
+    monkeypatch.setattr("bench.report.runfigures.figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
     assert build_report(copy, quiet=True).is_file()
+
+
+def test_a_report_loads_neither_the_renderer_nor_a_tracker(tiny_run, tmp_path):
+    """The report reads what the run saved: building it (in a fresh process) imports no renderer
+    (Mitsuba, Dr.Jit) and no tracker (only :mod:`trackers`' registry and process helpers), so it can
+    neither render nor track again."""
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    copy = tmp_path / "run"
+    shutil.copytree(tiny_run[0], copy)
+    code = ("import sys; from bench.report.run import build_report; build_report(sys.argv[1], quiet=True); "
+            "print(' '.join(m for m in sys.modules if m.split('.')[0] in ('mitsuba', 'drjit', 'trackers')))")
+    out = subprocess.run([sys.executable, "-c", code, str(copy)], capture_output=True, text=True, check=True,
+                         cwd=Path(__file__).resolve().parents[3])
+    loaded = out.stdout.split()
+    assert "trackers" in loaded  # the check sees the modules
+    assert [m for m in loaded if m.split(".")[0] in ("mitsuba", "drjit")] == []
+    assert [m for m in loaded if m.startswith("trackers.") and not m.split(".")[1].startswith("_")
+            and m != "trackers.processes"] == []
 
 
 EVIL = "<script>alert('x')</script> \"q\""
@@ -162,7 +186,7 @@ def test_figures_drawn_in_worker_processes_are_the_same_files(tiny_run, tmp_path
     same sections and order."""
     import shutil
 
-    from bench.report.run import make_figures
+    from bench.report.runfigures import make_figures
 
     out, _ = tiny_run
     here, there = tmp_path / "here", tmp_path / "there"
@@ -178,7 +202,7 @@ def test_figures_drawn_in_worker_processes_are_the_same_files(tiny_run, tmp_path
 
 
 def test_figure_workers_validates_its_argument():
-    from bench.report.run import figure_workers
+    from bench.report.runfigures import figure_workers
 
     assert figure_workers(0, 2) == 0
     for bad in (-1, 1.5, True, "2"):
@@ -190,7 +214,7 @@ def test_figures_are_drawn_here_when_no_worker_process_starts(tiny_run, tmp_path
     import concurrent.futures
     import shutil
 
-    from bench.report.run import make_figures
+    from bench.report.runfigures import make_figures
 
     class NoProcesses:
         def __init__(self, *args, **kwargs):

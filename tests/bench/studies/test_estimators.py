@@ -8,6 +8,13 @@ import pytest
 from bench.studies import estimators
 
 
+def _main(argv):
+    """``stripebench estimators ARGV``."""
+    from bench.cli import main
+
+    return main(["estimators", *argv])
+
+
 def test_stripe_frame_truth_and_phases():
     rng = np.random.default_rng(0)
     img, truth, off = estimators.stripe_frame(1.5, 100.0, 0.0, rng, height=64, width=48)
@@ -22,7 +29,7 @@ def test_stripe_frame_truth_and_phases():
 def test_tiny_study_writes_table_and_plot(tmp_path):
     argv = ["--out", str(tmp_path), "--sigmas", "1,2", "--peaks", "100", "--noises", "0.5,4", "--frames", "2",
             "--trackers", "gauss3,centroid,threshold"]
-    assert estimators.main(argv) == 0
+    assert _main(argv) == 0
     with open(tmp_path / "estimators.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert tuple(rows[0].keys()) == estimators.FIELDS
@@ -50,9 +57,9 @@ def test_study_is_seeded():
 
 def test_bad_arguments(tmp_path):
     with pytest.raises(SystemExit):
-        estimators.main(["--out", str(tmp_path), "--trackers", "nope"])
+        _main(["--out", str(tmp_path), "--trackers", "nope"])
     with pytest.raises(SystemExit):
-        estimators.main(["--out", str(tmp_path), "--sigmas", "one"])
-    assert estimators.main(["--out", str(tmp_path), "--peaks", "50,100", "--plot-peak", "70"]) == 2
+        _main(["--out", str(tmp_path), "--sigmas", "one"])
+    assert _main(["--out", str(tmp_path), "--peaks", "50,100", "--plot-peak", "70"]) == 2
     with pytest.raises(SystemExit):
-        estimators.main(["--out", str(tmp_path), "--sigmas", "nan"])
+        _main(["--out", str(tmp_path), "--sigmas", "nan"])

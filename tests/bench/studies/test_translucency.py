@@ -8,6 +8,13 @@ import pytest
 from bench.studies import translucency as T
 
 
+def _main(argv):
+    """``stripebench translucency ARGV``."""
+    from bench.cli import main
+
+    return main(["translucency", *argv])
+
+
 def test_stripe_widths_of_a_gaussian_and_of_an_empty_row():
     x = np.arange(61.0)
     sigma = np.array([1.0, 3.0])
@@ -59,7 +66,7 @@ def test_summary_bins_by_incidence_and_signs_depth_farther_positive():
 def test_tiny_study_writes_table_and_plot(tmp_path):
     argv = ["--out", str(tmp_path), "--objects", "plane", "--materials", "matte,skin", "--angles", "1",
             "--size", "64", "--spp", "8", "--trackers", "com_bg,gauss3,threshold", "--quiet"]
-    assert T.main(argv) == 0
+    assert _main(argv) == 0
     with open(tmp_path / "translucency.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert tuple(rows[0].keys()) == T.FIELDS
@@ -86,10 +93,10 @@ def test_render_noise_falls_with_spp_beside_a_positive_sensor_noise(tmp_path, mo
 def test_bad_arguments_exit_2(tmp_path, capsys):
     for argv in (["--materials", "velvet"], ["--size", "100"], ["--angles", "0"]):
         with pytest.raises(SystemExit) as exc:
-            T.main(["--out", str(tmp_path)] + argv)
+            _main(["--out", str(tmp_path)] + argv)
         assert exc.value.code == 2
     assert "unknown material 'velvet'" in capsys.readouterr().err
-    assert T.main(["--out", str(tmp_path), "--trackers", "threshold"]) == 2  # checked after parsing, one line
+    assert _main(["--out", str(tmp_path), "--trackers", "threshold"]) == 2  # checked after parsing, one line
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "none of the selected trackers is a sub-pixel tracker" in err[0]
 

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from bench.studies import translucency_profile as P
+from bench.cli.translucency_profile import main as _main  # python -m bench.cli.translucency_profile
 
 
 def _gauss_rows(n, centres, sigma, width=81):
@@ -75,7 +76,7 @@ def test_compare_applies_the_issues_criteria(profile, ok):
 @pytest.mark.slow
 def test_tiny_study_writes_both_tables(tmp_path):
     argv = ["--out", str(tmp_path), "--objects", "plane", "--angles", "1", "--size", "64", "--quiet"]
-    assert P.main(argv) == 0
+    assert _main(argv) == 0
     with open(tmp_path / "paths.csv") as fh:
         paths = list(csv.DictReader(fh))
     with open(tmp_path / "comparison.csv") as fh:
@@ -91,7 +92,7 @@ def test_bad_arguments_exit_2(tmp_path, capsys):
                           (["--seeds", "1"], "argument --seeds: must be two different integers"),
                           (["--size", "100"], "must be a multiple of 16")):
         with pytest.raises(SystemExit) as exc:
-            P.main(["--out", str(tmp_path)] + argv)
+            _main(["--out", str(tmp_path)] + argv)
         assert exc.value.code == 2
         assert message in capsys.readouterr().err
 

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from bench.studies import tune
+from bench.cli import main as _main
 
 TINY = """\
 name = "tiny"
@@ -63,7 +64,7 @@ def test_bad_profiles_name_the_key(tmp_path, edit, message):
 
 
 def test_a_missing_profile_is_one_line_and_status_2(tmp_path, capsys):
-    assert tune.main(["--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2
+    assert _main(["tune", "dp", "--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "cannot read tuning profile" in err[0] and "no such file" in err[0]
 
@@ -88,7 +89,7 @@ def test_a_small_run_writes_its_outputs_and_resumes(tmp_path, capsys):
     path = tmp_path / "p.toml"
     path.write_text(TINY + '\n[[experiments]]\nscene = "plane"\nmaterial = "absorbing"\nambient_lux = 200\n')
     out = tmp_path / "out"
-    assert tune.main(["--profile", str(path), "--out", str(out), "--quiet"]) == 0
+    assert _main(["tune", "dp", "--profile", str(path), "--out", str(out), "--quiet"]) == 0
     line = capsys.readouterr().out.strip().splitlines()
     assert len(line) == 1 and line[0].startswith("chosen h_weight = ")
     rows = (out / "tune.csv").read_text().strip().splitlines()

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from bench.studies import tune_gap
+from bench.cli import main as _main
 
 TINY = """\
 name = "tiny"
@@ -75,7 +76,7 @@ def test_bad_profiles_name_the_key(tmp_path, edit, message):
 
 
 def test_a_missing_profile_is_one_line_and_status_2(tmp_path, capsys):
-    assert tune_gap.main(["--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2
+    assert _main(["tune", "dp_gap", "--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "cannot read tuning profile" in err[0] and "no such file" in err[0]
 

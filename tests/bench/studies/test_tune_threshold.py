@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from bench.studies import tune_threshold as tt
+from bench.cli import main as _main
 
 
 def test_frame_scores_of_stage_two():
@@ -73,7 +74,7 @@ def _small_profile(tmp_path, renders=False):
 
 def test_a_small_run_writes_its_files_and_chooses_from_its_grid(tmp_path):
     out = tmp_path / "out"
-    assert tt.main(["--profile", str(_small_profile(tmp_path)), "--out", str(out), "--quiet"]) == 0
+    assert _main(["tune", "threshold", "--profile", str(_small_profile(tmp_path)), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["n_frames"] == {"synthetic": 2, "renders": 0, "real": 0}
     assert summary["chosen"]["frac"] == 0.25 and summary["chosen"]["width_ratio"] is None

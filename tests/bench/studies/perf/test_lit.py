@@ -1,6 +1,7 @@
 import pytest
 
 from bench.studies.perf import lit
+from bench.cli import main
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -9,7 +10,7 @@ from bench.studies.perf import lit
     (["--spp", "x"], "argument --spp: must be an integer 1 .. 4096, got 'x'")])
 def test_bad_options_are_one_line_and_exit_2(argv, message, capsys):
     with pytest.raises(SystemExit) as exit_:
-        lit.main(argv)
+        main(["perf", "lit", *argv])
     assert exit_.value.code == 2
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1

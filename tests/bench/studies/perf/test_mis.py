@@ -4,6 +4,7 @@ import pytest
 
 import scenes
 from bench.studies.perf import mis
+from bench.cli import main
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -12,7 +13,7 @@ from bench.studies.perf import mis
     (["--materials", "matte"], "--materials must name some of polished, glazed, got 'matte'"),
     (["--objects", "cube"], "--objects must name some of cone, hand, plane, sphere, got 'cube'")])
 def test_bad_options_are_one_line_errors(argv, message, capsys):
-    assert mis.main(argv) == 2
+    assert main(["perf", "mis", *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err
 
@@ -21,7 +22,7 @@ def test_bad_options_are_one_line_errors(argv, message, capsys):
 def test_a_tiny_run_measures_todays_pass_and_each_count(monkeypatch, capsys):
     real_make = scenes.make
     monkeypatch.setattr(scenes, "make", lambda *a, **k: real_make(*a, **{**k, "width": 64, "height": 60}))
-    assert mis.main(["--materials", "polished", "--objects", "cone", "--counts", "2+1,4+2", "--angles", "1",
+    assert main(["perf", "mis", "--materials", "polished", "--objects", "cone", "--counts", "2+1,4+2", "--angles", "1",
                      "--ref-object-spp", "8"]) == 0
     rows = [line.split(" | ") for line in capsys.readouterr().out.splitlines() if line.startswith("| cone/")]
     assert [r[1] for r in rows] == ["path@3 16 (today)", "mis 2+1", "mis 4+2"]

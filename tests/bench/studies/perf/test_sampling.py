@@ -7,6 +7,12 @@ import pytest
 
 import scenes
 from bench.studies.perf import sampling as S
+from bench.cli import main
+from bench.studies.perf import sampling_tables as T
+
+
+def _write(path, results, chosen, argv_text):
+    T.write_tables(path, results, chosen, {m: S.choose_objects(results[m]) for m in chosen}, argv_text)
 
 
 def test_calibration_angles_avoid_the_paper_runs_grid():
@@ -99,17 +105,17 @@ def test_saved_measurements_choose_and_write_without_rendering(tmp_path, capsys)
                    "ambient": {2: {"z": 0.6, "cost_s": 0.1, "pass": True}}, "cases": ["a"], "checks": []}
                for m in S.MATERIALS}
     saved = {"format": 1, "options": {"angles": 2, "ref_spp": 144, "ref_ambient_spp": 144},
-             "results": {m: S._jsonable(r) for m, r in results.items()}}
+             "results": {m: T.to_json(r) for m, r in results.items()}}
     path = tmp_path / "m.json"
     import json
     path.write_text(json.dumps(saved))
-    assert S._from_jsonable(S._jsonable(results["matte"]))["laser"] == results["matte"]["laser"]
-    assert S.main(["--from", str(path)]) == 0
+    assert T.from_json(T.to_json(results["matte"]))["laser"] == results["matte"]["laser"]
+    assert main(["perf", "sampling", "--from", str(path)]) == 0
     out = capsys.readouterr().out
     assert "| `specular` | path 8 | 2 |" in out
     bad = tmp_path / "bad.json"
     bad.write_text("{}")
-    assert S.main(["--from", str(bad)]) == 2
+    assert main(["perf", "sampling", "--from", str(bad)]) == 2
     assert "not a file of `stripebench perf sampling --save`" in capsys.readouterr().err
 
 
@@ -121,7 +127,7 @@ def test_write_replaces_only_the_generated_block(tmp_path):
     results = {"matte": {"laser": {("hybrid", (4, 2)): {"worst": ok, "cost_s": 0.3, "pass": True}},
                          "ambient": {2: {"z": 0.6, "cost_s": 0.1, "pass": True}}, "cases": ["a", "b"]},
                "specular": {"laser": {}, "ambient": {}, "cases": ["c"]}}
-    S._write(path, results, {"matte": (("hybrid", (4, 2)), 2), "specular": (None, None)}, "cmd")
+    _write(path, results, {"matte": (("hybrid", (4, 2)), 2), "specular": (None, None)}, "cmd")
     text = path.read_text()
     before, after = src.split("# --- generated: begin ---\n"), text.split("# --- generated: begin ---\n")
     assert before[0] == after[0] and before[1].split("# --- generated: end ---\n")[1] == \
@@ -138,7 +144,7 @@ def test_write_replaces_only_the_generated_block(tmp_path):
         "ambient": {2: {"z": 0.6, "cost_s": 0.1, "pass": True}}, "cases": ["a", "b"],
         "object": {"cone/none-table": {("path", (n,)): {"worst": ok, "cost_s": n, "pass": True} for n in (4, 16)},
                    "hand/none-table": {("path", (n,)): {"worst": bad, "cost_s": n, "pass": False} for n in (4, 16)}}}
-    S._write(path, results, {"matte": (("hybrid", (4, 2)), 2), "specular": (None, None),
+    _write(path, results, {"matte": (("hybrid", (4, 2)), 2), "specular": (None, None),
                              "polished": (("split_hybrid", (16, 2, 2)), 2)}, "cmd")
     ns = {}
     exec(path.read_text().split("# --- generated: begin ---\n")[1].split("# --- generated: end ---\n")[0], ns)
@@ -146,18 +152,18 @@ def test_write_replaces_only_the_generated_block(tmp_path):
     assert ns["MEASURED_OBJECT"]["polished"]["cone/none-table"]["spp"] == 4
     hand = ns["MEASURED_OBJECT"]["polished"]["hand/none-table"]
     assert hand["spp"] == scenes.sampling.FIXED_SPP and not hand["certified"] and hand["z_stripe"] == 4.0
-    back = S._from_jsonable(S._jsonable(results["polished"]))
+    back = T.from_json(T.to_json(results["polished"]))
     assert back["object"] == results["polished"]["object"]
 
 
 def test_bad_options_are_one_line_errors(capsys):
-    assert S.main(["--materials", "chrome"]) == 2
+    assert main(["perf", "sampling", "--materials", "chrome"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--materials must name some of matte" in err and "'chrome'" in err
 
 
 def test_write_needs_every_material(capsys):
-    assert S.main(["--materials", "matte", "--write"]) == 2
+    assert main(["perf", "sampling", "--materials", "matte", "--write"]) == 2
     assert "--write needs every one of matte, patchy" in capsys.readouterr().err
 
 
@@ -179,5 +185,5 @@ def test_a_shiny_materials_measurement_has_its_objects_passes(monkeypatch):
             assert set(rec["worst"]) == {"stripe", "off", "centre", "energy"} and rec["cost_s"] >= 0
             assert all(np.isfinite(v) for v in rec["worst"].values()) and isinstance(rec["pass"], bool)
     assert set(S.choose_objects(result)) == {"cone/none-table", "hand/none-table"}
-    back = S._from_jsonable(S._jsonable(result))
+    back = T.from_json(T.to_json(result))
     assert back["object"] == result["object"]

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from bench.studies.perf import trackers as P
+from bench.cli import main
 from trackers.testing import make_stripe_image
 
 
@@ -23,7 +24,7 @@ def test_strict_exits_1_exactly_when_a_target_is_missed(tmp_path, capsys):
         np.save(p, make_stripe_image(48, 64, seed=k)[0])
         paths.append(str(p))
     args = ["--frames", *paths, "--trackers", "dp4,centroid", "--no-jit", "--repeats", "1", "--mcp-every", "1"]
-    assert P.main(args + ["--json", str(tmp_path / "a.json")]) == 0
+    assert main(["perf", "trackers", *args] + ["--json", str(tmp_path / "a.json")]) == 0
     out = capsys.readouterr().out
     assert "exact solver" in out and "4-conn, h_weight=1" in out
     figures = json.loads((tmp_path / "a.json").read_text())
@@ -35,4 +36,4 @@ def test_strict_exits_1_exactly_when_a_target_is_missed(tmp_path, capsys):
     # the ms targets hold at 512x480 only
     assert len(verdicts) == 6
     missed = any(not v["met"] for v in verdicts)
-    assert P.main(args + ["--strict"]) == (1 if missed else 0)
+    assert main(["perf", "trackers", *args] + ["--strict"]) == (1 if missed else 0)

@@ -1,0 +1,102 @@
+"""The scripts in ``scripts/`` use the installed packages' public names only (issue 36).
+
+A script that needs a private kernel goes through its public entry point
+(:mod:`trackers.dp_stages`); none puts the repository on ``sys.path`` (the project is installed,
+editable), and each answers ``--help`` from outside the repository.
+"""
+
+import ast
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
+SCRIPTS = sorted((REPO / "scripts").glob("*.py"))
+PACKAGES = ("trackers", "scenes", "bench")
+
+
+def _private(dotted: str) -> bool:
+    """Whether a dotted name has a private part (``_x``; dunders such as ``__file__`` are not)."""
+    return any(p.startswith("_") and not (p.startswith("__") and p.endswith("__")) for p in dotted.split("."))
+
+
+def private_uses(source: str) -> list[str]:
+    """``line: name`` of every private name of the project's packages that ``source`` imports or reaches.
+
+    Imports anywhere in the file (``import trackers._x``, ``from trackers import _x``,
+    ``from trackers._x import y``, ``from trackers.dp import _y``) and attributes of an imported
+    project module (``trackers.dp._y``, ``alias._y``).
+    """
+    tree = ast.parse(source)
+    found = []
+    modules = {}  # local name -> dotted project name it is bound to
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] in PACKAGES:
+                    if _private(a.name):
+                        found.append(f"{node.lineno}: {a.name}")
+                    if a.asname:
+                        modules[a.asname] = a.name
+                    else:
+                        modules[a.name.split(".")[0]] = a.name.split(".")[0]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module.split(".")[0] in PACKAGES:
+            for a in node.names:
+                name = f"{node.module}.{a.name}"
+                if _private(name):
+                    found.append(f"{node.lineno}: {name}")
+                modules[a.asname or a.name] = name
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute):
+            chain = []
+            base = node
+            while isinstance(base, ast.Attribute):
+                chain.append(base.attr)
+                base = base.value
+            if isinstance(base, ast.Name) and base.id in modules and _private(chain[0]) and not _private(
+                    ".".join(chain[1:])):  # report a chain once, at its first private part
+                found.append(f"{node.lineno}: {modules[base.id]}.{'.'.join(reversed(chain))}")
+    return sorted(set(found))
+
+
+def test_there_are_scripts():
+    assert {"dp_profile.py", "dp_kernel_identity.py", "tracker_digest.py"} <= {p.name for p in SCRIPTS}
+
+
+@pytest.mark.parametrize("path", SCRIPTS, ids=[p.name for p in SCRIPTS])
+def test_scripts_import_no_private_name(path):
+    assert private_uses(path.read_text(encoding="utf-8")) == []
+
+
+@pytest.mark.parametrize("path", SCRIPTS, ids=[p.name for p in SCRIPTS])
+def test_scripts_do_not_edit_sys_path(path):
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    edits = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Attribute) and n.attr == "path"
+             and isinstance(n.value, ast.Name) and n.value.id == "sys"]
+    assert edits == [], f"{path.name} touches sys.path on lines {edits}: the project is installed"
+
+
+@pytest.mark.parametrize("source, want", [
+    ("from trackers import _dp_kernels as K\n", ["1: trackers._dp_kernels"]),
+    ("import trackers._dp_rows\n", ["1: trackers._dp_rows"]),
+    ("def f():\n    from trackers._dp_gap import sweep\n", ["2: trackers._dp_gap.sweep"]),
+    ("from trackers.dp import _TIE_TOL, ROW_RULES\n", ["1: trackers.dp._TIE_TOL"]),
+    ("import trackers.dp as D\nD._half_cost(1)\n", ["2: trackers.dp._half_cost"]),
+    ("import trackers\ntrackers.dp._solve(1)\n", ["2: trackers.dp._solve"]),
+    ("import bench.studies.perf.frames\nbench.studies._x.y\n", ["2: bench.studies._x"]),
+    ("from bench.store import realset as real\nreal.load_frame(1)\nreal.__file__\n", []),
+    ("from trackers import dp_stages as S\nS.half_costs(1)\n", []),
+    ("import numpy as np\nnp._core\nfrom os import _exit\n", []),  # not the project's
+])
+def test_the_check_finds_private_names(source, want):
+    assert private_uses(source) == want
+
+
+@pytest.mark.parametrize("path", SCRIPTS, ids=[p.name for p in SCRIPTS])
+def test_scripts_answer_help_from_outside_the_repository(path, tmp_path):
+    out = subprocess.run([sys.executable, str(path), "--help"], capture_output=True, text=True, cwd=tmp_path,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert "usage:" in out.stdout

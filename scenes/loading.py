@@ -78,11 +78,8 @@ def load(name: str, params: Dict[str, Any], rig: Rig, obj: objects.SceneObject, 
 
     Parameters
     ----------
-    name : str
-    params : dict
-        The scene's parameters.
-    rig : Rig
-        At the scene's image size.
+    name, params, rig
+        The scene: :class:`scenes.Scene`'s ``name``, ``params`` and ``rig`` (at its image size).
     obj : scenes.objects.SceneObject
     spp : int or "auto", optional
         The render's ``spp`` (:func:`scenes.passes.sample_counts`): the laser scene's own integrator

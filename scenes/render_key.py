@@ -83,11 +83,8 @@ def cache_fields(name: str, params: Dict[str, Any], rig: Rig, theta: float, spp,
 
     Parameters
     ----------
-    name : str
-    params : dict
-        The scene's parameters.
-    rig : Rig
-        At the scene's image size.
+    name, params, rig
+        The scene: :class:`scenes.Scene`'s ``name``, ``params`` and ``rig`` (at its image size).
     theta : float
         Mirror angle (deg).
     spp : int or "auto"

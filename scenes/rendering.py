@@ -188,11 +188,8 @@ def render(name: str, params: Dict[str, Any], rig: Rig, mirror_angle_deg: float,
 
     Parameters
     ----------
-    name : str
-    params : dict
-        The scene's parameters.
-    rig : Rig
-        At the scene's image size.
+    name, params, rig
+        The scene: :class:`scenes.Scene`'s ``name``, ``params`` and ``rig`` (at its image size).
     mirror_angle_deg : float
         Mirror angle θ (deg); the camera and the laser sheet turn by 2θ.
     spp : int, "auto" or None

@@ -16,7 +16,7 @@ from pathlib import Path
 from bench.cli import perf, tune
 from bench.cli.common import study_command
 from bench.cli.options import add_out, add_quiet, add_seed, add_trackers, arg_type
-from bench.config.options import finite_float, finite_floats, positive_int
+from bench.config.options import finite_float, finite_floats, positive_int, width16_value
 
 __all__ = ["COMMANDS", "SPREAD", "TRANSLUCENCY_PROFILE", "FIELD_SHEET"]
 
@@ -46,23 +46,30 @@ def estimators_options(parser) -> None:
     parser.add_argument("--no-plot", action="store_true", help="write the table only")
 
 
+def _scene_set_options(parser, defaults, objects_value, materials_value, materials_what: str, max_angles: int,
+                       angles_help: str, size_note: str) -> None:
+    """The options of a study over objects x materials at a few angles: ``--out``, ``--objects``,
+    ``--materials``, ``--angles``, ``--size`` (``defaults``: the study's ``DEFAULTS``)."""
+    add_out(parser, "output folder", default=defaults["out"])
+    parser.add_argument("--objects", type=arg_type(objects_value, "--objects"),
+                        default=defaults["objects"], metavar="LIST",
+                        help=f"comma-separated objects (default {','.join(defaults['objects'])})")
+    parser.add_argument("--materials", type=arg_type(materials_value, "--materials"),
+                        default=defaults["materials"], metavar="LIST",
+                        help=f"comma-separated {materials_what} (default {','.join(defaults['materials'])})")
+    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, max_angles), "--angles"),
+                        default=defaults["angles"], metavar="N", help=angles_help)
+    parser.add_argument("--size", type=arg_type(width16_value, "--size"), default=defaults["size"], metavar="PX",
+                        help=f"image width, px, a multiple of 16 ({size_note}default {defaults['size']})")
+
+
 def translucency_options(parser) -> None:
     """The options of ``stripebench translucency``."""
-    from bench.studies.translucency import (DEFAULTS, MAX_ANGLES, materials_value, objects_value, spp_count,
-                                            spp_list, width_value)
+    from bench.studies.translucency import DEFAULTS, MAX_ANGLES, materials_value, objects_value, spp_count, spp_list
 
-    add_out(parser, "output folder", default=DEFAULTS["out"])
-    parser.add_argument("--objects", type=arg_type(objects_value, "--objects"),
-                        default=DEFAULTS["objects"], metavar="LIST",
-                        help=f"comma-separated objects (default {','.join(DEFAULTS['objects'])})")
-    parser.add_argument("--materials", type=arg_type(materials_value, "--materials"),
-                        default=DEFAULTS["materials"], metavar="LIST",
-                        help=f"comma-separated materials (default {','.join(DEFAULTS['materials'])})")
-    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, MAX_ANGLES), "--angles"),
-                        default=DEFAULTS["angles"], metavar="N",
-                        help=f"mirror angles per object (1 .. {MAX_ANGLES}; default {DEFAULTS['angles']})")
-    parser.add_argument("--size", type=arg_type(width_value, "--size"), default=DEFAULTS["size"], metavar="PX",
-                        help=f"image width, px, a multiple of 16 (height = 15/16 of it; default {DEFAULTS['size']})")
+    _scene_set_options(parser, DEFAULTS, objects_value, materials_value, "materials", MAX_ANGLES,
+                       f"mirror angles per object (1 .. {MAX_ANGLES}; default {DEFAULTS['angles']})",
+                       "height = 15/16 of it; ")
     parser.add_argument("--spp", type=arg_type(spp_count, "--spp"),
                         default=DEFAULTS["spp"], metavar="N",
                         help=f"laser-pass samples per pixel (default {DEFAULTS['spp']})")
@@ -93,20 +100,10 @@ def spread_options(parser) -> None:
 
 def translucency_profile_options(parser) -> None:
     """The options of ``python -m bench.cli.translucency_profile``."""
-    from bench.studies.translucency_profile import (DEFAULTS, materials_value, objects_value, seeds_value,
-                                                    width_value)
+    from bench.studies.translucency_profile import DEFAULTS, materials_value, objects_value, seeds_value
 
-    add_out(parser, "output folder", default=DEFAULTS["out"])
-    parser.add_argument("--objects", type=arg_type(objects_value, "--objects"),
-                        default=DEFAULTS["objects"], metavar="LIST",
-                        help=f"comma-separated objects (default {','.join(DEFAULTS['objects'])})")
-    parser.add_argument("--materials", type=arg_type(materials_value, "--materials"),
-                        default=DEFAULTS["materials"], metavar="LIST",
-                        help=f"comma-separated translucent materials (default {','.join(DEFAULTS['materials'])})")
-    parser.add_argument("--angles", type=arg_type(lambda n, v: positive_int(n, v, 1000), "--angles"),
-                        default=DEFAULTS["angles"], metavar="N", help=f"mirror angles per case (default {DEFAULTS['angles']})")
-    parser.add_argument("--size", type=arg_type(width_value, "--size"), default=DEFAULTS["size"], metavar="PX",
-                        help=f"image width, px, a multiple of 16 (default {DEFAULTS['size']})")
+    _scene_set_options(parser, DEFAULTS, objects_value, materials_value, "translucent materials", 1000,
+                       f"mirror angles per case (default {DEFAULTS['angles']})", "")
     parser.add_argument("--seeds", type=arg_type(seeds_value, "--seeds"), default=DEFAULTS["seeds"], metavar="A,B",
                         help="the two render seeds (default 1,2; the paper run's is 0)")
     parser.add_argument("--single-scatter", action="store_true",

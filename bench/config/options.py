@@ -25,7 +25,8 @@ import re
 from bench.config import ConfigError
 from bench.evaluate.outcomes import HIT_PX
 
-__all__ = ["positive_int", "int_in_range", "finite_float", "finite_floats", "size_value", "seed_value", "spp_value",
+__all__ = ["positive_int", "int_in_range", "finite_float", "finite_floats", "size_value", "width16_value",
+           "names_check", "seed_value", "spp_value",
            "workers_value", "cpu_count", "scheduler_address", "plain_tracker_names", "REAL_DEFAULTS",
            "SCHEDULER_SCHEMES", "MAX_TIMEOUT_S"]
 
@@ -120,6 +121,43 @@ def size_value(name: str, text) -> tuple[int, int]:
     w = positive_int(name, parts[0].strip(), MAX_SIZE["width"])
     h = positive_int(name, parts[1].strip(), MAX_SIZE["height"])
     return w, h
+
+
+def width16_value(name: str, text) -> int:
+    """An image width in px, a multiple of 16 (the height is 15/16 of it: square pixels at 16:15), within
+    the scenes' limit.
+
+    Examples
+    --------
+    >>> width16_value("--size", "128")
+    128
+    """
+    from scenes import MAX_SIZE
+
+    w = positive_int(name, text, MAX_SIZE["width"])
+    if w < 16 or w % 16:
+        raise ConfigError(f"{name} must be a multiple of 16 (square pixels at 16:15), got {text!r}")
+    return w
+
+
+def names_check(what: str, valid):
+    """A check ``check(name, text) -> list[str]`` of a comma-separated list of ``what`` names, each one of
+    ``valid()`` (called when a value is checked, so that the list is read only when needed).
+
+    Examples
+    --------
+    >>> names_check("object", lambda: ["cone", "hand"])("--objects", "hand, cone")
+    ['hand', 'cone']
+    """
+    def check(name, text):
+        values = [n.strip() for n in str(text).split(",") if n.strip()]
+        bad = [v for v in values if v not in valid()]
+        if not values or bad:
+            raise ConfigError(f"{name} must name some of {', '.join(valid())}, got unknown {what} "
+                              f"{(bad or [text])[0]!r}")
+        return values
+
+    return check
 
 
 def seed_value(name: str, value) -> int:

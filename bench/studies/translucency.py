@@ -32,11 +32,12 @@ import time
 
 import numpy as np
 
+from bench.config.options import names_check, width16_value
 from bench.evaluate.stats import mad_scale
 
 __all__ = ["study", "DEFAULTS", "MAX_ANGLES", "FIELDS", "NOISE_FIELDS", "INCIDENCE_BINS_DEG", "incidence_deg", "stripe_widths_px", "run_study",
-           "summarise", "render_noise", "write_csv", "plot", "objects_value", "materials_value", "width_value",
-           "spp_count", "spp_list"]
+           "summarise", "render_noise", "write_csv", "plot", "objects_value", "materials_value", "spp_count",
+           "spp_list"]
 
 #: Columns of ``translucency.csv``.
 FIELDS = ("object", "material", "incidence_lo_deg", "incidence_hi_deg", "tracker", "rows", "reported",
@@ -390,39 +391,13 @@ DEFAULTS = {"out": "results/runs/translucency", "objects": ["plane", "sphere"],
 MAX_ANGLES = 1000
 
 
-def _choices(what: str, valid):
-    def check(name, text):
-        from bench.config import ConfigError
-
-        values = [n.strip() for n in str(text).split(",") if n.strip()]
-        bad = [v for v in values if v not in valid()]
-        if not values or bad:
-            raise ConfigError(f"{name} must name some of {', '.join(valid())}, got unknown {what} "
-                              f"{(bad or [text])[0]!r}")
-        return values
-
-    return check
-
-
-def _size(name, text):
-    from scenes import MAX_SIZE
-
-    from bench.config import ConfigError
-    from bench.config.options import positive_int
-
-    w = positive_int(name, text, MAX_SIZE["width"])
-    if w < 16 or w % 16:
-        raise ConfigError(f"{name} must be a multiple of 16 (square pixels at 16:15), got {text!r}")
-    return w
-
-
-def _spps(name, text):
+def spp_list(name, text):
     from bench.config import ConfigError
 
     parts = [v.strip() for v in str(text).split(",") if v.strip()]
     if not parts:
         raise ConfigError(f"{name} must list positive integers, got {text!r}")
-    return [_spp(name, v) for v in parts]
+    return [spp_count(name, v) for v in parts]
 
 
 def _objects():
@@ -437,7 +412,7 @@ def _materials():
     return scenes.MATERIALS
 
 
-def _spp(name, text):
+def spp_count(name, text):
     from scenes import MAX_SIZE
 
     from bench.config.options import positive_int
@@ -447,11 +422,8 @@ def _spp(name, text):
 
 #: The checks of the study's option values, ``check(name, text) -> value`` raising
 #: :class:`bench.config.ConfigError` (the command line's types: :mod:`bench.cli.studies`).
-objects_value = _choices("object", _objects)
-materials_value = _choices("material", _materials)
-width_value = _size
-spp_count = _spp
-spp_list = _spps
+objects_value = names_check("object", _objects)
+materials_value = names_check("material", _materials)
 
 
 def study(*, out=DEFAULTS["out"], objects=DEFAULTS["objects"], materials=DEFAULTS["materials"],

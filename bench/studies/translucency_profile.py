@@ -61,13 +61,14 @@ import time
 
 import numpy as np
 
+from bench.config.options import names_check, width16_value
 from bench.evaluate.stats import mad_scale
 
 __all__ = ["study", "DEFAULTS", "PATH_FIELDS", "COMPARE_FIELDS", "ANGLE_FIELDS",
            "TABLE_FIELDS", "SINGLE_FIELDS",
            "BIAS_TOL_MM", "WIDTH_TOL", "N_BOOT", "WIDTH_ROWS", "SENSOR_DRAWS", "BOARD_YAWS_DEG", "scene_kwargs",
            "centres", "aligned_fwhm", "measure_case", "compare", "single_scatter", "objects_value", "materials_value",
-           "width_value", "seeds_value"]
+           "seeds_value"]
 
 #: Criteria of issue 24: |median bias (profile) - median bias (volpath)| <= 0.05 mm (parabolic and core
 #: centroid), the noise-matched FWHM within 5 %, the profile path's noise below the sensor's (robust centre
@@ -424,19 +425,6 @@ def _write(rows: list[dict], path, fields) -> None:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
 
 
-def _names(what: str, valid):
-    def check(name, text):
-        from bench.config import ConfigError
-
-        values = [n.strip() for n in str(text).split(",") if n.strip()]
-        bad = [v for v in values if v not in valid()]
-        if not values or bad:
-            raise ConfigError(f"{name} must name some of {', '.join(valid())}, got unknown {what} {(bad or [text])[0]!r}")
-        return values
-
-    return check
-
-
 def _objects():
     import scenes
 
@@ -449,7 +437,7 @@ def _translucent():
     return list(TRANSLUCENT)
 
 
-def _seeds(name, text):
+def seeds_value(name, text):
     from bench.config import ConfigError
 
     parts = [v.strip() for v in str(text).split(",") if v.strip()]
@@ -458,22 +446,10 @@ def _seeds(name, text):
     return [int(p) for p in parts]
 
 
-def _size(name, text):
-    from bench.config import ConfigError
-    from bench.config.options import positive_int
-
-    w = positive_int(name, text, 8192)
-    if w < 16 or w % 16:
-        raise ConfigError(f"{name} must be a multiple of 16 (square pixels at 16:15), got {text!r}")
-    return w
-
-
 #: The checks of the study's option values, ``check(name, text) -> value`` raising
 #: :class:`bench.config.ConfigError` (the command line's types: :mod:`bench.cli.studies`).
-objects_value = _names("object", _objects)
-materials_value = _names("material", _translucent)
-width_value = _size
-seeds_value = _seeds
+objects_value = names_check("object", _objects)
+materials_value = names_check("material", _translucent)
 _single_scatter = single_scatter
 
 

@@ -180,25 +180,12 @@ def _plot(profile, records, scores, chosen, path):
 
 
 def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> int:
-    """Run the procedure and print the chosen ``h_weight`` (``stripebench tune dp``).
+    """``stripebench tune dp``: run the procedure on the tuning profile ``profile`` (a TOML path) into
+    the folder ``out`` (created), print the chosen ``h_weight`` and return 0; ``quiet``: no progress bars. A bad
+    profile raises :class:`bench.config.ConfigError` (one line) before any scan."""
+    from bench.studies.tuning import run_study
 
-    Parameters
-    ----------
-    profile : path
-        The tuning profile (TOML).
-    out : path
-        Output folder (created).
-    quiet : bool
-        No progress bars.
-
-    Returns
-    -------
-    int
-        0. A bad profile raises :class:`bench.config.ConfigError` (one line) before any scan.
-    """
-    profile = load_profile(profile)
-    out = pathlib.Path(out)
-    chosen, scores, _ = run(profile, out, progress=not quiet)
+    profile, out, (chosen, scores, _) = run_study(load_profile, run, profile, out, quiet)
     curve = ", ".join(f"{h:g}: {scores[h]:.3f}" for h in sorted(scores, reverse=True))
     print(f"chosen h_weight = {chosen:g} (mean hit fraction {scores[chosen]:.3f}; by h_weight {curve}); "
           f"{out / 'tune.csv'}")

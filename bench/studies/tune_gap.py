@@ -196,27 +196,13 @@ DEFAULT_OUT = "results/runs/tune_dp_gap"
 
 
 def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> int:
-    """Run the procedure and print its choices (``stripebench tune dp_gap``).
-
-    Parameters
-    ----------
-    profile : path
-        The tuning profile (TOML).
-    out : path
-        Output folder (created).
-    quiet : bool
-        No progress bars.
-
-    Returns
-    -------
-    int
-        0; a bad profile raises :class:`bench.config.ConfigError` (one line) before any scan.
-    """
+    """``stripebench tune dp_gap``: run the procedure on the tuning profile ``profile`` (a TOML path) into
+    the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress bars. A bad
+    profile raises :class:`bench.config.ConfigError` (one line) before any scan."""
     from bench.studies.tune_threshold import figure_lines
+    from bench.studies.tuning import run_study
 
-    profile = load_profile(profile)
-    out = pathlib.Path(out)
-    chosen, summary, records = run(profile, out, progress=not quiet)
+    profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
     k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
     k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")

@@ -316,25 +316,12 @@ def figure_lines(figures: dict) -> list[str]:
 
 
 def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> int:
-    """Run the procedure and print its choices (``stripebench tune threshold``).
+    """``stripebench tune threshold``: run the procedure on the tuning profile ``profile`` (a TOML path) into
+    the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress lines. A bad
+    profile raises :class:`bench.config.ConfigError` (one line) before any work."""
+    from bench.studies.tuning import run_study
 
-    Parameters
-    ----------
-    profile : path
-        The tuning profile (TOML).
-    out : path
-        Output folder (created).
-    quiet : bool
-        No progress lines.
-
-    Returns
-    -------
-    int
-        0; a bad profile raises :class:`bench.config.ConfigError` (one line) before any work.
-    """
-    profile = load_profile(profile)
-    out = pathlib.Path(out)
-    chosen, summary, records = run(profile, out, progress=not quiet)
+    profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
 
     def top(stage):
         best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]

@@ -38,7 +38,7 @@ import numpy as np
 from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
 
 __all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
-           "objective", "group_figures", "counts_record", "Tally"]
+           "objective", "group_figures", "counts_record", "Tally", "run_study"]
 
 #: The groups of tuning frames, in the order they are reported.
 GROUPS = ("synthetic", "renders", "real")
@@ -262,3 +262,31 @@ class Tally:
                 kinds = out.setdefault(g, {})
                 kinds[k] = kinds.get(k, 0) + c
         return out
+
+
+def run_study(load_profile, run, profile, out, quiet: bool):
+    """What every ``stripebench tune WHAT`` does before it prints: read the tuning profile and run.
+
+    Parameters
+    ----------
+    load_profile : callable
+        ``load_profile(path) -> profile``, the procedure's reader (raises :class:`bench.config.ConfigError`).
+    run : callable
+        ``run(profile, out, progress=bool) -> tuple``, the procedure.
+    profile : path
+        The tuning profile (TOML).
+    out : path
+        Output folder (created by ``run``).
+    quiet : bool
+        No progress output.
+
+    Returns
+    -------
+    tuple
+        ``(profile, out, result)``: the profile read, ``out`` as a path and what ``run`` returned.
+    """
+    import pathlib
+
+    profile = load_profile(profile)
+    out = pathlib.Path(out)
+    return profile, out, run(profile, out, progress=not quiet)

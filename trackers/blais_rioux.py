@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from ._peak import PeakTracker
+from ._peak import DETECTION_DOC, PeakTracker
 
 __all__ = ["BlaisRiouxTracker"]
 
 
 class BlaisRiouxTracker(PeakTracker):
-    """Blais & Rioux: zero crossing of a 4th-order derivative filter next to each row's peak.
+    __doc__ = """Blais & Rioux: zero crossing of a 4th-order derivative filter next to each row's peak.
 
     Blais, F. and Rioux, M. (1986), "Real-time numerical peak detector",
     *Signal Processing* 11(2), 145-155; compared by Fisher & Naidu (1996).
@@ -22,16 +22,7 @@ class BlaisRiouxTracker(PeakTracker):
     in ``[j*-1, j*]``; with ``g0 = g(i)`` and ``g1 = g(i+1)`` at the
     interval's ends the column is the linear interpolation of the zero
     crossing, ``i + g0 / (g0 - g1)``, clamped to the interval.
-
-    Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, the same per-row rule); rows whose peak does not
-    exceed it report NaN.
-
-    Parameters
-    ----------
-    threshold, k_sigma, prominence, min_run, width_ratio
-        As for :class:`~trackers.threshold.ThresholdTracker`.
-
+""" + DETECTION_DOC + """
     Notes
     -----
     * ``j*`` is the row's maximum; on a plateau of equal maxima (saturation)
@@ -52,5 +43,4 @@ class BlaisRiouxTracker(PeakTracker):
     """
 
     name = "blais_rioux"
-    subpixel = True
     _estimator = "blais_rioux"

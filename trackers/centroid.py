@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-from ._params import Int, Real
-from ._peak import PeakTracker
-from .threshold import DEFAULT_K_SIGMA, DEFAULT_WIDTH_RATIO, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE
+from ._peak import WindowedPeakTracker
 
 __all__ = ["CentroidTracker"]
 
 
-class CentroidTracker(PeakTracker):
+class CentroidTracker(WindowedPeakTracker):
     """Gray-gravity centre: intensity-weighted mean column around each row's peak.
 
     Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
@@ -39,19 +37,4 @@ class CentroidTracker(PeakTracker):
     """
 
     name = "centroid"
-    subpixel = True
     _estimator = "centroid"
-
-    def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=0.5,
-                 half_window=7, min_run=DEFAULT_MIN_RUN,
-                 width_ratio=DEFAULT_WIDTH_RATIO):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run,
-                         width_ratio=width_ratio)
-        self.frac = frac
-        self.half_window = half_window
-
-    parameter_constraints = {**PeakTracker.parameter_constraints, "frac": Real(low=0, high=1, high_open=True),
-                             "half_window": Int(low=0)}
-
-    def _estimator_args(self):
-        return float(self.frac), int(self.half_window)

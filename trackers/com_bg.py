@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import Track
-from ._params import Int, Real
+from ._peak import WindowedPeakTracker
 from ._subpixel import ESTIMATORS, refine
-from .threshold import DEFAULT_K_SIGMA, DEFAULT_WIDTH_RATIO, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE, ThresholdTracker
+from .threshold import DEFAULT_K_SIGMA, DEFAULT_WIDTH_RATIO, DEFAULT_MIN_RUN, DEFAULT_PROMINENCE
 
 __all__ = ["ComBgTracker", "DEFAULT_FRAC"]
 
@@ -17,7 +17,7 @@ __all__ = ["ComBgTracker", "DEFAULT_FRAC"]
 DEFAULT_FRAC = 0.25
 
 
-class ComBgTracker(ThresholdTracker):
+class ComBgTracker(WindowedPeakTracker):
     """Centre of mass of the background-subtracted, thresholded row around its maximum.
 
     What open laser scanners do (Horus / BQ Ciclop,
@@ -78,19 +78,13 @@ class ComBgTracker(ThresholdTracker):
     """
 
     name = "com_bg"
-    subpixel = True
     uses_background = True
+    _estimator = "com"
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=DEFAULT_FRAC,
-                 half_window=5, min_run=DEFAULT_MIN_RUN,
-                 width_ratio=DEFAULT_WIDTH_RATIO):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run,
-                         width_ratio=width_ratio)
-        self.frac = frac
-        self.half_window = half_window
-
-    parameter_constraints = {**ThresholdTracker.parameter_constraints, "frac": Real(low=0, high=1, high_open=True),
-                             "half_window": Int(low=0)}
+                 half_window=5, min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO):
+        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, frac=frac,
+                         half_window=half_window, min_run=min_run, width_ratio=width_ratio)
 
     def find_stripe(self, image, background):
         if background is None:  # a flat laser-off frame: each row's own level
@@ -108,6 +102,6 @@ class ComBgTracker(ThresholdTracker):
             level, frac = base, float(self.frac)
         else:
             level, frac = np.full(H, float(self.threshold)), 0.0
-        refine(diff, d.col, d.hit, level, ESTIMATORS["com"], 0, frac, int(self.half_window), columns, ok)
+        refine(diff, d.col, d.hit, level, ESTIMATORS[self._estimator], 0, frac, int(self.half_window), columns, ok)
         score = np.where(d.hit, d.score, np.nan)
         return Track(columns, score)

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from ._peak import PeakTracker
+from ._peak import DETECTION_DOC, PeakTracker
 
 __all__ = ["Gauss3Tracker"]
 
 
 class Gauss3Tracker(PeakTracker):
-    """3-point Gaussian fit: vertex of the log-parabola through each row's peak and its neighbours.
+    __doc__ = """3-point Gaussian fit: vertex of the log-parabola through each row's peak and its neighbours.
 
     The classic 3-point Gaussian estimator (e.g. Fisher & Naidu 1996, "A
     comparison of algorithms for subpixel peak detection"; Naidu & Fisher,
@@ -18,16 +18,7 @@ class Gauss3Tracker(PeakTracker):
     ``j* + 0.5 (ln a - ln c) / (ln a - 2 ln b + ln c)``,
 
     exact for a sampled Gaussian profile on a known background.
-
-    Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, the same per-row rule); rows whose peak does not
-    exceed it report NaN.
-
-    Parameters
-    ----------
-    threshold, k_sigma, prominence, min_run, width_ratio
-        As for :class:`~trackers.threshold.ThresholdTracker`.
-
+""" + DETECTION_DOC + """
     Notes
     -----
     * The background is the row's level ``b`` (its median, as in the
@@ -51,5 +42,4 @@ class Gauss3Tracker(PeakTracker):
     """
 
     name = "gauss3"
-    subpixel = True
     _estimator = "gauss3"

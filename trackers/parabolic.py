@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from ._peak import PeakTracker
+from ._peak import DETECTION_DOC, PeakTracker
 
 __all__ = ["ParabolicTracker"]
 
 
 class ParabolicTracker(PeakTracker):
-    """3-point parabola fit: vertex of the parabola through each row's peak and its neighbours.
+    __doc__ = """3-point parabola fit: vertex of the parabola through each row's peak and its neighbours.
 
     The 3-point parabolic (quadratic) estimator compared by Fisher & Naidu
     (1996, "A comparison of algorithms for subpixel peak detection"): with
@@ -19,16 +19,7 @@ class ParabolicTracker(PeakTracker):
 
     It needs no background level, and is biased towards the pixel centre on
     Gaussian profiles (most for narrow ones; see ``docs/estimators.png``).
-
-    Detection is :class:`~trackers.threshold.ThresholdTracker`'s (same
-    parameters, the same per-row rule); rows whose peak does not
-    exceed it report NaN.
-
-    Parameters
-    ----------
-    threshold, k_sigma, prominence, min_run, width_ratio
-        As for :class:`~trackers.threshold.ThresholdTracker`.
-
+""" + DETECTION_DOC + """
     Notes
     -----
     * ``j*`` is the leftmost maximum of the row; if several equal maxima are
@@ -47,5 +38,4 @@ class ParabolicTracker(PeakTracker):
     """
 
     name = "parabolic"
-    subpixel = True
     _estimator = "parabolic"

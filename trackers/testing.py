@@ -103,6 +103,21 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return np.array_equal(a, b, equal_nan=True)
 
 
+def _accuracy(tracker: Tracker, tracks) -> tuple[int, int, float, float]:
+    """Over ``tracks``, (columns, truth) pairs of frames with a clear stripe: the rows reported, the
+    rows in all, the mean absolute error of the reported rows (px) and the limit it must keep (0.1 px
+    for a sub-pixel tracker, 0.6 px for the others)."""
+    errors = []
+    reported = total = 0
+    for cols, truth in tracks:
+        ok = ~np.isnan(cols)
+        reported += int(ok.sum())
+        total += cols.size
+        errors.append(np.abs(cols[ok] - truth[ok]))
+    err = np.concatenate(errors)
+    return reported, total, float(err.mean()), 0.1 if tracker.subpixel else 0.6
+
+
 def check_output_types(tracker: Tracker) -> None:
     """`track` returns a Track with float64 (H,) columns and score, NaN together,
     columns inside the image."""
@@ -228,20 +243,9 @@ def check_synthetic_accuracy(tracker: Tracker) -> None:
     """On synthetic Gaussian stripes with noise: mean absolute error within
     0.1 px for sub-pixel trackers, 0.6 px for the others; at least 95 % of
     the rows reported."""
-    errors = []
-    reported = 0
-    total = 0
-    for seed in range(4):
-        img, truth = make_stripe_image(seed=100 + seed)
-        cols = tracker.track(img).columns
-        ok = ~np.isnan(cols)
-        reported += int(ok.sum())
-        total += cols.size
-        errors.append(np.abs(cols[ok] - truth[ok]))
-    err = np.concatenate(errors)
-    limit = 0.1 if tracker.subpixel else 0.6
+    images = (make_stripe_image(seed=100 + seed) for seed in range(4))
+    reported, total, mae, limit = _accuracy(tracker, ((tracker.track(img).columns, truth) for img, truth in images))
     assert reported >= 0.95 * total, f"{_name(tracker)} reported only {reported} of {total} rows of a clear stripe"
-    mae = float(err.mean())
     assert mae <= limit, f"{_name(tracker)}: mean absolute error {mae:.3f} px > {limit} px on synthetic stripes"
 
 
@@ -380,21 +384,12 @@ def check_background_use(tracker: Tracker) -> None:
     absolute error within the synthetic-accuracy limit); a laser-off frame
     equal to the laser-on frame gives all-NaN; uint8 and float64 copies of
     the pair give the same columns; flipping both frames flips the result."""
-    errors = []
-    reported = total = 0
-    for seed in range(3):
-        on, off, truth = make_ambient_pair(seed=200 + seed)
-        cols = tracker.track(on, background=off).columns
-        ok = ~np.isnan(cols)
-        reported += int(ok.sum())
-        total += cols.size
-        errors.append(np.abs(cols[ok] - truth[ok]))
-    err = np.concatenate(errors)
-    limit = 0.1 if tracker.subpixel else 0.6
+    pairs = (make_ambient_pair(seed=200 + seed) for seed in range(3))
+    reported, total, mae, limit = _accuracy(
+        tracker, ((tracker.track(on, background=off).columns, truth) for on, off, truth in pairs))
     assert reported >= 0.95 * total, (
         f"{_name(tracker)} reported only {reported} of {total} rows of a clear stripe given its laser-off frame"
     )
-    mae = float(err.mean())
     assert mae <= limit, (
         f"{_name(tracker)}: mean absolute error {mae:.3f} px > {limit} px given the laser-off frame "
         "(an ambient distractor present in both frames was tracked?)"

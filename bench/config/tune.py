@@ -177,14 +177,25 @@ def _fail(msg: str):
     raise ConfigError(msg)
 
 
-def _grid(data, key, constraint: Real):
-    """A grid of distinct values ``constraint`` accepts."""
+def _read_profile(path, keys: set) -> dict:
+    """A tuning profile's table (a regular UTF-8 TOML file, bounded nesting), refused if it has a key
+    outside ``keys``."""
+    data = read_toml(pathlib.Path(path), "tuning profile")
+    unknown = set(data) - keys
+    if unknown:
+        _fail(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(keys)}")
+    return data
+
+
+def _grid(data, key, constraint: Real | Int, cast=float):
+    """A grid of distinct values ``constraint`` accepts, each passed through ``cast`` (``int`` for an
+    :class:`Int` grid)."""
     vals = data[key]
     if not isinstance(vals, list) or not vals or not all(accepts(constraint, v) for v in vals):
         _fail(f"`{key}` must be a non-empty list of {describe(constraint, plural=True)}, got {vals!r}")
     if len(set(vals)) != len(vals):
         _fail(f"`{key}` must not repeat a value, got {vals!r}")
-    return [float(v) for v in vals]
+    return [cast(v) for v in vals]
 
 
 def load_gap_profile(path, kinds=()) -> GapProfile:
@@ -196,10 +207,7 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
     bench.config.ConfigError
         A missing or unknown key or a bad value, named in the message (one line).
     """
-    data = read_toml(pathlib.Path(path), "tuning profile")  # a regular UTF-8 file, bounded nesting
-    unknown = set(data) - GAP_TOP_KEYS
-    if unknown:
-        _fail(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(GAP_TOP_KEYS)}")
+    data = _read_profile(path, GAP_TOP_KEYS)
     for key in sorted(GAP_TOP_KEYS):
         if key not in data:
             _fail(f"`profile` lacks the key {key!r}")
@@ -277,31 +285,28 @@ class TuneThresholdProfile:
 
 def _int_grid(data, key, constraint: Int):
     """A grid of distinct integers ``constraint`` accepts."""
+    return _grid(data, key, constraint, int)
+
+
+def _none_grid(data, key, constraint: Real | Int, cast, what: str):
+    """A grid of values ``constraint`` accepts (each passed through ``cast``) or ``"none"`` (None: no
+    limit), distinct; ``what`` names the values in the message."""
     vals = data[key]
-    if not isinstance(vals, list) or not vals or not all(accepts(constraint, v) for v in vals):
-        _fail(f"`{key}` must be a non-empty list of {describe(constraint, plural=True)}, got {vals!r}")
-    if len(set(vals)) != len(vals):
-        _fail(f"`{key}` must not repeat a value, got {vals!r}")
-    return [int(v) for v in vals]
+    if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
+            or not all(v == "none" or accepts(constraint, v) for v in vals)):
+        _fail(f"`{key}` must list distinct {what} or 'none', got {vals!r}")
+    return [None if v == "none" else cast(v) for v in vals]
 
 
 def _none_int_grid(data, key, constraint: Int):
     """A grid of integers ``constraint`` accepts or ``"none"`` (None: no limit), distinct."""
-    vals = data[key]
-    if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
-            or not all(v == "none" or accepts(constraint, v) for v in vals)):
-        _fail(f"`{key}` must list distinct {describe(constraint, plural=True)} or 'none', got {vals!r}")
-    return [None if v == "none" else int(v) for v in vals]
+    return _none_grid(data, key, constraint, int, describe(constraint, plural=True))
 
 
 def _none_real_grid(data, key, constraint: Real):
     """A grid of finite numbers ``constraint`` accepts or ``"none"`` (None: no limit), distinct."""
-    vals = data[key]
-    if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
-            or not all(v == "none" or accepts(constraint, v) for v in vals)):
-        # worded "numbers", not describe()'s "finite numbers": the message as it was
-        _fail(f"`{key}` must list distinct numbers >= {constraint.low} or 'none', got {vals!r}")
-    return [None if v == "none" else float(v) for v in vals]
+    # worded "numbers", not describe()'s "finite numbers": the message as it was
+    return _none_grid(data, key, constraint, float, f"numbers >= {constraint.low}")
 
 
 def _render_experiments(data, keys=GAP_RENDER_KEYS, exp_key="experiments", allow_empty=False):
@@ -334,10 +339,7 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     bench.config.ConfigError
         A missing or unknown key or a bad value, named in the message (one line).
     """
-    data = read_toml(pathlib.Path(path), "tuning profile")  # a regular UTF-8 file, bounded nesting
-    unknown = set(data) - THRESHOLD_TOP_KEYS
-    if unknown:
-        raise ConfigError(f"`profile` has unknown key(s) {sorted(unknown)}; valid: {sorted(THRESHOLD_TOP_KEYS)}")
+    data = _read_profile(path, THRESHOLD_TOP_KEYS)
     missing = sorted(THRESHOLD_TOP_KEYS - set(data))
     if missing:
         raise ConfigError(f"`profile` lacks the key(s) {missing}")

@@ -41,6 +41,15 @@ __all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare
 # what must agree between two runs (or a run and a baseline) for their metrics to be comparable
 COMPARED_KEYS = ("render", "experiments", "seed")
 
+# detection, both halves (bench.evaluate.outcomes): reports that are hits, stripe rows hit, their F1,
+# reports on stripe-less rows, and the average precision of the tracker's score; gated alike in both kinds of run
+_DETECTION_TOLERANCES: dict[str, tuple[str, float, float]] = {
+    "precision": ("higher", 0.01, 0.0),
+    "recall": ("higher", 0.01, 0.0),
+    "f1": ("higher", 0.01, 0.0),
+    "false_report_rate": ("lower", 0.01, 0.05),
+    "ap": ("higher", 0.01, 0.0),
+}
 # metric -> (direction, absolute tolerance, relative tolerance)
 TOLERANCES: dict[str, tuple[str, float, float]] = {
     "px_mae": ("lower", 0.05, 0.05),
@@ -54,13 +63,7 @@ TOLERANCES: dict[str, tuple[str, float, float]] = {
     "false_lock_rate": ("lower", 0.01, 0.05),
     "outlier_rate": ("lower", 0.01, 0.05),
     "false_detections": ("lower", 0.01, 0.05),
-    # detection, both halves (bench.evaluate.outcomes): reports that are hits, stripe rows hit, their F1,
-    # reports on stripe-less rows, and the average precision of the tracker's score
-    "precision": ("higher", 0.01, 0.0),
-    "recall": ("higher", 0.01, 0.0),
-    "f1": ("higher", 0.01, 0.0),
-    "false_report_rate": ("lower", 0.01, 0.05),
-    "ap": ("higher", 0.01, 0.0),
+    **_DETECTION_TOLERANCES,
 }
 #: The gated metrics of a real-photograph run (``stripebench real``, summary ``kind = "real"``).
 REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
@@ -68,11 +71,7 @@ REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
     "mae_px": ("lower", 0.05, 0.05),
     "coverage": ("higher", 0.01, 0.0),
     "false_detections": ("lower", 0.01, 0.05),
-    "precision": ("higher", 0.01, 0.0),
-    "recall": ("higher", 0.01, 0.0),
-    "f1": ("higher", 0.01, 0.0),
-    "false_report_rate": ("lower", 0.01, 0.05),
-    "ap": ("higher", 0.01, 0.0),
+    **_DETECTION_TOLERANCES,
 }
 #: The baseline format written; :data:`READ_FORMATS` are read (format 1 is upgraded on reading).
 FORMAT = 2

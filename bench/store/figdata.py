@@ -58,13 +58,16 @@ class GalleryFrame:
         return f"{self.experiment}/{self.frame}"
 
 
-def _format_problem(a: dict) -> str | None:
+def _read_arrays(path) -> tuple[dict | None, str | None]:
+    """:func:`~bench.store.files.read_npz` with the file's format checked: (arrays, None), (None, None)
+    when missing, (None, why) when unreadable or of a format this code does not read."""
+    a, why = read_npz(path)
+    if a is None:
+        return None, why
     f = a.get("format")
-    if f is None:
-        return None
-    if f.shape != () or f.dtype.kind not in "iu" or int(f) not in _READS:
-        return f"of format {f.tolist()!r} (this stripebench reads format {', '.join(map(str, _READS))})"
-    return None
+    if f is not None and (f.shape != () or f.dtype.kind not in "iu" or int(f) not in _READS):
+        return None, f"of format {f.tolist()!r} (this stripebench reads format {', '.join(map(str, _READS))})"
+    return a, None
 
 
 def write_figdata(path, fig: FigData) -> None:
@@ -81,11 +84,8 @@ def write_figdata(path, fig: FigData) -> None:
 
 def read_figdata(path) -> tuple[FigData | None, str | None]:
     """``figdata.npz`` checked: (FigData, None), (None, None) when missing, (None, why) when unusable."""
-    fd, why = read_npz(path)
+    fd, why = _read_arrays(path)
     if fd is None:
-        return None, why
-    why = _format_problem(fd)
-    if why:
         return None, why
     need = {"experiment", "mirror_angle_deg", "image", "truth_columns", "trackers"}
     if not need <= set(fd):
@@ -126,11 +126,8 @@ def write_gallery(path, frames) -> None:
 
 def read_gallery(path) -> tuple[list[GalleryFrame] | None, str | None]:
     """``gallery.npz`` checked: (frames in key order, None), (None, None) when missing, (None, why)."""
-    a, why = read_npz(path)
+    a, why = _read_arrays(path)
     if a is None:
-        return None, why
-    why = _format_problem(a)
-    if why:
         return None, why
     if "keys" not in a:
         return None, "no `keys` array"

@@ -21,9 +21,9 @@ import numpy as np
 
 from bench.errors import StripebenchError
 
-__all__ = ["RunFolderError", "os_error", "atomic_write_bytes", "atomic_write_text", "save_npz", "load_npz",
-           "read_npz", "array_checksum", "json_checksum", "clear_non_file", "non_file_kind", "non_file_reason", "check_format",
-           "config_hash", "runs_root"]
+__all__ = ["RunFolderError", "os_error", "atomic_write_bytes", "atomic_write_text", "write_table", "save_npz",
+           "load_npz", "read_npz", "read_json", "array_checksum", "json_checksum", "clear_non_file", "remove_path",
+           "non_file_kind", "non_file_reason", "check_format", "config_hash", "runs_root"]
 
 
 class RunFolderError(StripebenchError, ValueError):
@@ -93,6 +93,20 @@ def atomic_write_text(path, text: str) -> None:
     atomic_write_bytes(path, text.encode("utf-8"))
 
 
+def write_table(folder, table, parquet_name: str, csv_name: str) -> None:
+    """A DataFrame as ``<folder>/<parquet_name>`` and ``<folder>/<csv_name>`` (no index), each written
+    atomically (``RunFolderError`` naming the file on ``OSError``)."""
+    d = Path(folder)
+    buf = io.BytesIO()
+    table.to_parquet(buf, index=False)
+    for name, write in ((parquet_name, lambda p: atomic_write_bytes(p, buf.getvalue())),
+                        (csv_name, lambda p: atomic_write_text(p, table.to_csv(index=False)))):
+        try:
+            write(d / name)
+        except OSError as exc:
+            raise os_error("write", d / name, exc) from None
+
+
 def save_npz(path, **arrays) -> None:
     """``numpy.savez_compressed`` written atomically."""
     buf = io.BytesIO()
@@ -122,6 +136,18 @@ def read_npz(path) -> tuple[dict[str, np.ndarray] | None, str | None]:
             return {k: z[k] for k in z.files}, None
     except Exception as exc:  # BadZipFile, CRC errors, EOF, pickles, ...: all mean "recompute"
         return None, f"{type(exc).__name__}: {exc}".splitlines()[0][:200]
+
+
+def read_json(path, width: int = 120) -> tuple[Any, str | None]:
+    """The document of an existing JSON file and None, or None and why it could not be read:
+    ``"unreadable (<reason>)"`` (an ``OSError``; not UTF-8, not JSON or nested beyond reason, the
+    first line of the error cut to ``width`` characters), never an exception."""
+    try:
+        return json.loads(Path(path).read_text(encoding="utf-8")), None
+    except OSError as exc:
+        return None, f"unreadable ({exc.strerror or exc})"
+    except (ValueError, RecursionError) as exc:  # not UTF-8, not JSON, nested beyond reason
+        return None, f"unreadable ({type(exc).__name__}: {str(exc).splitlines()[0][:width]})"
 
 
 def load_npz(path) -> dict[str, np.ndarray] | None:
@@ -194,14 +220,20 @@ def clear_non_file(path) -> str | None:
     if kind is None:
         return None
     try:
-        if p.is_dir() and not p.is_symlink():
-            shutil.rmtree(p)
-        else:
-            p.unlink()
+        remove_path(p)
     except OSError as exc:
         raise RunFolderError(f"{str(p)!r} is {kind} where stripebench keeps a file and cannot be removed "
                              f"({exc.strerror or exc}); remove it") from None
     return kind
+
+
+def remove_path(path) -> None:
+    """Remove a directory with all it holds, or a file, link or other non-directory (``OSError`` as raised)."""
+    p = Path(path)
+    if p.is_dir() and not p.is_symlink():
+        shutil.rmtree(p)
+    else:
+        p.unlink()
 
 
 def non_file_reason(path, clear_bad: bool = False) -> str | None:

@@ -226,6 +226,18 @@ META_KEYS = {"config": dict, "config_hash": str, "experiments": list}
 EXPERIMENT_KEYS = {"key": str, "rig": dict, "variant": str, "false_stripes": bool}
 
 
+def _csv_rows(path: Path, what: str = "") -> list:
+    """The rows after the header of the CSV file ``path``; ``FrameSetError`` naming it (after ``what``,
+    e.g. ``truth``) when it cannot be read, is not UTF-8 text or is malformed."""
+    label = f"{what} {str(path)!r}".lstrip()
+    try:
+        return loads_csv(path.read_text(encoding="utf-8"), str(path), error=FrameSetError)[1]
+    except OSError as exc:
+        raise FrameSetError(f"cannot read {label}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise FrameSetError(f"{label}: not UTF-8 text (byte {exc.start})") from None
+
+
 def _check_meta(meta: dict, jpath) -> None:
     """One line naming the first key of ``dataset.json`` that scoring needs and that is missing or mistyped."""
     def need(doc, keys, where):
@@ -262,12 +274,7 @@ def read_frameset(root) -> FrameSet:
     check_format(meta.get("format"), (FORMAT,), "frame set", jpath)
     _check_meta(meta, jpath)
     fpath = root / "frames.csv"
-    try:
-        rows = loads_csv(fpath.read_text(encoding="utf-8"), str(fpath), error=FrameSetError)[1]
-    except OSError as exc:
-        raise FrameSetError(f"cannot read {str(fpath)!r}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise FrameSetError(f"{str(fpath)!r}: not UTF-8 text (byte {exc.start})") from None
+    rows = _csv_rows(fpath)
     frames, index = [], {}
     keys = {e["key"] for e in meta["experiments"]}
     sizes = {}
@@ -325,12 +332,7 @@ def read_truth(path, height: int, k: int | None):
     pts = np.full((height, 3), np.nan)
     on = np.zeros(height, bool)
     false = None if k is None else np.full((height, k), np.nan)
-    try:
-        rows = loads_csv(path.read_text(encoding="utf-8"), str(path), error=FrameSetError)[1]
-    except OSError as exc:
-        raise FrameSetError(f"cannot read truth {str(path)!r}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise FrameSetError(f"truth {str(path)!r}: not UTF-8 text (byte {exc.start})") from None
+    rows = _csv_rows(path, "truth")
     f = lambda s: float(s) if s else np.nan  # noqa: E731
     for n, r in enumerate(rows, start=2):
         try:
@@ -376,6 +378,41 @@ def _finite(text: str):
     return v if math.isfinite(v) else None
 
 
+def _csv_reader(path: Path, columns, expected: str, digest, tag: bytes = b""):
+    """Open a submission's CSV file ``path``: its bytes go into ``digest`` (after ``tag``) and its header
+    must hold ``columns`` (``expected`` spells the header in the message). Returns (header, reader
+    of the lines after it, None), or (None, None, the problem: one line naming the file)."""
+    try:
+        data = path.read_bytes()
+        digest.update(tag + data)
+        text = data.decode("utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        return None, None, f"{path}: cannot read it ({type(exc).__name__})"
+    try:
+        reader = iter(loads_csv(text, str(path), error=ValueError, header=False))
+    except ValueError as exc:
+        return None, None, str(exc)
+    header = [h.strip() for h in next(reader, [])]
+    missing = [c for c in columns if c not in header]
+    if missing:
+        return None, None, (f"{path} line 1: missing header column(s) {', '.join(missing)} "
+                            f"(expected {expected}, got {','.join(header)!r})")
+    return header, reader, None
+
+
+def _csv_lines(path: Path, header: list, reader, problems: list):
+    """The (``"<path> line <n>"``, fields) of each non-blank line of ``reader`` with as many fields as
+    ``header``; a line with another count is a problem (appended to ``problems``) and skipped."""
+    for n, line in enumerate(reader, start=2):
+        if not line or all(not c.strip() for c in line):
+            continue
+        where = f"{path} line {n}"
+        if len(line) != len(header):
+            problems.append(f"{where}: {len(line)} fields, the header has {len(header)}")
+            continue
+        yield where, line
+
+
 def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list[str]]:
     """Read and validate a submission folder against ``frameset``.
 
@@ -401,32 +438,14 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
     if not sub.is_file():
         return None, [f"{sub}: missing (a submission folder holds submission.csv and optionally times.csv)"]
     digest = hashlib.sha256()
-    try:
-        text = sub.read_bytes()
-        digest.update(text)
-        text = text.decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        return None, [f"{sub}: cannot read it ({type(exc).__name__})"]
+    header, reader, problem = _csv_reader(sub, SUBMISSION_COLUMNS, "frame,row,col[,score]", digest)
+    if problem is not None:
+        return None, [problem]
     cols = {f: np.full(r["height"], np.nan) for f, r in frameset.index.items()}
     scores = {f: np.full(r["height"], np.nan) for f, r in frameset.index.items()}
-    try:
-        reader = iter(loads_csv(text, str(sub), error=ValueError, header=False))
-    except ValueError as exc:
-        return None, [str(exc)]
-    header = [h.strip() for h in next(reader, [])]
-    missing = [c for c in SUBMISSION_COLUMNS if c not in header]
-    if missing:
-        return None, [f"{sub} line 1: missing header column(s) {', '.join(missing)} "
-                      f"(expected frame,row,col[,score], got {','.join(header)!r})"]
     at = {c: header.index(c) for c in header}
     seen = set()
-    for n, line in enumerate(reader, start=2):
-        if not line or all(not c.strip() for c in line):
-            continue
-        where = f"{sub} line {n}"
-        if len(line) != len(header):
-            problems.append(f"{where}: {len(line)} fields, the header has {len(header)}")
-            continue
+    for where, line in _csv_lines(sub, header, reader, problems):
         fr, row_s, col_s = (line[at[c]].strip() for c in SUBMISSION_COLUMNS)
         meta = frameset.index.get(fr)
         if meta is None:
@@ -462,44 +481,22 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
     ms = {f: float("nan") for f in frameset.index}
     tpath = folder / "times.csv"
     if tpath.is_file():
-        try:
-            ttext = tpath.read_bytes()
-            digest.update(b"\0times\0" + ttext)
-            ttext = ttext.decode("utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            problems.append(f"{tpath}: cannot read it ({type(exc).__name__})")
-            ttext = None
-        if ttext is not None:
-            try:
-                treader = iter(loads_csv(ttext, str(tpath), error=ValueError, header=False))
-            except ValueError as exc:
-                problems.append(str(exc))
-                ttext = None
-        if ttext is not None:
-            th = [h.strip() for h in next(treader, [])]
-            tmissing = [c for c in TIMES_COLUMNS if c not in th]
-            if tmissing:
-                problems.append(f"{tpath} line 1: missing header column(s) {', '.join(tmissing)} "
-                                f"(expected frame,ms, got {','.join(th)!r})")
-            else:
-                tseen = set()
-                for n, line in enumerate(treader, start=2):
-                    if not line or all(not c.strip() for c in line):
-                        continue
-                    where = f"{tpath} line {n}"
-                    if len(line) != len(th):
-                        problems.append(f"{where}: {len(line)} fields, the header has {len(th)}")
-                        continue
-                    fr, v = line[th.index("frame")].strip(), line[th.index("ms")].strip()
-                    if fr not in frameset.index:
-                        problems.append(f"{where}: unknown frame {fr!r}")
-                    elif fr in tseen:
-                        problems.append(f"{where}: duplicate frame {fr!r}")
-                    elif _finite(v) is None or float(v) < 0:
-                        problems.append(f"{where}: ms {v!r} is not a finite number >= 0")
-                    else:
-                        tseen.add(fr)
-                        ms[fr] = float(v)
+        th, treader, problem = _csv_reader(tpath, TIMES_COLUMNS, "frame,ms", digest, b"\0times\0")
+        if problem is not None:
+            problems.append(problem)
+        else:
+            tseen = set()
+            for where, line in _csv_lines(tpath, th, treader, problems):
+                fr, v = line[th.index("frame")].strip(), line[th.index("ms")].strip()
+                if fr not in frameset.index:
+                    problems.append(f"{where}: unknown frame {fr!r}")
+                elif fr in tseen:
+                    problems.append(f"{where}: duplicate frame {fr!r}")
+                elif _finite(v) is None or float(v) < 0:
+                    problems.append(f"{where}: ms {v!r} is not a finite number >= 0")
+                else:
+                    tseen.add(fr)
+                    ms[fr] = float(v)
     if problems:
         if len(problems) > MAX_PROBLEMS:
             problems = problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more problem(s)"]

@@ -23,13 +23,12 @@ into the same folder wrote for another input (unless ``force``).
 
 from __future__ import annotations
 
-import io
 import json
 from pathlib import Path
 
 import numpy as np
 
-from bench.store.files import RunFolderError, atomic_write_text, os_error
+from bench.store.files import RunFolderError, atomic_write_text, os_error, write_table
 from bench.store.summary import read_summary
 
 __all__ = ["LAYOUT", "INPUTS_FILE", "write_track_csv", "track_output_names", "read_inputs", "write_inputs",
@@ -140,17 +139,7 @@ def track_output_names(paths, out_dir, *, extra_inputs=(), force: bool = False) 
 
 def write_real_metrics(run_dir, metrics) -> None:
     """``metrics.parquet`` and ``metrics.csv`` of a real run, atomically (``RunFolderError`` naming the file)."""
-    from bench.store.files import atomic_write_bytes
-
-    d = Path(run_dir)
-    buf = io.BytesIO()
-    metrics.to_parquet(buf, index=False)
-    for name, write in ((LAYOUT["metrics_parquet"], lambda p: atomic_write_bytes(p, buf.getvalue())),
-                        (LAYOUT["metrics_csv"], lambda p: atomic_write_text(p, metrics.to_csv(index=False)))):
-        try:
-            write(d / name)
-        except OSError as exc:
-            raise os_error("write", d / name, exc) from None
+    write_table(run_dir, metrics, LAYOUT["metrics_parquet"], LAYOUT["metrics_csv"])
 
 
 def load_real_run(run_dir) -> dict:

@@ -44,11 +44,11 @@ from __future__ import annotations
 import json
 import os
 import re
-import shutil
 from pathlib import Path
 
 from bench.store.files import (RunFolderError, atomic_write_bytes, atomic_write_text, check_format, clear_non_file,
-                               config_hash, non_file_kind, os_error, read_npz, runs_root, save_npz)
+                               config_hash, non_file_kind, os_error, read_json, read_npz, remove_path, runs_root,
+                               save_npz, write_table)
 from bench.store.summary import read_summary
 
 __all__ = ["FORMAT", "KINDS", "LAYOUT", "RunFolderError", "RunFolder", "default_run_dir", "named_run_dir",
@@ -293,12 +293,9 @@ class RunFolder:
             return None, f"{kind}, not a file"
         if not p.exists():
             return None, None
-        try:
-            doc = json.loads(p.read_text(encoding="utf-8"))
-        except OSError as exc:
-            return None, f"unreadable ({exc.strerror or exc})"
-        except (ValueError, RecursionError) as exc:
-            return None, f"unreadable ({type(exc).__name__}: {str(exc).splitlines()[0][:100]})"
+        doc, why = read_json(p, width=100)
+        if why is not None:
+            return None, why
         if not isinstance(doc, dict) or not isinstance(doc.get("config_hash"), str):
             return None, "unreadable (not a run record)"
         try:
@@ -322,7 +319,7 @@ class RunFolder:
                 kept += 1
                 continue
             try:
-                shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
+                remove_path(p)
             except OSError as exc:
                 raise os_error("clear", p, exc) from None
             removed += 1
@@ -336,22 +333,14 @@ class RunFolder:
             if p.name == LOCK_FILE or p.name in keep:
                 continue
             try:
-                if p.is_dir() and not p.is_symlink():
-                    shutil.rmtree(p)
-                else:
-                    p.unlink()
+                remove_path(p)
             except OSError as exc:
                 raise os_error("clear", p, exc) from None
 
     # -- writers -------------------------------------------------------------
     def write_text(self, name: str, text: str) -> Path:
         """``<folder>/<name>`` written atomically; returns its path (``RunFolderError`` naming it on OSError)."""
-        path = self.path / name
-        try:
-            atomic_write_text(path, text)
-        except OSError as exc:
-            raise os_error("write", path, exc) from None
-        return path
+        return self.write_bytes(name, text.encode("utf-8"))
 
     def write_bytes(self, name: str, data: bytes) -> Path:
         """``<folder>/<name>`` written atomically; returns its path (``RunFolderError`` naming it on OSError)."""
@@ -377,19 +366,12 @@ def _guard_write(path, fn) -> None:
 def write_tables(run_dir, metrics, samples) -> None:
     """``metrics.parquet``/``metrics.csv`` without timing columns, ``timings.csv``
     with them, ``samples.csv``; each written atomically."""
-    import io
-
     run_dir = Path(run_dir)
     timing = [c for c in TIMING_COLUMNS if c in metrics.columns]
     timings = metrics[[*METRIC_KEYS, *timing]]
-    metrics = metrics.drop(columns=timing)
-    buf = io.BytesIO()
-    metrics.to_parquet(buf, index=False)
-    for name, write in ((LAYOUT["metrics_parquet"], lambda p: atomic_write_bytes(p, buf.getvalue())),
-                        (LAYOUT["metrics_csv"], lambda p: atomic_write_text(p, metrics.to_csv(index=False))),
-                        (LAYOUT["timings"], lambda p: atomic_write_text(p, timings.to_csv(index=False))),
-                        (LAYOUT["samples"], lambda p: atomic_write_text(p, samples.to_csv(index=False)))):
-        _guard_write(run_dir / name, lambda: write(run_dir / name))
+    write_table(run_dir, metrics.drop(columns=timing), LAYOUT["metrics_parquet"], LAYOUT["metrics_csv"])
+    for name, table in ((LAYOUT["timings"], timings), (LAYOUT["samples"], samples)):
+        _guard_write(run_dir / name, lambda: atomic_write_text(run_dir / name, table.to_csv(index=False)))
 
 
 def write_summary(run_dir, summary: dict) -> None:

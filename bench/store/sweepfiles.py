@@ -18,14 +18,13 @@ non-finite times; the unit is then recomputed.
 
 from __future__ import annotations
 
-import io
 import json
 import math
 from pathlib import Path
 from typing import Any
 
-from bench.store.files import (RunFolderError, atomic_write_bytes, atomic_write_text, json_checksum, non_file_reason,
-                               os_error)
+from bench.store.files import (RunFolderError, atomic_write_text, json_checksum, non_file_reason, read_json,
+                               write_table)
 from bench.store.summary import read_summary
 
 __all__ = ["UNIT_FORMAT", "LAYOUT", "unit_path", "write_unit", "read_unit", "verify_unit", "write_sweep_table",
@@ -85,12 +84,9 @@ def read_unit(path, *, clear_bad: bool = False) -> tuple[dict | None, str | None
         return None, why
     if not path.exists():
         return None, None
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        return None, f"unreadable ({exc.strerror or exc})"
-    except (ValueError, RecursionError) as exc:  # not UTF-8, not JSON, nested beyond reason
-        return None, f"unreadable ({type(exc).__name__}: {str(exc).splitlines()[0][:120]})"
+    doc, why = read_json(path)
+    if why is not None:
+        return None, why
     if not isinstance(doc, dict) or "format" not in doc:
         return None, f"of format 1 (this stripebench reads format {UNIT_FORMAT}, with a checksum)"
     if doc.get("format") != UNIT_FORMAT or isinstance(doc.get("format"), bool):
@@ -112,15 +108,7 @@ def verify_unit(path) -> str | None:
 
 def write_sweep_table(sweep_dir, table) -> None:
     """``sweep.parquet`` and ``sweep.csv`` of the tidy table, atomically (``RunFolderError`` naming the file)."""
-    d = Path(sweep_dir)
-    buf = io.BytesIO()
-    table.to_parquet(buf, index=False)
-    for name, write in ((LAYOUT["table_parquet"], lambda p: atomic_write_bytes(p, buf.getvalue())),
-                        (LAYOUT["table_csv"], lambda p: atomic_write_text(p, table.to_csv(index=False)))):
-        try:
-            write(d / name)
-        except OSError as exc:
-            raise os_error("write", d / name, exc) from None
+    write_table(sweep_dir, table, LAYOUT["table_parquet"], LAYOUT["table_csv"])
 
 
 def load_sweep(sweep_dir) -> dict[str, Any]:

@@ -24,8 +24,6 @@ chosen values with their figures per group and kind on stdout.
 
 from __future__ import annotations
 
-import csv
-import json
 import pathlib
 import sys
 
@@ -152,14 +150,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                "stage1": {_gap_label(*k): v for k, v in scores1.items()},
                "stage2": {_rule_label(*k): v for k, v in scores2.items()}, "figures": figures}
     records = t1.records() + t2.records()
-    fields = ["stage", "setting", "tracker", "group", "kind", "n_hit", "n_wrong", "n_missed", "n_false", "n_quiet",
-              "n_unknown", "precision", "recall", "f1", "false_report_rate"]
-    with open(out / "tune_gap.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=fields)
-        w.writeheader()
-        for r in records:
-            w.writerow({k: (f"{r[k]:.6f}" if isinstance(r.get(k), float) else r.get(k, "")) for k in fields})
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    tuning.write_records(out, "tune_gap.csv", records, summary)
     _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
     return chosen, summary, records
 

@@ -35,8 +35,6 @@ printed lines per stage.
 
 from __future__ import annotations
 
-import csv
-import json
 import pathlib
 import sys
 
@@ -196,7 +194,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
 
     from bench.evaluate.outcomes import detection_figures
     from bench.evaluate.pixels import rotate_image
-    from bench.studies.tuning import Tally
+    from bench.studies.tuning import RECORD_FIELDS, Tally, write_records
 
     def say(msg):
         if progress:
@@ -287,14 +285,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                "stage3": {_key(*kpm): s for kpm, s in scores3.items()},
                "stage4": {f"rule={r}": s for r, s in scores4.items()}, "figures": figures}
     records = t1.records() + rec2 + t3.records() + t4.records()
-    fields = ["stage", "setting", "tracker", "group", "kind", "n_hit", "n_wrong", "n_missed", "n_false", "n_quiet",
-              "n_unknown", "precision", "recall", "f1", "false_report_rate", "mae_px"]
-    with open(out / "tune.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=fields)
-        w.writeheader()
-        for r in records:
-            w.writerow({k: (f"{r[k]:.6f}" if isinstance(r.get(k), float) else r.get(k, "")) for k in fields})
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
 
 

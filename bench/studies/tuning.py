@@ -30,6 +30,9 @@ manages that): a tracker that says "no stripe" must not say it there.
 
 from __future__ import annotations
 
+import csv
+import json
+import pathlib
 import sys
 from dataclasses import dataclass
 
@@ -38,7 +41,7 @@ import numpy as np
 from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
 
 __all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
-           "objective", "group_figures", "counts_record", "Tally", "run_study"]
+           "objective", "group_figures", "counts_record", "Tally", "run_study", "RECORD_FIELDS", "write_records"]
 
 #: The groups of tuning frames, in the order they are reported.
 GROUPS = ("synthetic", "renders", "real")
@@ -285,8 +288,24 @@ def run_study(load_profile, run, profile, out, quiet: bool):
     tuple
         ``(profile, out, result)``: the profile read, ``out`` as a path and what ``run`` returned.
     """
-    import pathlib
-
     profile = load_profile(profile)
     out = pathlib.Path(out)
     return profile, out, run(profile, out, progress=not quiet)
+
+
+#: The columns of a procedure's CSV: one line per stage, setting, tracker, group and kind (:meth:`Tally.records`).
+RECORD_FIELDS = ("stage", "setting", "tracker", "group", "kind", "n_hit", "n_wrong", "n_missed", "n_false", "n_quiet",
+                 "n_unknown", "precision", "recall", "f1", "false_report_rate")
+
+
+def write_records(out, name: str, records: list[dict], summary: dict, fields=RECORD_FIELDS) -> None:
+    """What every ``stripebench tune WHAT`` writes into the folder ``out``: ``records`` as the CSV file
+    ``name`` (the columns ``fields``; floats with 6 decimals, a missing value empty) and ``summary``
+    as ``summary.json``."""
+    out = pathlib.Path(out)
+    with open(out / name, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(fields))
+        w.writeheader()
+        for r in records:
+            w.writerow({k: (f"{r[k]:.6f}" if isinstance(r.get(k), float) else r.get(k, "")) for k in fields})
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))

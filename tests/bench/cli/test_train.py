@@ -1,0 +1,41 @@
+"""``stripebench trainset`` and ``train``: usage errors are one line with status 2; training writes weights."""
+
+import numpy as np
+import pytest
+
+from bench.cli import main
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["trainset", "--out", "x", "--units", "0"], "--units must be >= 1"),
+    (["trainset", "--out", "x", "--size", "big"], "--size must be WIDTHxHEIGHT"),
+    (["train", "nowhere", "--holdout", "1.5"], "--holdout must be in (0, 1)"),
+])
+def test_usage_errors_are_one_line(argv, message, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "\n" not in err
+
+
+def test_train_refuses_a_folder_that_is_no_training_set(tmp_path, capsys):
+    pytest.importorskip("jax")
+    assert main(["train", str(tmp_path), "--out", str(tmp_path / "w.npz")]) == 2
+    assert "not a finished training set" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_trainset_then_train_writes_weights_the_tracker_reads(tmp_path, capsys):
+    pytest.importorskip("jax")
+    import trackers
+    from trackers.learned import weights_info
+
+    ts = tmp_path / "ts"
+    assert main(["trainset", "--out", str(ts), "--units", "3", "--angles", "1", "--noise-draws", "1",
+                 "--size", "64x60", "--quiet"]) == 0
+    out = tmp_path / "w.npz"
+    assert main(["train", str(ts), "--out", str(out), "--epochs", "1", "--holdout", "0.5", "--quiet"]) == 0
+    assert out.is_file() and out.with_suffix(".png").is_file()
+    info = weights_info(out)
+    assert info["trainset"]["n_units"] == 3 and info["hyper_parameters"]["epochs"] == 1
+    track = trackers.make("learned", weights=str(out)).track(np.zeros((60, 64), np.uint8))
+    assert track.height == 60

@@ -1,0 +1,405 @@
+"""The ``learned`` tracker's compiled parts: candidate peaks, their feature vectors and the MLP forward pass.
+
+Training (:mod:`bench.studies.train`) computes its features with the very same
+:func:`features` as the tracker, so the network sees at inference exactly what
+it saw in training. Everything here is symmetric under an upside-down flip of
+the frame (a row's features use its own statistics and symmetric pairs of the
+rows around it), so the conformance suite's flip check holds exactly.
+
+Feature vector of one candidate (``N_FEATURES`` float32 values):
+
+* for each channel (the frame minus its row median, then the laser-on minus laser-off
+  difference minus its row median; zeros without a laser-off frame): the columns
+  ``c - HALF_W .. c + HALF_W`` of the centre row, of the means of the row pairs
+  ``r -/+ k`` and of their absolute differences (``k`` in :data:`ROW_OFFSETS`), divided by
+  the candidate's contrast (at least 3 noise units) and clipped to [-4, 4];
+* scalars (:data:`SCALARS`).
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from ._detect import _select
+
+__all__ = ["K", "HALF_W", "ROW_OFFSETS", "N_FEATURES", "SCALARS", "frame_stats", "features", "mlp_forward"]
+
+K = 6  #: candidates per row
+HALF_W = 5  #: half-width of a candidate's patch, columns
+ROW_OFFSETS = (1, 2, 4)  #: the symmetric row pairs of a patch
+_NR = 1 + 2 * len(ROW_OFFSETS)  # rows of features per channel
+_NP = _NR * (2 * HALF_W + 1)  # patch features per channel
+SCALARS = ("log_snr", "contrast_ratio", "rank", "peak_level", "row_level", "has_background", "log_snr_difference",
+           "subpixel_base", "log_half_width")
+N_FEATURES = 2 * _NP + len(SCALARS)
+_CLIP = 4.0
+
+
+def frame_stats(signal: np.ndarray, int_range=None) -> tuple[np.ndarray, float]:
+    """Row medians (H,) and the frame's noise (the median over rows of each row's median absolute
+    difference of adjacent pixels / 0.954, the Gaussian sigma; at least 0.3, an 8-bit frame's
+    quantisation); both from half of each row's pixels (:func:`_row_stats`).
+
+    >>> med, noise = frame_stats(np.array([[1.0, 5.0, 3.0, 4.0], [2.0, 2.0, 2.0, 2.0]]))
+    >>> med.tolist(), round(noise, 3)  # the median of the rows' 2.5 and 0, over 0.954
+    ([2.0, 2.0], 1.31)
+    """
+    sig = np.ascontiguousarray(signal, dtype=np.float64)
+    if int_range is not None:  # integer values in [lo, lo + n): the same medians by counting
+        med, mad = _row_stats_int(sig, int(int_range[0]), int(int_range[1]))
+    else:
+        med, mad = _row_stats(sig)
+    noise = float(np.median(mad)) / 0.954 if signal.shape[1] > 1 else 0.0
+    return med, max(noise, 0.3)
+
+
+@nb.njit(cache=True)
+def _hist_median(cnt, n):
+    """The median (numpy's: the mean of the two middle values for an even count) of ``n`` values counted in
+    ``cnt`` (value ``i`` counted at ``cnt[i]``)."""
+    lo_rank = (n - 1) // 2
+    hi_rank = n // 2
+    acc = 0
+    lo_v = -1
+    for i in range(cnt.shape[0]):
+        acc += cnt[i]
+        if lo_v < 0 and acc > lo_rank:
+            lo_v = i
+        if acc > hi_rank:
+            return 0.5 * (lo_v + i)
+    return float(lo_v)
+
+
+@nb.njit(cache=True)
+def _row_stats_int(sig, lo, n):
+    """:func:`_row_stats` of an integer-valued frame with values in [lo, lo + n), by counting."""
+    H, W = sig.shape
+    med = np.empty(H)
+    mad = np.zeros(H)
+    cnt = np.zeros(n, np.int64)
+    cnt2 = np.zeros(n, np.int64)
+    ne = (W + 1) // 2
+    n2 = W // 2
+    for r in range(H):
+        cnt[:] = 0
+        for j in range(0, W, 2):
+            cnt[int(sig[r, j]) - lo] += 1
+        med[r] = _hist_median(cnt, ne) + lo
+        if n2 > 0:
+            cnt2[:] = 0
+            for j in range(n2):
+                cnt2[int(abs(sig[r, 2 * j + 1] - sig[r, 2 * j]))] += 1
+            mad[r] = _hist_median(cnt2, n2)
+    return med, mad
+
+
+@nb.njit(cache=True)
+def _row_stats(sig):
+    """Each row's median (of its even columns) and median absolute difference of the pixel pairs
+    (2j, 2j + 1): half the pixels, for speed."""
+    H, W = sig.shape
+    med = np.empty(H)
+    mad = np.zeros(H)
+    n2 = W // 2
+    ne = (W + 1) // 2
+    buf = np.empty(max(ne, 1))
+    for r in range(H):
+        for j in range(ne):
+            buf[j] = sig[r, 2 * j]
+        med[r] = _median(buf, ne)
+        if n2 > 0:
+            for j in range(n2):
+                buf[j] = abs(sig[r, 2 * j + 1] - sig[r, 2 * j])
+            mad[r] = _median(buf, n2)
+    return med, mad
+
+
+@nb.njit(cache=True)
+def _median(a, n):
+    """numpy's median of ``a[:n]`` (reordered in place): the upper middle value by :func:`trackers._detect._select`
+    (which leaves the smaller values before it), and for an even count the mean with the largest value below it."""
+    k = n // 2
+    _select(a, n, k)
+    v = a[k]
+    if n % 2 == 1:
+        return v
+    m = a[0]
+    for i in range(1, k):
+        if a[i] > m:
+            m = a[i]
+    return 0.5 * (m + v)
+
+
+@nb.njit(cache=True)
+def _candidates(sig, med, K):
+    """Per row the K strongest local maxima of the [1, 2, 1]-smoothed signal (contrast over the row median),
+    strongest first: column (the middle of a plateau, floored), contrast, plateau half-length. -1 where none."""
+    H, W = sig.shape
+    cols = np.full((H, K), -1, np.int64)
+    con = np.zeros((H, K))
+    plat = np.zeros((H, K))
+    sm = np.empty(W)
+    for r in range(H):
+        for j in range(W):
+            a = sig[r, j - 1] if j > 0 else sig[r, j]
+            b = sig[r, j + 1] if j < W - 1 else sig[r, j]
+            sm[j] = 0.25 * a + 0.5 * sig[r, j] + 0.25 * b
+        j = 1
+        while j < W - 1:
+            if sm[j] > sm[j - 1]:
+                k = j
+                while k + 1 < W and sm[k + 1] == sm[j]:
+                    k += 1
+                if k + 1 < W and sm[k + 1] < sm[j]:
+                    c = sm[j] - med[r]
+                    mid = (j + k) // 2
+                    # insert into the sorted top-K (strongest first; ties: leftmost first)
+                    pos = K
+                    for q in range(K):
+                        if cols[r, q] < 0 or c > con[r, q]:
+                            pos = q
+                            break
+                    if pos < K:
+                        for q in range(K - 1, pos, -1):
+                            cols[r, q] = cols[r, q - 1]
+                            con[r, q] = con[r, q - 1]
+                            plat[r, q] = plat[r, q - 1]
+                        cols[r, pos] = mid
+                        con[r, pos] = c
+                        plat[r, pos] = 0.5 * (k - j)
+                j = k + 1
+            else:
+                j += 1
+    return cols, con, plat
+
+
+@nb.njit(cache=True)
+def _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif, noise_sig, cols, con, plat,
+              offsets, half_w, out, base):
+    H, W = img.shape
+    Kc = cols.shape[1]
+    nw = 2 * half_w + 1
+    nr = 1 + 2 * offsets.shape[0]
+    npatch = nr * nw
+    for r in range(H):
+        cmax = con[r, 0]
+        for q in range(Kc):
+            c = cols[r, q]
+            f = out[r, q]
+            if c < 0:
+                for i in range(f.shape[0]):
+                    f[i] = 0.0
+                base[r, q] = np.nan
+                continue
+            den = max(con[r, q], 3.0 * noise_sig)
+            # the sub-pixel base: a Gaussian 3-point fit on the signal above its row median (a plateau: its middle)
+            if plat[r, q] > 0:
+                b0 = c + (plat[r, q] - np.floor(plat[r, q]))
+            else:
+                lo = sig[r, c - 1] - smed[r] if c > 0 else 0.0
+                mi = sig[r, c] - smed[r]
+                hi = sig[r, c + 1] - smed[r] if c < W - 1 else 0.0
+                b0 = float(c)
+                if lo > 0 and mi > 0 and hi > 0:
+                    dd = np.log(lo) - 2.0 * np.log(mi) + np.log(hi)
+                    if dd < 0:
+                        b0 = c + 0.5 * (np.log(lo) - np.log(hi)) / dd
+                else:
+                    dd = lo - 2.0 * mi + hi
+                    if dd < 0:
+                        b0 = c + 0.5 * (lo - hi) / dd
+                b0 = min(max(b0, c - 1.0), c + 1.0)
+            base[r, q] = b0
+            for ch in range(2):
+                if ch == 1 and not has_bg:
+                    for i in range(npatch, 2 * npatch):
+                        f[i] = 0.0
+                    continue
+                for jj in range(nw):
+                    j = min(max(c - half_w + jj, 0), W - 1)
+                    if ch == 0:
+                        v0 = img[r, j] - imed[r]
+                    else:
+                        v0 = dif[r, j] - dmed[r]
+                    idx = ch * npatch + jj
+                    f[idx] = min(max(v0 / den, -4.0), 4.0)
+                    for t in range(offsets.shape[0]):
+                        k = offsets[t]
+                        ra = max(r - k, 0)
+                        rb = min(r + k, H - 1)
+                        if ch == 0:
+                            va = img[ra, j] - imed[r]
+                            vb = img[rb, j] - imed[r]
+                        else:
+                            va = dif[ra, j] - dmed[r]
+                            vb = dif[rb, j] - dmed[r]
+                        m = 0.5 * (va + vb)
+                        a = abs(va - vb)
+                        f[ch * npatch + (1 + t) * nw + jj] = min(max(m / den, -4.0), 4.0)
+                        f[ch * npatch + (1 + offsets.shape[0] + t) * nw + jj] = min(max(a / den, -4.0), 4.0)
+            s = 2 * npatch
+            ci = img[r, c] - imed[r]
+            f[s + 0] = np.log1p(max(ci, 0.0) / noise_img)
+            f[s + 1] = con[r, q] / cmax if cmax > 0 else 0.0
+            f[s + 2] = q / Kc
+            f[s + 3] = min(max(img[r, c] / 255.0, -2.0), 2.0)
+            f[s + 4] = min(max(imed[r] / 255.0, -2.0), 2.0)
+            f[s + 5] = 1.0 if has_bg else 0.0
+            f[s + 6] = np.log1p(max(dif[r, c] - dmed[r], 0.0) / noise_dif) if has_bg else 0.0
+            f[s + 7] = b0 - c
+            # half-width of the run above half the candidate's contrast in the signal
+            half = smed[r] + 0.5 * con[r, q]
+            lft = c
+            while lft > 0 and sig[r, lft - 1] > half:
+                lft -= 1
+            rgt = c
+            while rgt < W - 1 and sig[r, rgt + 1] > half:
+                rgt += 1
+            f[s + 8] = np.log1p(0.5 * (rgt - lft + 1))
+
+
+def _is_8bit(a) -> bool:
+    a = np.asarray(a)
+    if a.dtype == np.uint8:
+        return True
+    return bool(a.size and a.min() >= 0 and a.max() <= 255 and np.array_equal(a, np.floor(a)))
+
+
+def features(image: np.ndarray, background: np.ndarray | None = None, k: int = K):
+    """Every candidate's feature vector.
+
+    Parameters
+    ----------
+    image : ndarray (H, W)
+    background : ndarray (H, W) or None
+        The laser-off frame; candidates are then found on the difference.
+    k : int
+        Candidates per row.
+
+    Returns
+    -------
+    feats : ndarray float32 (H, k, N_FEATURES)
+    cols : ndarray int64 (H, k)
+        Candidate columns (-1: no candidate).
+    base : ndarray float64 (H, k)
+        The sub-pixel base column of each candidate (NaN: none).
+    """
+    img = np.ascontiguousarray(image, dtype=np.float64)
+    has_bg = background is not None
+    # 8-bit frames (or float copies of them): row medians by counting, the very numbers np.median gives
+    whole = _is_8bit(image) and (not has_bg or _is_8bit(background))
+    if has_bg:
+        dif = img - np.asarray(background, dtype=np.float64)
+        sig = dif
+    else:
+        dif = np.zeros((1, 1))
+        sig = img
+    imed, noise_img = frame_stats(img, (0, 256) if whole else None)
+    if has_bg:
+        dmed, noise_dif = frame_stats(dif, (-255, 511) if whole else None)
+    else:
+        dmed, noise_dif = np.zeros(img.shape[0]), 1.0
+    smed, noise_sig = (dmed, noise_dif) if has_bg else (imed, noise_img)
+    cols, con, plat = _candidates(sig, smed, k)
+    H = img.shape[0]
+    out = np.empty((H, k, N_FEATURES), np.float32)
+    base = np.empty((H, k))
+    _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif,
+              noise_sig, cols, con, plat, np.asarray(ROW_OFFSETS, np.int64), HALF_W, out, base)
+    return out, cols, base
+
+
+def mirror() -> tuple[np.ndarray, np.ndarray]:
+    """The left-right mirror of a feature vector about its candidate's column: ``x[perm] * sign``
+    (patch columns reversed, the 3-point fit's offset negated)."""
+    nw = 2 * HALF_W + 1
+    perm = np.arange(N_FEATURES)
+    for g in range(2 * _NR):
+        perm[g * nw:(g + 1) * nw] = perm[g * nw:(g + 1) * nw][::-1]
+    sign = np.ones(N_FEATURES, np.float32)
+    sign[2 * _NP + SCALARS.index("subpixel_base")] = -1.0
+    return perm.astype(np.int64), sign
+
+
+_PERM, _SIGN = mirror()
+
+
+def mlp_forward(x: np.ndarray, params: dict, *, has_background: bool = True) -> np.ndarray:
+    """The network on feature rows ``x`` (N, N_FEATURES): (N, 2) float32, the stripe logit and the sub-pixel
+    offset from the candidate's base. ``params``: ``mu``, ``sd`` (the input standardisation), ``w1, b1, w2, b2,
+    w3, b3`` (two ReLU hidden layers, a linear output, made mirror-symmetric: :func:`_mlp`), all float32.
+
+    ``has_background=False`` promises that the difference channel is all zeros (features of a frame
+    without its laser-off frame): its constant share of the first layer is then folded into the bias
+    and those inputs skipped (the same numbers to rounding, half the first layer's work)."""
+    x = np.ascontiguousarray(x, dtype=np.float32)
+    p = {k: np.ascontiguousarray(params[k], dtype=np.float32) for k in ("mu", "sd", "w1", "b1", "w2", "b2", "w3", "b3")}
+    mu, sd, w1, b1 = p["mu"], p["sd"], p["w1"], p["b1"]
+    if not has_background:
+        ch2 = np.zeros(N_FEATURES, bool)
+        ch2[_NP:2 * _NP] = True
+        b1 = (b1 + ((0.0 - mu[ch2]) / sd[ch2]) @ w1[ch2]).astype(np.float32)
+        keep = np.flatnonzero(~ch2)
+        # the mirror maps the difference channel onto itself, so the kept inputs map among themselves
+        pos = np.full(N_FEATURES, -1, np.int64)
+        pos[keep] = np.arange(keep.size)
+        perm, sign = pos[_PERM[keep]], _SIGN[keep]
+        x, mu, sd, w1 = (np.ascontiguousarray(a) for a in (x[:, keep], mu[keep], sd[keep], w1[keep]))
+    else:
+        perm, sign = _PERM, _SIGN
+    return _mlp(x, mu, sd, w1, b1, p["w2"], p["b2"], p["w3"], p["b3"], perm, sign)
+
+
+@nb.njit(cache=True)
+def _mlp(x, mu, sd, w1, b1, w2, b2, w3, b3, perm, sign):
+    """The network, made mirror-symmetric: with ``g`` the plain MLP, logit = the mean of g(x) and
+    g(mirror x), offset = half their difference. Candidates in blocks, the block innermost (it
+    vectorises); every candidate's sums run in one order, wherever it sits in a block."""
+    n, f = x.shape
+    h1n = w1.shape[1]
+    h2n = w2.shape[1]
+    B = 64
+    z = np.empty((f, B), np.float32)
+    h1 = np.empty((h1n, B), np.float32)
+    h2 = np.empty((h2n, B), np.float32)
+    g = np.empty((2, 2, B), np.float32)
+    out = np.empty((n, 2), np.float32)
+    for s0 in range(0, n, B):
+        m = min(B, n - s0)
+        for side in range(2):
+            for a in range(f):
+                src = a if side == 0 else perm[a]
+                sg = np.float32(1.0) if side == 0 else sign[a]
+                for i in range(m):
+                    z[a, i] = (x[s0 + i, src] * sg - mu[a]) / sd[a]
+            for b in range(h1n):
+                for i in range(m):
+                    h1[b, i] = b1[b]
+            for a in range(f):
+                for b in range(h1n):
+                    wab = w1[a, b]
+                    for i in range(m):
+                        h1[b, i] += z[a, i] * wab
+            for b in range(h2n):
+                for i in range(m):
+                    h2[b, i] = b2[b]
+            for a in range(h1n):
+                for i in range(m):
+                    h1[a, i] = max(h1[a, i], np.float32(0.0))
+                for b in range(h2n):
+                    wab = w2[a, b]
+                    for i in range(m):
+                        h2[b, i] += h1[a, i] * wab
+            for o in range(2):
+                for i in range(m):
+                    g[side, o, i] = b3[o]
+            for a in range(h2n):
+                for i in range(m):
+                    v = max(h2[a, i], np.float32(0.0))
+                    g[side, 0, i] += v * w3[a, 0]
+                    g[side, 1, i] += v * w3[a, 1]
+        for i in range(m):
+            out[s0 + i, 0] = np.float32(0.5) * (g[0, 0, i] + g[1, 0, i])
+            out[s0 + i, 1] = np.float32(0.5) * (g[0, 1, i] - g[1, 1, i])
+    return out

@@ -65,6 +65,13 @@ def _add_real(p) -> None:
     add_n_boot(p)
     add_seed(p, "bootstrap seed", default=REAL_DEFAULTS["seed"])
     p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
+    p.add_argument("--predict", action="store_true",
+                   help="also predict the figures from renders matched to the photographs (as `stripebench predict`, "
+                        "into RUN/predict) and compare them with the measured ones")
+    p.add_argument("--predict-size", type=int, default=256, choices=(128, 256, 512),
+                   help="render width of --predict in px (default 256)")
+    p.add_argument("--predict-grid", default="default", choices=("default", "small"),
+                   help="the renders --predict searches (as `stripebench predict --grid`)")
     add_quiet(p)
 
 
@@ -109,7 +116,44 @@ def _real(args) -> int:
             ci = f"[{h['lo']:.3f}, {h['hi']:.3f}]"
             print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
     print(f"stripebench: report at {out / 'report.html'}")
+    if args.predict:
+        _predict_and_compare(args, specs, out)
     return 0
+
+
+def _predict_and_compare(args, specs, out) -> None:
+    """``real --predict``: the prediction into ``RUN/predict``, then predicted beside measured."""
+    import json
+    from dataclasses import replace
+
+    from bench.report.predict import build_predict_report
+    from bench.run.predict import DEFAULT_GRID, SMALL_GRID, compare_with_real, run_predict
+    from bench.store.files import atomic_write_text
+    from bench.store.realrun import load_real_run
+
+    grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
+    grid = replace(grid, width=args.predict_size, height=args.predict_size * 15 // 16)
+    say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
+    result = run_predict(args.dataset, out / "predict", specs, grid=grid, n_boot=args.n_boot, seed=args.seed, say=say)
+    names = [n for n, m in result["matches"].items() if not m.out_of_range]
+    cmp = compare_with_real(result["predicted"], load_real_run(out)["metrics"], names)
+    result["comparison"] = cmp
+    build_predict_report(result)
+    doc = {"photographs": names, **{k: {"spearman_rho": v["spearman_rho"], "spearman_p": v["spearman_p"],
+                                        "mean_abs_diff": v["mean_abs_diff"], "n": v["n"], "table": v["table"]}
+                                    for k, v in cmp.items()}}
+    atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
+    print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")
+    print(f"{'tracker':<16}{'hit rate pred':>14}{'measured':>10}{'F1 pred':>9}{'measured':>10}")
+    f1 = {r["tracker"]: r for r in cmp["f1"]["table"]}
+    for r in cmp["hit_rate"]["table"]:
+        g = f1.get(r["tracker"], {"synthetic": float("nan"), "real": float("nan")})
+        print(f"{r['tracker']:<16}{r['synthetic']:>14.3f}{r['real']:>10.3f}{g['synthetic']:>9.3f}{g['real']:>10.3f}")
+    for k in ("hit_rate", "f1"):
+        v = cmp[k]
+        print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}), "
+              f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")
+    print(f"stripebench: prediction at {out / 'predict' / 'report.html'}")
 
 
 COMMANDS = (

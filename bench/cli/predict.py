@@ -1,0 +1,75 @@
+"""``stripebench predict``: renders matched to a rig's photographs, and the trackers' figures predicted from them."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+from bench.cli.common import Command, UsageError, check_out_folder
+from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_trackers
+
+__all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES"]
+
+#: The trackers predicted by default: the field profile's.
+DEFAULT_TRACKERS = ("threshold", "centroid", "dp4", "dp8", "gauss3", "parabolic", "blais_rioux", "steger", "com_bg",
+                    "dp8_subpixel")
+#: The render widths ``--size`` takes (px; the height is 15/16 of it).
+SIZES = (128, 256, 512)
+
+
+def _add_predict(p) -> None:
+    from bench.store.realset import CHANNELS, LASERS, ROTATIONS
+
+    p.add_argument("photos", type=Path, metavar="PHOTOS",
+                   help="a folder of photographs from one rig (NAME_off.EXT: laser-off frames; a real set also works, "
+                        "its references ignored)")
+    add_out(p, "output folder", required=True)
+    add_force(p)
+    add_trackers(p, "tracker names or settings as for `run` (default: the field profile's)")
+    p.add_argument("--channel", default="auto", choices=CHANNELS,
+                   help="what the trackers see of a colour image (auto: excess of the laser's colour)")
+    p.add_argument("--laser", default="red", choices=LASERS, help="laser colour (default red)")
+    p.add_argument("--rotate", type=int, default=0, choices=ROTATIONS,
+                   help="turn the image counter-clockwise first (for horizontal stripes)")
+    p.add_argument("--size", type=int, default=256, choices=SIZES,
+                   help="render width in px (height 15/16 of it; default 256)")
+    p.add_argument("--grid", default="default", choices=("default", "small"),
+                   help="the renders searched: default (3 setups x 2 line widths x the rescaling knobs) or small "
+                        "(one board, a few knobs: for tests and quick looks)")
+    add_n_boot(p)
+    add_seed(p, "bootstrap seed", default=0)
+    add_quiet(p)
+
+
+def _predict(args) -> int:
+    """Measure, match, render, track: the predicted figures and their page."""
+    from bench.config import parse_trackers
+    from bench.run.predict import DEFAULT_GRID, SMALL_GRID, run_predict
+
+    specs = args.trackers if args.trackers is not None else parse_trackers(list(DEFAULT_TRACKERS))
+    if not args.photos.is_dir():
+        raise UsageError(f"PHOTOS must be a folder, got {str(args.photos)!r}")
+    check_out_folder(args.out)
+    out = Path(args.out)
+    if out.is_dir() and any(out.iterdir()) and not (out / "predict.json").is_file() and not args.force:
+        raise UsageError(f"--out {str(out)!r} holds other files (not a prediction); use --force to write into it")
+    grid = replace(SMALL_GRID if args.grid == "small" else DEFAULT_GRID, width=args.size, height=args.size * 15 // 16)
+    say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
+    from bench.report.predict import build_predict_report
+
+    result = run_predict(args.photos, out, specs, grid=grid, channel=args.channel, laser=args.laser,
+                         rotate_deg=args.rotate, n_boot=args.n_boot, seed=args.seed, say=say)
+    page = build_predict_report(result)
+    if not args.quiet:
+        print(f"{'tracker':<16}{'hit rate':>10}{'false reports':>15}{'F1':>8}")
+        for r in result["predicted"].to_dict("records"):
+            print(f"{r['tracker']:<16}{r['hit_rate']:>10.3f}{r['false_report_rate']:>15.3f}{r['f1']:>8.3f}")
+    print(f"stripebench: predictions in {out} (report {page})")
+    return 0
+
+
+COMMANDS = (
+    Command("predict", "predict trackers' figures on a rig's photographs from renders matched to their conditions",
+            _add_predict, _predict, renders=True),
+)

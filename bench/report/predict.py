@@ -1,0 +1,119 @@
+"""The page of ``stripebench predict``: predicted figures per tracker and the photo / matched-render contact sheet.
+
+Built from the result of :func:`bench.run.predict.run_predict` with the report toolkit
+(:mod:`bench.report.html`); writes ``report.html`` beside the prediction's CSV files.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from bench.evaluate.conditions import describe
+from bench.report.html import esc, interval, page, pct, png_img, table
+
+__all__ = ["thumbnail", "build_predict_report"]
+
+#: The height of a contact-sheet picture (px).
+THUMB_H = 180
+
+
+def thumbnail(image, height: int = THUMB_H) -> np.ndarray:
+    """An 8-bit picture of ``image`` (grey or RGB, any dtype), scaled by whole pixels (nearest) to about ``height`` rows.
+
+    Examples
+    --------
+    >>> thumbnail(np.zeros((60, 64)), height=120).shape
+    (120, 128, 3)
+    """
+    a = np.asarray(image, dtype=np.float64)
+    if a.ndim == 2:
+        a = np.repeat(a[..., None], 3, axis=2)
+    top = float(a.max()) if a.size else 1.0
+    scale = 255.0 / top if top > 255.0 else 1.0
+    a = np.clip(a * scale, 0, 255)
+    H = a.shape[0]
+    if H > height:
+        step = int(math.ceil(H / height))
+        a = a[::step, ::step]
+    elif H < height:
+        k = max(1, height // H)
+        a = a.repeat(k, axis=0).repeat(k, axis=1)
+    return a.round().astype(np.uint8)
+
+
+def _png(img) -> bytes:
+    import imageio.v3 as iio
+
+    return iio.imwrite("<bytes>", thumbnail(img), extension=".png")
+
+
+def _iv(row, key) -> str:
+    return f"{pct(row[key])} {interval(row[f'{key}_lo'], row[f'{key}_hi'])}"
+
+
+def build_predict_report(result: dict) -> Path:
+    """Write ``report.html`` into the prediction's folder; returns its path.
+
+    ``result`` is :func:`bench.run.predict.run_predict`'s return value, with ``comparison``
+    (:func:`bench.run.predict.compare_with_real`) added by ``stripebench real --predict``.
+    """
+    from bench.evaluate.pixels import rotate_image
+    from bench.store.files import atomic_write_text
+
+    out = Path(result["out"])
+    pred = result["predicted"]
+    n_in = sum(1 for m in result["matches"].values() if not m.out_of_range)
+    n_all = len(result["matches"])
+    parts = [f"<h1>Predicted from renders: {esc(result['settings']['folder'])}</h1>",
+             f"<p>{n_in} of {n_all} photographs matched to renders ({esc(result['settings']['n_angles'])} mirror "
+             "angles each); figures pooled over their rows, 95 % bootstrap intervals over photographs "
+             "(docs/predict.md). Hit rate: stripe rows found within the hit rule; false-report rate: "
+             "stripe-less rows given a column; F1 over rows.</p>"]
+    rows = [[esc(r["tracker"]), _iv(r, "hit_rate"), _iv(r, "false_report_rate"), _iv(r, "f1"), esc(r["n_photos"])]
+            for r in pred.to_dict("records")]
+    parts.append("<h2>Predicted figures</h2>" + table(["tracker", "hit rate", "false-report rate", "F1",
+                                                       "photographs"], rows))
+    cmp = result.get("comparison")
+    if cmp:  # stripebench real --predict
+        f1 = {r["tracker"]: r for r in cmp["f1"]["table"]}
+        crow = [[esc(r["tracker"]), pct(r["synthetic"]), pct(r["real"]),
+                 pct(f1[r["tracker"]]["synthetic"]) if r["tracker"] in f1 else "–",
+                 pct(f1[r["tracker"]]["real"]) if r["tracker"] in f1 else "–"] for r in cmp["hit_rate"]["table"]]
+        parts.append("<h2>Predicted beside measured (the matched photographs, rows pooled)</h2>"
+                     + table(["tracker", "hit rate predicted", "measured", "F1 predicted", "measured"], crow)
+                     + "<p>" + "; ".join(
+                         f"{esc(k)}: Spearman &rho; {cmp[k]['spearman_rho']:.2f} (p = {cmp[k]['spearman_p']:.2g}, "
+                         f"n = {cmp[k]['n']}), mean |predicted &minus; measured| {cmp[k]['mean_abs_diff']:.3f}"
+                         for k in ("hit_rate", "f1")) + "</p>")
+    bad = [(n, m) for n, m in result["matches"].items() if m.out_of_range]
+    if bad:
+        parts.append("<h2>Out of range (left out)</h2><ul>" + "".join(
+            f"<li><code>{esc(n)}</code>: {esc(', '.join(m.out_of_range))} outside what the renders show</li>"
+            for n, m in bad) + "</ul>")
+    parts.append("<h2>Contact sheet: photograph and matched render</h2>")
+    cells = []
+    for ph in result["photos"]:
+        m = result["matches"][ph.name]
+        photo = ph.original if ph.original.ndim == 3 else ph.frame
+        if ph.original.ndim == 3:
+            photo = rotate_image(ph.original, ph.rotate_deg)
+        left = png_img(_png(photo), ph.name) + f"<br><small>{esc(describe(result['conditions'][ph.name]))}</small>"
+        if m.out_of_range:
+            right = f"<b>out of range</b>: {esc(', '.join(m.out_of_range))}"
+        else:
+            img = result["frames"][ph.name][0][0]
+            p = m.point
+            right = (png_img(_png(img), f"{ph.name} render") + f"<br><small>{esc(describe(m.conditions))}</small>"
+                     f"<br><small>{esc(p['setup'])}, line {p['line_fwhm_mrad']:g} mrad, {p['laser_power_mw']:.3g} mW, "
+                     f"{p['ambient_lux']:.4g} lux, {p['exposure_ms']:.3g} ms, filter {esc(p['filter'])}, "
+                     f"defocus {p['defocus_px']:g} px, JPEG {esc(p['jpeg_quality'])}; "
+                     f"distance {m.distance:.2f}</small>")
+        cells.append([f"<code>{esc(ph.name)}</code>", left, right])
+    parts.append(table(["photograph", "photo", "matched render"], cells).replace("text-align:right", ""))
+    path = out / "report.html"
+    atomic_write_text(path, page(f"stripebench predict: {result['settings']['folder']}", "".join(parts),
+                                 css="td{text-align:left;vertical-align:top;max-width:420px}"))
+    return path

@@ -1,0 +1,521 @@
+"""Renders that predict a rig's photographs: match the field machinery's parameters to a photograph's conditions.
+
+The procedure (committed; its settings were chosen on renders, never on the shipped photographs):
+
+1. **Measure** the photograph's image conditions (:func:`bench.evaluate.conditions.measure`) on
+   what the trackers see of it (its channel, turned), with its laser-off frame where it has one and
+   the colour photograph where it is one.
+2. **A seeded grid of small renders** (:class:`Grid`): a few *setups* (object, material, support,
+   textures: what re-renders) x laser line widths, each rendered once at the middle mirror angle
+   (the render cache keeps the passes), then every combination of the knobs that only rescale or
+   post-process those passes (laser power, ambient lux, exposure, filter, defocus, JPEG): cheap.
+   The camera follows the photograph: a colour photograph gets the Bayer colour camera
+   (``camera = "rgb"``), a grey one the band-pass mono camera; the laser's wavelength follows its
+   colour (:data:`LASER_NM`). Each grid point's conditions are measured exactly as the photograph's
+   and kept in a JSON table beside the render cache (:func:`grid_table`), keyed by the grid.
+3. **Nearest point**: the grid point with the least :func:`bench.evaluate.conditions.distance`
+   (RMS over the matched measures in scale units), then **refined** by a coordinate search over
+   the rescaling knobs (power, lux, exposure: factors of 1.4 then 1.15; defocus: steps of 0.5 then
+   0.25 px), each within the grid's range, accepting only improvements (:func:`match`).
+4. A photograph with a measure outside what the grid shows (more than one scale unit beyond its
+   least or largest value, :func:`bench.evaluate.conditions.out_of_range`) is **out of range**:
+   named with that measure and left out.
+
+:func:`predict_outcomes` then renders each matched setting at :data:`N_ANGLES` mirror angles and
+scores the trackers on them with the row outcomes of :mod:`bench.evaluate.outcomes` (truth: the
+render's per-row columns), pooled over the photographs' matched frames.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import sys
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from bench.evaluate import conditions as cond
+
+__all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
+           "point_params", "render_point", "grid_table", "match", "predict_outcomes", "TABLE_VERSION", "Photo",
+           "collect_photos", "run_predict", "PREDICTED_NAMES", "compare_with_real"]
+
+#: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
+LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
+#: Mirror angles rendered per matched photograph for the prediction (spread over the middle half of the scan).
+N_ANGLES = 3
+#: The version of the grid tables' format and of the measures they hold (bump when either changes).
+TABLE_VERSION = 1
+
+_REFINED = ("laser_power_mw", "ambient_lux", "exposure_ms", "defocus_px")
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The renders the match searches.
+
+    ``setups`` maps a name to the scene parameters that re-render (``scene`` names the object);
+    ``line_fwhm_mrad`` multiplies them; the other tuples are the rescaling knobs, every
+    combination of which is measured (``filters`` applies to colour photographs only: a grey
+    photograph gets the band-pass mono camera). ``width`` x ``height`` in px (16:15).
+    """
+
+    setups: dict = field(default_factory=dict)
+    line_fwhm_mrad: tuple = (1.5, 4.0)
+    laser_power_mw: tuple = (0.3, 1.0, 3.0, 10.0, 30.0)
+    ambient_lux: tuple = (0.0, 100.0, 400.0, 1500.0, 5000.0)
+    exposure_ms: tuple = (3.0, 15.0)
+    filters: tuple = ("none", "bandpass")
+    defocus_px: tuple = (0.0, 1.5)
+    jpeg_quality: tuple = (None, 75)
+    width: int = 256
+    height: int = 240
+    seed: int = 0
+
+    def to_value(self) -> dict:
+        """The grid as plain data (its identity in the table's key).
+
+        Examples
+        --------
+        >>> SMALL_GRID.to_value()["width"]
+        128
+        """
+        return json.loads(json.dumps(asdict(self)))
+
+
+#: The default grid: an untextured board, a floor-textured board (texture, rivals) and a hand on a
+#: wooden table before a wall (an object's edges, gaps, a second surface), each at two line widths.
+DEFAULT_GRID = Grid(setups={
+    "plane": {"scene": "plane", "material": "matte"},
+    "plane-floor": {"scene": "plane", "material": "matte", "object_texture": "floor", "background": "none"},
+    "hand-table": {"scene": "hand", "material": "matte", "support": "table", "support_texture": "wood"},
+})
+#: A grid small enough for tests: one setup, one line width, 128x120.
+SMALL_GRID = Grid(setups={"plane": {"scene": "plane", "material": "matte"}}, line_fwhm_mrad=(3.0,),
+                  laser_power_mw=(0.3, 3.0, 30.0), ambient_lux=(0.0, 400.0, 5000.0), exposure_ms=(10.0,),
+                  filters=("none",), defocus_px=(0.0,), jpeg_quality=(None,), width=128, height=120)
+
+
+@dataclass(frozen=True)
+class Match:
+    """One photograph's match: the grid point's (refined) knobs, its conditions, the distance
+    (scale units) and the measures out of range (empty: in range)."""
+
+    point: dict
+    conditions: cond.Conditions | None
+    distance: float
+    out_of_range: tuple
+
+
+def photo_conditions(frame, background=None, original=None, *, rotate_deg: int = 0, laser: str = "red"):
+    """The conditions of a photograph as the trackers see it.
+
+    Parameters
+    ----------
+    frame, background : ndarray (H, W)
+        The tracker's frame and laser-off frame (:func:`bench.store.realset.load_frame`).
+    original : ndarray (H0, W0) or (H0, W0, 3)
+        The photograph as read; a colour one is turned by ``rotate_deg`` and measured for colour.
+    """
+    from bench.evaluate.pixels import rotate_image
+
+    rgb = None
+    if original is not None and np.ndim(original) == 3:
+        rgb = rotate_image(original, rotate_deg)
+    return cond.measure(frame, background, rgb=rgb, laser=laser)
+
+
+def point_params(point: dict, grid: Grid, *, colour: bool, laser: str) -> tuple[str, dict]:
+    """The scene name and :func:`scenes.make` parameters of a grid point."""
+    setup = dict(grid.setups[point["setup"]])
+    name = setup.pop("scene")
+    nm = LASER_NM[laser]
+    p = {**setup, "width": grid.width, "height": grid.height, "spp": "auto", "ambient_spp": "auto",
+         "seed": grid.seed, "line_fwhm_mrad": float(point["line_fwhm_mrad"]),
+         "laser_power_mw": float(point["laser_power_mw"]), "ambient_lux": float(point["ambient_lux"]),
+         "exposure_ms": float(point["exposure_ms"]), "defocus_px": float(point["defocus_px"]),
+         "jpeg_quality": point["jpeg_quality"], "laser_wavelength_nm": nm, "filter_center_nm": nm}
+    if colour:
+        p.update(camera="rgb", filter=point["filter"])
+    return name, p
+
+
+def _angles(scene, n: int) -> list[float]:
+    a = np.asarray(scene.default_angles(), float)
+    if n == 1:
+        return [float(a[len(a) // 2])]
+    lo, hi = a[len(a) // 4], a[(3 * len(a)) // 4]
+    return [float(v) for v in np.linspace(lo, hi, n)]
+
+
+def render_point(point: dict, grid: Grid, *, colour: bool, laser: str, n_angles: int = 1) -> list:
+    """``[(frame, image, background, scene params), ...]``: the grid point rendered at ``n_angles``
+    mirror angles (1: the middle one), with what a tracker sees of each frame (``auto`` channel)."""
+    import scenes
+    from bench.run.camera_view import tracker_images
+
+    name, params = point_params(point, grid, colour=colour, laser=laser)
+    scene = scenes.make(name, **params)
+    out = []
+    for a in _angles(scene, n_angles):
+        f = scene.render(a)
+        img, bg = tracker_images(f, scene.params)
+        out.append((f, img, bg, scene.params))
+    return out
+
+
+def _measure_point(point, grid, colour, laser, use_background) -> cond.Conditions:
+    f, img, bg, _ = render_point(point, grid, colour=colour, laser=laser)[0]
+    return cond.measure(img, bg if use_background else None, rgb=f.rgb, laser=laser)
+
+
+def _points(grid: Grid, colour: bool):
+    filters = grid.filters if colour else ("bandpass",)
+    for setup, lw in itertools.product(grid.setups, grid.line_fwhm_mrad):
+        for pw, lux, exp, flt, dfc, jq in itertools.product(grid.laser_power_mw, grid.ambient_lux, grid.exposure_ms,
+                                                            filters, grid.defocus_px, grid.jpeg_quality):
+            yield {"setup": setup, "line_fwhm_mrad": lw, "laser_power_mw": pw, "ambient_lux": lux,
+                   "exposure_ms": exp, "filter": flt, "defocus_px": dfc, "jpeg_quality": jq}
+
+
+def grid_table(grid: Grid, *, colour: bool, laser: str = "red", use_background: bool = False,
+               say=None) -> list[tuple[dict, cond.Conditions]]:
+    """Every grid point with its measured conditions, cached as JSON under the render cache
+    (``predict/<key>.json``, keyed by the grid, the camera, the laser, the laser-off use and
+    :data:`TABLE_VERSION`); ``say(done, total)`` is called as points are measured."""
+    from scenes import cache
+    from bench.store.files import atomic_write_text
+
+    ident = {"predict_table": TABLE_VERSION, "grid": grid.to_value(), "colour": bool(colour), "laser": laser,
+             "use_background": bool(use_background)}
+    path = cache.cache_root() / "predict" / f"{cache.key(ident)}.json"
+    if path.is_file():
+        try:
+            rows = json.loads(path.read_text(encoding="utf-8"))
+            return [(r["point"], cond.Conditions(**_from_json(r["conditions"]))) for r in rows]
+        except (ValueError, KeyError, TypeError):
+            pass  # a damaged table is measured again
+    points = list(_points(grid, colour))
+    table = []
+    for i, pt in enumerate(points):
+        table.append((pt, _measure_point(pt, grid, colour, laser, use_background)))
+        if say is not None:
+            say(i + 1, len(points))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps([{"point": p, "conditions": _finite(c.as_dict())} for p, c in table]))
+    return table
+
+
+def _finite(d: dict) -> dict:
+    return {k: (v if math.isfinite(v) else None) for k, v in d.items()}
+
+
+def _from_json(d: dict) -> dict:
+    return {k: (float("nan") if v is None else v) for k, v in d.items()}
+
+
+def match(target: cond.Conditions, table, grid: Grid, *, colour: bool, laser: str = "red",
+          use_background: bool = False, refine: bool = True) -> Match:
+    """The grid point nearest ``target`` (refined unless ``refine`` is false), or the measures out of range.
+
+    Parameters
+    ----------
+    target : Conditions
+        The photograph's conditions.
+    table : list of (point, Conditions)
+        :func:`grid_table` of the same grid, camera, laser and laser-off use.
+    """
+    conds = [c for _, c in table]
+    bad = tuple(cond.out_of_range(target, conds))
+    if bad:
+        return Match(point={}, conditions=None, distance=float("nan"), out_of_range=bad)
+    d = np.array([cond.distance(target, c) for c in conds])
+    d = np.where(np.isfinite(d), d, np.inf)
+    k = int(np.argmin(d))
+    best, best_c, best_d = dict(table[k][0]), table[k][1], float(d[k])
+    if refine:
+        best, best_c, best_d = _refine(target, best, best_c, best_d, grid, colour, laser, use_background)
+    return Match(point=best, conditions=best_c, distance=best_d, out_of_range=())
+
+
+def _refine(target, point, c, d, grid, colour, laser, use_background, rounds: int = 6):
+    bounds = {k: (min(getattr(grid, k)), max(getattr(grid, k))) for k in _REFINED}
+    for steps in ((1.4, 0.5), (1.15, 0.25)):
+        for _ in range(rounds):
+            improved = False
+            for key in _REFINED:
+                lo, hi = bounds[key]
+                if lo == hi:
+                    continue
+                v = float(point[key])
+                if key == "defocus_px":
+                    cands = (v - steps[1], v + steps[1])
+                elif v == 0.0:
+                    cands = (min(x for x in getattr(grid, key) if x > 0) / 2.0,)
+                else:
+                    cands = (v / steps[0], v * steps[0])
+                for nv in cands:
+                    if not lo <= nv <= hi:
+                        continue
+                    cand = {**point, key: round(nv, 6)}
+                    cc = _measure_point(cand, grid, colour, laser, use_background)
+                    dd = cond.distance(target, cc)
+                    if math.isfinite(dd) and dd < d - 1e-9:
+                        point, c, d, improved = cand, cc, dd, True
+                        break
+            if not improved:
+                break
+    return point, c, d
+
+
+def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser: str = "red",
+                     use_background: bool = False, n_angles: int = N_ANGLES, say=None) -> dict:
+    """Row outcomes of each tracker on the renders of matched points.
+
+    Parameters
+    ----------
+    points : dict
+        Photograph name -> matched grid point (:attr:`Match.point`).
+    trackers : dict
+        Label -> tracker (:func:`bench.run.track.build_trackers`).
+
+    Returns
+    -------
+    dict
+        Photograph name -> label -> list of row-outcome arrays (one per rendered frame), and
+        ``"_frames"``: photograph name -> list of ``(image, truth columns)`` (for the contact sheet).
+    """
+    from bench.evaluate.outcomes import row_outcomes, truth_states
+    from bench.run.track import track_frame
+
+    out: dict = {"_frames": {}}
+    for i, (name, pt) in enumerate(points.items()):
+        per = {lab: [] for lab in trackers}
+        frames = render_point(pt, grid, colour=colour, laser=laser, n_angles=n_angles)
+        out["_frames"][name] = [(f.rgb if f.rgb is not None else img, f.truth.columns) for f, img, _, _ in frames]
+        for f, img, bg, _ in frames:
+            truth = f.truth.columns
+            for lab, t in trackers.items():
+                r = track_frame(t, img, bg if use_background else None)
+                cols = r.columns if r.ok else np.full(img.shape[0], np.nan)
+                per[lab].append(row_outcomes(cols, truth, truth_states(truth)))
+        out[name] = per
+        if say is not None:
+            say(i + 1, len(points), name)
+    return out
+
+
+# ---------------------------------------------------------------------------------------------------- stripebench predict
+
+
+@dataclass
+class Photo:
+    """One photograph to predict for: the frame the trackers see, its laser-off frame, the original."""
+
+    name: str
+    path: Path
+    frame: np.ndarray
+    background: np.ndarray | None
+    original: np.ndarray
+    laser: str = "red"
+    rotate_deg: int = 0
+
+    @property
+    def colour(self) -> bool:
+        """A colour photograph (a grey picture stored as RGB is grey)."""
+        o = self.original
+        return o.ndim == 3 and not (np.array_equal(o[..., 0], o[..., 1]) and np.array_equal(o[..., 0], o[..., 2]))
+
+
+def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0,
+                   err=None) -> list[Photo]:
+    """The photographs of ``folder``: a real set's (its manifest's laser, channel and rotation;
+    references ignored) or every image file (``NAME_off.EXT`` frames paired as laser-off frames),
+    with the given ``channel``, ``laser`` and ``rotate_deg``. An unreadable file gets one line on ``err``."""
+    from bench.store import realset as real
+
+    err = sys.stderr if err is None else err
+    root = Path(folder)
+    if not root.is_dir():
+        raise real.ImageError(f"{str(root)!r}: not a folder")
+    jobs = []
+    if (root / "manifest.csv").is_file():
+        images, _ = real.validate_dataset(root)
+        for im in images:
+            jobs.append((im.name, im.image_path, im.background_path, im.channel, im.laser_colour, im.rotate_deg))
+    if not jobs:
+        files = sorted(p for p in root.iterdir() if p.is_file() and p.suffix.lower() in real.IMAGE_SUFFIXES)
+        for p in files:
+            if p.stem.endswith("_off"):
+                continue
+            jobs.append((p.stem, p, real.background_for(p), channel, laser, rotate_deg))
+    photos = []
+    for name, path, bgp, ch, las, rot in jobs:
+        try:
+            frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot)
+            bg = None
+            if bgp is not None:
+                bg, _ = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot)
+                if bg.shape != frame.shape:
+                    raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
+                                          f"the image {frame.shape}")
+        except real.ImageError as exc:
+            print(f"stripebench predict: {exc}", file=err)
+            continue
+        photos.append(Photo(name, Path(path), frame, bg, original, las, rot))
+    return photos
+
+
+#: The names the prediction's tables give :func:`bench.evaluate.outcomes.bootstrap_frames`' figures.
+PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
+
+
+def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: str = "auto", laser: str = "red",
+                rotate_deg: int = 0, n_angles: int = N_ANGLES, n_boot: int = 1000, seed: int = 0,
+                say=None, err=None) -> dict:
+    """``stripebench predict``: measure the photographs, match renders, score the trackers on them.
+
+    Writes ``conditions.csv`` (one line per photograph and side, ``photo`` or ``render``: every
+    measure, the distance, the matched knobs, ``status`` matched / out of range and the measures
+    out of range), ``predicted.csv`` (per tracker: ``hit_rate``, ``false_report_rate``, ``f1``
+    with 95 % bootstrap intervals over the matched photographs, ``n_photos``, ``n_frames``) and
+    ``predict.json`` (the settings) into ``out_dir``; returns what the report needs
+    (:func:`bench.report.predict.build_predict_report`).
+
+    Raises
+    ------
+    bench.store.realset.ImageError
+        ``folder`` is not a folder, or holds no readable photograph.
+    """
+    import pandas as pd
+
+    from bench.evaluate.outcomes import bootstrap_frames
+    from bench.run.track import build_trackers
+    from bench.store import realset as real
+    from bench.store.files import atomic_write_text
+
+    say = (lambda m: print(m, file=sys.stderr, flush=True)) if say is None else say
+    photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, err=err)
+    if not photos:
+        raise real.ImageError(f"{str(folder)!r}: no readable photograph (PNG, JPEG, TIFF)")
+    trackers = build_trackers(specs)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    tables, matches, conds = {}, {}, {}
+    for ph in photos:
+        key = (ph.colour, ph.laser, ph.background is not None)
+        if key not in tables:
+            step = max(1, len(list(_points(grid, ph.colour))) // 10)
+
+            def tick(i, n, key=key):
+                if i % step == 0 or i == n:
+                    say(f"stripebench predict: grid ({'colour' if key[0] else 'grey'}, {key[1]} laser"
+                        f"{', laser-off' if key[2] else ''}): {i}/{n} renders measured")
+            tables[key] = grid_table(grid, colour=key[0], laser=key[1], use_background=key[2], say=tick)
+        conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
+                                          laser=ph.laser)
+        matches[ph.name] = match(conds[ph.name], tables[key], grid, colour=key[0], laser=key[1],
+                                 use_background=key[2])
+        m = matches[ph.name]
+        if m.out_of_range:
+            say(f"stripebench predict: {ph.name}: out of range ({', '.join(m.out_of_range)}): left out")
+        else:
+            say(f"stripebench predict: {ph.name}: matched (distance {m.distance:.2f}): {m.point['setup']}, "
+                f"{m.point['laser_power_mw']:.3g} mW, {m.point['ambient_lux']:.4g} lux")
+    matched = [ph for ph in photos if not matches[ph.name].out_of_range]
+    per_photo, frames = {}, {}
+    for i, ph in enumerate(matched):
+        key = (ph.colour, ph.laser, ph.background is not None)
+        res = predict_outcomes({ph.name: matches[ph.name].point}, grid, trackers, colour=key[0], laser=key[1],
+                               use_background=key[2], n_angles=n_angles)
+        per_photo[ph.name] = res[ph.name]
+        frames[ph.name] = res["_frames"][ph.name]
+        say(f"stripebench predict: rendered and tracked {i + 1}/{len(matched)} ({ph.name})")
+    rows = []
+    for j, lab in enumerate(trackers):
+        codes = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]
+        rec = {"tracker": lab, "n_photos": len(matched), "n_frames": len(matched) * n_angles}
+        if codes:
+            b = bootstrap_frames(codes, n_boot=n_boot, seed=seed + j)
+            for k, name in PREDICTED_NAMES.items():
+                rec[name], rec[f"{name}_lo"], rec[f"{name}_hi"] = b[k], b[f"{k}_lo"], b[f"{k}_hi"]
+        else:
+            for name in PREDICTED_NAMES.values():
+                rec[name] = rec[f"{name}_lo"] = rec[f"{name}_hi"] = float("nan")
+        rows.append(rec)
+    predicted = pd.DataFrame.from_records(rows)
+    crow = []
+    for ph in photos:
+        m = matches[ph.name]
+        status = "out of range" if m.out_of_range else "matched"
+        base = {"name": ph.name, "status": status, "out_of_range": " ".join(m.out_of_range),
+                "distance": m.distance, **{k: m.point.get(k) for k in ("setup", "line_fwhm_mrad", "laser_power_mw",
+                                                                       "ambient_lux", "exposure_ms", "filter",
+                                                                       "defocus_px", "jpeg_quality")}}
+        crow.append({**base, "side": "photo", **conds[ph.name].as_dict()})
+        if m.conditions is not None:
+            crow.append({**base, "side": "render", **m.conditions.as_dict()})
+    conditions_table = pd.DataFrame.from_records(crow)
+    atomic_write_text(out / "predicted.csv", predicted.to_csv(index=False, float_format="%.6g"))
+    atomic_write_text(out / "conditions.csv", conditions_table.to_csv(index=False, float_format="%.6g"))
+    settings = {"kind": "predict", "folder": str(Path(folder)), "trackers": [s.to_value() for s in specs],
+                "grid": grid.to_value(), "channel": channel, "laser": laser, "rotate_deg": int(rotate_deg),
+                "n_angles": n_angles, "n_boot": n_boot, "seed": seed,
+                "out_of_range": {ph.name: list(matches[ph.name].out_of_range) for ph in photos
+                                 if matches[ph.name].out_of_range}}
+    atomic_write_text(out / "predict.json", json.dumps(settings, indent=1))
+    return {"out": out, "photos": photos, "matches": matches, "conditions": conds, "frames": frames,
+            "predicted": predicted, "conditions_table": conditions_table, "settings": settings}
+
+
+def compare_with_real(predicted, real_metrics, names) -> dict:
+    """Predicted beside measured, per figure (``hit_rate`` and ``f1``), on the same photographs.
+
+    Parameters
+    ----------
+    predicted : pandas.DataFrame
+        ``predicted.csv`` of :func:`run_predict`.
+    real_metrics : pandas.DataFrame
+        A real run's ``metrics`` (per-image rows with the row-outcome counts ``n_hit`` ...).
+    names : iterable of str
+        The photographs to pool the measured figures over (the matched ones).
+
+    Returns
+    -------
+    dict
+        Figure -> :func:`bench.evaluate.simreal.sim_to_real` of predicted ("synthetic") against
+        measured ("real", the photographs' rows pooled, as the prediction pools the renders'), with
+        ``mean_abs_diff`` (mean over trackers of ``|predicted - measured|``) added.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.9, 0.5, 0.7]})
+    >>> rows = [{"experiment": "p", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
+    ...          "n_quiet": 0} for t, h in (("a", 8), ("b", 4), ("c", 6))]
+    >>> r = compare_with_real(pred, pd.DataFrame(rows), ["p"])
+    >>> r["hit_rate"]["spearman_rho"], round(r["hit_rate"]["mean_abs_diff"], 3)
+    (1.0, 0.1)
+    """
+    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+    from bench.evaluate.simreal import sim_to_real
+
+    names = set(names)
+    m = real_metrics[real_metrics["experiment"].isin(names)]
+    measured = {"hit_rate": {}, "f1": {}}
+    for lab, sub in m.groupby("tracker", sort=False):
+        counts = {k: int(sub[k].sum()) for k in COUNT_KEYS if k in sub.columns}
+        fig = detection_figures(counts)
+        measured["hit_rate"][str(lab)] = fig["recall"]
+        measured["f1"][str(lab)] = fig["f1"]
+    out = {}
+    for fig_name in ("hit_rate", "f1"):
+        pred = {str(t): float(v) for t, v in zip(predicted["tracker"], predicted[fig_name])}
+        res = sim_to_real(pred, measured[fig_name])
+        diffs = [abs(row["delta"]) for row in res["table"]]
+        res["mean_abs_diff"] = float(np.mean(diffs)) if diffs else float("nan")
+        out[fig_name] = res
+    return out

@@ -1,0 +1,78 @@
+"""``stripebench predict``: tables and page on a small folder; an out-of-range photograph named and left out."""
+
+import csv
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+from bench.cli import main
+from bench.run import predict as pr
+
+
+@pytest.fixture(scope="module")
+def photos(tmp_path_factory):
+    d = tmp_path_factory.mktemp("photos")
+    pt = {"setup": "plane", "line_fwhm_mrad": 3.0, "laser_power_mw": 3.0, "ambient_lux": 400.0, "exposure_ms": 10.0,
+          "filter": "bandpass", "defocus_px": 0.0, "jpeg_quality": None}
+    f, img, _, _ = pr.render_point(pt, pr.SMALL_GRID, colour=False, laser="red")[0]
+    iio.imwrite(d / "board.png", f.image)
+    rng = np.random.default_rng(0)
+    x = np.arange(128.0)
+    wide = 30.0 + 120.0 * np.exp(-0.5 * ((x - 64.0) / 12.0) ** 2) + rng.normal(0, 2.0, (120, 128))
+    iio.imwrite(d / "blurred.png", np.clip(wide, 0, 255).round().astype(np.uint8))
+    return d
+
+
+def test_predict_writes_tables_and_page_and_names_the_out_of_range_photo(photos, tmp_path, capsys):
+    out = tmp_path / "pred"
+    rc = main(["predict", str(photos), "--out", str(out), "--grid", "small", "--size", "128",
+               "--trackers", "threshold,dp8", "--n-boot", "200"])
+    assert rc == 0
+    err = capsys.readouterr().err
+    assert "blurred: out of range (width_px" in err and "left out" in err
+    with open(out / "predicted.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["tracker"] for r in rows] == ["threshold", "dp8"]
+    for r in rows:
+        assert r["n_photos"] == "1" and r["n_frames"] == str(pr.N_ANGLES)
+        assert 0.0 <= float(r["hit_rate"]) <= 1.0 and 0.0 <= float(r["f1"]) <= 1.0
+    with open(out / "conditions.csv", newline="") as fh:
+        cond = list(csv.DictReader(fh))
+    status = {(r["name"], r["side"]): r["status"] for r in cond}
+    assert status == {("board", "photo"): "matched", ("board", "render"): "matched",
+                      ("blurred", "photo"): "out of range"}
+    html = (out / "report.html").read_text()
+    assert "Contact sheet" in html and "blurred" in html and "out of range" in html and html.count("<img") == 3
+
+
+def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
+    out = tmp_path / "busy"
+    out.mkdir()
+    (out / "keep.txt").write_text("x")
+    assert main(["predict", str(photos), "--out", str(out), "--grid", "small", "--size", "128"]) == 2
+
+
+def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
+    import json
+    import shutil
+
+    ds = tmp_path / "set"
+    ds.mkdir()
+    shutil.copy(photos / "board.png", ds / "board.png")
+    shutil.copy(photos / "board.png", ds / "twin.png")
+    frame = iio.imread(ds / "board.png")
+    cols = frame.argmax(axis=1).astype(float)
+    for n in ("board", "twin"):
+        (ds / f"{n}_ref.csv").write_text("row,col\n" + "".join(f"{r},{c:g}\n" for r, c in enumerate(cols)))
+    (ds / "manifest.csv").write_text("name,has_background,laser_colour\nboard,0,red\ntwin,0,red\n")
+    out = tmp_path / "run"
+    rc = main(["real", str(ds), "--out", str(out), "--trackers", "threshold,dp8,centroid", "--n-boot", "100",
+               "--quiet", "--predict", "--predict-grid", "small", "--predict-size", "128"])
+    assert rc == 0
+    printed = capsys.readouterr().out
+    assert "Spearman rho" in printed and "mean |predicted - measured|" in printed
+    doc = json.loads((out / "predict" / "compare.json").read_text())
+    assert doc["photographs"] == ["board", "twin"] and doc["hit_rate"]["n"] == 3
+    assert 0.0 <= doc["f1"]["mean_abs_diff"] <= 1.0
+    assert "Predicted beside measured" in (out / "predict" / "report.html").read_text()

@@ -1,0 +1,57 @@
+"""Renders matched to a photograph's conditions (bench.run.predict): the round trip on a small grid."""
+
+import numpy as np
+import pytest
+
+from bench.evaluate import conditions as cond
+from bench.run import predict as pr
+
+GRID = pr.SMALL_GRID
+
+
+@pytest.fixture(scope="module")
+def table():
+    return pr.grid_table(GRID, colour=False)
+
+
+def test_the_table_has_every_point_and_is_cached(table):
+    assert len(table) == 9
+    again = pr.grid_table(GRID, colour=False)  # read back from its JSON file
+    assert [p for p, _ in again] == [p for p, _ in table]
+    np.testing.assert_allclose([c.contrast for _, c in again], [c.contrast for _, c in table])
+
+
+def test_round_trip_render_measure_match_render(table):
+    """An off-grid render, measured, matched and rendered again: the conditions agree within one
+    scale unit (RMS over the matched measures) and two on each measure."""
+    src = {"setup": "plane", "line_fwhm_mrad": 3.0, "laser_power_mw": 5.0, "ambient_lux": 900.0,
+           "exposure_ms": 10.0, "filter": "bandpass", "defocus_px": 0.0, "jpeg_quality": None}
+    f, img, bg, _ = pr.render_point(src, GRID, colour=False, laser="red")[0]
+    c0 = cond.measure(img)
+    m = pr.match(c0, table, GRID, colour=False)
+    assert m.out_of_range == ()
+    f1, img1, _, _ = pr.render_point(m.point, GRID, colour=False, laser="red")[0]
+    c1 = cond.measure(img1)
+    assert cond.distance(c0, c1) <= 1.0
+    a, b = cond.normalised(c0), cond.normalised(c1)
+    ok = np.isfinite(a) & np.isfinite(b)
+    assert np.all(np.abs(a - b)[ok] <= 2.0), dict(zip(cond.MATCHED, np.abs(a - b)))
+
+
+def test_a_frame_the_grid_cannot_show_is_out_of_range(table):
+    rng = np.random.default_rng(0)
+    x = np.arange(128.0)
+    wide = 30.0 + 120.0 * np.exp(-0.5 * ((x - 64.0) / 12.0) ** 2) + rng.normal(0, 2.0, (120, 128))
+    m = pr.match(cond.measure(wide), table, GRID, colour=False)
+    assert "width_px" in m.out_of_range and m.point == {}
+
+
+def test_predicted_outcomes_score_every_tracker_on_each_matched_render(table):
+    from bench.config import parse_trackers
+    from bench.run.track import build_trackers
+
+    trackers = build_trackers(parse_trackers(["threshold", "dp8"]))
+    out = pr.predict_outcomes({"a": table[4][0]}, GRID, trackers, colour=False, n_angles=2)
+    assert set(out["a"]) == {"threshold", "dp8"}
+    assert len(out["a"]["dp8"]) == 2 and out["a"]["dp8"][0].shape == (120,)
+    assert len(out["_frames"]["a"]) == 2

@@ -6,50 +6,53 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError
+from bench.cli.options import add_quiet, add_seed, arg_type
+from bench.config import ConfigError
+from bench.config.options import finite_float, positive_int, scheduler_address, size_value, workers_value
 
 __all__ = ["COMMANDS"]
+
+#: The largest ``--units``, ``--angles`` and ``--noise-draws`` (a training set of 10**6 frames is days of renders).
+MAX_COUNT = 100_000
+
+
+def _count(name: str, text) -> int:
+    return positive_int(name, text, MAX_COUNT)
+
+
+def _holdout(name: str, text) -> float:
+    """The share of units held out: a number in (0, 1)."""
+    x = finite_float(name, text, low=0, low_open=True, high=1)
+    if x >= 1:
+        raise ConfigError(f"{name} must be a finite number > 0 and < 1, got {text!r}")
+    return x
 
 
 def _add_trainset(p) -> None:
     p.add_argument("--out", type=Path, required=True, help="training-set folder (a rerun resumes it)")
-    p.add_argument("--units", type=int, default=30, help="scenes drawn (default 30)")
-    p.add_argument("--angles", type=int, default=4, help="mirror angles per scene (default 4)")
-    p.add_argument("--noise-draws", type=int, default=2, help="sensor-noise draws per angle (default 2)")
-    p.add_argument("--seed", type=int, default=1, help="seed of the draws (default 1)")
-    p.add_argument("--size", default="512x480", help="WIDTHxHEIGHT (default 512x480)")
-    p.add_argument("--workers", type=int, default=None,
+    p.add_argument("--units", type=arg_type(_count, "--units"), default=30, help="scenes drawn (default 30)")
+    p.add_argument("--angles", type=arg_type(_count, "--angles"), default=4,
+                   help="mirror angles per scene (default 4)")
+    p.add_argument("--noise-draws", type=arg_type(_count, "--noise-draws"), default=2,
+                   help="sensor-noise draws per angle (default 2)")
+    add_seed(p, "seed of the draws", default=1)
+    p.add_argument("--size", type=arg_type(size_value, "--size"), default=(512, 480), metavar="WxH",
+                   help="WIDTHxHEIGHT (default 512x480)")
+    p.add_argument("--workers", type=arg_type(workers_value, "--workers"), default=None,
                    help="render on a local Dask cluster of this many processes (default: in this process)")
-    p.add_argument("--scheduler", default=None, help="a Dask scheduler's address to render on")
-    p.add_argument("--quiet", action="store_true", help="no progress notes")
-
-
-def _size(text: str) -> tuple[int, int]:
-    """``WIDTHxHEIGHT`` as two ints.
-
-    >>> _size("512x480")
-    (512, 480)
-    """
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise UsageError(f"--size must be WIDTHxHEIGHT, got {text!r}") from None
-    if w < 8 or h < 8:
-        raise UsageError(f"--size must be at least 8x8, got {text!r}")
-    return w, h
+    p.add_argument("--scheduler", type=arg_type(lambda n, v: scheduler_address(v, n), "--scheduler"), default=None,
+                   help="a Dask scheduler's address to render on (tcp://HOST:PORT; \"sync\": in this process)")
+    add_quiet(p, "no progress notes")
 
 
 def _trainset(args) -> int:
     from bench.run.trainset import build_trainset
 
-    for name in ("units", "angles", "noise_draws"):
-        if getattr(args, name) < 1:
-            raise UsageError(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")
-    if args.seed < 0:
-        raise UsageError(f"--seed must be >= 0, got {args.seed}")
-    w, h = _size(args.size)
+    w, h = args.size
+    scheduler = None if args.scheduler == "sync" else args.scheduler
     root = build_trainset(args.out, n_units=args.units, angles_per_unit=args.angles, seed=args.seed,
                           noise_draws=args.noise_draws, width=w, height=h, workers=args.workers,
-                          scheduler=args.scheduler, quiet=args.quiet)
+                          scheduler=scheduler, quiet=args.quiet)
     print(f"stripebench: training set at {root}")
     return 0
 
@@ -58,29 +61,26 @@ def _add_train(p) -> None:
     p.add_argument("trainset", type=Path, help="a finished training set (stripebench trainset)")
     p.add_argument("--out", type=Path, default=Path("trackers/models/learned.npz"),
                    help="weights file (default trackers/models/learned.npz); its curves go beside it as .png")
-    p.add_argument("--epochs", type=int, default=None, help="training epochs (default: HyperParams)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the initialisation and the batches (default 0)")
-    p.add_argument("--holdout", type=float, default=0.2, help="share of units held out (default 0.2)")
-    p.add_argument("--quiet", action="store_true", help="no progress notes")
+    p.add_argument("--epochs", type=arg_type(_count, "--epochs"), default=None,
+                   help="training epochs (default: HyperParams)")
+    add_seed(p, "seed of the initialisation and the batches", default=0)
+    p.add_argument("--holdout", type=arg_type(_holdout, "--holdout"), default=0.2,
+                   help="share of units held out, in (0, 1) (default 0.2)")
+    add_quiet(p, "no progress notes")
 
 
 def _train(args) -> int:
-    try:
-        import flax  # noqa: F401
-        import jax  # noqa: F401
-        import optax  # noqa: F401
-    except ImportError:
-        raise UsageError("stripebench train needs JAX, Flax and Optax: pip install -e '.[learn]'") from None
+    import importlib.util
     from dataclasses import replace
 
+    missing = [m for m in ("jax", "flax", "optax") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise UsageError(f"stripebench train needs JAX, Flax and Optax ({', '.join(missing)} missing): "
+                         "pip install -e '.[learn]'")
     from bench.studies.train import HyperParams, train_from_trainset
 
-    if not 0 < args.holdout < 1:
-        raise UsageError(f"--holdout must be in (0, 1), got {args.holdout}")
     hp = HyperParams(seed=args.seed)
     if args.epochs is not None:
-        if args.epochs < 1:
-            raise UsageError(f"--epochs must be >= 1, got {args.epochs}")
         hp = replace(hp, epochs=args.epochs)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     prov = train_from_trainset(args.trainset, args.out, hp=hp, holdout=args.holdout, say=say)

@@ -66,8 +66,9 @@ def _synthetic_frames(seeds):
     return frames
 
 
-def test_numpy_forward_equals_flax_and_a_tiny_training_run_learns_a_stripe():
-    pytest.importorskip("jax")
+def test_numpy_forward_equals_flax_and_a_tiny_training_run_learns_a_stripe(jax_child):
+    if not jax_child:  # ran in a child process (tests/conftest.py)
+        return
     from bench.studies.train import (HyperParams, choose_threshold, evaluate_frames, flax_forward,
                                      samples_from_frames, train_network)
 

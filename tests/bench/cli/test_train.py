@@ -7,25 +7,32 @@ from bench.cli import main
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["trainset", "--out", "x", "--units", "0"], "--units must be >= 1"),
-    (["trainset", "--out", "x", "--size", "big"], "--size must be WIDTHxHEIGHT"),
-    (["train", "nowhere", "--holdout", "1.5"], "--holdout must be in (0, 1)"),
+    (["trainset", "--out", "x", "--units", "0"], "--units: must be an integer 1 .. 100000, got '0'"),
+    (["trainset", "--out", "x", "--size", "big"], "--size: must be WIDTHxHEIGHT"),
+    (["trainset", "--out", "x", "--scheduler", "tcp://h:x"], "--scheduler"),
+    (["train", "nowhere", "--holdout", "1.5"], "argument --holdout: must be a finite number > 0 and <= 1, got '1.5'"),
+    (["train", "nowhere", "--holdout", "1"], "--holdout: must be a finite number > 0 and < 1, got '1'"),
+    (["train", "nowhere", "--epochs", "0"], "--epochs: must be an integer 1 .. 100000"),
 ])
 def test_usage_errors_are_one_line(argv, message, capsys):
-    assert main(argv) == 2
+    with pytest.raises(SystemExit) as exit:
+        main(argv)
+    assert exit.value.code == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err
 
 
-def test_train_refuses_a_folder_that_is_no_training_set(tmp_path, capsys):
-    pytest.importorskip("jax")
+def test_train_refuses_a_folder_that_is_no_training_set(tmp_path, capsys, jax_child):
+    if not jax_child:  # ran in a child process (tests/conftest.py)
+        return
     assert main(["train", str(tmp_path), "--out", str(tmp_path / "w.npz")]) == 2
     assert "not a finished training set" in capsys.readouterr().err
 
 
 @pytest.mark.slow
-def test_trainset_then_train_writes_weights_the_tracker_reads(tmp_path, capsys):
-    pytest.importorskip("jax")
+def test_trainset_then_train_writes_weights_the_tracker_reads(tmp_path, capsys, jax_child):
+    if not jax_child:  # ran in a child process (tests/conftest.py)
+        return
     import trackers
     from trackers.learned import weights_info
 

@@ -28,6 +28,17 @@ def _holdout(name: str, text) -> float:
     return x
 
 
+def _views(name: str, text) -> tuple:
+    """Distinct comma-separated views of a colour frame (:func:`bench.run.trainset.tracker_view`'s channels):
+    ``"auto,laser"`` gives ``("auto", "laser")``."""
+    views = tuple(v.strip() for v in str(text).split(",") if v.strip())
+    from bench.run.trainset import VIEWS as known
+
+    if not views or any(v not in known for v in views) or len(set(views)) < len(views):
+        raise ConfigError(f"{name} must be distinct names among {', '.join(known)}, got {text!r}")
+    return views
+
+
 def _add_trainset(p) -> None:
     p.add_argument("--out", type=Path, required=True, help="training-set folder (a rerun resumes it)")
     p.add_argument("--units", type=arg_type(_count, "--units"), default=30, help="scenes drawn (default 30)")
@@ -36,6 +47,9 @@ def _add_trainset(p) -> None:
     p.add_argument("--noise-draws", type=arg_type(_count, "--noise-draws"), default=2,
                    help="sensor-noise draws per angle (default 2)")
     add_seed(p, "seed of the draws", default=1)
+    p.add_argument("--draws", type=int, choices=(1, 2), default=2,
+                   help="draw rules (bench.run.trainset.DRAW_RULES): 1 the first weights' (one level per scene), "
+                        "2 per-frame levels with saturated stripes and wide lines (default 2)")
     p.add_argument("--size", type=arg_type(size_value, "--size"), default=(512, 480), metavar="WxH",
                    help="WIDTHxHEIGHT (default 512x480)")
     p.add_argument("--workers", type=arg_type(workers_value, "--workers"), default=None,
@@ -52,7 +66,7 @@ def _trainset(args) -> int:
     scheduler = None if args.scheduler == "sync" else args.scheduler
     root = build_trainset(args.out, n_units=args.units, angles_per_unit=args.angles, seed=args.seed,
                           noise_draws=args.noise_draws, width=w, height=h, workers=args.workers,
-                          scheduler=scheduler, quiet=args.quiet)
+                          scheduler=scheduler, quiet=args.quiet, draws=args.draws)
     print(f"stripebench: training set at {root}")
     return 0
 
@@ -64,6 +78,9 @@ def _add_train(p) -> None:
     p.add_argument("--epochs", type=arg_type(_count, "--epochs"), default=None,
                    help="training epochs (default: HyperParams)")
     add_seed(p, "seed of the initialisation and the batches", default=0)
+    p.add_argument("--views", type=arg_type(_views, "--views"), default=("auto", "laser"),
+                   help="comma-separated views of a colour frame to train and hold out on: auto (what a run gives a "
+                        "tracker), laser (the laser's plain channel), r, g, b, gray (default auto,laser)")
     p.add_argument("--holdout", type=arg_type(_holdout, "--holdout"), default=0.2,
                    help="share of units held out, in (0, 1) (default 0.2)")
     add_quiet(p, "no progress notes")
@@ -79,7 +96,7 @@ def _train(args) -> int:
                          "pip install -e '.[learn]'")
     from bench.studies.train import HyperParams, train_from_trainset
 
-    hp = HyperParams(seed=args.seed)
+    hp = HyperParams(seed=args.seed, views=args.views)
     if args.epochs is not None:
         hp = replace(hp, epochs=args.epochs)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))

@@ -9,13 +9,16 @@ a tracker gets in a run (:func:`bench.run.camera_view.tracker_images`, the ``aut
 split is by unit, :func:`holdout_of`). ``trainset.json`` holds the seed, the draw rules and every
 unit's scene parameters.
 
-Conditions: each unit is one scene drawn (seeded by ``[seed, unit]``) over the ``field``
-profile's classes and the paper's materials: object, material, wall and table, textures and a
-polished table, mono band-pass or colour camera without a filter, JPEG, defocus, illuminant,
-lux, laser power, line width and exposure; its mirror angles are drawn uniformly over the
-object's range and each angle is written with ``noise_draws`` independent sensor-noise draws
-(the same Mitsuba render). Render seeds start at :data:`SEED_BASE`, so no frame is a frame of
-the ``paper`` run (seed 0); :func:`plan` checks that against the paper profile's frames.
+Conditions (:data:`DRAW_RULES`, chosen by ``draws``): each unit is one scene drawn (seeded by
+``[seed, unit]``) over the ``field`` profile's classes and the paper's materials: object,
+material, wall and table, textures and a polished table, mono band-pass or colour camera without
+a filter, illuminant and line width; its mirror angles are drawn uniformly over the object's range
+and each angle is written with ``noise_draws`` independent sensor-noise draws (the same Mitsuba
+render). Rules 1 (the first weights') draw lux, laser power, exposure, JPEG and defocus once per
+unit; rules 2 (the default) widen the lines and draw those five once per frame (angle and noise
+draw: free, they apply after the render cache), with saturated, blooming stripes in a third of the
+frames. Render seeds start at :data:`SEED_BASE`, so no frame is a frame of the ``paper`` run (seed
+0); :func:`plan` checks that against the paper profile's frames.
 
 Streamed and resumable: every frame is written as it renders (its ``images/FRAME.json`` last,
 the mark of a finished frame) and a rerun skips finished frames; units run in this process or
@@ -35,12 +38,14 @@ from typing import Any
 import numpy as np
 
 from bench.errors import InputError
+from bench.evaluate.pixels import CHANNELS
 from bench.store import frameset as fs
 from bench.store.files import atomic_write_bytes, atomic_write_text
 from bench.store.provenance import git_revision, versions
 
-__all__ = ["FORMAT", "SEED_BASE", "FRAME_COLUMNS", "draw_unit", "plan", "paper_frames", "render_unit",
-           "build_trainset", "read_trainset", "tracker_view", "holdout_of", "frame_key"]
+__all__ = ["FORMAT", "SEED_BASE", "FRAME_COLUMNS", "DRAW_RULES", "PHOTOMETRY_KEYS", "draw_unit", "draw_photometry",
+           "plan", "paper_frames", "render_unit",
+           "build_trainset", "read_trainset", "VIEWS", "tracker_view", "holdout_of", "frame_key"]
 
 FORMAT = 1
 SEED_BASE = 10_000  #: render seeds are SEED_BASE + unit (the paper run renders with seed 0)
@@ -51,14 +56,37 @@ MATERIAL_WEIGHTS = (0.2, 0.12, 0.12, 0.1, 0.22, 0.12, 0.12)
 OBJECTS = ("cone", "hand", "plane", "sphere")
 TEXTURES = ("wood", "floor", "carpet", "checker", "charuco", "paper", "print")
 ILLUMINANTS = ("D65", "A", "LED-B3", "daylight", "FL2", "D50")
+#: The draw rules, by number (``stripebench trainset --draws``); a training set records its rules' text.
+DRAW_RULES = {
+    1: "Per unit ([seed, unit]): colour camera without a filter or mono band-pass camera, 1:1; object uniform "
+       "over cone, hand, plane, sphere; material over the paper's seven (matte 0.2, absorbing 0.12, glossy 0.12, "
+       "specular 0.1, patchy 0.22, polished 0.12, glazed 0.12); wall (45-90 cm) or none, 1:1; table 0.6 or "
+       "none; textures on the table / wall / object with 0.5 / 0.4 / 0.3 (colour) or 0.2 / 0.15 / 0.1 (mono) "
+       "over wood, floor, carpet, checker, charuco, paper, print; a polished table 0.15; illuminant uniform over "
+       "D65, A, LED-B3, daylight, FL2, D50; lux log-uniform 100-3000 (colour) or 100-1500 (mono); laser power "
+       "log-uniform 0.7-10 mW; exposure log-uniform 2-20 ms; line FWHM uniform 1.5-4 mrad; colour: JPEG 0.7 "
+       "(quality 70-95), defocus 0.4 (0.2-1 px).",
+    2: "Per unit ([seed, unit]) as rules 1 except the line FWHM: uniform 1.5-4 mrad (0.75) or 4-9 mrad (0.25, "
+       "wide lines). Per frame ([seed, unit, 11, angle, noise draw]; lux, power, exposure, JPEG and defocus "
+       "apply after the render cache, so they cost no render): a saturated stripe (0.35: laser power "
+       "log-uniform 5-20 mW, exposure 10-40 ms; the stripe clips and blooms) or rules 1's power and exposure; "
+       "lux log-uniform 100-5000 (colour) or 100-1500 (mono); colour: JPEG 0.7 (quality 60-95), defocus 0.5 "
+       "(0.2-2.5 px); mono: defocus 0.2 (0.2-1.5 px).",
+}
+DEFAULT_DRAWS = 2
+PHOTOMETRY_KEYS = ("ambient_lux", "laser_power_mw", "exposure_ms", "jpeg_quality", "defocus_px")
 
 
 def _loguniform(rng, lo, hi) -> float:
     return float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
 
 
-def draw_unit(seed: int, unit: int, *, width: int = 512, height: int = 480) -> dict[str, Any]:
-    """The scene parameters of one unit (``scenes.make`` keywords plus ``scene``), seeded by ``[seed, unit]``."""
+def draw_unit(seed: int, unit: int, *, width: int = 512, height: int = 480,
+              draws: int = DEFAULT_DRAWS) -> dict[str, Any]:
+    """The scene parameters of one unit (``scenes.make`` keywords plus ``scene``), seeded by ``[seed, unit]``,
+    by the rules ``draws`` (:data:`DRAW_RULES`; rules 2's per-frame parameters: :func:`draw_photometry`)."""
+    if draws not in DRAW_RULES:
+        raise InputError(f"draw rules must be one of {sorted(DRAW_RULES)}, got {draws!r}")
     rng = np.random.default_rng([int(seed), int(unit)])
     colour = bool(rng.random() < 0.5)
     p: dict[str, Any] = {"scene": str(rng.choice(OBJECTS)), "material": str(rng.choice(MATERIALS, p=MATERIAL_WEIGHTS)),
@@ -83,13 +111,44 @@ def draw_unit(seed: int, unit: int, *, width: int = 512, height: int = 480) -> d
     p["laser_power_mw"] = _loguniform(rng, 0.7, 10.0)
     p["exposure_ms"] = _loguniform(rng, 2.0, 20.0)
     p["line_fwhm_mrad"] = float(rng.uniform(1.5, 4.0))
+    if draws == 2 and rng.random() < 0.25:  # rules 2: wide lines (drawn after rules 1's draws: those stay)
+        p["line_fwhm_mrad"] = float(rng.uniform(4.0, 9.0))
     if colour:
         p["camera"], p["filter"] = "rgb", "none"
         if rng.random() < 0.7:
             p["jpeg_quality"] = int(rng.integers(70, 96))
         if rng.random() < 0.4:
             p["defocus_px"] = float(rng.uniform(0.2, 1.0))
+    if draws == 2:  # drawn per frame instead (draw_photometry)
+        for k in PHOTOMETRY_KEYS:
+            p.pop(k, None)
     return p
+
+
+def draw_photometry(seed: int, unit: int, angle_index: int, draw: int, params: dict) -> dict[str, Any]:
+    """Rules 2's per-frame parameters (:data:`PHOTOMETRY_KEYS`) of one angle and noise draw of a unit whose
+    scene parameters are ``params``, seeded by ``[seed, unit, 11, angle_index, draw]``. They apply after the
+    render cache (laser power, ambient level, the sensor, the camera's JPEG and defocus), so every draw
+    of an angle reuses its Mitsuba render.
+
+    >>> p = draw_photometry(1, 0, 0, 0, {"camera": "rgb"})
+    >>> sorted(p) == sorted(PHOTOMETRY_KEYS) and p == draw_photometry(1, 0, 0, 0, {"camera": "rgb"})
+    True
+    """
+    rng = np.random.default_rng([int(seed), int(unit), 11, int(angle_index), int(draw)])
+    colour = params.get("camera") == "rgb"
+    if rng.random() < 0.35:  # a saturated stripe: it clips and blooms, as in many webcam photographs
+        power, exposure = _loguniform(rng, 5.0, 20.0), _loguniform(rng, 10.0, 40.0)
+    else:
+        power, exposure = _loguniform(rng, 0.7, 10.0), _loguniform(rng, 2.0, 20.0)
+    lux = _loguniform(rng, 100.0, 5000.0) if colour else _loguniform(rng, 100.0, 1500.0)
+    jpeg = int(rng.integers(60, 96)) if colour and rng.random() < 0.7 else None
+    if rng.random() < (0.5 if colour else 0.2):
+        defocus = float(rng.uniform(0.2, 2.5 if colour else 1.5))
+    else:
+        defocus = 0.0
+    return {"ambient_lux": lux, "laser_power_mw": power, "exposure_ms": exposure, "jpeg_quality": jpeg,
+            "defocus_px": defocus}
 
 
 def _scene(params: dict):
@@ -100,8 +159,10 @@ def _scene(params: dict):
 
 
 def plan(n_units: int, angles_per_unit: int, seed: int, *, width: int = 512, height: int = 480,
-         noise_draws: int = 1) -> list[dict[str, Any]]:
-    """Every unit of a training set: its scene parameters and mirror angles (deg), seeded.
+         noise_draws: int = 1, draws: int = DEFAULT_DRAWS) -> list[dict[str, Any]]:
+    """Every unit of a training set: its scene parameters and mirror angles (deg), seeded, by the
+    rules ``draws`` (:data:`DRAW_RULES`); under rules 2 also ``photometry``, per angle and noise
+    draw the parameters of :func:`draw_photometry`.
 
     A draw the scene refuses (a wall through the object) is drawn again with the next
     sub-seed. Raises :class:`bench.errors.InputError` if a planned frame is a frame of the
@@ -111,7 +172,7 @@ def plan(n_units: int, angles_per_unit: int, seed: int, *, width: int = 512, hei
     units = []
     for u in range(int(n_units)):
         for attempt in range(20):
-            params = draw_unit(seed, u * 1000 + attempt, width=width, height=height)
+            params = draw_unit(seed, u * 1000 + attempt, width=width, height=height, draws=draws)
             params["seed"] = SEED_BASE + u
             try:
                 scene = _scene(params)
@@ -123,8 +184,11 @@ def plan(n_units: int, angles_per_unit: int, seed: int, *, width: int = 512, hei
         lo, hi = (float(a) for a in scene.object.default_angles(scene.rig.zeta_deg, 2))
         rng = np.random.default_rng([int(seed), u, 7])
         angles = np.sort(rng.uniform(lo, hi, int(angles_per_unit)))
-        units.append({"unit": u, "params": params, "angles_deg": [float(a) for a in angles],
-                      "noise_draws": int(noise_draws)})
+        spec = {"unit": u, "params": params, "angles_deg": [float(a) for a in angles], "noise_draws": int(noise_draws)}
+        if draws == 2:
+            spec["photometry"] = [[draw_photometry(seed, u, i, n, params) for n in range(int(noise_draws))]
+                                  for i in range(len(angles))]
+        units.append(spec)
     paper = paper_frames()
     clash = [frame_key(u["params"], a) for u in units for a in u["angles_deg"] if frame_key(u["params"], a) in paper]
     if clash:
@@ -187,7 +251,9 @@ def render_unit(spec: dict[str, Any], root: str) -> list[dict[str, Any]]:
             if meta_path.exists():
                 rows.append(json.loads(meta_path.read_text()))
                 continue
-            if scene is None:
+            if "photometry" in spec:  # rules 2: this frame's own level, sensor and camera; the same render
+                scene = _scene({**params, **spec["photometry"][i][draw]})
+            elif scene is None:
                 scene = _scene(params)
             frame = scene.render(float(angle), spp=scene.params["spp"], seed=params["seed"], noise_draw=draw)
             rgb = getattr(frame, "rgb", None)
@@ -203,6 +269,8 @@ def render_unit(spec: dict[str, Any], root: str) -> list[dict[str, Any]]:
                    "camera": scene.params["camera"], "laser_wavelength_nm": float(scene.params["laser_wavelength_nm"]),
                    "angle_deg": float(angle), "seed": int(params["seed"]), "noise_draw": int(draw),
                    "height": int(on.shape[0]), "width": int(on.shape[1])}
+            if "photometry" in spec:
+                row["photometry"] = spec["photometry"][i][draw]
             atomic_write_text(meta_path, json.dumps(row))
             rows.append(row)
     return rows
@@ -244,8 +312,9 @@ def _execute(units, root, *, workers: int | None, scheduler: str | None, say) ->
 
 def build_trainset(out_dir, *, n_units: int = 40, angles_per_unit: int = 4, seed: int = 1, noise_draws: int = 2,
                    width: int = 512, height: int = 480, workers: int | None = None, scheduler: str | None = None,
-                   quiet: bool = False) -> Path:
-    """Render (or finish rendering) a training set into ``out_dir``; returns the folder.
+                   quiet: bool = False, draws: int = DEFAULT_DRAWS) -> Path:
+    """Render (or finish rendering) a training set into ``out_dir`` by the draw rules ``draws``
+    (:data:`DRAW_RULES`); returns the folder.
 
     Raises
     ------
@@ -261,6 +330,8 @@ def build_trainset(out_dir, *, n_units: int = 40, angles_per_unit: int = 4, seed
     identity = {"kind": "stripebench-trainset", "format": FORMAT, "seed": int(seed),
                 "angles_per_unit": int(angles_per_unit), "noise_draws": int(noise_draws), "width": int(width),
                 "height": int(height)}
+    if draws != 1:  # (rules 1's folders, written before the rules had numbers, carry no such key)
+        identity["draws"] = int(draws)
     ident_path = root / "trainset.identity.json"
     if root.exists() and any(root.iterdir()):
         if not ident_path.exists():
@@ -272,7 +343,7 @@ def build_trainset(out_dir, *, n_units: int = 40, angles_per_unit: int = 4, seed
         (root / d).mkdir(parents=True, exist_ok=True)
     atomic_write_text(ident_path, json.dumps(identity, indent=1) + "\n")
     t0 = time.perf_counter()
-    units = plan(n_units, angles_per_unit, seed, width=width, height=height, noise_draws=noise_draws)
+    units = plan(n_units, angles_per_unit, seed, width=width, height=height, noise_draws=noise_draws, draws=draws)
     say(f"stripebench trainset: {len(units)} units x {angles_per_unit} angles x {noise_draws} noise draws")
     info = _execute(units, root, workers=workers, scheduler=scheduler, say=say)
     rows = []
@@ -287,7 +358,7 @@ def build_trainset(out_dir, *, n_units: int = 40, angles_per_unit: int = 4, seed
     doc = {**identity, "frameset_format": fs.FORMAT, "n_units": int(n_units),
            "seed_base": SEED_BASE, "frames": len(rows), "engine": info, "code_revision": git_revision(),
            "versions": versions(), "render_s": round(time.perf_counter() - t0, 1),
-           "draw_rules": __doc__.split("Conditions:")[1].split("Streamed")[0].strip(),
+           "draws": int(draws), "draw_rules": DRAW_RULES[int(draws)],
            "images": {"mono": "PNG, 8-bit grey (the tracker's frame)",
                       "rgb": "PNG, 8-bit RGB photograph; trackers see bench.run.camera_view.tracker_images of it"},
            "units": units}
@@ -309,8 +380,15 @@ def read_trainset(path) -> tuple[dict, list[dict]]:
     return doc, rows
 
 
-def tracker_view(root, row: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(image, background, true columns (H,)) of one frame as a tracker gets it in a run."""
+#: The views of a frame :func:`tracker_view` gives: :data:`bench.evaluate.pixels.CHANNELS` and ``"laser"``.
+VIEWS = ("auto", "laser") + tuple(c for c in CHANNELS if c != "auto")
+
+
+def tracker_view(root, row: dict, channel: str = "auto") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(image, background, true columns (H,)) of one frame as a tracker gets it in a run (``channel``
+    ``"auto"``), or through another channel of a colour frame (:func:`bench.evaluate.pixels.select_channel`'s
+    names, or ``"laser"``: the laser's own plain channel, as a real set's ``channel`` column may ask);
+    a mono frame is the same in every view."""
     import imageio.v3 as iio
 
     from bench.run.camera_view import laser_colour
@@ -321,7 +399,8 @@ def tracker_view(root, row: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     off = iio.imread(root / row["background"])
     if on.ndim == 3:
         laser = laser_colour(float(row["laser_wavelength_nm"]))
-        on, off = select_channel(on, "auto", laser), select_channel(off, "auto", laser)
+        ch = laser[0] if channel == "laser" else channel
+        on, off = select_channel(on, ch, laser), select_channel(off, ch, laser)
     return on, off, _truth_cols(root / "truth" / f"{row['frame']}.csv", int(row["height"]))
 
 

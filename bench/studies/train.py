@@ -55,6 +55,9 @@ class HyperParams:
     seed: int = 0
     k: int = 6
     augment: int = 1  # sheared copies of each training frame (slanted and curved stripes)
+    # the views of a colour frame trained on and held out (bench.run.trainset.tracker_view's channels): "auto" is
+    # what a run gives a tracker, "laser" the laser's plain channel (a real set's `channel` column may ask for it)
+    views: tuple = ("auto", "laser")
     thresholds: tuple = field(default_factory=lambda: tuple(np.round(np.arange(0.05, 0.96, 0.05), 2).tolist()))
 
 
@@ -319,10 +322,11 @@ def plot_curves(curves: dict, table: dict, threshold: float, path) -> Path:
     return path
 
 
-def _load_frames(root, rows):
+def _load_frames(root, rows, views=("auto",)):
+    """The (image, background, truth) of every row in every view (a mono frame once: its views are equal)."""
     from bench.run.trainset import tracker_view
 
-    return [tracker_view(root, r) for r in rows]
+    return [tracker_view(root, r, v) for r in rows for v in views if v == views[0] or r["camera"] == "rgb"]
 
 
 def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdout: float = 0.2,
@@ -338,7 +342,7 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
     if not val_rows or not tr_rows:
         raise ValueError("the held-out split left no training or no held-out frames: use more units")
     say(f"stripebench train: {len(tr_rows)} training and {len(val_rows)} held-out frames")
-    tr_frames, val_frames = _load_frames(trainset, tr_rows), _load_frames(trainset, val_rows)
+    tr_frames, val_frames = _load_frames(trainset, tr_rows, hp.views), _load_frames(trainset, val_rows, hp.views)
     train = samples_from_frames(tr_frames, hp.k, augment=hp.augment, seed=hp.seed)
     val = samples_from_frames(val_frames, hp.k)
     t1 = time.perf_counter()
@@ -352,13 +356,15 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
     thr = choose_threshold(table)
     with_bg = evaluate_frames(val_frames, net_k, [thr])[thr]
     no_bg = evaluate_frames([(i, None, t) for i, o, t in val_frames], net_k, [thr])[thr]
+    auto = _load_frames(trainset, val_rows) if tuple(hp.views) != ("auto",) else val_frames
+    auto_both = evaluate_frames(auto + [(i, None, t) for i, o, t in auto], net_k, [thr])[thr]
     say(f"  held-out rows at threshold {thr}: F1 {table[thr]['f1']:.3f}, hit rate {table[thr]['hit_rate']:.3f} "
         f"(with laser-off frame F1 {with_bg['f1']:.3f}, without {no_bg['f1']:.3f})")
     prov = {"what": "stripebench learned tracker weights", "trained_on": "renders only (stripebench trainset)",
             "trainset": {"path": str(trainset), **{k: doc[k] for k in ("seed", "n_units", "angles_per_unit",
                                                                           "noise_draws", "width", "height", "frames",
                                                                           "seed_base", "code_revision")},
-                         "draw_rules": doc.get("draw_rules")},
+                         "draws": doc.get("draws", 1), "draw_rules": doc.get("draw_rules")},
             "split": {"rule": "held-out units: bench.run.trainset.holdout_of(unit, holdout_seed, holdout)",
                       "holdout": holdout, "holdout_seed": holdout_seed, "train_frames": len(tr_rows),
                       "heldout_frames": len(val_rows), "train_candidates": int(len(train[0])),
@@ -367,6 +373,7 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
                              "activation": "relu", "output": ["stripe logit", "offset px from the 3-point fit"]},
             "hyper_parameters": asdict(hp), "threshold": thr,
             "heldout": {"both": table[thr], "with_background": with_bg, "without_background": no_bg,
+                        "auto_view_both": auto_both,
                         "by_threshold": {str(k): v for k, v in table.items()}},
             "curves": curves, "train_s": round(t2 - t1, 1), "total_s": round(time.perf_counter() - t0, 1),
             "versions": {**versions(), **_learn_versions()}, "git_revision": git_revision(),

@@ -13,6 +13,8 @@ from bench.cli import main
     (["train", "nowhere", "--holdout", "1.5"], "argument --holdout: must be a finite number > 0 and <= 1, got '1.5'"),
     (["train", "nowhere", "--holdout", "1"], "--holdout: must be a finite number > 0 and < 1, got '1'"),
     (["train", "nowhere", "--epochs", "0"], "--epochs: must be an integer 1 .. 100000"),
+    (["train", "nowhere", "--views", "auto,purple"], "--views: must be distinct names among auto, laser"),
+    (["trainset", "--out", "x", "--draws", "3"], "--draws: invalid choice"),
 ])
 def test_usage_errors_are_one_line(argv, message, capsys):
     with pytest.raises(SystemExit) as exit:

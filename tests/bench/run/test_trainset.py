@@ -26,11 +26,35 @@ def test_plan_refuses_a_paper_frame(monkeypatch):
 
 
 def test_draws_are_seeded_and_cover_the_field_classes():
-    a = [ts.draw_unit(3, u) for u in range(60)]
-    assert a == [ts.draw_unit(3, u) for u in range(60)]
+    a = [ts.draw_unit(3, u, draws=1) for u in range(60)]
+    assert a == [ts.draw_unit(3, u, draws=1) for u in range(60)]
     assert {p["scene"] for p in a} == set(ts.OBJECTS)
     assert {"rgb"} <= {p.get("camera") for p in a} and any("jpeg_quality" in p for p in a)
     assert len({p["material"] for p in a}) >= 6
+
+
+def test_rules_1_are_the_first_weights_draws():
+    # the first committed weights' training set (seed 1) was drawn by these rules before they had a number
+    p = ts.draw_unit(1, 0, draws=1)
+    assert (p["scene"], p["material"], p["background"], p["support"], p["ambient_illuminant"]) == (
+        "sphere", "matte", "wall", "none", "A")
+    assert round(p["ambient_lux"], 6) == 442.967978 and round(p["line_fwhm_mrad"], 6) == 2.845358
+
+
+def test_rules_2_draw_levels_per_frame_with_saturated_stripes_and_wide_lines():
+    units = ts.plan(40, 4, seed=2, noise_draws=2, draws=2)
+    assert units == ts.plan(40, 4, seed=2, noise_draws=2, draws=2)
+    frames = [f for u in units for per_angle in u["photometry"] for f in per_angle]
+    assert len(frames) == 40 * 4 * 2 and all(set(f) == set(ts.PHOTOMETRY_KEYS) for f in frames)
+    assert not any(k in u["params"] for u in units for k in ts.PHOTOMETRY_KEYS)
+    saturated = [f["laser_power_mw"] >= 5 and f["exposure_ms"] >= 10 for f in frames]
+    assert 0.25 < np.mean(saturated) < 0.5
+    assert any(u["params"]["line_fwhm_mrad"] > 4 for u in units)
+    assert any(f["jpeg_quality"] is not None for f in frames) and max(f["defocus_px"] for f in frames) > 1.0
+    # the two noise draws of an angle differ in level, not only in noise
+    assert any(pa[0] != pa[1] for u in units for pa in u["photometry"])
+    with pytest.raises(InputError, match="draw rules"):
+        ts.draw_unit(2, 0, draws=3)
 
 
 @pytest.mark.slow

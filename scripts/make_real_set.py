@@ -90,12 +90,13 @@ def make_images(src: Path) -> None:
 
 def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
     """Reference columns (H,) of one frame from its guide (see the module docstring)."""
+    from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH, REFERENCE_MIN_CONTRAST, reference_noise
+
     H, W = frame.shape
     f = frame.astype(np.float64)
-    sample = f[::3, ::3].ravel()
-    noise = max(1.4826 * float(np.median(np.abs(sample - np.median(sample)))), 1.0)
-    hw = int(guide.get("half_width", 6))
-    k = float(guide.get("min_contrast", 6.0))
+    noise = reference_noise(f)  # the rule's home: bench.evaluate.outcomes (also scores renders like photographs)
+    hw = int(guide.get("half_width", REFERENCE_HALF_WIDTH))
+    k = float(guide.get("min_contrast", REFERENCE_MIN_CONTRAST))
     level = float(guide["level"]) if "level" in guide else None
     ref = np.full(H, np.nan)
     for seg in guide["segments"]:

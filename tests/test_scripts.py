@@ -100,3 +100,30 @@ def test_scripts_answer_help_from_outside_the_repository(path, tmp_path):
                          timeout=300)
     assert out.returncode == 0, out.stderr
     assert "usage:" in out.stdout
+
+
+def test_make_real_set_writes_the_shipped_references():
+    """The reference rule (its noise and contrast from bench.evaluate.outcomes) gives the shipped columns."""
+    import csv
+    import importlib.util
+    import tomllib
+
+    import numpy as np
+
+    from bench.store import realset as real
+
+    spec = importlib.util.spec_from_file_location("make_real_set", REPO / "scripts" / "make_real_set.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    guides = tomllib.loads((mod.DATA / "guides.toml").read_text())
+    rows = list(csv.DictReader((mod.DATA / "manifest.csv").read_text().splitlines()))
+    assert len(rows) >= 12
+    for row in rows:
+        name, channel = row["name"], row.get("channel") or "auto"
+        frame, _ = real.load_frame(mod.DATA / f"{name}.png", channel="excess" if channel == "auto" else channel,
+                                   laser=row["laser_colour"], rotate_deg=int(row.get("rotate") or 0))
+        ref = mod.reference_for(frame, guides[name])
+        shipped, states, _ = real.read_reference_states(mod.DATA / f"{name}_ref.csv", frame.shape)
+        assert np.array_equal(np.isnan(ref), np.isnan(shipped)), name
+        assert np.allclose(ref[~np.isnan(ref)], shipped[~np.isnan(shipped)], atol=0.0051), name
+        assert np.array_equal(mod.states_for(ref, guides[name]), states), name

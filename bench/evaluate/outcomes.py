@@ -46,7 +46,8 @@ import numpy as np
 
 
 __all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
-           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "row_outcomes",
+           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "REFERENCE_HALF_WIDTH",
+           "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
            "COUNT_KEYS", "FIGURE_KEYS", "outcome_record"]
 
@@ -184,6 +185,93 @@ def fallback_states(reference, gap_rows: int = GAP_ROWS) -> np.ndarray:
     dist = np.minimum(idx - last, nxt - idx)
     out = np.where(has, STRIPE, np.where(dist >= gap_rows, NO_STRIPE, UNSURE))
     return out.astype(np.int8)
+
+
+#: The real set's reference rule (docs/real.md, ``scripts/make_real_set.py``): a row gets a reference only
+#: where the frame's maximum within this many px of the stripe ...
+REFERENCE_HALF_WIDTH = 6
+#: ... stands this many times :func:`reference_noise` above the window's median.
+REFERENCE_MIN_CONTRAST = 6.0
+
+
+def reference_noise(frame) -> float:
+    """The robust noise of a frame as the real set's references measure it (DN).
+
+    1.4826 x the median absolute deviation of every third pixel of every third row, at least 1:
+    a robust spread of the whole frame (scene and sensor), the unit of :data:`REFERENCE_MIN_CONTRAST`.
+
+    Parameters
+    ----------
+    frame : array_like, shape (H, W)
+        The tracker's frame (DN).
+
+    Examples
+    --------
+    >>> reference_noise(np.zeros((9, 9)))
+    1.0
+    """
+    f = np.asarray(frame, dtype=np.float64)
+    if f.ndim != 2:
+        raise ValueError(f"`frame` must be 2-D (H, W), got shape {f.shape}")
+    sample = f[::3, ::3].ravel()
+    return max(1.4826 * float(np.median(np.abs(sample - np.median(sample)))), 1.0)
+
+
+def referenced_states(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
+                      min_contrast: float = REFERENCE_MIN_CONTRAST) -> np.ndarray:
+    """The states of exact truth as the real set's references would give them.
+
+    A reference exists only where the stripe is visible (docs/real.md): a row is :data:`STRIPE`
+    where ``truth`` has a column and the frame's maximum within ``half_width`` px of it stands
+    ``min_contrast`` x :func:`reference_noise` above the window's median; :data:`UNSURE` (not
+    scored) where ``truth`` has a column the rule does not see (a window under 3 px is not seen);
+    :data:`NO_STRIPE` where ``truth`` is NaN. Scoring a render with these states compares it with
+    photographs row for row (``stripebench predict``); the render's own truth scores every lit row.
+
+    Parameters
+    ----------
+    frame : array_like, shape (H, W)
+        The tracker's frame (DN).
+    truth : array_like, shape (H,), px
+        The true columns, NaN where there is no stripe.
+    half_width : int
+        The window's half width (px), >= 1.
+    min_contrast : float
+        The least peak over the window's median, in :func:`reference_noise` units, > 0.
+
+    Returns
+    -------
+    numpy.ndarray of int8, shape (H,)
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> img = rng.normal(50.0, 2.0, (4, 40))
+    >>> img[0, 20] += 100.0; img[1, 20] += 5.0           # a bright and a faint stripe row
+    >>> referenced_states(img, [20.0, 20.0, 20.0, np.nan]).tolist()
+    [1, -1, -1, 0]
+    """
+    f = np.asarray(frame, dtype=np.float64)
+    t = np.asarray(truth, dtype=np.float64)
+    if f.ndim != 2 or t.shape != (f.shape[0],):
+        raise ValueError(f"`frame` must be (H, W) and `truth` (H,), got {f.shape} and {t.shape}")
+    if isinstance(half_width, bool) or not isinstance(half_width, (int, np.integer)) or half_width < 1:
+        raise ValueError(f"`half_width` must be an integer >= 1, got {half_width!r}")
+    if not (isinstance(min_contrast, (int, float, np.floating)) and min_contrast > 0):
+        raise ValueError(f"`min_contrast` must be a number > 0, got {min_contrast!r}")
+    H, W = f.shape
+    level = float(min_contrast) * reference_noise(f)
+    out = truth_states(t)
+    for r in np.flatnonzero(out == STRIPE):
+        c = int(round(float(t[r])))
+        lo, hi = max(0, c - half_width), min(W, c + half_width + 1)
+        if hi - lo < 3:
+            out[r] = UNSURE
+            continue
+        win = f[r, lo:hi]
+        if float(win.max()) - float(np.median(win)) < level:
+            out[r] = UNSURE
+    return out
 
 
 def _states(truth, state) -> np.ndarray:

@@ -275,6 +275,10 @@ def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser:
                      use_background: bool = False, n_angles: int = N_ANGLES, say=None) -> dict:
     """Row outcomes of each tracker on the renders of matched points.
 
+    A rendered row is scored as a photograph's would be: a stripe row only where the real set's
+    reference rule sees the stripe in the tracker's frame, else not scored
+    (:func:`bench.evaluate.outcomes.referenced_states`); rows without a stripe are scored.
+
     Parameters
     ----------
     points : dict
@@ -288,7 +292,7 @@ def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser:
         Photograph name -> label -> list of row-outcome arrays (one per rendered frame), and
         ``"_frames"``: photograph name -> list of ``(image, truth columns)`` (for the contact sheet).
     """
-    from bench.evaluate.outcomes import row_outcomes, truth_states
+    from bench.evaluate.outcomes import referenced_states, row_outcomes
     from bench.run.track import track_frame
 
     out: dict = {"_frames": {}}
@@ -298,10 +302,12 @@ def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser:
         out["_frames"][name] = [(f.rgb if f.rgb is not None else img, f.truth.columns) for f, img, _, _ in frames]
         for f, img, bg, _ in frames:
             truth = f.truth.columns
+            # scored as a photograph is: a stripe row only where the real set's reference rule sees it
+            states = referenced_states(img, truth)
             for lab, t in trackers.items():
                 r = track_frame(t, img, bg if use_background else None)
                 cols = r.columns if r.ok else np.full(img.shape[0], np.nan)
-                per[lab].append(row_outcomes(cols, truth, truth_states(truth)))
+                per[lab].append(row_outcomes(cols, truth, states))
         out[name] = per
         if say is not None:
             say(i + 1, len(points), name)

@@ -178,3 +178,39 @@ def test_figures_are_nan_only_where_undefined(codes):
     assert np.isnan(f["recall"]) == (not stripe)
     assert np.isnan(f["precision"]) == (not reports)
     assert np.isnan(f["false_report_rate"]) == (not none)
+
+
+def test_referenced_states_follow_the_reference_rule():
+    from bench.evaluate.outcomes import (NO_STRIPE, REFERENCE_MIN_CONTRAST, STRIPE, UNSURE, reference_noise,
+                                         referenced_states)
+
+    rng = np.random.default_rng(3)
+    img = rng.normal(40.0, 3.0, (6, 60))
+    noise = reference_noise(img)
+    assert 2.0 < noise < 4.0  # the frame's robust spread: its sensor noise here
+    level = REFERENCE_MIN_CONTRAST * noise
+    img[0, 30] += 3.0 * level           # well above the rule: seen
+    img[1, 30] += 0.3 * level           # well below: not scored
+    img[2, 37] += 3.0 * level           # 7 px off the truth, outside the 6-px window: not seen
+    img[3, 1] += 3.0 * level            # at the edge (window 1-8 px wide): seen
+    truth = np.array([30.0, 30.0, 30.0, 0.6, 59.4, np.nan])
+    img[4, 59] += 3.0 * level
+    s = referenced_states(img, truth)
+    assert s.tolist() == [STRIPE, UNSURE, UNSURE, STRIPE, STRIPE, NO_STRIPE]
+    # a larger window sees row 2's stripe; a lower contrast rule sees row 1's
+    assert referenced_states(img, truth, half_width=8)[2] == STRIPE
+    assert referenced_states(img, truth, min_contrast=0.1)[1] == STRIPE
+
+
+@pytest.mark.parametrize("kwargs, msg", [
+    ({"frame": np.zeros(5), "truth": np.zeros(5)}, "`frame` must be (H, W)"),
+    ({"frame": np.zeros((5, 9)), "truth": np.zeros(4)}, "`truth` (H,)"),
+    ({"frame": np.zeros((5, 9)), "truth": np.zeros(5), "half_width": 0}, "`half_width` must be an integer >= 1, got 0"),
+    ({"frame": np.zeros((5, 9)), "truth": np.zeros(5), "min_contrast": -1.0}, "`min_contrast` must be a number > 0"),
+])
+def test_referenced_states_refuse_bad_input(kwargs, msg):
+    from bench.evaluate.outcomes import referenced_states
+
+    with pytest.raises(ValueError) as exc:
+        referenced_states(**kwargs)
+    assert msg in str(exc.value)

@@ -41,15 +41,13 @@ __all__ = ["TOLERANCES", "REAL_TOLERANCES", "Row", "baseline_from_run", "compare
 # what must agree between two runs (or a run and a baseline) for their metrics to be comparable
 COMPARED_KEYS = ("render", "experiments", "seed")
 
+# a rate gated upwards (hit rates, detection) or downwards (reports that should not be there): one rule each
+_RATE_UP = ("higher", 0.01, 0.0)
+_RATE_DOWN = ("lower", 0.01, 0.05)
 # detection, both halves (bench.evaluate.outcomes): reports that are hits, stripe rows hit, their F1,
 # reports on stripe-less rows, and the average precision of the tracker's score; gated alike in both kinds of run
 _DETECTION_TOLERANCES: dict[str, tuple[str, float, float]] = {
-    "precision": ("higher", 0.01, 0.0),
-    "recall": ("higher", 0.01, 0.0),
-    "f1": ("higher", 0.01, 0.0),
-    "false_report_rate": ("lower", 0.01, 0.05),
-    "ap": ("higher", 0.01, 0.0),
-}
+    "precision": _RATE_UP, "recall": _RATE_UP, "f1": _RATE_UP, "false_report_rate": _RATE_DOWN, "ap": _RATE_UP}
 # metric -> (direction, absolute tolerance, relative tolerance)
 TOLERANCES: dict[str, tuple[str, float, float]] = {
     "px_mae": ("lower", 0.05, 0.05),
@@ -58,19 +56,13 @@ TOLERANCES: dict[str, tuple[str, float, float]] = {
     "depth_mae_mm": ("lower", 0.10, 0.05),
     "depth_rmse_mm": ("lower", 0.20, 0.05),
     "depth_p95_mm": ("lower", 0.20, 0.05),
-    "coverage": ("higher", 0.01, 0.0),
-    "hit_rate": ("higher", 0.01, 0.0),
-    "false_lock_rate": ("lower", 0.01, 0.05),
-    "outlier_rate": ("lower", 0.01, 0.05),
-    "false_detections": ("lower", 0.01, 0.05),
+    **{m: _RATE_UP for m in ("coverage", "hit_rate")},
+    **{m: _RATE_DOWN for m in ("false_lock_rate", "outlier_rate", "false_detections")},
     **_DETECTION_TOLERANCES,
 }
 #: The gated metrics of a real-photograph run (``stripebench real``, summary ``kind = "real"``).
 REAL_TOLERANCES: dict[str, tuple[str, float, float]] = {
-    "hit_rate": ("higher", 0.01, 0.0),
-    "mae_px": ("lower", 0.05, 0.05),
-    "coverage": ("higher", 0.01, 0.0),
-    "false_detections": ("lower", 0.01, 0.05),
+    "hit_rate": _RATE_UP, "mae_px": ("lower", 0.05, 0.05), "coverage": _RATE_UP, "false_detections": _RATE_DOWN,
     **_DETECTION_TOLERANCES,
 }
 #: The baseline format written; :data:`READ_FORMATS` are read (format 1 is upgraded on reading).

@@ -40,7 +40,7 @@ import numpy as np
 from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
-           "point_params", "render_point", "grid_table", "match", "predict_outcomes", "TABLE_VERSION", "Photo",
+           "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match", "predict_outcomes", "TABLE_VERSION", "Photo",
            "collect_photos", "run_predict", "PREDICTED_NAMES", "compare_with_real"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
@@ -167,9 +167,47 @@ def render_point(point: dict, grid: Grid, *, colour: bool, laser: str, n_angles:
     return out
 
 
-def _measure_point(point, grid, colour, laser, use_background) -> cond.Conditions:
+def _measure_point(point, grid, colour, laser, use_background, memo: dict | None = None) -> cond.Conditions:
+    key = json.dumps(point, sort_keys=True)
+    if memo is not None and key in memo:
+        return memo[key]
     f, img, bg, _ = render_point(point, grid, colour=colour, laser=laser)[0]
-    return cond.measure(img, bg if use_background else None, rgb=f.rgb, laser=laser)
+    c = cond.measure(img, bg if use_background else None, rgb=f.rgb, laser=laser)
+    if memo is not None:
+        memo[key] = c
+    return c
+
+
+def _table_path(grid: Grid, colour: bool, laser: str, use_background: bool, suffix: str = "") -> Path:
+    from scenes import cache
+
+    ident = {"predict_table": TABLE_VERSION, "grid": grid.to_value(), "colour": bool(colour), "laser": laser,
+             "use_background": bool(use_background)}
+    return cache.cache_root() / "predict" / f"{cache.key(ident)}{suffix}.json"
+
+
+def refined_memo(grid: Grid, *, colour: bool, laser: str = "red", use_background: bool = False) -> dict:
+    """The conditions already measured at refined (off-grid) points of this grid's table, as a dict
+    for :func:`match`'s ``memo``: JSON point -> Conditions, read from beside the table
+    (``predict/<key>-refined.json``); empty when there is none or it is damaged.
+    :func:`save_refined_memo` writes it back."""
+    path = _table_path(grid, colour, laser, use_background, "-refined")
+    try:
+        rows = json.loads(path.read_text(encoding="utf-8"))
+        return {k: cond.Conditions(**_from_json(v)) for k, v in rows.items()}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return {}
+
+
+def save_refined_memo(memo: dict, grid: Grid, *, colour: bool, laser: str = "red",
+                      use_background: bool = False) -> None:
+    """Write :func:`refined_memo`'s dict back (atomically), so that a second match of the same
+    photographs renders nothing."""
+    from bench.store.files import atomic_write_text
+
+    path = _table_path(grid, colour, laser, use_background, "-refined")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps({k: _finite(c.as_dict()) for k, c in sorted(memo.items())}))
 
 
 def _points(grid: Grid, colour: bool):
@@ -186,12 +224,9 @@ def grid_table(grid: Grid, *, colour: bool, laser: str = "red", use_background: 
     """Every grid point with its measured conditions, cached as JSON under the render cache
     (``predict/<key>.json``, keyed by the grid, the camera, the laser, the laser-off use and
     :data:`TABLE_VERSION`); ``say(done, total)`` is called as points are measured."""
-    from scenes import cache
     from bench.store.files import atomic_write_text
 
-    ident = {"predict_table": TABLE_VERSION, "grid": grid.to_value(), "colour": bool(colour), "laser": laser,
-             "use_background": bool(use_background)}
-    path = cache.cache_root() / "predict" / f"{cache.key(ident)}.json"
+    path = _table_path(grid, colour, laser, use_background)
     if path.is_file():
         try:
             rows = json.loads(path.read_text(encoding="utf-8"))
@@ -218,7 +253,7 @@ def _from_json(d: dict) -> dict:
 
 
 def match(target: cond.Conditions, table, grid: Grid, *, colour: bool, laser: str = "red",
-          use_background: bool = False, refine: bool = True) -> Match:
+          use_background: bool = False, refine: bool = True, memo: dict | None = None) -> Match:
     """The grid point nearest ``target`` (refined unless ``refine`` is false), or the measures out of range.
 
     Parameters
@@ -227,6 +262,9 @@ def match(target: cond.Conditions, table, grid: Grid, *, colour: bool, laser: st
         The photograph's conditions.
     table : list of (point, Conditions)
         :func:`grid_table` of the same grid, camera, laser and laser-off use.
+    memo : dict, optional
+        Conditions of refined points measured before (:func:`refined_memo`); points the search
+        measures are added to it.
     """
     conds = [c for _, c in table]
     bad = tuple(cond.out_of_range(target, conds))
@@ -237,11 +275,11 @@ def match(target: cond.Conditions, table, grid: Grid, *, colour: bool, laser: st
     k = int(np.argmin(d))
     best, best_c, best_d = dict(table[k][0]), table[k][1], float(d[k])
     if refine:
-        best, best_c, best_d = _refine(target, best, best_c, best_d, grid, colour, laser, use_background)
+        best, best_c, best_d = _refine(target, best, best_c, best_d, grid, colour, laser, use_background, memo)
     return Match(point=best, conditions=best_c, distance=best_d, out_of_range=())
 
 
-def _refine(target, point, c, d, grid, colour, laser, use_background, rounds: int = 6):
+def _refine(target, point, c, d, grid, colour, laser, use_background, memo=None, rounds: int = 6):
     bounds = {k: (min(getattr(grid, k)), max(getattr(grid, k))) for k in _REFINED}
     for steps in ((1.4, 0.5), (1.15, 0.25)):
         for _ in range(rounds):
@@ -261,7 +299,7 @@ def _refine(target, point, c, d, grid, colour, laser, use_background, rounds: in
                     if not lo <= nv <= hi:
                         continue
                     cand = {**point, key: round(nv, 6)}
-                    cc = _measure_point(cand, grid, colour, laser, use_background)
+                    cc = _measure_point(cand, grid, colour, laser, use_background, memo)
                     dd = cond.distance(target, cc)
                     if math.isfinite(dd) and dd < d - 1e-9:
                         point, c, d, improved = cand, cc, dd, True
@@ -410,7 +448,7 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     trackers = build_trackers(specs)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    tables, matches, conds = {}, {}, {}
+    tables, memos, matches, conds = {}, {}, {}, {}
     for ph in photos:
         key = (ph.colour, ph.laser, ph.background is not None)
         if key not in tables:
@@ -421,10 +459,12 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
                     say(f"stripebench predict: grid ({'colour' if key[0] else 'grey'}, {key[1]} laser"
                         f"{', laser-off' if key[2] else ''}): {i}/{n} renders measured")
             tables[key] = grid_table(grid, colour=key[0], laser=key[1], use_background=key[2], say=tick)
+            memos[key] = refined_memo(grid, colour=key[0], laser=key[1], use_background=key[2])
         conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                           laser=ph.laser)
         matches[ph.name] = match(conds[ph.name], tables[key], grid, colour=key[0], laser=key[1],
-                                 use_background=key[2])
+                                 use_background=key[2], memo=memos[key])
+        save_refined_memo(memos[key], grid, colour=key[0], laser=key[1], use_background=key[2])
         m = matches[ph.name]
         if m.out_of_range:
             say(f"stripebench predict: {ph.name}: out of range ({', '.join(m.out_of_range)}): left out")

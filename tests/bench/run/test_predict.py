@@ -38,6 +38,26 @@ def test_round_trip_render_measure_match_render(table):
     assert np.all(np.abs(a - b)[ok] <= 2.0), dict(zip(cond.MATCHED, np.abs(a - b)))
 
 
+def test_a_second_match_reads_the_refined_points_and_renders_nothing(table, monkeypatch):
+    """The refined points' conditions are kept beside the table: matching the same frame again gives
+    the same match without a render (the warm ``predict``)."""
+    src = {"setup": "plane", "line_fwhm_mrad": 3.0, "laser_power_mw": 2.0, "ambient_lux": 150.0,
+           "exposure_ms": 10.0, "filter": "bandpass", "defocus_px": 0.0, "jpeg_quality": None}
+    c0 = cond.measure(pr.render_point(src, GRID, colour=False, laser="red")[0][1])
+    memo = pr.refined_memo(GRID, colour=False)
+    first = pr.match(c0, table, GRID, colour=False, memo=memo)
+    assert memo and first.point not in [p for p, _ in table]  # the search left the grid and kept what it measured
+    pr.save_refined_memo(memo, GRID, colour=False)
+
+    def no_render(*a, **k):
+        raise AssertionError("rendered on a second match")
+
+    monkeypatch.setattr(pr, "render_point", no_render)
+    again = pr.match(c0, table, GRID, colour=False, memo=pr.refined_memo(GRID, colour=False))
+    assert again.point == first.point and again.distance == first.distance
+    assert again.conditions.as_dict() == pytest.approx(first.conditions.as_dict(), nan_ok=True)
+
+
 def test_a_frame_the_grid_cannot_show_is_out_of_range(table):
     rng = np.random.default_rng(0)
     x = np.arange(128.0)

@@ -127,21 +127,33 @@ def _predict_and_compare(args, specs, out) -> None:
     from dataclasses import replace
 
     from bench.report.predict import build_predict_report
-    from bench.run.predict import DEFAULT_GRID, SMALL_GRID, compare_with_real, run_predict
+    from bench.run.predict import DEFAULT_GRID, SMALL_GRID, compare_by_group, compare_with_real, run_predict
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
+    from bench.store.realset import load_dataset
 
     grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
     grid = replace(grid, width=args.predict_size, height=args.predict_size * 15 // 16)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     result = run_predict(args.dataset, out / "predict", specs, grid=grid, n_boot=args.n_boot, seed=args.seed, say=say)
     names = [n for n, m in result["matches"].items() if not m.out_of_range]
-    cmp = compare_with_real(result["predicted"], load_real_run(out)["metrics"], names)
-    result["comparison"] = cmp
+    metrics = load_real_run(out)["metrics"]
+    cmp = compare_with_real(result["predicted"], metrics, names)
+    # a rig: the manifest's source_repo (a photograph without one is a rig of its own)
+    rig_of = {im.name: im.meta.get("source_repo") or im.name for im in load_dataset(args.dataset)}
+    rigs = compare_by_group(result["predicted_photos"], metrics, {n: rig_of.get(n, n) for n in names})
+    photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
+    result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)
     build_predict_report(result)
-    doc = {"photographs": names, **{k: {"spearman_rho": v["spearman_rho"], "spearman_p": v["spearman_p"],
-                                        "mean_abs_diff": v["mean_abs_diff"], "n": v["n"], "table": v["table"]}
-                                    for k, v in cmp.items()}}
+
+    def summary(v: dict) -> dict:
+        return {k: {"spearman_rho": v[k]["spearman_rho"], "spearman_p": v[k]["spearman_p"],
+                    "mean_abs_diff": v[k]["mean_abs_diff"], "n": v[k]["n"], "table": v[k]["table"]}
+                for k in ("hit_rate", "f1")}
+
+    doc = {"photographs": names, **summary(cmp),
+           "rigs": {g: {"photographs": v["photographs"], **summary(v)} for g, v in rigs.items()},
+           "per_photograph": {g: summary(v) for g, v in photos.items()}}
     atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
     print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")
     print(f"{'tracker':<16}{'hit rate pred':>14}{'measured':>10}{'F1 pred':>9}{'measured':>10}")
@@ -153,7 +165,12 @@ def _predict_and_compare(args, specs, out) -> None:
         v = cmp[k]
         print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}), "
               f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")
-    print(f"stripebench: prediction at {out / 'predict' / 'report.html'}")
+    print("per rig (rows of its photographs pooled on both sides): Spearman rho / mean |predicted - measured|")
+    print(f"{'rig':<34}{'photos':>7}{'hit rate':>17}{'F1':>17}")
+    for g, v in rigs.items():
+        cells = "".join(f"{v[k]['spearman_rho']:>9.2f} / {v[k]['mean_abs_diff']:.3f}" for k in ("hit_rate", "f1"))
+        print(f"{g:<34}{len(v['photographs']):>7}{cells}")
+    print(f"stripebench: prediction at {out / 'predict' / 'report.html'} (per photograph: compare.json)")
 
 
 COMMANDS = (

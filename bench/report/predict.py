@@ -54,11 +54,28 @@ def _iv(row, key) -> str:
     return f"{pct(row[key])} {interval(row[f'{key}_lo'], row[f'{key}_hi'])}"
 
 
+def _agreement(v: dict) -> list[str]:
+    out = []
+    for k in ("hit_rate", "f1"):
+        rho, diff = v[k]["spearman_rho"], v[k]["mean_abs_diff"]
+        out += ["–" if math.isnan(rho) else f"{rho:.2f}", "–" if math.isnan(diff) else f"{diff:.3f}"]
+    return out
+
+
+def _best(rows: list) -> str:
+    if not rows:
+        return "–"
+    p = max(rows, key=lambda r: (r["synthetic"], r["tracker"]))
+    m = max(rows, key=lambda r: (r["real"], r["tracker"]))
+    return f"{p['tracker']} / {m['tracker']}"
+
+
 def build_predict_report(result: dict) -> Path:
     """Write ``report.html`` into the prediction's folder; returns its path.
 
     ``result`` is :func:`bench.run.predict.run_predict`'s return value, with ``comparison``
-    (:func:`bench.run.predict.compare_with_real`) added by ``stripebench real --predict``.
+    (:func:`bench.run.predict.compare_with_real`), ``comparison_rigs`` and ``comparison_photos``
+    (:func:`bench.run.predict.compare_by_group`) added by ``stripebench real --predict``.
     """
     from bench.evaluate.pixels import rotate_image
     from bench.store.files import atomic_write_text
@@ -88,6 +105,14 @@ def build_predict_report(result: dict) -> Path:
                          f"{esc(k)}: Spearman &rho; {cmp[k]['spearman_rho']:.2f} (p = {cmp[k]['spearman_p']:.2g}, "
                          f"n = {cmp[k]['n']}), mean |predicted &minus; measured| {cmp[k]['mean_abs_diff']:.3f}"
                          for k in ("hit_rate", "f1")) + "</p>")
+    for key, what in (("comparison_rigs", "rig"), ("comparison_photos", "photograph")):
+        groups = result.get(key)
+        if groups:  # stripebench real --predict
+            parts.append(f"<h2>Per {what} (rows of its photographs pooled on both sides)</h2>" + table(
+                [what, "photographs", "hit rate &rho;", "mean |diff|", "F1 &rho;", "mean |diff|",
+                 "best tracker predicted / measured (F1)"],
+                [[esc(g), esc(len(v["photographs"])), *_agreement(v), esc(_best(v["f1"]["table"]))]
+                 for g, v in groups.items()]))
     bad = [(n, m) for n, m in result["matches"].items() if m.out_of_range]
     if bad:
         parts.append("<h2>Out of range (left out)</h2><ul>" + "".join(

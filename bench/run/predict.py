@@ -41,7 +41,7 @@ from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match", "predict_outcomes", "TABLE_VERSION", "Photo",
-           "collect_photos", "run_predict", "PREDICTED_NAMES", "compare_with_real"]
+           "collect_photos", "run_predict", "PREDICTED_NAMES", "compare_with_real", "compare_by_group"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -425,8 +425,9 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     Writes ``conditions.csv`` (one line per photograph and side, ``photo`` or ``render``: every
     measure, the distance, the matched knobs, ``status`` matched / out of range and the measures
     out of range), ``predicted.csv`` (per tracker: ``hit_rate``, ``false_report_rate``, ``f1``
-    with 95 % bootstrap intervals over the matched photographs, ``n_photos``, ``n_frames``) and
-    ``predict.json`` (the settings) into ``out_dir``; returns what the report needs
+    with 95 % bootstrap intervals over the matched photographs, ``n_photos``, ``n_frames``),
+    ``predicted_photos.csv`` (per matched photograph and tracker: the three figures on its renders'
+    rows and the row-outcome counts ``n_hit`` ...) and ``predict.json`` (the settings) into ``out_dir``; returns what the report needs
     (:func:`bench.report.predict.build_predict_report`).
 
     Raises
@@ -436,7 +437,7 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     """
     import pandas as pd
 
-    from bench.evaluate.outcomes import bootstrap_frames
+    from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, detection_figures, outcome_counts
     from bench.run.track import build_trackers
     from bench.store import realset as real
     from bench.store.files import atomic_write_text
@@ -493,6 +494,15 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
                 rec[name] = rec[f"{name}_lo"] = rec[f"{name}_hi"] = float("nan")
         rows.append(rec)
     predicted = pd.DataFrame.from_records(rows)
+    photo_rows = []
+    for ph in matched:
+        for lab in trackers:
+            counts = outcome_counts(np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]))
+            fig = detection_figures(counts)
+            photo_rows.append({"name": ph.name, "tracker": lab, **{n: fig[k] for k, n in PREDICTED_NAMES.items()},
+                               **counts})
+    per_photo_table = pd.DataFrame.from_records(
+        photo_rows, columns=["name", "tracker", *PREDICTED_NAMES.values(), *COUNT_KEYS])
     crow = []
     for ph in photos:
         m = matches[ph.name]
@@ -507,6 +517,7 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     conditions_table = pd.DataFrame.from_records(crow)
     atomic_write_text(out / "predicted.csv", predicted.to_csv(index=False, float_format="%.6g"))
     atomic_write_text(out / "conditions.csv", conditions_table.to_csv(index=False, float_format="%.6g"))
+    atomic_write_text(out / "predicted_photos.csv", per_photo_table.to_csv(index=False, float_format="%.6g"))
     settings = {"kind": "predict", "folder": str(Path(folder)), "trackers": [s.to_value() for s in specs],
                 "grid": grid.to_value(), "channel": channel, "laser": laser, "rotate_deg": int(rotate_deg),
                 "n_angles": n_angles, "n_boot": n_boot, "seed": seed,
@@ -514,7 +525,8 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
                                  if matches[ph.name].out_of_range}}
     atomic_write_text(out / "predict.json", json.dumps(settings, indent=1))
     return {"out": out, "photos": photos, "matches": matches, "conditions": conds, "frames": frames,
-            "predicted": predicted, "conditions_table": conditions_table, "settings": settings}
+            "predicted": predicted, "predicted_photos": per_photo_table, "conditions_table": conditions_table,
+            "settings": settings}
 
 
 def compare_with_real(predicted, real_metrics, names) -> dict:
@@ -546,22 +558,77 @@ def compare_with_real(predicted, real_metrics, names) -> dict:
     >>> r["hit_rate"]["spearman_rho"], round(r["hit_rate"]["mean_abs_diff"], 3)
     (1.0, 0.1)
     """
+    measured = _pooled_figures(real_metrics, "experiment", names)
+    predicted_figs = {f: {str(t): float(v) for t, v in zip(predicted["tracker"], predicted[f])} for f in _COMPARED}
+    return _compare(predicted_figs, measured)
+
+
+def compare_by_group(predicted_photos, real_metrics, groups: dict) -> dict:
+    """Predicted beside measured within groups of photographs (a rig, or each photograph alone).
+
+    Both sides pool the rows of the group's photographs (the prediction: its renders' row
+    outcomes, ``predicted_photos.csv``; the measurement: the real run's per-image counts).
+
+    Parameters
+    ----------
+    predicted_photos : pandas.DataFrame
+        :func:`run_predict`'s ``predicted_photos`` (``name``, ``tracker``, the counts ``n_hit`` ...).
+    real_metrics : pandas.DataFrame
+        A real run's ``metrics`` (per-image rows with the row-outcome counts).
+    groups : dict
+        Photograph name -> group label; photographs not in it (or not matched) are left out.
+
+    Returns
+    -------
+    dict
+        Group label -> ``{"photographs": [...], "hit_rate": ..., "f1": ...}``, each figure as
+        :func:`compare_with_real`'s (:func:`bench.evaluate.simreal.sim_to_real` with ``mean_abs_diff``).
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> def rec(name, t, h):
+    ...     return {"name": name, "experiment": name, "tracker": t, "n_hit": h, "n_wrong": 0,
+    ...             "n_missed": 10 - h, "n_false": 0, "n_quiet": 0}
+    >>> pred = pd.DataFrame([rec("p", t, h) for t, h in (("a", 9), ("b", 5), ("c", 7))])
+    >>> real = pd.DataFrame([rec("p", t, h) for t, h in (("a", 8), ("b", 4), ("c", 6))])
+    >>> r = compare_by_group(pred, real, {"p": "rig1"})
+    >>> r["rig1"]["photographs"], r["rig1"]["hit_rate"]["spearman_rho"], round(r["rig1"]["hit_rate"]["mean_abs_diff"], 3)
+    (['p'], 1.0, 0.1)
+    """
+    out = {}
+    matched = set(predicted_photos["name"])
+    for g in dict.fromkeys(groups.values()):
+        names = [n for n, gg in groups.items() if gg == g and n in matched]
+        if names:
+            out[g] = {"photographs": names, **_compare(_pooled_figures(predicted_photos, "name", names),
+                                                       _pooled_figures(real_metrics, "experiment", names))}
+    return out
+
+
+_COMPARED = ("hit_rate", "f1")
+
+
+def _pooled_figures(df, name_col: str, names) -> dict:
+    """Figure -> tracker -> value from the row-outcome counts of ``df``'s rows of ``names``, pooled."""
     from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+
+    sub = df[df[name_col].isin(set(names))]
+    out: dict = {f: {} for f in _COMPARED}
+    for lab, rows in sub.groupby("tracker", sort=False):
+        fig = detection_figures({k: int(rows[k].sum()) for k in COUNT_KEYS if k in rows.columns})
+        out["hit_rate"][str(lab)] = fig["recall"]
+        out["f1"][str(lab)] = fig["f1"]
+    return out
+
+
+def _compare(predicted: dict, measured: dict) -> dict:
     from bench.evaluate.simreal import sim_to_real
 
-    names = set(names)
-    m = real_metrics[real_metrics["experiment"].isin(names)]
-    measured = {"hit_rate": {}, "f1": {}}
-    for lab, sub in m.groupby("tracker", sort=False):
-        counts = {k: int(sub[k].sum()) for k in COUNT_KEYS if k in sub.columns}
-        fig = detection_figures(counts)
-        measured["hit_rate"][str(lab)] = fig["recall"]
-        measured["f1"][str(lab)] = fig["f1"]
     out = {}
-    for fig_name in ("hit_rate", "f1"):
-        pred = {str(t): float(v) for t, v in zip(predicted["tracker"], predicted[fig_name])}
-        res = sim_to_real(pred, measured[fig_name])
+    for f in _COMPARED:
+        res = sim_to_real(predicted[f], measured[f])
         diffs = [abs(row["delta"]) for row in res["table"]]
         res["mean_abs_diff"] = float(np.mean(diffs)) if diffs else float("nan")
-        out[fig_name] = res
+        out[f] = res
     return out

@@ -42,6 +42,14 @@ def test_predict_writes_tables_and_page_and_names_the_out_of_range_photo(photos,
     status = {(r["name"], r["side"]): r["status"] for r in cond}
     assert status == {("board", "photo"): "matched", ("board", "render"): "matched",
                       ("blurred", "photo"): "out of range"}
+    with open(out / "predicted_photos.csv", newline="") as fh:
+        per = list(csv.DictReader(fh))
+    assert [(r["name"], r["tracker"]) for r in per] == [("board", "threshold"), ("board", "dp8")]
+    for r in per:  # the counts are the renders' rows, and the figures agree with them
+        counts = {k: int(r[k]) for k in ("n_hit", "n_wrong", "n_missed", "n_false", "n_quiet", "n_unknown")}
+        assert sum(counts.values()) == 120 * pr.N_ANGLES
+        stripe = counts["n_hit"] + counts["n_wrong"] + counts["n_missed"]
+        assert float(r["hit_rate"]) == pytest.approx(counts["n_hit"] / stripe, abs=1e-5)
     html = (out / "report.html").read_text()
     assert "Contact sheet" in html and "blurred" in html and "out of range" in html and html.count("<img") == 3
 
@@ -65,7 +73,8 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
     cols = frame.argmax(axis=1).astype(float)
     for n in ("board", "twin"):
         (ds / f"{n}_ref.csv").write_text("row,col\n" + "".join(f"{r},{c:g}\n" for r, c in enumerate(cols)))
-    (ds / "manifest.csv").write_text("name,has_background,laser_colour\nboard,0,red\ntwin,0,red\n")
+    (ds / "manifest.csv").write_text("name,has_background,laser_colour,source_repo\nboard,0,red,someone/rig\n"
+                                     "twin,0,red,someone/rig\n")
     out = tmp_path / "run"
     rc = main(["real", str(ds), "--out", str(out), "--trackers", "threshold,dp8,centroid", "--n-boot", "100",
                "--quiet", "--predict", "--predict-grid", "small", "--predict-size", "128"])
@@ -75,4 +84,11 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
     doc = json.loads((out / "predict" / "compare.json").read_text())
     assert doc["photographs"] == ["board", "twin"] and doc["hit_rate"]["n"] == 3
     assert 0.0 <= doc["f1"]["mean_abs_diff"] <= 1.0
-    assert "Predicted beside measured" in (out / "predict" / "report.html").read_text()
+    # per rig (the manifest's source_repo: both photographs, so the pooled figures again) and per photograph
+    assert list(doc["rigs"]) == ["someone/rig"] and doc["rigs"]["someone/rig"]["photographs"] == ["board", "twin"]
+    for k in ("hit_rate", "f1"):
+        assert doc["rigs"]["someone/rig"][k]["mean_abs_diff"] == pytest.approx(doc[k]["mean_abs_diff"], abs=1e-5)
+    assert set(doc["per_photograph"]) == {"board", "twin"} and doc["per_photograph"]["twin"]["hit_rate"]["n"] == 3
+    assert "someone/rig" in printed
+    html = (out / "predict" / "report.html").read_text()
+    assert "Predicted beside measured" in html and "Per rig" in html and "Per photograph" in html

@@ -1,4 +1,5 @@
-"""``stripebench predict``: renders matched to a rig's photographs, and the trackers' figures predicted from them."""
+"""``stripebench predict``: renders matched to a rig's photographs, and the trackers' figures predicted from them;
+``stripebench predictcheck``: the same procedure checked on renders, where the truth is known."""
 
 from __future__ import annotations
 
@@ -6,10 +7,10 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from bench.cli.common import Command, UsageError, check_out_folder
+from bench.cli.common import Command, UsageError, check_out_folder, study_command
 from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_trackers
 
-__all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES"]
+__all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options"]
 
 #: The trackers predicted by default: the field profile's.
 DEFAULT_TRACKERS = ("threshold", "centroid", "dp4", "dp8", "gauss3", "parabolic", "blais_rioux", "steger", "com_bg",
@@ -69,7 +70,25 @@ def _predict(args) -> int:
     return 0
 
 
+def predict_check_options(p) -> None:
+    """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
+    from bench.config import PROFILES
+    from bench.studies.predict_check import DEFAULTS
+
+    add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
+    p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
+                   help=f"the profile whose experiments are the cases (default {DEFAULTS['profile']})")
+    add_seed(p, "the cases' render seed (the grid renders seed 0)", default=DEFAULTS["seed"])
+    p.add_argument("--size", type=int, default=DEFAULTS["size"], choices=SIZES,
+                   help=f"render width in px of the cases and the grid (default {DEFAULTS['size']})")
+    p.add_argument("--grid", default=DEFAULTS["grid"], choices=("default", "small"), help="the renders searched")
+    add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
+    add_quiet(p)
+
+
 COMMANDS = (
     Command("predict", "predict trackers' figures on a rig's photographs from renders matched to their conditions",
             _add_predict, _predict, renders=True),
+    study_command("predictcheck", "check predict where the truth is known: renders predicted from other renders",
+                  predict_check_options, "bench.studies.predict_check:study", renders=True),
 )

@@ -1,0 +1,165 @@
+"""Predict renders from renders (``stripebench predictcheck``): the prediction procedure checked where the truth is known.
+
+:mod:`bench.run.predict` predicts the trackers' figures on a rig's photographs from renders matched to
+their conditions. On photographs its error mixes two things: the procedure (the measures, the grid, the
+match) and how far the renderer is from the rig. This study measures the first alone.
+
+Each *case* is a render setting that is not a grid setup. The default cases are the ``field``
+profile's experiments, rendered at the grid's size with seed 1; the grid renders seed 0. A case's
+frames at :data:`bench.run.predict.N_ANGLES` mirror angles, spread over the middle half of its
+experiment's scan, stand in for a rig's photographs. Each frame is used without its laser-off frame,
+as most photographs come.
+
+- **Measured:** the trackers are scored on the case's frames as a photograph is: row outcomes
+  against the render's truth, with stripe rows only where
+  :func:`bench.evaluate.outcomes.referenced_states` sees the stripe.
+- **Predicted:** the procedure predicts the same figures from its grid, matching each frame on its
+  own.
+
+The two are compared per case and pooled over every case, with Spearman's rho and the mean
+|difference| for hit rate and F1 (:func:`bench.run.predict.compare_by_group`), as
+``stripebench real --predict`` reports them. A case whose frames the procedure predicts badly here
+will be predicted no better on a photograph.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["DEFAULTS", "case_frames", "study"]
+
+#: The study's defaults (the command's options).
+DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default"}
+
+
+def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int) -> list:
+    """``[(name, frame, image, scene params), ...]``: one experiment of ``config`` rendered with
+    ``seed`` at ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its
+    scan, with what a tracker sees of each frame (``auto`` channel)."""
+    import scenes
+    from bench.run.camera_view import tracker_images
+    from bench.run.plan import angles_for
+
+    render = {**config.render, "width": int(width), "height": int(height)}
+    scene = scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render,
+                        **experiment.overrides)
+    a = np.asarray(angles_for(experiment, scene), float)
+    lo, hi = a[len(a) // 4], a[min(len(a) - 1, (3 * len(a)) // 4)]  # as bench.run.predict's matched renders
+    out = []
+    for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
+        f = scene.render(float(ang))
+        img, _ = tracker_images(f, scene.params)
+        out.append((f"{experiment.key}@{i}", f, img, scene.params))
+    return out
+
+
+def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
+          grid: str = DEFAULTS["grid"], trackers=None, quiet: bool = False) -> int:
+    """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
+
+    Parameters
+    ----------
+    out : path
+        Output folder (created).
+    profile : str
+        The profile whose experiments are the cases (default ``field``).
+    seed : int
+        The cases' render seed. The grid renders seed 0, and the check is meant for other seeds.
+    size : int
+        Render width of the cases and the grid (px; the height is 15/16 of it).
+    grid : str
+        ``default`` or ``small`` (:data:`bench.run.predict.DEFAULT_GRID`, ``SMALL_GRID``).
+    trackers : sequence of :class:`bench.config.TrackerSpec`, optional
+        Default: the profile's trackers.
+    quiet : bool
+        No progress on stderr.
+
+    Returns
+    -------
+    int
+        0.
+    """
+    import pandas as pd
+
+    from bench.config import profile as load_profile
+    from bench.evaluate import conditions as cond
+    from bench.evaluate.outcomes import outcome_counts, referenced_states, row_outcomes
+    from bench.run import predict as pr
+    from bench.run.camera_view import laser_colour
+    from bench.run.track import build_trackers, track_frame
+    from bench.store.files import atomic_write_text
+
+    say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
+    config = load_profile(profile)
+    g = replace(pr.SMALL_GRID if grid == "small" else pr.DEFAULT_GRID, width=int(size), height=int(size) * 15 // 16)
+    specs = trackers if trackers is not None else config.tracker_specs
+    tr = build_trackers(specs)
+    outdir = Path(out)
+    outdir.mkdir(parents=True, exist_ok=True)
+    tables, memos = {}, {}
+    pred_rows, meas_rows, groups, frames_doc = [], [], {}, []
+    for e_i, exp in enumerate(config.experiments):
+        for name, f, img, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
+                                                n_angles=pr.N_ANGLES):
+            colour = params.get("camera", "mono") == "rgb"
+            laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
+            key = (colour, laser)
+            if key not in tables:
+                say(f"stripebench predictcheck: grid table ({'colour' if colour else 'grey'}, {laser} laser)")
+                tables[key] = pr.grid_table(g, colour=colour, laser=laser)
+                memos[key] = pr.refined_memo(g, colour=colour, laser=laser)
+            truth = f.truth.columns
+            states = referenced_states(img, truth)
+            for lab, t in tr.items():
+                r = track_frame(t, img, None)
+                cols = r.columns if r.ok else np.full(img.shape[0], np.nan)
+                meas_rows.append({"experiment": name, "tracker": lab,
+                                  **outcome_counts(row_outcomes(cols, truth, states))})
+            c = cond.measure(img, None, rgb=f.rgb, laser=laser)
+            m = pr.match(c, tables[key], g, colour=colour, laser=laser, memo=memos[key])
+            pr.save_refined_memo(memos[key], g, colour=colour, laser=laser)
+            doc = {"name": name, "case": exp.key, "status": "out of range" if m.out_of_range else "matched",
+                   "out_of_range": list(m.out_of_range), "distance": m.distance, "point": m.point}
+            frames_doc.append(doc)
+            if m.out_of_range:
+                say(f"stripebench predictcheck: {name}: out of range ({', '.join(m.out_of_range)})")
+                continue
+            res = pr.predict_outcomes({name: m.point}, g, tr, colour=colour, laser=laser, n_angles=pr.N_ANGLES)
+            for lab in tr:
+                pred_rows.append({"name": name, "tracker": lab,
+                                  **outcome_counts(np.concatenate([x.ravel() for x in res[name][lab]]))})
+            groups[name] = exp.key
+            say(f"stripebench predictcheck: {name}: matched (distance {m.distance:.2f}) "
+                f"[case {e_i + 1}/{len(config.experiments)}]")
+    predicted, measured = pd.DataFrame(pred_rows), pd.DataFrame(meas_rows)
+    cases = pr.compare_by_group(predicted, measured, groups) if pred_rows else {}
+    pooled = pr.compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
+
+    def summary(v: dict) -> dict:
+        return {"photographs": v["photographs"], **{k: {"spearman_rho": v[k]["spearman_rho"],
+                                                        "mean_abs_diff": v[k]["mean_abs_diff"], "n": v[k]["n"],
+                                                        "table": v[k]["table"]} for k in ("hit_rate", "f1")}}
+
+    doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "grid": g.to_value(),
+           "trackers": list(tr), "frames": frames_doc, "cases": {k: summary(v) for k, v in cases.items()},
+           "pooled": summary(pooled["all"]) if pooled else None}
+    atomic_write_text(outdir / "predict_check.json", json.dumps(doc, indent=1, default=float))
+    atomic_write_text(outdir / "predicted.csv", predicted.to_csv(index=False))
+    atomic_write_text(outdir / "measured.csv", measured.to_csv(index=False))
+    print(f"{'case':<28}{'frames':>7}{'hit rate rho / |diff|':>24}{'F1 rho / |diff|':>20}"
+          f"{'mean hit rate pred / meas':>28}")
+    rows = list(cases.items()) + ([("all (pooled)", pooled["all"])] if pooled else [])
+    for k, v in rows:
+        h = v["hit_rate"]
+        cells = "".join(f"{v[f]['spearman_rho']:>11.2f} / {v[f]['mean_abs_diff']:.3f}" for f in ("hit_rate", "f1"))
+        means = (f"{np.mean([r['synthetic'] for r in h['table']]):>15.3f} / "
+                 f"{np.mean([r['real'] for r in h['table']]):.3f}") if h["table"] else ""
+        print(f"{k:<28}{len(v['photographs']):>7}{cells:>44}{means:>28}")
+    n_out = sum(1 for d in frames_doc if d["status"] != "matched")
+    print(f"stripebench: predictcheck in {outdir} ({len(frames_doc)} frames, {n_out} out of range)")
+    return 0

@@ -1,0 +1,48 @@
+"""The prediction procedure checked on renders (bench.studies.predict_check): a small run through the command."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bench.cli import main
+
+
+@pytest.fixture(scope="module")
+def checked(tmp_path_factory):
+    out = tmp_path_factory.mktemp("predictcheck")
+    rc = main(["predictcheck", "--out", str(out), "--profile", "quick", "--grid", "small", "--size", "128",
+               "--trackers", "threshold,dp8", "--quiet"])
+    assert rc == 0
+    return out
+
+
+def test_every_case_frame_is_measured_and_matched_or_named(checked):
+    doc = json.loads((checked / "predict_check.json").read_text())
+    assert doc["kind"] == "predict_check" and doc["seed"] == 1 and doc["trackers"] == ["threshold", "dp8"]
+    names = [f["name"] for f in doc["frames"]]
+    assert len(names) == 2 * 3 and all(f["status"] in ("matched", "out of range") for f in doc["frames"])
+    measured = pd.read_csv(checked / "measured.csv")
+    assert sorted(set(measured["experiment"])) == sorted(names)  # every frame scored, matched or not
+    # each measured frame's rows: 120, one outcome each
+    sums = measured[[c for c in measured.columns if c.startswith("n_")]].sum(axis=1)
+    assert (sums == 120).all()
+
+
+def test_predicted_beside_measured_per_case_and_pooled(checked):
+    doc = json.loads((checked / "predict_check.json").read_text())
+    matched = [f["name"] for f in doc["frames"] if f["status"] == "matched"]
+    assert matched, "no frame of the quick profile matched the small grid"
+    predicted = pd.read_csv(checked / "predicted.csv")
+    assert sorted(set(predicted["name"])) == sorted(matched)
+    assert sorted(doc["pooled"]["photographs"]) == sorted(matched)
+    for case in doc["cases"].values():
+        for k in ("hit_rate", "f1"):
+            assert case[k]["n"] == 2 and 0.0 <= case[k]["mean_abs_diff"] <= 1.0
+    # the pooled figures are the pooled counts: recompute the measured hit rate of one tracker
+    m = pd.read_csv(checked / "measured.csv")
+    t = m[(m["tracker"] == "threshold") & m["experiment"].isin(matched)]
+    hit = t["n_hit"].sum() / (t["n_hit"].sum() + t["n_wrong"].sum() + t["n_missed"].sum())
+    row = next(r for r in doc["pooled"]["hit_rate"]["table"] if r["tracker"] == "threshold")
+    assert row["real"] == pytest.approx(hit) and np.isfinite(row["synthetic"])

@@ -127,7 +127,8 @@ def _predict_and_compare(args, specs, out) -> None:
     from dataclasses import replace
 
     from bench.report.predict import build_predict_report
-    from bench.run.predict import DEFAULT_GRID, SMALL_GRID, compare_by_group, compare_with_real, run_predict
+    from bench.run.predict import (DEFAULT_GRID, SMALL_GRID, compare_by_group, compare_with_real, comparison_doc,
+                                   run_predict)
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
     from bench.store.realset import load_dataset
@@ -145,15 +146,9 @@ def _predict_and_compare(args, specs, out) -> None:
     photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
     result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)
     build_predict_report(result)
-
-    def summary(v: dict) -> dict:
-        return {k: {"spearman_rho": v[k]["spearman_rho"], "spearman_p": v[k]["spearman_p"],
-                    "mean_abs_diff": v[k]["mean_abs_diff"], "n": v[k]["n"], "table": v[k]["table"]}
-                for k in ("hit_rate", "f1")}
-
-    doc = {"photographs": names, **summary(cmp),
-           "rigs": {g: {"photographs": v["photographs"], **summary(v)} for g, v in rigs.items()},
-           "per_photograph": {g: summary(v) for g, v in photos.items()}}
+    doc = {"photographs": names, **comparison_doc(cmp),
+           "rigs": {g: comparison_doc(v) for g, v in rigs.items()},
+           "per_photograph": {g: comparison_doc(v) for g, v in photos.items()}}
     atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
     print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")
     print(f"{'tracker':<16}{'hit rate pred':>14}{'measured':>10}{'F1 pred':>9}{'measured':>10}")

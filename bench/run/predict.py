@@ -40,8 +40,9 @@ import numpy as np
 from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
-           "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match", "predict_outcomes", "TABLE_VERSION", "Photo",
-           "collect_photos", "run_predict", "PREDICTED_NAMES", "compare_with_real", "compare_by_group"]
+           "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
+           "score_frame", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict",
+           "PREDICTED_NAMES", "compare_with_real", "compare_by_group", "comparison_doc"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -309,13 +310,28 @@ def _refine(target, point, c, d, grid, colour, laser, use_background, memo=None,
     return point, c, d
 
 
+def score_frame(trackers: dict, image, truth_columns, background=None) -> dict:
+    """Label -> row outcomes (int8, shape (H,)) of each tracker on one rendered frame, scored as a
+    photograph is: a stripe row only where the real set's reference rule sees the stripe in
+    ``image`` (:func:`bench.evaluate.outcomes.referenced_states`), else not scored; rows without a
+    stripe are scored. A tracker that fails reports nothing."""
+    from bench.evaluate.outcomes import referenced_states, row_outcomes
+    from bench.run.track import track_frame
+
+    states = referenced_states(image, truth_columns)
+    out = {}
+    for lab, t in trackers.items():
+        r = track_frame(t, image, background)
+        cols = r.columns if r.ok else np.full(np.shape(image)[0], np.nan)
+        out[lab] = row_outcomes(cols, truth_columns, states)
+    return out
+
+
 def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser: str = "red",
                      use_background: bool = False, n_angles: int = N_ANGLES, say=None) -> dict:
     """Row outcomes of each tracker on the renders of matched points.
 
-    A rendered row is scored as a photograph's would be: a stripe row only where the real set's
-    reference rule sees the stripe in the tracker's frame, else not scored
-    (:func:`bench.evaluate.outcomes.referenced_states`); rows without a stripe are scored.
+    A rendered row is scored as a photograph's would be (:func:`score_frame`).
 
     Parameters
     ----------
@@ -330,22 +346,14 @@ def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser:
         Photograph name -> label -> list of row-outcome arrays (one per rendered frame), and
         ``"_frames"``: photograph name -> list of ``(image, truth columns)`` (for the contact sheet).
     """
-    from bench.evaluate.outcomes import referenced_states, row_outcomes
-    from bench.run.track import track_frame
-
     out: dict = {"_frames": {}}
     for i, (name, pt) in enumerate(points.items()):
         per = {lab: [] for lab in trackers}
         frames = render_point(pt, grid, colour=colour, laser=laser, n_angles=n_angles)
         out["_frames"][name] = [(f.rgb if f.rgb is not None else img, f.truth.columns) for f, img, _, _ in frames]
         for f, img, bg, _ in frames:
-            truth = f.truth.columns
-            # scored as a photograph is: a stripe row only where the real set's reference rule sees it
-            states = referenced_states(img, truth)
-            for lab, t in trackers.items():
-                r = track_frame(t, img, bg if use_background else None)
-                cols = r.columns if r.ok else np.full(img.shape[0], np.nan)
-                per[lab].append(row_outcomes(cols, truth, states))
+            for lab, codes in score_frame(trackers, img, f.truth.columns, bg if use_background else None).items():
+                per[lab].append(codes)
         out[name] = per
         if say is not None:
             say(i + 1, len(points), name)
@@ -427,8 +435,8 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     out of range), ``predicted.csv`` (per tracker: ``hit_rate``, ``false_report_rate``, ``f1``
     with 95 % bootstrap intervals over the matched photographs, ``n_photos``, ``n_frames``),
     ``predicted_photos.csv`` (per matched photograph and tracker: the three figures on its renders'
-    rows and the row-outcome counts ``n_hit`` ...) and ``predict.json`` (the settings) into ``out_dir``; returns what the report needs
-    (:func:`bench.report.predict.build_predict_report`).
+    rows and the row-outcome counts ``n_hit`` ...) and ``predict.json`` (the settings) into ``out_dir``;
+    returns what the report needs (:func:`bench.report.predict.build_predict_report`).
 
     Raises
     ------
@@ -463,9 +471,11 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
             memos[key] = refined_memo(grid, colour=key[0], laser=key[1], use_background=key[2])
         conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                           laser=ph.laser)
+        known = len(memos[key])
         matches[ph.name] = match(conds[ph.name], tables[key], grid, colour=key[0], laser=key[1],
                                  use_background=key[2], memo=memos[key])
-        save_refined_memo(memos[key], grid, colour=key[0], laser=key[1], use_background=key[2])
+        if len(memos[key]) > known:  # kept after each photograph: an interrupted run loses nothing measured
+            save_refined_memo(memos[key], grid, colour=key[0], laser=key[1], use_background=key[2])
         m = matches[ph.name]
         if m.out_of_range:
             say(f"stripebench predict: {ph.name}: out of range ({', '.join(m.out_of_range)}): left out")
@@ -607,6 +617,17 @@ def compare_by_group(predicted_photos, real_metrics, groups: dict) -> dict:
 
 
 _COMPARED = ("hit_rate", "f1")
+
+
+def comparison_doc(result: dict) -> dict:
+    """The JSON form of one :func:`compare_with_real` or :func:`compare_by_group` entry: per figure
+    ``spearman_rho``, ``spearman_p``, ``mean_abs_diff``, ``n`` and the per-tracker ``table`` (and
+    ``photographs`` when the entry names them)."""
+    doc = {"photographs": result["photographs"]} if "photographs" in result else {}
+    for f in _COMPARED:
+        v = result[f]
+        doc[f] = {k: v[k] for k in ("spearman_rho", "spearman_p", "mean_abs_diff", "n", "table")}
+    return doc
 
 
 def _pooled_figures(df, name_col: str, names) -> dict:

@@ -88,10 +88,10 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
-    from bench.evaluate.outcomes import outcome_counts, referenced_states, row_outcomes
+    from bench.evaluate.outcomes import outcome_counts
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
-    from bench.run.track import build_trackers, track_frame
+    from bench.run.track import build_trackers
     from bench.store.files import atomic_write_text
 
     say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
@@ -113,16 +113,13 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 say(f"stripebench predictcheck: grid table ({'colour' if colour else 'grey'}, {laser} laser)")
                 tables[key] = pr.grid_table(g, colour=colour, laser=laser)
                 memos[key] = pr.refined_memo(g, colour=colour, laser=laser)
-            truth = f.truth.columns
-            states = referenced_states(img, truth)
-            for lab, t in tr.items():
-                r = track_frame(t, img, None)
-                cols = r.columns if r.ok else np.full(img.shape[0], np.nan)
-                meas_rows.append({"experiment": name, "tracker": lab,
-                                  **outcome_counts(row_outcomes(cols, truth, states))})
+            for lab, codes in pr.score_frame(tr, img, f.truth.columns).items():
+                meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             c = cond.measure(img, None, rgb=f.rgb, laser=laser)
+            known = len(memos[key])
             m = pr.match(c, tables[key], g, colour=colour, laser=laser, memo=memos[key])
-            pr.save_refined_memo(memos[key], g, colour=colour, laser=laser)
+            if len(memos[key]) > known:
+                pr.save_refined_memo(memos[key], g, colour=colour, laser=laser)
             doc = {"name": name, "case": exp.key, "status": "out of range" if m.out_of_range else "matched",
                    "out_of_range": list(m.out_of_range), "distance": m.distance, "point": m.point}
             frames_doc.append(doc)
@@ -139,15 +136,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     predicted, measured = pd.DataFrame(pred_rows), pd.DataFrame(meas_rows)
     cases = pr.compare_by_group(predicted, measured, groups) if pred_rows else {}
     pooled = pr.compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
-
-    def summary(v: dict) -> dict:
-        return {"photographs": v["photographs"], **{k: {"spearman_rho": v[k]["spearman_rho"],
-                                                        "mean_abs_diff": v[k]["mean_abs_diff"], "n": v[k]["n"],
-                                                        "table": v[k]["table"]} for k in ("hit_rate", "f1")}}
-
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "grid": g.to_value(),
-           "trackers": list(tr), "frames": frames_doc, "cases": {k: summary(v) for k, v in cases.items()},
-           "pooled": summary(pooled["all"]) if pooled else None}
+           "trackers": list(tr), "frames": frames_doc, "cases": {k: pr.comparison_doc(v) for k, v in cases.items()},
+           "pooled": pr.comparison_doc(pooled["all"]) if pooled else None}
     atomic_write_text(outdir / "predict_check.json", json.dumps(doc, indent=1, default=float))
     atomic_write_text(outdir / "predicted.csv", predicted.to_csv(index=False))
     atomic_write_text(outdir / "measured.csv", measured.to_csv(index=False))

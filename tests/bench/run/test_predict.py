@@ -75,3 +75,23 @@ def test_predicted_outcomes_score_every_tracker_on_each_matched_render(table):
     assert set(out["a"]) == {"threshold", "dp8"}
     assert len(out["a"]["dp8"]) == 2 and out["a"]["dp8"][0].shape == (120,)
     assert len(out["_frames"]["a"]) == 2
+
+
+def test_score_frame_scores_stripe_rows_it_sees_and_stripe_less_rows():
+    """One synthetic frame: a stripe on the top 80 rows at column 40, none below. The stripe rows are hits,
+    the stripe-less rows quiet or false reports, and a row whose stripe is too faint to see is not scored."""
+    from bench.config import parse_trackers
+    from bench.evaluate import outcomes as oc
+    from bench.run.track import build_trackers
+
+    rng = np.random.default_rng(0)
+    x = np.arange(96.0)
+    img = 20.0 + rng.normal(0, 1.0, (120, 96))
+    img[:80] += 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
+    img[10] = 20.0 + rng.normal(0, 1.0, 96)  # a row whose stripe cannot be seen
+    truth = np.where(np.arange(120) < 80, 40.0, np.nan)
+    codes = pr.score_frame(build_trackers(parse_trackers(["threshold"])), np.clip(img, 0, 255), truth)["threshold"]
+    assert codes.shape == (120,)
+    assert codes[10] == oc.UNKNOWN
+    assert np.all(codes[np.r_[0:10, 11:80]] == oc.HIT)
+    assert set(np.unique(codes[80:])) <= {oc.QUIET, oc.FALSE}

@@ -30,7 +30,7 @@ from bench.config import MAX_N_BOOT, MIN_N_BOOT, ConfigError, parse_trackers_arg
 from bench.config.options import REAL_DEFAULTS, finite_float, int_in_range, seed_value
 
 __all__ = ["OneLineParser", "HelpFormatter", "arg_type", "add_out", "add_force", "add_quiet", "add_seed",
-           "add_trackers", "add_n_boot", "add_tol", "plain", "first_paragraph"]
+           "add_trackers", "add_n_boot", "add_tol", "add_frames", "plain", "first_paragraph"]
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -105,6 +105,17 @@ def add_tol(parser) -> None:
     parser.add_argument("--tol", type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--tol"),
                         default=REAL_DEFAULTS["tol_px"], metavar="PX",
                         help=f"hit tolerance in px (finite, > 0; default {REAL_DEFAULTS['tol_px']:g})")
+
+
+def add_frames(parser, flag: str = "--frames") -> None:
+    """``--frames {transplant,render}``: where a prediction's frames with truth come from
+    (:data:`bench.run.predict.FRAMES`)."""
+    from bench.run.predict import FRAMES
+
+    parser.add_argument(flag, default=FRAMES[0], choices=FRAMES,
+                        help="the frames with truth the prediction scores: transplant (each photograph with its own "
+                             "stripe moved to a known place) or render (renders matched to its conditions); "
+                             f"default {FRAMES[0]}")
 
 
 def plain(text: str) -> str:

@@ -1,4 +1,5 @@
-"""``stripebench predict``: renders matched to a rig's photographs, and the trackers' figures predicted from them;
+"""``stripebench predict``: frames with truth made for a rig's photographs (its stripe moved, or matched renders), and
+the trackers' figures predicted from them;
 ``stripebench predictcheck``: the same procedure checked on renders, where the truth is known."""
 
 from __future__ import annotations
@@ -8,7 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder, study_command
-from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_trackers
+from bench.cli.options import add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_trackers
 
 __all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options"]
 
@@ -33,8 +34,9 @@ def _add_predict(p) -> None:
     p.add_argument("--laser", default="red", choices=LASERS, help="laser colour (default red)")
     p.add_argument("--rotate", type=int, default=0, choices=ROTATIONS,
                    help="turn the image counter-clockwise first (for horizontal stripes)")
+    add_frames(p)
     p.add_argument("--size", type=int, default=256, choices=SIZES,
-                   help="render width in px (height 15/16 of it; default 256)")
+                   help="render width in px of --frames render (height 15/16 of it; default 256)")
     p.add_argument("--grid", default="default", choices=("default", "small"),
                    help="the renders searched: default (3 setups x 2 line widths x the rescaling knobs) or small "
                         "(one board, a few knobs: for tests and quick looks)")
@@ -59,7 +61,7 @@ def _predict(args) -> int:
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     from bench.report.predict import build_predict_report
 
-    result = run_predict(args.photos, out, specs, grid=grid, channel=args.channel, laser=args.laser,
+    result = run_predict(args.photos, out, specs, frames=args.frames, grid=grid, channel=args.channel, laser=args.laser,
                          rotate_deg=args.rotate, n_boot=args.n_boot, seed=args.seed, say=say)
     page = build_predict_report(result)
     if not args.quiet:
@@ -81,14 +83,16 @@ def predict_check_options(p) -> None:
     add_seed(p, "the cases' render seed (the grid renders seed 0)", default=DEFAULTS["seed"])
     p.add_argument("--size", type=int, default=DEFAULTS["size"], choices=SIZES,
                    help=f"render width in px of the cases and the grid (default {DEFAULTS['size']})")
-    p.add_argument("--grid", default=DEFAULTS["grid"], choices=("default", "small"), help="the renders searched")
+    add_frames(p)
+    p.add_argument("--grid", default=DEFAULTS["grid"], choices=("default", "small"),
+                   help="the renders searched (--frames render)")
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)
 
 
 COMMANDS = (
-    Command("predict", "predict trackers' figures on a rig's photographs from renders matched to their conditions",
+    Command("predict", "predict trackers' figures on a rig's photographs from frames with truth made for them",
             _add_predict, _predict, renders=True),
-    study_command("predictcheck", "check predict where the truth is known: renders predicted from other renders",
+    study_command("predictcheck", "check predict where the truth is known: renders standing in for photographs",
                   predict_check_options, "bench.studies.predict_check:study", renders=True),
 )

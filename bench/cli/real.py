@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder
-from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
+from bench.cli.options import add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
 from bench.config.options import REAL_DEFAULTS
 
 __all__ = ["COMMANDS"]
@@ -66,10 +66,11 @@ def _add_real(p) -> None:
     add_seed(p, "bootstrap seed", default=REAL_DEFAULTS["seed"])
     p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
     p.add_argument("--predict", action="store_true",
-                   help="also predict the figures from renders matched to the photographs (as `stripebench predict`, "
+                   help="also predict the figures from frames made for the photographs (as `stripebench predict`, "
                         "into RUN/predict) and compare them with the measured ones")
+    add_frames(p, "--predict-frames")
     p.add_argument("--predict-size", type=int, default=256, choices=(128, 256, 512),
-                   help="render width of --predict in px (default 256)")
+                   help="render width of --predict-frames render in px (default 256)")
     p.add_argument("--predict-grid", default="default", choices=("default", "small"),
                    help="the renders --predict searches (as `stripebench predict --grid`)")
     add_quiet(p)
@@ -123,33 +124,20 @@ def _real(args) -> int:
 
 def _predict_and_compare(args, specs, out) -> None:
     """``real --predict``: the prediction into ``RUN/predict``, then predicted beside measured."""
-    import json
     from dataclasses import replace
 
-    from bench.report.predict import build_predict_report
-    from bench.run.predict import (DEFAULT_GRID, SMALL_GRID, compare_by_group, compare_with_real, comparison_doc,
-                                   run_predict)
-    from bench.store.files import atomic_write_text
-    from bench.store.realrun import load_real_run
-    from bench.store.realset import load_dataset
+    from bench.run.predict import DEFAULT_GRID, SMALL_GRID
+    from bench.run.real import predict_real
 
     grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
     grid = replace(grid, width=args.predict_size, height=args.predict_size * 15 // 16)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
-    result = run_predict(args.dataset, out / "predict", specs, grid=grid, n_boot=args.n_boot, seed=args.seed, say=say)
-    names = [n for n, m in result["matches"].items() if not m.out_of_range]
-    metrics = load_real_run(out)["metrics"]
-    cmp = compare_with_real(result["predicted"], metrics, names)
-    # a rig: the manifest's source_repo (a photograph without one is a rig of its own)
-    rig_of = {im.name: im.meta.get("source_repo") or im.name for im in load_dataset(args.dataset)}
-    rigs = compare_by_group(result["predicted_photos"], metrics, {n: rig_of.get(n, n) for n in names})
-    photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
-    result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)
-    build_predict_report(result)
-    doc = {"photographs": names, **comparison_doc(cmp),
-           "rigs": {g: comparison_doc(v) for g, v in rigs.items()},
-           "per_photograph": {g: comparison_doc(v) for g, v in photos.items()}}
-    atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
+    res = predict_real(args.dataset, out, specs, frames=args.predict_frames, grid=grid, n_boot=args.n_boot,
+                       seed=args.seed, say=say)
+    from bench.report.predict import build_predict_report
+
+    build_predict_report(res["result"])
+    names, cmp, rigs = res["doc"]["photographs"], res["result"]["comparison"], res["result"]["comparison_rigs"]
     print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")
     print(f"{'tracker':<16}{'hit rate pred':>14}{'measured':>10}{'F1 pred':>9}{'measured':>10}")
     f1 = {r["tracker"]: r for r in cmp["f1"]["table"]}

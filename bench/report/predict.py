@@ -74,8 +74,8 @@ def build_predict_report(result: dict) -> Path:
     """Write ``report.html`` into the prediction's folder; returns its path.
 
     ``result`` is :func:`bench.run.predict.run_predict`'s return value, with ``comparison``
-    (:func:`bench.run.predict.compare_with_real`), ``comparison_rigs`` and ``comparison_photos``
-    (:func:`bench.run.predict.compare_by_group`) added by ``stripebench real --predict``.
+    (:func:`bench.evaluate.prediction.compare_with_real`), ``comparison_rigs`` and ``comparison_photos``
+    (:func:`bench.evaluate.prediction.compare_by_group`) added by ``stripebench real --predict``.
     """
     from bench.evaluate.pixels import rotate_image
     from bench.store.files import atomic_write_text
@@ -84,9 +84,12 @@ def build_predict_report(result: dict) -> Path:
     pred = result["predicted"]
     n_in = sum(1 for m in result["matches"].values() if not m.out_of_range)
     n_all = len(result["matches"])
-    parts = [f"<h1>Predicted from renders: {esc(result['settings']['folder'])}</h1>",
-             f"<p>{n_in} of {n_all} photographs matched to renders ({esc(result['settings']['n_angles'])} mirror "
-             "angles each); figures pooled over their rows, 95 % bootstrap intervals over photographs "
+    transplant = result["settings"].get("frames") == "transplant"
+    how = ("with their own stripe moved (two frames each)" if transplant else
+           f"matched to renders ({esc(result['settings']['n_angles'])} mirror angles each)")
+    parts = [f"<h1>Predicted: {esc(result['settings']['folder'])}</h1>",
+             f"<p>{n_in} of {n_all} photographs {how}; figures pooled over their rows, 95 % bootstrap "
+             "intervals over photographs "
              "(docs/predict.md). Hit rate: stripe rows found within the hit rule; false-report rate: "
              "stripe-less rows given a column; F1 over rows.</p>"]
     rows = [[esc(r["tracker"]), _iv(r, "hit_rate"), _iv(r, "false_report_rate"), _iv(r, "f1"), esc(r["n_photos"])]
@@ -116,9 +119,11 @@ def build_predict_report(result: dict) -> Path:
     bad = [(n, m) for n, m in result["matches"].items() if m.out_of_range]
     if bad:
         parts.append("<h2>Out of range (left out)</h2><ul>" + "".join(
-            f"<li><code>{esc(n)}</code>: {esc(', '.join(m.out_of_range))} outside what the renders show</li>"
+            f"<li><code>{esc(n)}</code>: {esc(', '.join(m.out_of_range))} "
+            f"{'(too few rows of the moved stripe seen)' if transplant else 'outside what the renders show'}</li>"
             for n, m in bad) + "</ul>")
-    parts.append("<h2>Contact sheet: photograph and matched render</h2>")
+    what = "its stripe moved" if transplant else "matched render"
+    parts.append(f"<h2>Contact sheet: photograph and {what}</h2>")
     cells = []
     for ph in result["photos"]:
         m = result["matches"][ph.name]
@@ -128,6 +133,11 @@ def build_predict_report(result: dict) -> Path:
         left = png_img(_png(photo), ph.name) + f"<br><small>{esc(describe(result['conditions'][ph.name]))}</small>"
         if m.out_of_range:
             right = f"<b>out of range</b>: {esc(', '.join(m.out_of_range))}"
+        elif m.point.get("frames") == "transplant":
+            img = result["frames"][ph.name][0][0]
+            right = (png_img(_png(img), f"{ph.name} stripe moved") + f"<br><small>{esc(describe(m.conditions))}</small>"
+                     f"<br><small>its own stripe moved by {m.point['shift_px']:+d} px (and by "
+                     f"{-m.point['shift_px']:+d} px); distance {m.distance:.2f}</small>")
         else:
             img = result["frames"][ph.name][0][0]
             p = m.point
@@ -137,7 +147,7 @@ def build_predict_report(result: dict) -> Path:
                      f"defocus {p['defocus_px']:g} px, JPEG {esc(p['jpeg_quality'])}; "
                      f"distance {m.distance:.2f}</small>")
         cells.append([f"<code>{esc(ph.name)}</code>", left, right])
-    parts.append(table(["photograph", "photo", "matched render"], cells).replace("text-align:right", ""))
+    parts.append(table(["photograph", "photo", what], cells).replace("text-align:right", ""))
     path = out / "report.html"
     atomic_write_text(path, page(f"stripebench predict: {result['settings']['folder']}", "".join(parts),
                                  css="td{text-align:left;vertical-align:top;max-width:420px}"))

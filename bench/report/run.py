@@ -301,6 +301,10 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             "run, averaged over its experiments, beside its mean hit rate over the photographs of the real set "
             f"<code>{esc(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; references "
             "only where the stripe is visible, see docs/real.md).</p>"))
+        if s["sim_to_real"].get("predicted"):
+            from bench.report.simreal import predicted_html
+
+            parts.append(predicted_html(s["sim_to_real"]["predicted"]))
         if s["sim_to_real"].get("by_class"):
             from bench.report.simreal import sim_to_real_by_class_html
 

@@ -7,7 +7,7 @@ import math
 from bench.report.html import esc, fixed, table
 from bench.evaluate.simreal import sim_to_real_sentences
 
-__all__ = ["sim_to_real_html", "sim_to_real_by_class_html"]
+__all__ = ["sim_to_real_html", "sim_to_real_by_class_html", "predicted_html"]
 
 
 def sim_to_real_html(result: dict) -> str:
@@ -67,3 +67,31 @@ def sim_to_real_by_class_html(by_class: dict) -> str:
             f"{esc(rho)}.</p>"
             + table(["class", "rendered", "photographs", "names", "trackers", "Spearman's rho"], cls_rows)
             + table(head, body) + "</section>")
+
+
+def predicted_html(doc: dict) -> str:
+    """An HTML fragment from the ``doc`` of :func:`bench.run.real.predict_real`: each tracker's hit rate
+    and F1 predicted for the photographs (from frames made of them, docs/predict.md) beside the measured
+    ones on the same photographs' rows, pooled and per rig, with Spearman's rho and the mean |difference|."""
+    f1 = {t["tracker"]: t for t in doc["f1"]["table"]}
+    body = [[esc(t["tracker"]), fixed(t["synthetic"]), fixed(t["real"]),
+             fixed(f1[t["tracker"]]["synthetic"]) if t["tracker"] in f1 else "–",
+             fixed(f1[t["tracker"]]["real"]) if t["tracker"] in f1 else "–"] for t in doc["hit_rate"]["table"]]
+
+    def agree(d):
+        return [f"{fixed(d[k]['spearman_rho'], '.2f')} / {fixed(d[k]['mean_abs_diff'])}" for k in ("hit_rate", "f1")]
+
+    rigs = [[esc(g), len(v["photographs"]), *agree(v)] for g, v in doc.get("rigs", {}).items()]
+    left = doc.get("out_of_range") or {}
+    named = ", ".join(f"{n} ({', '.join(m)})" for n, m in left.items())
+    out = f" Left out (too few rows of the moved stripe seen): {esc(named)}." if left else ""
+    return ("<section class='sim-to-real-predicted'><h3>Predicted beside measured, photograph by photograph</h3>"
+            f"<p>The same trackers' figures predicted for {len(doc['photographs'])} of the photographs from frames "
+            f"made of each (<code>{esc(doc.get('frames', ''))}</code>: the photograph with its own stripe moved to a "
+            "known place, docs/predict.md) beside the figures measured on the same photographs' rows. Unlike the "
+            f"means above, both sides are the same photographs.{out}</p>"
+            + table(["tracker", "hit rate predicted", "measured", "F1 predicted", "measured"], body)
+            + f"<p>All photographs: hit rate Spearman's rho / mean |predicted &minus; measured| "
+              f"{' ; F1 '.join(agree(doc))}.</p>"
+            + table(["rig", "photographs", "hit rate rho / mean |diff|", "F1 rho / mean |diff|"], rigs)
+            + "</section>")

@@ -296,11 +296,13 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     experiments with its mean hit rate over the photographs; where experiments
     carry a ``condition``, also matched by class (``by_class``:
     :func:`bench.evaluate.simreal.sim_to_real_by_class` against the manifest's
-    ``condition`` column)."""
+    ``condition`` column); and the figures predicted for the photographs
+    (``predicted``: :func:`bench.run.real.predict_real`, into ``<run>/real/predict``)
+    beside the measured ones."""
     from bench.evaluate import simreal
     from bench.store import realset as real
     from bench.store.realrun import load_real_run, real_run_means
-    from bench.run.real import run_real
+    from bench.run.real import predict_real, run_real
 
     dataset = real.SHIPPED if config.real_set == "shipped" else Path(config.real_set)
     specs = distinct_trackers(config.tracker_specs)
@@ -328,6 +330,14 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
                      for n, g in rmet[rmet["experiment"] != "mean"].groupby("experiment")}
         image_class = {im.name: im.meta.get("condition", "") for im in real.load_dataset(dataset)}
         result["by_class"] = simreal.sim_to_real_by_class(synthetic_by_class, per_image, image_class)
+    # the same trackers' figures predicted for these photographs (each with its own stripe moved) beside the
+    # measured ones, row for row: unlike the means above, both sides are the same photographs
+    result["predicted"] = predict_real(dataset, rdir, specs, n_boot=min(config.n_boot, 1000), seed=config.seed,
+                                       say=lambda m: None)["doc"]
+    p = result["predicted"]
+    say(f"real set predicted beside measured: hit rate rho {p['hit_rate']['spearman_rho']:.2f}, mean |diff| "
+        f"{p['hit_rate']['mean_abs_diff']:.3f}; F1 rho {p['f1']['spearman_rho']:.2f}, mean |diff| "
+        f"{p['f1']['mean_abs_diff']:.3f} ({len(p['photographs'])} photographs)", quiet)
     return result
 
 

@@ -1,6 +1,16 @@
-"""Renders that predict a rig's photographs: match the field machinery's parameters to a photograph's conditions.
+"""Predict the trackers' figures on a rig's photographs from frames with truth made for them.
 
-The procedure (committed; its settings were chosen on renders, never on the shipped photographs):
+Two sources of such frames (:data:`FRAMES`, ``stripebench predict --frames``):
+
+- ``transplant`` (the default): each photograph with its own stripe moved to a known place, both
+  ways (:func:`transplant_frames`, :mod:`bench.evaluate.transplant`); the photograph's clutter,
+  rivals and camera stay, and the truth is where the stripe was put.
+- ``render``: renders matched to the photograph's conditions, below.
+
+The default was chosen on renders (``stripebench predictcheck``: frames with known truth predicted
+by each procedure), never on the shipped photographs (docs/predict.md).
+
+The render procedure (committed; its settings were chosen on renders, never on the shipped photographs):
 
 1. **Measure** the photograph's image conditions (:func:`bench.evaluate.conditions.measure`) on
    what the trackers see of it (its channel, turned), with its laser-off frame where it has one and
@@ -41,8 +51,8 @@ from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict",
-           "PREDICTED_NAMES", "compare_with_real", "compare_by_group", "comparison_doc"]
+           "score_frame", "transplant_frames", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos",
+           "run_predict", "FRAMES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -310,21 +320,54 @@ def _refine(target, point, c, d, grid, colour, laser, use_background, memo=None,
     return point, c, d
 
 
-def score_frame(trackers: dict, image, truth_columns, background=None) -> dict:
-    """Label -> row outcomes (int8, shape (H,)) of each tracker on one rendered frame, scored as a
-    photograph is: a stripe row only where the real set's reference rule sees the stripe in
-    ``image`` (:func:`bench.evaluate.outcomes.referenced_states`), else not scored; rows without a
-    stripe are scored. A tracker that fails reports nothing."""
+def score_frame(trackers: dict, image, truth_columns, background=None, states=None) -> dict:
+    """Label -> row outcomes (int8, shape (H,)) of each tracker on one frame with truth, scored as a
+    photograph is: by default a stripe row only where the real set's reference rule sees the stripe
+    in ``image`` (:func:`bench.evaluate.outcomes.referenced_states`), else not scored; rows without a
+    stripe are scored. ``states`` (shape (H,)) replaces that reading. A tracker that fails reports nothing."""
     from bench.evaluate.outcomes import referenced_states, row_outcomes
     from bench.run.track import track_frame
 
-    states = referenced_states(image, truth_columns)
+    states = referenced_states(image, truth_columns) if states is None else states
     out = {}
     for lab, t in trackers.items():
         r = track_frame(t, image, background)
         cols = r.columns if r.ok else np.full(np.shape(image)[0], np.nan)
         out[lab] = row_outcomes(cols, truth_columns, states)
     return out
+
+
+def transplant_frames(photo: "Photo", *, seed: int = 0) -> list:
+    """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`).
+
+    Returns
+    -------
+    list
+        ``[(image, truth, states, moved, shift_px), ...]``: the tracker's frame of the moved
+        photograph (:func:`bench.evaluate.pixels.select_channel` with the photograph's channel and
+        laser), the moved stripe's columns (px, NaN where not moved), its row states
+        (:func:`bench.evaluate.transplant.row_states`), the moved photograph (turned as the frame) and
+        the shift; empty when the moved stripe is seen (by the reference rule) in fewer than
+        :data:`bench.evaluate.transplant.MIN_ROWS` rows of the two frames together: too few to
+        predict from (no visible stripe, or one much wider than the reference window).
+    """
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE
+    from bench.evaluate.pixels import rotate_image, select_channel
+
+    original = rotate_image(photo.original, photo.rotate_deg)
+    bg_original = (None if photo.background_original is None
+                   else rotate_image(photo.background_original, photo.rotate_deg))
+    ext = tp.stripe_extents(photo.frame, photo.background)
+    if not ext.visible.any():
+        return []
+    shift = tp.shift_for(ext)
+    out = []
+    for j, s in enumerate((shift, -shift)):
+        moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j)
+        image = select_channel(moved, photo.channel, photo.laser)
+        out.append((image, truth, tp.row_states(ext, truth, image), moved, s))
+    return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
 
 
 def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser: str = "red",
@@ -374,6 +417,8 @@ class Photo:
     original: np.ndarray
     laser: str = "red"
     rotate_deg: int = 0
+    channel: str = "auto"
+    background_original: np.ndarray | None = None
 
     @property
     def colour(self) -> bool:
@@ -408,27 +453,38 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     for name, path, bgp, ch, las, rot in jobs:
         try:
             frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot)
-            bg = None
+            bg = bg_original = None
             if bgp is not None:
-                bg, _ = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot)
+                bg, bg_original = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot)
                 if bg.shape != frame.shape:
                     raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
                                           f"the image {frame.shape}")
         except real.ImageError as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
-        photos.append(Photo(name, Path(path), frame, bg, original, las, rot))
+        photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original))
     return photos
 
+
+#: Where a prediction's frames with truth come from (``--frames``): ``transplant``, the photograph with its own
+#: stripe moved (the default: it predicts renders far better than matched renders do, ``stripebench
+#: predictcheck``, docs/predict.md), or ``render``, renders matched to the photograph's conditions.
+FRAMES = ("transplant", "render")
 
 #: The names the prediction's tables give :func:`bench.evaluate.outcomes.bootstrap_frames`' figures.
 PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
 
 
-def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: str = "auto", laser: str = "red",
-                rotate_deg: int = 0, n_angles: int = N_ANGLES, n_boot: int = 1000, seed: int = 0,
-                say=None, err=None) -> dict:
-    """``stripebench predict``: measure the photographs, match renders, score the trackers on them.
+def run_predict(folder, out_dir, specs, *, frames: str = "transplant", grid: Grid = DEFAULT_GRID,
+                channel: str = "auto", laser: str = "red", rotate_deg: int = 0, n_angles: int = N_ANGLES,
+                n_boot: int = 1000, seed: int = 0, say=None, err=None) -> dict:
+    """``stripebench predict``: measure the photographs, make frames with truth for them, score the trackers.
+
+    ``frames`` (:data:`FRAMES`): ``transplant``, each photograph with its own stripe moved both ways
+    (:func:`transplant_frames`; ``seed`` seeds the clean plate's noise); ``render``, renders of
+    ``grid`` matched to its conditions at ``n_angles`` mirror angles. A photograph whose moved stripe is
+    seen in too few rows (transplant: :func:`transplant_frames`) or with a measure outside the grid's
+    range (render) is left out, named with the measure (``visible``, or the measure out of range).
 
     Writes ``conditions.csv`` (one line per photograph and side, ``photo`` or ``render``: every
     measure, the distance, the matched knobs, ``status`` matched / out of range and the measures
@@ -445,11 +501,14 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     """
     import pandas as pd
 
+    from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, detection_figures, outcome_counts
     from bench.run.track import build_trackers
     from bench.store import realset as real
     from bench.store.files import atomic_write_text
 
+    if frames not in FRAMES:
+        raise ValueError(f"`frames` must be one of {', '.join(FRAMES)}, got {frames!r}")
     say = (lambda m: print(m, file=sys.stderr, flush=True)) if say is None else say
     photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, err=err)
     if not photos:
@@ -457,8 +516,24 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     trackers = build_trackers(specs)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    tables, memos, matches, conds = {}, {}, {}, {}
+    tables, memos, matches, conds, moved = {}, {}, {}, {}, {}
     for ph in photos:
+        if frames == "transplant":
+            conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
+                                              laser=ph.laser)
+            moved[ph.name] = made = transplant_frames(ph, seed=seed)
+            if not made:
+                matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("visible",))
+                say(f"stripebench predict: {ph.name}: out of range (visible: the moved stripe is seen in fewer than "
+                    f"{tp.MIN_ROWS} rows): left out")
+                continue
+            image, _, _, rgb, shift = made[0]
+            c = cond.measure(image, ph.background, rgb=rgb if ph.colour else None, laser=ph.laser)
+            matches[ph.name] = Match({"frames": "transplant", "shift_px": shift}, c,
+                                     cond.distance(conds[ph.name], c), ())
+            say(f"stripebench predict: {ph.name}: its stripe moved by +-{shift} px "
+                f"(distance {matches[ph.name].distance:.2f})")
+            continue
         key = (ph.colour, ph.laser, ph.background is not None)
         if key not in tables:
             step = max(1, len(list(_points(grid, ph.colour))) // 10)
@@ -483,18 +558,26 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
             say(f"stripebench predict: {ph.name}: matched (distance {m.distance:.2f}): {m.point['setup']}, "
                 f"{m.point['laser_power_mw']:.3g} mW, {m.point['ambient_lux']:.4g} lux")
     matched = [ph for ph in photos if not matches[ph.name].out_of_range]
-    per_photo, frames = {}, {}
+    per_photo, sheet = {}, {}
     for i, ph in enumerate(matched):
+        if frames == "transplant":
+            per_photo[ph.name] = per = {lab: [] for lab in trackers}
+            for image, truth, states, rgb, _ in moved[ph.name]:
+                for lab, codes in score_frame(trackers, image, truth, ph.background, states).items():
+                    per[lab].append(codes)
+            sheet[ph.name] = [(rgb if rgb.ndim == 3 else image, truth) for image, truth, _, rgb, _ in moved[ph.name]]
+            say(f"stripebench predict: tracked {i + 1}/{len(matched)} ({ph.name})")
+            continue
         key = (ph.colour, ph.laser, ph.background is not None)
         res = predict_outcomes({ph.name: matches[ph.name].point}, grid, trackers, colour=key[0], laser=key[1],
                                use_background=key[2], n_angles=n_angles)
         per_photo[ph.name] = res[ph.name]
-        frames[ph.name] = res["_frames"][ph.name]
+        sheet[ph.name] = res["_frames"][ph.name]
         say(f"stripebench predict: rendered and tracked {i + 1}/{len(matched)} ({ph.name})")
     rows = []
     for j, lab in enumerate(trackers):
         codes = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]
-        rec = {"tracker": lab, "n_photos": len(matched), "n_frames": len(matched) * n_angles}
+        rec = {"tracker": lab, "n_photos": len(matched), "n_frames": sum(len(sheet[ph.name]) for ph in matched)}
         if codes:
             b = bootstrap_frames(codes, n_boot=n_boot, seed=seed + j)
             for k, name in PREDICTED_NAMES.items():
@@ -518,9 +601,9 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
         m = matches[ph.name]
         status = "out of range" if m.out_of_range else "matched"
         base = {"name": ph.name, "status": status, "out_of_range": " ".join(m.out_of_range),
-                "distance": m.distance, **{k: m.point.get(k) for k in ("setup", "line_fwhm_mrad", "laser_power_mw",
-                                                                       "ambient_lux", "exposure_ms", "filter",
-                                                                       "defocus_px", "jpeg_quality")}}
+                "distance": m.distance, "frames": frames,
+                **{k: m.point.get(k) for k in ("shift_px", "setup", "line_fwhm_mrad", "laser_power_mw", "ambient_lux",
+                                               "exposure_ms", "filter", "defocus_px", "jpeg_quality")}}
         crow.append({**base, "side": "photo", **conds[ph.name].as_dict()})
         if m.conditions is not None:
             crow.append({**base, "side": "render", **m.conditions.as_dict()})
@@ -529,127 +612,12 @@ def run_predict(folder, out_dir, specs, *, grid: Grid = DEFAULT_GRID, channel: s
     atomic_write_text(out / "conditions.csv", conditions_table.to_csv(index=False, float_format="%.6g"))
     atomic_write_text(out / "predicted_photos.csv", per_photo_table.to_csv(index=False, float_format="%.6g"))
     settings = {"kind": "predict", "folder": str(Path(folder)), "trackers": [s.to_value() for s in specs],
-                "grid": grid.to_value(), "channel": channel, "laser": laser, "rotate_deg": int(rotate_deg),
+                "frames": frames, "grid": grid.to_value() if frames == "render" else None, "channel": channel,
+                "laser": laser, "rotate_deg": int(rotate_deg),
                 "n_angles": n_angles, "n_boot": n_boot, "seed": seed,
                 "out_of_range": {ph.name: list(matches[ph.name].out_of_range) for ph in photos
                                  if matches[ph.name].out_of_range}}
     atomic_write_text(out / "predict.json", json.dumps(settings, indent=1))
-    return {"out": out, "photos": photos, "matches": matches, "conditions": conds, "frames": frames,
+    return {"out": out, "photos": photos, "matches": matches, "conditions": conds, "frames": sheet,
             "predicted": predicted, "predicted_photos": per_photo_table, "conditions_table": conditions_table,
             "settings": settings}
-
-
-def compare_with_real(predicted, real_metrics, names) -> dict:
-    """Predicted beside measured, per figure (``hit_rate`` and ``f1``), on the same photographs.
-
-    Parameters
-    ----------
-    predicted : pandas.DataFrame
-        ``predicted.csv`` of :func:`run_predict`.
-    real_metrics : pandas.DataFrame
-        A real run's ``metrics`` (per-image rows with the row-outcome counts ``n_hit`` ...).
-    names : iterable of str
-        The photographs to pool the measured figures over (the matched ones).
-
-    Returns
-    -------
-    dict
-        Figure -> :func:`bench.evaluate.simreal.sim_to_real` of predicted ("synthetic") against
-        measured ("real", the photographs' rows pooled, as the prediction pools the renders'), with
-        ``mean_abs_diff`` (mean over trackers of ``|predicted - measured|``) added.
-
-    Examples
-    --------
-    >>> import pandas as pd
-    >>> pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.9, 0.5, 0.7]})
-    >>> rows = [{"experiment": "p", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
-    ...          "n_quiet": 0} for t, h in (("a", 8), ("b", 4), ("c", 6))]
-    >>> r = compare_with_real(pred, pd.DataFrame(rows), ["p"])
-    >>> r["hit_rate"]["spearman_rho"], round(r["hit_rate"]["mean_abs_diff"], 3)
-    (1.0, 0.1)
-    """
-    measured = _pooled_figures(real_metrics, "experiment", names)
-    predicted_figs = {f: {str(t): float(v) for t, v in zip(predicted["tracker"], predicted[f])} for f in _COMPARED}
-    return _compare(predicted_figs, measured)
-
-
-def compare_by_group(predicted_photos, real_metrics, groups: dict) -> dict:
-    """Predicted beside measured within groups of photographs (a rig, or each photograph alone).
-
-    Both sides pool the rows of the group's photographs (the prediction: its renders' row
-    outcomes, ``predicted_photos.csv``; the measurement: the real run's per-image counts).
-
-    Parameters
-    ----------
-    predicted_photos : pandas.DataFrame
-        :func:`run_predict`'s ``predicted_photos`` (``name``, ``tracker``, the counts ``n_hit`` ...).
-    real_metrics : pandas.DataFrame
-        A real run's ``metrics`` (per-image rows with the row-outcome counts).
-    groups : dict
-        Photograph name -> group label; photographs not in it (or not matched) are left out.
-
-    Returns
-    -------
-    dict
-        Group label -> ``{"photographs": [...], "hit_rate": ..., "f1": ...}``, each figure as
-        :func:`compare_with_real`'s (:func:`bench.evaluate.simreal.sim_to_real` with ``mean_abs_diff``).
-
-    Examples
-    --------
-    >>> import pandas as pd
-    >>> def rec(name, t, h):
-    ...     return {"name": name, "experiment": name, "tracker": t, "n_hit": h, "n_wrong": 0,
-    ...             "n_missed": 10 - h, "n_false": 0, "n_quiet": 0}
-    >>> pred = pd.DataFrame([rec("p", t, h) for t, h in (("a", 9), ("b", 5), ("c", 7))])
-    >>> real = pd.DataFrame([rec("p", t, h) for t, h in (("a", 8), ("b", 4), ("c", 6))])
-    >>> r = compare_by_group(pred, real, {"p": "rig1"})
-    >>> r["rig1"]["photographs"], r["rig1"]["hit_rate"]["spearman_rho"], round(r["rig1"]["hit_rate"]["mean_abs_diff"], 3)
-    (['p'], 1.0, 0.1)
-    """
-    out = {}
-    matched = set(predicted_photos["name"])
-    for g in dict.fromkeys(groups.values()):
-        names = [n for n, gg in groups.items() if gg == g and n in matched]
-        if names:
-            out[g] = {"photographs": names, **_compare(_pooled_figures(predicted_photos, "name", names),
-                                                       _pooled_figures(real_metrics, "experiment", names))}
-    return out
-
-
-_COMPARED = ("hit_rate", "f1")
-
-
-def comparison_doc(result: dict) -> dict:
-    """The JSON form of one :func:`compare_with_real` or :func:`compare_by_group` entry: per figure
-    ``spearman_rho``, ``spearman_p``, ``mean_abs_diff``, ``n`` and the per-tracker ``table`` (and
-    ``photographs`` when the entry names them)."""
-    doc = {"photographs": result["photographs"]} if "photographs" in result else {}
-    for f in _COMPARED:
-        v = result[f]
-        doc[f] = {k: v[k] for k in ("spearman_rho", "spearman_p", "mean_abs_diff", "n", "table")}
-    return doc
-
-
-def _pooled_figures(df, name_col: str, names) -> dict:
-    """Figure -> tracker -> value from the row-outcome counts of ``df``'s rows of ``names``, pooled."""
-    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
-
-    sub = df[df[name_col].isin(set(names))]
-    out: dict = {f: {} for f in _COMPARED}
-    for lab, rows in sub.groupby("tracker", sort=False):
-        fig = detection_figures({k: int(rows[k].sum()) for k in COUNT_KEYS if k in rows.columns})
-        out["hit_rate"][str(lab)] = fig["recall"]
-        out["f1"][str(lab)] = fig["f1"]
-    return out
-
-
-def _compare(predicted: dict, measured: dict) -> dict:
-    from bench.evaluate.simreal import sim_to_real
-
-    out = {}
-    for f in _COMPARED:
-        res = sim_to_real(predicted[f], measured[f])
-        diffs = [abs(row["delta"]) for row in res["table"]]
-        res["mean_abs_diff"] = float(np.mean(diffs)) if diffs else float("nan")
-        out[f] = res
-    return out

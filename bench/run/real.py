@@ -28,7 +28,7 @@ from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.realrun import write_track_csv
 
-__all__ = ["track_images", "run_real", "DETECTION_KEYS"]
+__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS"]
 
 #: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
 #: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
@@ -253,3 +253,54 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     return out
 
 
+
+
+def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", grid=None, n_boot: int = 1000,
+                 seed: int = 0, say=None) -> dict:
+    """``real --predict``: predict a real run's figures (:func:`bench.run.predict.run_predict` into
+    ``RUN/predict``) and set them beside the measured ones, pooled, per rig and per photograph.
+
+    Parameters
+    ----------
+    dataset : path
+        The real set the run at ``run_dir`` evaluated.
+    run_dir : path
+        A finished real run (:func:`run_real`).
+    specs : sequence of TrackerSpec
+        Its trackers.
+    frames, grid, n_boot, seed, say
+        As :func:`bench.run.predict.run_predict` (``grid`` default :data:`~bench.run.predict.DEFAULT_GRID`).
+
+    Returns
+    -------
+    dict
+        ``result`` (``run_predict``'s, with ``comparison``, ``comparison_rigs`` and ``comparison_photos``
+        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
+        ``hit_rate`` and ``f1`` pooled, ``rigs`` (a rig: the manifest's ``source_repo``; a photograph
+        without one is a rig of its own) and ``per_photograph``, each as
+        :func:`bench.evaluate.prediction.comparison_doc`); the page is the caller's
+        (:func:`bench.report.predict.build_predict_report` of ``result``).
+    """
+    import json
+
+    from bench.evaluate.prediction import compare_by_group, compare_with_real, comparison_doc
+    from bench.run.predict import DEFAULT_GRID, run_predict
+    from bench.store.files import atomic_write_text
+    from bench.store.realrun import load_real_run
+
+    out = Path(run_dir)
+    result = run_predict(dataset, out / "predict", specs, frames=frames, grid=DEFAULT_GRID if grid is None else grid,
+                         n_boot=n_boot, seed=seed, say=say)
+    names = [n for n, m in result["matches"].items() if not m.out_of_range]
+    metrics = load_real_run(out)["metrics"]
+    cmp = compare_with_real(result["predicted"], metrics, names)
+    rig_of = {im.name: im.meta.get("source_repo") or im.name for im in real.load_dataset(dataset)}
+    rigs = compare_by_group(result["predicted_photos"], metrics, {n: rig_of.get(n, n) for n in names})
+    photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
+    result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)
+    doc = {"photographs": names, "frames": frames,
+           "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
+           **comparison_doc(cmp), "rigs": {g: comparison_doc(v) for g, v in rigs.items()},
+           "per_photograph": {g: comparison_doc(v) for g, v in photos.items()}}
+    atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
+    return {"result": result, "doc": doc}

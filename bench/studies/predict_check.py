@@ -1,8 +1,9 @@
-"""Predict renders from renders (``stripebench predictcheck``): the prediction procedure checked where the truth is known.
+"""Renders standing in for photographs (``stripebench predictcheck``): the prediction procedure checked where the truth is known.
 
-:mod:`bench.run.predict` predicts the trackers' figures on a rig's photographs from renders matched to
-their conditions. On photographs its error mixes two things: the procedure (the measures, the grid, the
-match) and how far the renderer is from the rig. This study measures the first alone.
+:mod:`bench.run.predict` predicts the trackers' figures on a rig's photographs from frames with truth made
+for them (the photograph with its stripe moved, or renders matched to its conditions). On photographs its
+error cannot be told from the references' own; on renders the truth is known. This study measures the
+procedure there, and chose its default (docs/predict.md).
 
 Each *case* is a render setting that is not a grid setup. The default cases are the ``field``
 profile's experiments, rendered at the grid's size with seed 1; the grid renders seed 0. A case's
@@ -13,11 +14,13 @@ as most photographs come.
 - **Measured:** the trackers are scored on the case's frames as a photograph is: row outcomes
   against the render's truth, with stripe rows only where
   :func:`bench.evaluate.outcomes.referenced_states` sees the stripe.
-- **Predicted:** the procedure predicts the same figures from its grid, matching each frame on its
-  own.
+- **Predicted:** the procedure (``frames``) predicts the same figures from the frame alone: with
+  ``transplant``, from the frame with its own stripe moved both ways (as ``stripebench predict``
+  does with a photograph; the seed seeds the clean plate's noise); with ``render``, from its grid,
+  matching each frame on its own.
 
 The two are compared per case and pooled over every case, with Spearman's rho and the mean
-|difference| for hit rate and F1 (:func:`bench.run.predict.compare_by_group`), as
+|difference| for hit rate and F1 (:func:`bench.evaluate.prediction.compare_by_group`), as
 ``stripebench real --predict`` reports them. A case whose frames the procedure predicts badly here
 will be predicted no better on a photograph.
 """
@@ -34,7 +37,7 @@ import numpy as np
 __all__ = ["DEFAULTS", "case_frames", "study"]
 
 #: The study's defaults (the command's options).
-DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default"}
+DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant"}
 
 
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int) -> list:
@@ -59,7 +62,7 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
 
 
 def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
-          grid: str = DEFAULTS["grid"], trackers=None, quiet: bool = False) -> int:
+          grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], trackers=None, quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -73,7 +76,10 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     size : int
         Render width of the cases and the grid (px; the height is 15/16 of it).
     grid : str
-        ``default`` or ``small`` (:data:`bench.run.predict.DEFAULT_GRID`, ``SMALL_GRID``).
+        ``default`` or ``small`` (:data:`bench.run.predict.DEFAULT_GRID`, ``SMALL_GRID``; ``frames = "render"``).
+    frames : str
+        The procedure checked (:data:`bench.run.predict.FRAMES`): ``transplant`` (each case frame with
+        its own stripe moved) or ``render`` (renders of the grid matched to its conditions).
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -89,6 +95,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
     from bench.evaluate.outcomes import outcome_counts
+    from bench.evaluate.prediction import compare_by_group, comparison_doc
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
     from bench.run.track import build_trackers
@@ -109,12 +116,31 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
             key = (colour, laser)
+            for lab, codes in pr.score_frame(tr, img, f.truth.columns).items():
+                meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
+            if frames == "transplant":
+                photo = pr.Photo(name, Path(name), img, None, f.rgb if colour else f.image, laser)
+                made = pr.transplant_frames(photo, seed=seed)
+                frames_doc.append({"name": name, "case": exp.key, "status": "matched" if made else "out of range",
+                                   "out_of_range": [] if made else ["visible"],
+                                   "shift_px": made[0][4] if made else None})
+                if not made:
+                    say(f"stripebench predictcheck: {name}: out of range (visible)")
+                    continue
+                per = {lab: [] for lab in tr}
+                for image, truth, states, _, _ in made:
+                    for lab, codes in pr.score_frame(tr, image, truth, None, states).items():
+                        per[lab].append(codes)
+                for lab in tr:
+                    pred_rows.append({"name": name, "tracker": lab, **outcome_counts(np.concatenate(per[lab]))})
+                groups[name] = exp.key
+                say(f"stripebench predictcheck: {name}: its stripe moved by +-{made[0][4]} px "
+                    f"[case {e_i + 1}/{len(config.experiments)}]")
+                continue
             if key not in tables:
                 say(f"stripebench predictcheck: grid table ({'colour' if colour else 'grey'}, {laser} laser)")
                 tables[key] = pr.grid_table(g, colour=colour, laser=laser)
                 memos[key] = pr.refined_memo(g, colour=colour, laser=laser)
-            for lab, codes in pr.score_frame(tr, img, f.truth.columns).items():
-                meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             c = cond.measure(img, None, rgb=f.rgb, laser=laser)
             known = len(memos[key])
             m = pr.match(c, tables[key], g, colour=colour, laser=laser, memo=memos[key])
@@ -134,11 +160,12 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             say(f"stripebench predictcheck: {name}: matched (distance {m.distance:.2f}) "
                 f"[case {e_i + 1}/{len(config.experiments)}]")
     predicted, measured = pd.DataFrame(pred_rows), pd.DataFrame(meas_rows)
-    cases = pr.compare_by_group(predicted, measured, groups) if pred_rows else {}
-    pooled = pr.compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
-    doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "grid": g.to_value(),
-           "trackers": list(tr), "frames": frames_doc, "cases": {k: pr.comparison_doc(v) for k, v in cases.items()},
-           "pooled": pr.comparison_doc(pooled["all"]) if pooled else None}
+    cases = compare_by_group(predicted, measured, groups) if pred_rows else {}
+    pooled = compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
+    doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
+           "grid": g.to_value() if frames == "render" else None,
+           "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
+           "pooled": comparison_doc(pooled["all"]) if pooled else None}
     atomic_write_text(outdir / "predict_check.json", json.dumps(doc, indent=1, default=float))
     atomic_write_text(outdir / "predicted.csv", predicted.to_csv(index=False))
     atomic_write_text(outdir / "measured.csv", measured.to_csv(index=False))

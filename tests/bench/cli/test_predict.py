@@ -1,4 +1,5 @@
-"""``stripebench predict``: tables and page on a small folder; an out-of-range photograph named and left out."""
+"""``stripebench predict``: tables and page on a small folder, with either source of frames; an out-of-range
+photograph named and left out."""
 
 import csv
 
@@ -26,7 +27,7 @@ def photos(tmp_path_factory):
 
 def test_predict_writes_tables_and_page_and_names_the_out_of_range_photo(photos, tmp_path, capsys):
     out = tmp_path / "pred"
-    rc = main(["predict", str(photos), "--out", str(out), "--grid", "small", "--size", "128",
+    rc = main(["predict", str(photos), "--out", str(out), "--frames", "render", "--grid", "small", "--size", "128",
                "--trackers", "threshold,dp8", "--n-boot", "200"])
     assert rc == 0
     err = capsys.readouterr().err
@@ -52,6 +53,30 @@ def test_predict_writes_tables_and_page_and_names_the_out_of_range_photo(photos,
         assert float(r["hit_rate"]) == pytest.approx(counts["n_hit"] / stripe, abs=1e-5)
     html = (out / "report.html").read_text()
     assert "Contact sheet" in html and "blurred" in html and "out of range" in html and html.count("<img") == 3
+
+
+def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, capsys):
+    out = tmp_path / "moved"
+    rc = main(["predict", str(photos), "--out", str(out), "--trackers", "threshold,dp8", "--n-boot", "200"])
+    assert rc == 0
+    err = capsys.readouterr().err
+    # the blurred stripe (FWHM 28 px) is wider than the reference window: no row of it is seen, so it is left out
+    assert "blurred: out of range (visible" in err and "board: its stripe moved by" in err
+    with open(out / "predicted.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [(r["tracker"], r["n_photos"], r["n_frames"]) for r in rows] == [("threshold", "1", "2"), ("dp8", "1", "2")]
+    with open(out / "predicted_photos.csv", newline="") as fh:
+        per = list(csv.DictReader(fh))
+    for r in per:  # a clean board: both trackers find the moved stripe on (nearly) every row the rule sees
+        counts = {k: int(r[k]) for k in ("n_hit", "n_wrong", "n_missed", "n_false", "n_quiet", "n_unknown")}
+        assert sum(counts.values()) == 2 * 120 and counts["n_hit"] >= 100 and float(r["hit_rate"]) > 0.9
+    with open(out / "conditions.csv", newline="") as fh:
+        cond = list(csv.DictReader(fh))
+    board = {r["side"]: r for r in cond if r["name"] == "board"}
+    assert set(board) == {"photo", "render"} and int(float(board["render"]["shift_px"])) >= 12
+    assert float(board["render"]["distance"]) < 1.0  # the moved photograph keeps the photograph's conditions
+    html = (out / "report.html").read_text()
+    assert "its stripe moved" in html and "too few rows" in html and html.count("<img") == 3
 
 
 def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):

@@ -4,7 +4,7 @@ import json
 import re
 
 from bench.evaluate import simreal
-from bench.report.simreal import sim_to_real_by_class_html, sim_to_real_html
+from bench.report.simreal import predicted_html, sim_to_real_by_class_html, sim_to_real_html
 
 EVIL = "<b>x</b>'"
 
@@ -73,3 +73,21 @@ def test_the_by_class_section_from_a_saved_comparison():
     assert trackers[1:] == [["a", "0.200 / 0.500", "0.900 / 0.700", "0.550 / 0.600", "0.250"],
                             ["b", "0.600 / 0.300", "0.700 / 0.400", "0.650 / 0.350", "0.300"]]  # c: not in every class
     assert "too few trackers with distinct rates for a rank correlation" in page
+
+
+def test_predicted_beside_measured_is_escaped_and_names_what_was_left_out():
+    import pandas as pd
+
+    from bench.evaluate.prediction import compare_with_real, comparison_doc
+
+    pred = pd.DataFrame({"tracker": ["a", EVIL], "hit_rate": [0.9, 0.5], "f1": [0.8, 0.6]})
+    rows = [{"experiment": "p", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
+             "n_quiet": 0} for t, h in (("a", 8), (EVIL, 4))]
+    doc = _saved({"photographs": ["p"], "frames": "transplant", "out_of_range": {"wide": ["visible"]},
+                  **comparison_doc(compare_with_real(pred, pd.DataFrame(rows), ["p"])),
+                  "rigs": {"someone/rig": comparison_doc({"photographs": ["p"],
+                                                          **compare_with_real(pred, pd.DataFrame(rows), ["p"])})}})
+    html = predicted_html(doc)
+    assert EVIL not in html and "&lt;b&gt;x&lt;/b&gt;" in html
+    cells = _cells(html)
+    assert cells[1][:3] == ["a", "0.900", "0.800"] and "wide (visible)" in html and "someone/rig" in html

@@ -133,8 +133,18 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
     rc = real[real.experiment.isin(by["colour-no-filter"]["photographs"])].groupby("tracker")["hit_rate"].mean()
     for t in by["colour-no-filter"]["table"]:
         assert t["real"] == pytest.approx(rc[t["tracker"]]) and t["synthetic"] == pytest.approx(synth[t["tracker"]])
+    # predicted beside measured on the same photographs: the measured side is the real run's pooled rows
+    p = s["predicted"]
+    assert p["frames"] == "transplant" and len(p["photographs"]) + len(p["out_of_range"]) == 15
+    pooled = real[real.experiment.isin(p["photographs"])].groupby("tracker")[["n_hit", "n_wrong", "n_missed"]].sum()
+    for t in p["hit_rate"]["table"]:
+        n = pooled.loc[t["tracker"]]
+        assert t["real"] == pytest.approx(n["n_hit"] / (n["n_hit"] + n["n_wrong"] + n["n_missed"]))
+        assert 0.0 <= t["synthetic"] <= 1.0
+    assert (out / "real" / "predict" / "predicted.csv").is_file()
     page = build_report(out, quiet=True).read_text()
     assert "Renders vs photographs" in page and "Matched by class of condition" in page
+    assert "Predicted beside measured, photograph by photograph" in page
 
 
 @pytest.mark.slow

@@ -9,11 +9,11 @@ import pytest
 from bench.cli import main
 
 
-@pytest.fixture(scope="module")
-def checked(tmp_path_factory):
+@pytest.fixture(scope="module", params=["transplant", "render"])
+def checked(tmp_path_factory, request):
     out = tmp_path_factory.mktemp("predictcheck")
     rc = main(["predictcheck", "--out", str(out), "--profile", "quick", "--grid", "small", "--size", "128",
-               "--trackers", "threshold,dp8", "--quiet"])
+               "--trackers", "threshold,dp8", "--frames", request.param, "--quiet"])
     assert rc == 0
     return out
 
@@ -21,6 +21,7 @@ def checked(tmp_path_factory):
 def test_every_case_frame_is_measured_and_matched_or_named(checked):
     doc = json.loads((checked / "predict_check.json").read_text())
     assert doc["kind"] == "predict_check" and doc["seed"] == 1 and doc["trackers"] == ["threshold", "dp8"]
+    assert doc["frames"] and (doc["grid"] is None) == (doc["procedure"] == "transplant")
     names = [f["name"] for f in doc["frames"]]
     assert len(names) == 2 * 3 and all(f["status"] in ("matched", "out of range") for f in doc["frames"])
     measured = pd.read_csv(checked / "measured.csv")

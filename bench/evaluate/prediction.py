@@ -1,0 +1,131 @@
+"""Predicted beside measured: a prediction's figures set against a labelled set's, per tracker.
+
+``stripebench real --predict`` and ``stripebench predictcheck`` compare the figures predicted for
+photographs (or frames standing in for them) with the figures measured on them: Spearman's rank
+correlation across trackers and the mean |predicted - measured|, for hit rate and F1, pooled over
+all photographs (:func:`compare_with_real`) or within groups of them (:func:`compare_by_group`).
+Both sides pool the rows of the photographs compared, from their row-outcome counts. Pure
+functions on tables.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["COMPARED", "compare_with_real", "compare_by_group", "comparison_doc"]
+
+#: The figures compared.
+COMPARED = ("hit_rate", "f1")
+
+
+def compare_with_real(predicted, real_metrics, names) -> dict:
+    """Predicted beside measured, per figure (``hit_rate`` and ``f1``), on the same photographs.
+
+    Parameters
+    ----------
+    predicted : pandas.DataFrame
+        ``predicted.csv`` of :func:`bench.run.predict.run_predict`.
+    real_metrics : pandas.DataFrame
+        A real run's ``metrics`` (per-image rows with the row-outcome counts ``n_hit`` ...).
+    names : iterable of str
+        The photographs to pool the measured figures over (the matched ones).
+
+    Returns
+    -------
+    dict
+        Figure -> :func:`bench.evaluate.simreal.sim_to_real` of predicted ("synthetic") against
+        measured ("real", the photographs' rows pooled, as the prediction pools the renders'), with
+        ``mean_abs_diff`` (mean over trackers of ``|predicted - measured|``) added.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.9, 0.5, 0.7]})
+    >>> rows = [{"experiment": "p", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
+    ...          "n_quiet": 0} for t, h in (("a", 8), ("b", 4), ("c", 6))]
+    >>> r = compare_with_real(pred, pd.DataFrame(rows), ["p"])
+    >>> r["hit_rate"]["spearman_rho"], round(r["hit_rate"]["mean_abs_diff"], 3)
+    (1.0, 0.1)
+    """
+    measured = _pooled_figures(real_metrics, "experiment", names)
+    predicted_figs = {f: {str(t): float(v) for t, v in zip(predicted["tracker"], predicted[f])} for f in COMPARED}
+    return _compare(predicted_figs, measured)
+
+
+def compare_by_group(predicted_photos, real_metrics, groups: dict) -> dict:
+    """Predicted beside measured within groups of photographs (a rig, or each photograph alone).
+
+    Both sides pool the rows of the group's photographs (the prediction: its renders' row
+    outcomes, ``predicted_photos.csv``; the measurement: the real run's per-image counts).
+
+    Parameters
+    ----------
+    predicted_photos : pandas.DataFrame
+        :func:`bench.run.predict.run_predict`'s ``predicted_photos`` (``name``, ``tracker``, the counts ``n_hit`` ...).
+    real_metrics : pandas.DataFrame
+        A real run's ``metrics`` (per-image rows with the row-outcome counts).
+    groups : dict
+        Photograph name -> group label; photographs not in it (or not matched) are left out.
+
+    Returns
+    -------
+    dict
+        Group label -> ``{"photographs": [...], "hit_rate": ..., "f1": ...}``, each figure as
+        :func:`compare_with_real`'s (:func:`bench.evaluate.simreal.sim_to_real` with ``mean_abs_diff``).
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> def rec(name, t, h):
+    ...     return {"name": name, "experiment": name, "tracker": t, "n_hit": h, "n_wrong": 0,
+    ...             "n_missed": 10 - h, "n_false": 0, "n_quiet": 0}
+    >>> pred = pd.DataFrame([rec("p", t, h) for t, h in (("a", 9), ("b", 5), ("c", 7))])
+    >>> real = pd.DataFrame([rec("p", t, h) for t, h in (("a", 8), ("b", 4), ("c", 6))])
+    >>> r = compare_by_group(pred, real, {"p": "rig1"})
+    >>> r["rig1"]["photographs"], r["rig1"]["hit_rate"]["spearman_rho"], round(r["rig1"]["hit_rate"]["mean_abs_diff"], 3)
+    (['p'], 1.0, 0.1)
+    """
+    out = {}
+    matched = set(predicted_photos["name"])
+    for g in dict.fromkeys(groups.values()):
+        names = [n for n, gg in groups.items() if gg == g and n in matched]
+        if names:
+            out[g] = {"photographs": names, **_compare(_pooled_figures(predicted_photos, "name", names),
+                                                       _pooled_figures(real_metrics, "experiment", names))}
+    return out
+
+
+def comparison_doc(result: dict) -> dict:
+    """The JSON form of one :func:`compare_with_real` or :func:`compare_by_group` entry: per figure
+    ``spearman_rho``, ``spearman_p``, ``mean_abs_diff``, ``n`` and the per-tracker ``table`` (and
+    ``photographs`` when the entry names them)."""
+    doc = {"photographs": result["photographs"]} if "photographs" in result else {}
+    for f in COMPARED:
+        v = result[f]
+        doc[f] = {k: v[k] for k in ("spearman_rho", "spearman_p", "mean_abs_diff", "n", "table")}
+    return doc
+
+
+def _pooled_figures(df, name_col: str, names) -> dict:
+    """Figure -> tracker -> value from the row-outcome counts of ``df``'s rows of ``names``, pooled."""
+    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+
+    sub = df[df[name_col].isin(set(names))]
+    out: dict = {f: {} for f in COMPARED}
+    for lab, rows in sub.groupby("tracker", sort=False):
+        fig = detection_figures({k: int(rows[k].sum()) for k in COUNT_KEYS if k in rows.columns})
+        out["hit_rate"][str(lab)] = fig["recall"]
+        out["f1"][str(lab)] = fig["f1"]
+    return out
+
+
+def _compare(predicted: dict, measured: dict) -> dict:
+    from bench.evaluate.simreal import sim_to_real
+
+    out = {}
+    for f in COMPARED:
+        res = sim_to_real(predicted[f], measured[f])
+        diffs = [abs(row["delta"]) for row in res["table"]]
+        res["mean_abs_diff"] = float(np.mean(diffs)) if diffs else float("nan")
+        out[f] = res
+    return out

@@ -1,0 +1,361 @@
+"""A photograph's own stripe, moved to a known place: frames with truth made from one photograph.
+
+A rig's photographs carry what renders may lack (their clutter, rivals, printed edges, the camera's
+own processing) but no truth. A *transplant* keeps all of the photograph except the stripe's place:
+
+1. **The stripe** (:func:`stripe_extents`): the working frame (the tracker's frame, minus its
+   laser-off frame where given, smoothed ``[1, 2, 1] / 4`` along the row), as
+   :func:`bench.evaluate.conditions.measure` smooths it, and the most continuous bright *path*
+   through it (:data:`PATH_CAP`, :data:`PATH_JUMP`: a dynamic programme over rows, heights capped at
+   ``PATH_CAP`` noise units, so that a rival
+   brighter than the stripe in a few rows does not pull the estimate off it). Path rows standing
+   :data:`bench.evaluate.conditions.VISIBLE_K` noise units over the row's median, with
+   :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS`, are *strong*. A row's *guide* is the
+   median path column of the strong rows within :data:`GUIDE_ROWS` rows; its stripe
+   is the maximum within :data:`GUIDE_HALF_PX` px of the guide, *visible* where it stands
+   ``VISIBLE_K`` noise units over the window's median (the real set's reference rule, with the
+   guide read from the frame instead of drawn by hand, docs/real.md; a stripe much wider than the
+   window is not visible by this rule, as it is not to the references'). Its *extent* is the run of
+   columns around the peak above that level by :data:`EDGE_K` noise units, widened by
+   :data:`PAD_PX` px each side and at most :data:`MAX_HALF_PX` px each side of the peak; its
+   *centre* is the centroid of the pixels' excess over half the peak's contrast within 3 px of the
+   peak (biased by under 0.1 px on a sampled Gaussian).
+2. **The clean plate** (:func:`transplant`): in each row from the first visible one to the last
+   (an invisible row between them: an extent as wide as the median one, on the line between its
+   nearest visible rows' peaks, so that the stripe's faint stretches move with it), every channel of the photograph
+   is replaced over the extent by the straight line between the medians of the
+   :data:`SIDE_PX` pixels either side of it, plus Gaussian noise of that channel's sensor noise;
+   with a laser-off photograph, by its pixels.
+3. **The stripe, moved:** the photograph minus that line over the extent (the stripe's own
+   profile, clipping, colour and noise; with a laser-off photograph, minus its pixels) is added to
+   the photograph ``shift_px`` columns away, and the result is clipped to the photograph's range (a
+   clipped pixel of the stripe stays clipped). A row whose moved extent would leave the frame or
+   meet its old extent is cleaned, not moved. The truth is the centre plus ``shift_px`` in the
+   moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
+   as the real set's references would be read.
+
+The moved stripe keeps the photograph's stripe (width, contrast, saturation, colour, speckle) and
+its surroundings keep everything else; what changes is where the stripe crosses them. Pure
+functions: arrays in, arrays out.
+
+Examples
+--------
+>>> rng = np.random.default_rng(0)
+>>> x = np.arange(120.0)
+>>> photo = np.clip(30 + 150 * np.exp(-0.5 * ((x - 50.3) / 1.5) ** 2) + rng.normal(0, 2, (40, 120)), 0, 255)
+>>> photo = np.rint(photo).astype(np.uint8)
+>>> ext = stripe_extents(photo)
+>>> int(ext.visible.sum()), bool(abs(np.nanmedian(ext.centre) - 50.3) < 0.2)
+(40, True)
+>>> moved, truth = transplant(photo, ext, 30, seed=1)
+>>> bool(np.allclose(truth, ext.centre + 30)), int(np.argmax(moved[0])), int(moved[:, 45:56].max()) < 60
+(True, 80, True)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from bench.evaluate import conditions as cond
+
+__all__ = ["Extents", "stripe_extents", "shift_for", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
+           "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "SUPPORT_ROWS",
+           "SUPPORT_MIN"]
+
+#: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
+EDGE_K = 2.0
+#: The extent is widened by this many px each side (the stripe's tails below ``EDGE_K``).
+PAD_PX = 2
+#: The most an extent reaches either side of the peak (px): a bloom or a lit surface beyond is left in place.
+MAX_HALF_PX = 30
+#: A photograph is predicted from its transplants only when the moved stripe is seen (the reference rule) in at
+#: least this many rows of its two frames together.
+MIN_ROWS = 10
+#: The guide of a row is the median path column of the strong path rows within this many rows either side.
+GUIDE_ROWS = 7
+#: The stripe's path: each pixel scores its smoothed height over the row's median as a fraction of PATH_CAP noise
+#: units, capped at 1 (a rival far brighter than the stripe counts no more than a clear stripe). The path pays
+#: PATH_JUMP (rows of a clear stripe) to move more than 1 px between rows (an object's edge): the most continuous
+#: bright path, not each row's maximum. (A cap at the stripe's own typical height instead predicted renders worse:
+#: docs/predict.md.)
+PATH_CAP = 2.0 * cond.VISIBLE_K
+PATH_JUMP = 2.0
+#: A row of the path guides only with at least SUPPORT_MIN rows (itself included) within SUPPORT_ROWS rows where
+#: the path stands VISIBLE_K noise units over the row's median: a stripe is a run, a stray bright pixel is not.
+SUPPORT_ROWS = 3
+SUPPORT_MIN = 4
+#: Each row's stripe is looked for within this many px of its guide (the real set's reference window).
+GUIDE_HALF_PX = 6
+#: Pixels either side of an extent whose median anchors the clean plate's line (px).
+SIDE_PX = 3
+
+
+@dataclass(frozen=True)
+class Extents:
+    """The stripe of one frame (:func:`stripe_extents`); arrays of shape (H,).
+
+    ``peak``: in a guided row the maximum within :data:`GUIDE_HALF_PX` px of its guide, else the row's
+    argmax (px); ``visible``: the stripe stands out in that row; ``lo``, ``hi``: the extent's first
+    and last column (inclusive; meaningful where visible); ``centre``: the stripe's centre (px, NaN
+    in a row without a guide); ``noise_dn``: the frame's sensor noise (DN)."""
+
+    peak: np.ndarray
+    visible: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    centre: np.ndarray
+    noise_dn: float
+
+
+def stripe_extents(frame, background=None) -> Extents:
+    """The stripe of a frame: visible rows, their extents and centres (module docstring, step 1).
+
+    Parameters
+    ----------
+    frame : array_like, shape (H, W)
+        What the tracker sees (DN), stripe running top to bottom.
+    background : array_like, shape (H, W), optional
+        Its laser-off frame (DN).
+
+    Returns
+    -------
+    Extents
+    """
+    raw = np.asarray(frame, dtype=np.float64)
+    if raw.ndim != 2 or raw.shape[0] < 2 or raw.shape[1] < 8:
+        raise ValueError(f"`frame` must be 2-D, at least 2x8, got shape {raw.shape}")
+    work = raw if background is None else raw - np.asarray(background, dtype=np.float64)
+    if work.shape != raw.shape:
+        raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
+    noise = cond.measure(frame, background).noise_dn
+    H, W = work.shape
+    sm = work.copy()
+    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
+    rows = np.arange(H)
+    first = np.argmax(sm, axis=1)
+    med = np.median(work, axis=1)
+    path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
+    on = sm[rows, path] - med >= cond.VISIBLE_K * noise
+    support = np.convolve(on.astype(int), np.ones(2 * SUPPORT_ROWS + 1, int), mode="same")
+    guide = _guide(path, on & (support >= SUPPORT_MIN))
+    peak = first.copy()
+    visible = np.zeros(H, bool)
+    lo, hi = peak.copy(), peak.copy()
+    centre = np.full(H, np.nan)
+    for r in range(H):
+        if not np.isfinite(guide[r]):
+            continue
+        g = int(round(guide[r]))
+        w0, w1 = max(g - GUIDE_HALF_PX, 0), min(g + GUIDE_HALF_PX, W - 1)
+        c = w0 + int(np.argmax(sm[r, w0:w1 + 1]))
+        row = work[r]
+        base = float(np.median(row[w0:w1 + 1]))
+        height = row[c] - base
+        peak[r] = c
+        v0, v1 = max(c - 3, 0), min(c + 3, W - 1)
+        seg = row[v0:v1 + 1] - base
+        wts = np.clip(seg - 0.5 * height, 0.0, None)
+        centre[r] = float(np.sum(wts * np.arange(v0, v1 + 1)) / np.sum(wts)) if wts.sum() > 0 else float(c)
+        if height < cond.VISIBLE_K * noise:
+            continue
+        visible[r] = True
+        edge = base + EDGE_K * noise
+        a = c
+        while a > 0 and c - a < MAX_HALF_PX and row[a - 1] > edge:
+            a -= 1
+        b = c
+        while b < W - 1 and b - c < MAX_HALF_PX and row[b + 1] > edge:
+            b += 1
+        lo[r], hi[r] = max(a - PAD_PX, c - MAX_HALF_PX, 0), min(b + PAD_PX, c + MAX_HALF_PX, W - 1)
+    return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise))
+
+
+def _path(score) -> np.ndarray:
+    """The column per row of the path through ``score`` (H, W) with the largest sum, moving at most
+    1 px between rows for free and anywhere for :data:`PATH_JUMP` (free start and end)."""
+    H, W = score.shape
+    acc = score[0].copy()
+    back = np.zeros((H, W), np.int64)
+    cols = np.arange(W)
+    for r in range(1, H):
+        left = np.r_[-np.inf, acc[:-1]]
+        right = np.r_[acc[1:], -np.inf]
+        stack = np.vstack([left, acc, right])
+        k = np.argmax(stack, axis=0)
+        best = stack[k, cols]
+        src = cols + k - 1
+        j = int(np.argmax(acc))
+        jump = acc[j] - PATH_JUMP
+        use_jump = jump > best
+        back[r] = np.where(use_jump, j, src)
+        acc = score[r] + np.where(use_jump, jump, best)
+    out = np.empty(H, np.int64)
+    out[-1] = int(np.argmax(acc))
+    for r in range(H - 1, 0, -1):
+        out[r - 1] = back[r, out[r]]
+    return out
+
+
+def _guide(peak, strong) -> np.ndarray:
+    """Each row's guide column: the median of the strong rows' path columns within :data:`GUIDE_ROWS`
+    rows (NaN where there is none)."""
+    H = peak.shape[0]
+    out = np.full(H, np.nan)
+    idx = np.flatnonzero(strong)
+    if idx.size == 0:
+        return out
+    for r in range(H):
+        i0, i1 = np.searchsorted(idx, [r - GUIDE_ROWS, r + GUIDE_ROWS + 1])
+        if i1 > i0:
+            out[r] = float(np.median(peak[idx[i0:i1]]))
+    return out
+
+
+def shift_for(ext: Extents) -> int:
+    """A shift (px) that moves most extents clear of themselves: the 90th-percentile extent width
+    plus ``2 * SIDE_PX + 1``, at least 12 (rows whose extent is wider are not moved).
+
+    Examples
+    --------
+    >>> e = Extents(np.zeros(3, int), np.array([True, True, False]), np.array([8, 9, 0]), np.array([14, 15, 0]),
+    ...             np.array([11.0, 12.0, np.nan]), 2.0)
+    >>> shift_for(e)
+    14
+    """
+    if not ext.visible.any():
+        return 12
+    widths = (ext.hi - ext.lo + 1)[ext.visible]
+    return int(max(12, math.ceil(np.percentile(widths, 90)) + 2 * SIDE_PX + 1))
+
+
+def transplant(original, ext: Extents, shift_px: int, *, background_original=None, seed: int = 0):
+    """The photograph with its stripe moved ``shift_px`` columns (module docstring, steps 2-3).
+
+    Parameters
+    ----------
+    original : ndarray, shape (H, W) or (H, W, C), integer or float
+        The photograph, turned as the tracker's frame (its rows and columns are ``ext``'s).
+    ext : Extents
+        :func:`stripe_extents` of the tracker's frame of ``original``.
+    shift_px : int
+        Columns to move the stripe by (either sign, non-zero).
+    background_original : ndarray like ``original``, optional
+        The laser-off photograph: the clean plate is taken from it.
+    seed : int
+        Seed of the clean plate's noise.
+
+    Returns
+    -------
+    moved : ndarray like ``original`` (same dtype)
+    truth : ndarray of float64, shape (H,)
+        The moved stripe's centre (px), NaN in rows where it was not moved.
+    """
+    img = np.asarray(original)
+    if img.ndim not in (2, 3) or img.shape[0] != ext.peak.shape[0]:
+        raise ValueError(f"`original` must be (H, W) or (H, W, C) with H = {ext.peak.shape[0]}, got {img.shape}")
+    if isinstance(shift_px, bool) or not isinstance(shift_px, (int, np.integer)) or shift_px == 0:
+        raise ValueError(f"`shift_px` must be a non-zero integer, got {shift_px!r}")
+    f = img.astype(np.float64)
+    planes = f[..., None] if f.ndim == 2 else f
+    H, W, C = planes.shape
+    if background_original is not None:
+        bgp = np.asarray(background_original, dtype=np.float64)
+        bgp = bgp[..., None] if bgp.ndim == 2 else bgp
+        if bgp.shape != planes.shape:
+            raise ValueError(f"`background_original` must have shape {img.shape}, got {np.shape(background_original)}")
+    noise = np.array([cond.measure(planes[..., k]).noise_dn for k in range(C)])
+    rng = np.random.default_rng(seed)
+    if np.issubdtype(img.dtype, np.integer):
+        lo_v, hi_v = float(np.iinfo(img.dtype).min), float(np.iinfo(img.dtype).max)
+    else:
+        lo_v, hi_v = -np.inf, np.inf
+    out = planes.copy()
+    truth = np.full(H, np.nan)
+    s = int(shift_px)
+    lo, hi = _span_extents(ext, W)
+    for r in np.flatnonzero(lo >= 0):
+        a, b = int(lo[r]), int(hi[r])
+        if background_original is None:
+            line = _line(planes[r], a, b)
+            out[r, a:b + 1] = line + rng.normal(0.0, 1.0, line.shape) * noise[None, :]
+        else:
+            line = bgp[r, a:b + 1]
+            out[r, a:b + 1] = line
+        if a + s - SIDE_PX < 0 or b + s + SIDE_PX > W - 1 or abs(s) < b - a + 1 + SIDE_PX:
+            continue  # the moved extent would leave the frame or meet the old one: removed, not moved
+        src = planes[r, a:b + 1]
+        out[r, a + s:b + s + 1] = np.where(src >= hi_v, hi_v, planes[r, a + s:b + s + 1] + (src - line))
+        if np.isfinite(ext.centre[r]):
+            truth[r] = ext.centre[r] + s
+    out = np.clip(out, lo_v, hi_v)
+    if np.issubdtype(img.dtype, np.integer):
+        out = np.rint(out)
+    out = out.astype(img.dtype)
+    return (out[..., 0] if img.ndim == 2 else out), truth
+
+
+def _span_extents(ext: Extents, W: int) -> tuple[np.ndarray, np.ndarray]:
+    """The extents of every row between the first and the last visible one (-1 elsewhere): a
+    visible row's own; an invisible row's centred on the straight line between its nearest visible
+    rows' peaks, as wide as the median visible extent (the stripe's faint stretches move with it)."""
+    H = ext.peak.shape[0]
+    lo, hi = np.full(H, -1), np.full(H, -1)
+    vis = np.flatnonzero(ext.visible)
+    if vis.size == 0:
+        return lo, hi
+    lo[vis], hi[vis] = ext.lo[vis], ext.hi[vis]
+    left = int(np.median(ext.peak[vis] - ext.lo[vis]))
+    right = int(np.median(ext.hi[vis] - ext.peak[vis]))
+    inner = np.arange(vis[0], vis[-1] + 1)
+    faint = np.union1d(inner[~ext.visible[inner]], np.flatnonzero(np.isfinite(ext.centre) & ~ext.visible))
+    if faint.size:
+        guided = np.isfinite(ext.centre[faint])
+        c = np.where(guided, ext.peak[faint],
+                     np.rint(np.interp(faint, vis, ext.peak[vis].astype(float)))).astype(int)
+        lo[faint], hi[faint] = np.clip(c - left, 0, W - 1), np.clip(c + right, 0, W - 1)
+    return lo, hi
+
+
+def _line(row, a: int, b: int) -> np.ndarray:
+    """Row ``row`` (W, C) over columns ``a..b``: the line between the medians of the
+    :data:`SIDE_PX` pixels either side (shape (b - a + 1, C))."""
+    W = row.shape[0]
+    left = row[max(a - SIDE_PX, 0):a] if a > 0 else row[b + 1:b + 1 + SIDE_PX]
+    right = row[b + 1:min(b + 1 + SIDE_PX, W)] if b < W - 1 else left
+    ml, mr = np.median(left, axis=0), np.median(right, axis=0)
+    t = (np.arange(a, b + 1) - (a - 1)) / float(b - a + 2)
+    return ml[None, :] + t[:, None] * (mr - ml)[None, :]
+
+
+def row_states(ext: Extents, truth, image) -> np.ndarray:
+    """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
+
+    A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
+    reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`),
+    else ``UNSURE``; a row the stripe crosses without a moved centre is ``UNSURE``; every other row is
+    ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
+    (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
+
+    Examples
+    --------
+    >>> vis = np.r_[np.zeros(10, bool), np.ones(10, bool), np.zeros(20, bool)]
+    >>> e = Extents(np.full(40, 5), vis, np.full(40, 3), np.full(40, 7), np.where(vis, 5.0, np.nan), 1.0)
+    >>> img = np.zeros((40, 30)); img[10:20, 25] = 100.0
+    >>> s = row_states(e, np.r_[np.full(10, np.nan), np.full(10, 25.0), np.full(20, np.nan)], img)
+    >>> s[10:20].tolist() == [1] * 10, s[20:34].tolist() == [-1] * 14, s[34:].tolist() == [0] * 6
+    (True, True, True)
+    """
+    from bench.evaluate.outcomes import STRIPE, UNSURE, fallback_states, referenced_states
+
+    t = np.asarray(truth, dtype=np.float64)
+    lo, _ = _span_extents(ext, np.shape(image)[1])
+    crossed = (lo >= 0) | np.isfinite(ext.centre)
+    states = fallback_states(np.where(crossed, 0.0, np.nan))
+    states[states == STRIPE] = UNSURE
+    moved = np.isfinite(t)
+    if moved.any():
+        states[moved] = referenced_states(image, t)[moved]
+    return states.astype(np.int8)

@@ -1,0 +1,108 @@
+"""A photograph's own stripe moved to a known place (bench.evaluate.transplant), on synthetic frames with known stripes."""
+
+import numpy as np
+import pytest
+
+from bench.evaluate import transplant as tp
+from bench.evaluate.outcomes import NO_STRIPE, STRIPE, UNSURE
+
+H, W = 80, 160
+
+
+def _frame(centre, *, sigma=1.5, amp=150.0, level=30.0, noise=2.0, seed=0, rows=slice(None), rgb=False):
+    """A textured-free frame with a Gaussian stripe at ``centre`` (px, per row or scalar) in ``rows``."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(W, dtype=float)
+    c = np.broadcast_to(np.asarray(centre, float), (H,))
+    stripe = amp * np.exp(-0.5 * ((x[None, :] - c[:, None]) / sigma) ** 2)
+    mask = np.zeros(H, bool)
+    mask[rows] = True
+    img = level + np.where(mask[:, None], stripe, 0.0) + rng.normal(0, noise, (H, W))
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    if rgb:  # a red laser on a grey scene
+        grey = np.clip(np.rint(level + rng.normal(0, noise, (H, W))), 0, 255).astype(np.uint8)
+        return np.stack([img, grey, grey], axis=-1)
+    return img
+
+
+def test_extents_find_a_slanted_stripe_and_its_centre():
+    centre = 60.0 + 0.2 * np.arange(H)
+    ext = tp.stripe_extents(_frame(centre))
+    assert ext.visible.all()
+    assert np.max(np.abs(ext.centre - centre)) < 0.3
+    assert np.all(ext.lo <= np.floor(centre) - 2) and np.all(ext.hi >= np.ceil(centre) + 2)
+    assert ext.noise_dn == pytest.approx(2.0, rel=0.25)
+
+
+def test_a_stray_bright_pixel_does_not_guide_the_stripe():
+    img = _frame(60.0)
+    img[40, 120] = 255  # one hot pixel, brighter than the stripe, in one row
+    ext = tp.stripe_extents(img)
+    assert ext.visible.all() and abs(ext.centre[40] - 60.0) < 0.3
+
+
+def test_moving_the_stripe_cleans_its_place_and_keeps_its_profile():
+    img = _frame(60.3, amp=120.0)
+    ext = tp.stripe_extents(img)
+    moved, truth = tp.transplant(img, ext, 30, seed=1)
+    assert moved.dtype == img.dtype and moved.shape == img.shape
+    assert np.allclose(truth, ext.centre + 30)
+    m = moved.astype(float)
+    # the old place is plain background (within the noise); the new place holds the stripe's peak
+    assert np.abs(m[:, 56:66].mean() - 30.0) < 1.0
+    assert np.all(np.abs(np.argmax(m, axis=1) - 90) <= 1)
+    # the moved profile is the old one: peak heights agree row by row within the noise
+    assert np.abs(m[:, 90].mean() - img[:, 60].astype(float).mean()) < 2.0
+    # the other columns are untouched
+    assert np.array_equal(moved[:, :50], img[:, :50]) and np.array_equal(moved[:, 110:], img[:, 110:])
+
+
+def test_a_laser_off_frame_is_the_clean_plate():
+    img = _frame(60.0)
+    off = _frame(60.0, amp=0.0, seed=5)
+    ext = tp.stripe_extents(img, off)
+    moved, _ = tp.transplant(img, ext, -25, background_original=off)
+    a, b = int(ext.lo[0]), int(ext.hi[0])
+    assert np.array_equal(moved[:, a:b + 1], off[:, a:b + 1])
+
+
+def test_colour_photographs_move_all_channels_and_clip_to_the_dtype():
+    rgb = _frame(60.0, amp=240.0, rgb=True)  # a red stripe clipped at 255
+    ext = tp.stripe_extents(rgb[..., 0].astype(float) - rgb[..., 1:].mean(axis=-1))
+    moved, truth = tp.transplant(rgb, ext, 20, seed=0)
+    assert moved.shape == rgb.shape and moved.dtype == np.uint8
+    assert (moved[:, 80, 0] == 255).mean() > 0.9 and np.all(np.isfinite(truth))
+
+
+def test_rows_that_cannot_move_are_cleaned_and_have_no_truth():
+    img = _frame(10.0)
+    ext = tp.stripe_extents(img)
+    moved, truth = tp.transplant(img, ext, -20, seed=0)  # would leave the frame on the left
+    assert np.isnan(truth).all()
+    assert moved[:, 5:16].astype(float).mean() < 35.0  # the stripe is gone, not moved
+
+
+def test_row_states_read_the_moved_stripe_like_a_reference():
+    img = _frame(60.0, rows=slice(10, 40))
+    ext = tp.stripe_extents(img)
+    assert ext.visible[10:40].all() and not ext.visible[50:].any()
+    moved, truth = tp.transplant(img, ext, 30, seed=0)
+    st = tp.row_states(ext, truth, moved)
+    assert (st[10:40] == STRIPE).all()
+    assert (st[:10] == UNSURE).all() or (st[:10] != STRIPE).all()
+    # the guide reaches GUIDE_ROWS rows past the last visible row; GAP_ROWS beyond it a report is false
+    last = int(np.flatnonzero(np.isfinite(ext.centre))[-1])
+    assert 39 <= last <= 39 + tp.GUIDE_ROWS
+    assert (st[last + 15:] == NO_STRIPE).all() and (st[40:last + 15] == UNSURE).all()
+
+
+def test_shift_clears_the_extent_and_bad_input_is_refused():
+    ext = tp.stripe_extents(_frame(60.0, sigma=4.0))
+    s = tp.shift_for(ext)
+    assert s >= 12 and s > int(np.max(ext.hi - ext.lo)) + tp.SIDE_PX
+    with pytest.raises(ValueError, match="shift_px"):
+        tp.transplant(_frame(60.0), ext, 0)
+    with pytest.raises(ValueError, match="original"):
+        tp.transplant(np.zeros((5, W)), ext, 20)
+    with pytest.raises(ValueError, match="frame"):
+        tp.stripe_extents(np.zeros(10))

@@ -86,6 +86,9 @@ def predict_check_options(p) -> None:
     add_frames(p)
     p.add_argument("--grid", default=DEFAULTS["grid"], choices=("default", "small"),
                    help="the renders searched (--frames render)")
+    p.add_argument("--downscale", type=int, default=DEFAULTS["downscale"], choices=(1, 2, 4),
+                   help="render the cases this many times larger and shrink them back, as a phone's frames are: "
+                        "stripes standing far above the noise (default 1)")
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)
 

@@ -11,7 +11,8 @@ import numpy as np
 
 from bench.evaluate.colour import LASER_INDEX
 
-__all__ = ["CHANNELS", "ROTATIONS", "LASERS", "select_channel", "rotate_image", "unrotate_points"]
+__all__ = ["CHANNELS", "ROTATIONS", "LASERS", "select_channel", "rotate_image", "unrotate_points", "downscale",
+           "downscale_columns"]
 
 #: What a tracker may see of a colour image (``--channel``).
 CHANNELS = ("auto", "r", "g", "b", "gray", "excess")
@@ -123,3 +124,44 @@ def unrotate_points(rows, cols, rotate_deg: int, shape) -> tuple[np.ndarray, np.
     if k == 2:
         return (H0 - 1) - r, (W0 - 1) - c
     return (H0 - 1) - c, r
+
+
+def downscale(image, factor: int) -> np.ndarray:
+    """Each ``factor`` x ``factor`` block of an image averaged into one pixel, as a camera app
+    shrinks a large sensor's frame (an integer image is rounded back to its dtype); the rows and
+    columns that do not fill a block are dropped.
+
+    Examples
+    --------
+    >>> img = np.arange(16, dtype=np.uint8).reshape(4, 4)
+    >>> downscale(img, 2).tolist()
+    [[2, 4], [10, 12]]
+    """
+    if isinstance(factor, bool) or not isinstance(factor, (int, np.integer)) or factor < 1:
+        raise ValueError(f"`factor` must be an integer >= 1, got {factor!r}")
+    a = np.asarray(image)
+    if factor == 1:
+        return a
+    H, W = (a.shape[0] // factor) * factor, (a.shape[1] // factor) * factor
+    blocks = a[:H, :W].astype(np.float64).reshape(H // factor, factor, W // factor, factor, *a.shape[2:])
+    out = blocks.mean(axis=(1, 3))
+    if np.issubdtype(a.dtype, np.integer):
+        info = np.iinfo(a.dtype)
+        return np.clip(np.rint(out), info.min, info.max).astype(a.dtype)
+    return out.astype(a.dtype)
+
+
+def downscale_columns(columns, factor: int) -> np.ndarray:
+    """Per-row columns (px, pixel-centre convention; NaN: none) of an image, for its
+    :func:`downscale`: each block of ``factor`` rows gets the mean of its columns (NaN if any is
+    NaN), mapped to the smaller image's columns, ``(c - (factor - 1) / 2) / factor``.
+
+    Examples
+    --------
+    >>> downscale_columns([10.5, 11.5, 20.0, np.nan], 2).tolist()
+    [5.25, nan]
+    """
+    c = np.asarray(columns, dtype=np.float64)
+    n = (c.shape[0] // factor) * factor
+    rows = c[:n].reshape(-1, factor).mean(axis=1)
+    return (rows - (factor - 1) / 2.0) / factor

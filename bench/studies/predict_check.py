@@ -29,26 +29,46 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "case_frames", "study"]
+__all__ = ["DEFAULTS", "Case", "case_frames", "study"]
 
 #: The study's defaults (the command's options).
-DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant"}
+DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1}
 
 
-def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int) -> list:
-    """``[(name, frame, image, scene params), ...]``: one experiment of ``config`` rendered with
-    ``seed`` at ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its
-    scan, with what a tracker sees of each frame (``auto`` channel)."""
+@dataclass(frozen=True)
+class Case:
+    """One case frame: the photograph (``rgb`` for a colour camera, else ``image`` itself), what a
+    tracker sees of it (``image``, the ``auto`` channel) and its per-row truth (px, NaN: no stripe)."""
+
+    image: np.ndarray
+    rgb: np.ndarray | None
+    truth_columns: np.ndarray
+
+    @property
+    def original(self) -> np.ndarray:
+        """The photograph the frame stands for."""
+        return self.rgb if self.rgb is not None else self.image
+
+
+def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
+                downscale: int = 1) -> list:
+    """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
+    ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
+    ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`bench.evaluate.pixels.downscale`,
+    as a camera app shrinks a phone's frame: the noise falls N-fold, the stripe stands N times higher)."""
     import scenes
-    from bench.run.camera_view import tracker_images
+    from bench.evaluate.pixels import downscale as shrink
+    from bench.evaluate.pixels import downscale_columns, select_channel
+    from bench.run.camera_view import laser_colour
     from bench.run.plan import angles_for
 
-    render = {**config.render, "width": int(width), "height": int(height)}
+    n = int(downscale)
+    render = {**config.render, "width": int(width) * n, "height": int(height) * n}
     scene = scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render,
                         **experiment.overrides)
     a = np.asarray(angles_for(experiment, scene), float)
@@ -56,13 +76,19 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
     out = []
     for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
         f = scene.render(float(ang))
-        img, _ = tracker_images(f, scene.params)
-        out.append((f"{experiment.key}@{i}", f, img, scene.params))
+        truth = downscale_columns(f.truth.columns, n)
+        if f.rgb is not None:
+            rgb = shrink(f.rgb, n)
+            laser = laser_colour(scene.params["laser_wavelength_nm"])
+            out.append((f"{experiment.key}@{i}", Case(select_channel(rgb, "auto", laser), rgb, truth), scene.params))
+        else:
+            out.append((f"{experiment.key}@{i}", Case(shrink(f.image, n), None, truth), scene.params))
     return out
 
 
 def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
-          grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], trackers=None, quiet: bool = False) -> int:
+          grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
+          trackers=None, quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -80,6 +106,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     frames : str
         The procedure checked (:data:`bench.run.predict.FRAMES`): ``transplant`` (each case frame with
         its own stripe moved) or ``render`` (renders of the grid matched to its conditions).
+    downscale : int
+        Cases rendered this many times larger and shrunk back (:func:`case_frames`): stripes that
+        stand as far above the noise as a phone's shrunk frames do. The grid is not shrunk.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -111,15 +140,16 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     tables, memos = {}, {}
     pred_rows, meas_rows, groups, frames_doc = [], [], {}, []
     for e_i, exp in enumerate(config.experiments):
-        for name, f, img, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
-                                                n_angles=pr.N_ANGLES):
+        for name, case, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
+                                              n_angles=pr.N_ANGLES, downscale=downscale):
+            img = case.image
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
             key = (colour, laser)
-            for lab, codes in pr.score_frame(tr, img, f.truth.columns).items():
+            for lab, codes in pr.score_frame(tr, img, case.truth_columns).items():
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             if frames == "transplant":
-                photo = pr.Photo(name, Path(name), img, None, f.rgb if colour else f.image, laser)
+                photo = pr.Photo(name, Path(name), img, None, case.original, laser)
                 made = pr.transplant_frames(photo, seed=seed)
                 frames_doc.append({"name": name, "case": exp.key, "status": "matched" if made else "out of range",
                                    "out_of_range": [] if made else ["visible"],
@@ -141,7 +171,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 say(f"stripebench predictcheck: grid table ({'colour' if colour else 'grey'}, {laser} laser)")
                 tables[key] = pr.grid_table(g, colour=colour, laser=laser)
                 memos[key] = pr.refined_memo(g, colour=colour, laser=laser)
-            c = cond.measure(img, None, rgb=f.rgb, laser=laser)
+            c = cond.measure(img, None, rgb=case.rgb, laser=laser)
             known = len(memos[key])
             m = pr.match(c, tables[key], g, colour=colour, laser=laser, memo=memos[key])
             if len(memos[key]) > known:
@@ -163,6 +193,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     cases = compare_by_group(predicted, measured, groups) if pred_rows else {}
     pooled = compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
+           "downscale": int(downscale),
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
            "pooled": comparison_doc(pooled["all"]) if pooled else None}

@@ -47,3 +47,22 @@ def test_predicted_beside_measured_per_case_and_pooled(checked):
     hit = t["n_hit"].sum() / (t["n_hit"].sum() + t["n_wrong"].sum() + t["n_missed"].sum())
     row = next(r for r in doc["pooled"]["hit_rate"]["table"] if r["tracker"] == "threshold")
     assert row["real"] == pytest.approx(hit) and np.isfinite(row["synthetic"])
+
+
+def test_shrunk_cases_are_the_grid_s_size_with_their_truth_shrunk(tmp_path):
+    from bench.config import profile
+    from bench.studies.predict_check import case_frames
+
+    config = profile("quick")
+    exp = config.experiments[0]
+    plain = case_frames(exp, config, seed=1, width=64, height=60, n_angles=1)[0][1]
+    shrunk = case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, downscale=2)[0][1]
+    assert plain.image.shape == shrunk.image.shape == (60, 64)
+    both = np.isfinite(plain.truth_columns) & np.isfinite(shrunk.truth_columns)
+    assert both.sum() > 20 and np.median(np.abs(plain.truth_columns[both] - shrunk.truth_columns[both])) < 0.5
+    # rendered twice as large and shrunk (another frame, whose stripe is where the plain one's is)
+    assert not np.array_equal(plain.image, shrunk.image)
+    assert np.nanmedian(np.abs(np.argmax(shrunk.image, axis=1)[both] - shrunk.truth_columns[both])) <= 1.0
+    rc = main(["predictcheck", "--out", str(tmp_path / "d2"), "--profile", "quick", "--size", "128",
+               "--trackers", "threshold", "--downscale", "2", "--quiet"])
+    assert rc == 0 and json.loads((tmp_path / "d2" / "predict_check.json").read_text())["downscale"] == 2

@@ -9,7 +9,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder, study_command
-from bench.cli.options import add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_trackers
+from bench.cli.options import add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_trackers, arg_type
+from bench.config.options import finite_float
 
 __all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options"]
 
@@ -35,6 +36,7 @@ def _add_predict(p) -> None:
     p.add_argument("--rotate", type=int, default=0, choices=ROTATIONS,
                    help="turn the image counter-clockwise first (for horizontal stripes)")
     add_frames(p)
+    add_estimate(p)
     p.add_argument("--size", type=int, default=256, choices=SIZES,
                    help="render width in px of --frames render (height 15/16 of it; default 256)")
     p.add_argument("--grid", default="default", choices=("default", "small"),
@@ -61,7 +63,8 @@ def _predict(args) -> int:
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     from bench.report.predict import build_predict_report
 
-    result = run_predict(args.photos, out, specs, frames=args.frames, grid=grid, channel=args.channel, laser=args.laser,
+    result = run_predict(args.photos, out, specs, frames=args.frames, estimate=args.estimate, grid=grid,
+                         channel=args.channel, laser=args.laser,
                          rotate_deg=args.rotate, n_boot=args.n_boot, seed=args.seed, say=say)
     page = build_predict_report(result)
     if not args.quiet:
@@ -70,6 +73,15 @@ def _predict(args) -> int:
             print(f"{r['tracker']:<16}{r['hit_rate']:>10.3f}{r['false_report_rate']:>15.3f}{r['f1']:>8.3f}")
     print(f"stripebench: predictions in {out} (report {page})")
     return 0
+
+
+def add_estimate(p) -> None:
+    """``--estimate {path,argmax}``: how the transplant finds a photograph's stripe."""
+    from bench.evaluate.transplant import ESTIMATES
+
+    p.add_argument("--estimate", default=ESTIMATES[0], choices=ESTIMATES,
+                   help="how --frames transplant finds the stripe: path (the most continuous bright path; default) "
+                        "or argmax (each row's maximum, kept where its neighbours agree); docs/predict.md")
 
 
 def predict_check_options(p) -> None:
@@ -89,6 +101,10 @@ def predict_check_options(p) -> None:
     p.add_argument("--downscale", type=int, default=DEFAULTS["downscale"], choices=(1, 2, 4),
                    help="render the cases this many times larger and shrink them back, as a phone's frames are: "
                         "stripes standing far above the noise (default 1)")
+    p.add_argument("--line-fwhm", dest="line_fwhm_mrad", metavar="MRAD",
+                   type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--line-fwhm"), default=None,
+                   help="every case's laser line width in mrad instead of its own (narrower: thinner, brighter)")
+    add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)
 

@@ -62,8 +62,8 @@ import numpy as np
 from bench.evaluate import conditions as cond
 
 __all__ = ["Extents", "stripe_extents", "shift_for", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
-           "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "SUPPORT_ROWS",
-           "SUPPORT_MIN"]
+           "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
+           "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -87,6 +87,8 @@ PATH_JUMP = 2.0
 #: the path stands VISIBLE_K noise units over the row's median: a stripe is a run, a stray bright pixel is not.
 SUPPORT_ROWS = 3
 SUPPORT_MIN = 4
+#: The ways :func:`stripe_extents` finds the stripe's guide (the first is the default).
+ESTIMATES = ("path", "argmax")
 #: Each row's stripe is looked for within this many px of its guide (the real set's reference window).
 GUIDE_HALF_PX = 6
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
@@ -110,7 +112,7 @@ class Extents:
     noise_dn: float
 
 
-def stripe_extents(frame, background=None) -> Extents:
+def stripe_extents(frame, background=None, *, estimate: str = "path") -> Extents:
     """The stripe of a frame: visible rows, their extents and centres (module docstring, step 1).
 
     Parameters
@@ -119,11 +121,19 @@ def stripe_extents(frame, background=None) -> Extents:
         What the tracker sees (DN), stripe running top to bottom.
     background : array_like, shape (H, W), optional
         Its laser-off frame (DN).
+    estimate : {'path', 'argmax'}
+        How the guide is found (:data:`ESTIMATES`): ``path``, the DP path (module docstring); or
+        ``argmax``, each row's maximum, kept where it stands ``VISIBLE_K`` noise units up within
+        ``conditions.JUMP_PX`` px of the median of such rows within :data:`GUIDE_ROWS` rows and has
+        :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS` (the first version; docs/predict.md
+        compares the two).
 
     Returns
     -------
     Extents
     """
+    if estimate not in ESTIMATES:
+        raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
     raw = np.asarray(frame, dtype=np.float64)
     if raw.ndim != 2 or raw.shape[0] < 2 or raw.shape[1] < 8:
         raise ValueError(f"`frame` must be 2-D, at least 2x8, got shape {raw.shape}")
@@ -137,10 +147,16 @@ def stripe_extents(frame, background=None) -> Extents:
     rows = np.arange(H)
     first = np.argmax(sm, axis=1)
     med = np.median(work, axis=1)
-    path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
-    on = sm[rows, path] - med >= cond.VISIBLE_K * noise
-    support = np.convolve(on.astype(int), np.ones(2 * SUPPORT_ROWS + 1, int), mode="same")
-    guide = _guide(path, on & (support >= SUPPORT_MIN))
+    window = np.ones(2 * SUPPORT_ROWS + 1, int)
+    if estimate == "path":
+        path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
+        on = sm[rows, path] - med >= cond.VISIBLE_K * noise
+        guide = _guide(path, on & (np.convolve(on.astype(int), window, mode="same") >= SUPPORT_MIN))
+    else:
+        strong = sm[rows, first] - med >= cond.VISIBLE_K * noise
+        near = np.abs(first - np.nan_to_num(_guide(first, strong), nan=-1e9)) <= cond.JUMP_PX
+        kept = strong & near
+        guide = _guide(first, kept & (np.convolve(kept.astype(int), window, mode="same") >= SUPPORT_MIN))
     peak = first.copy()
     visible = np.zeros(H, bool)
     lo, hi = peak.copy(), peak.copy()

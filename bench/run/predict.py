@@ -337,8 +337,9 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
     return out
 
 
-def transplant_frames(photo: "Photo", *, seed: int = 0) -> list:
-    """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`).
+def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "path") -> list:
+    """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
+    how the stripe is found, :data:`bench.evaluate.transplant.ESTIMATES`).
 
     Returns
     -------
@@ -358,7 +359,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0) -> list:
     original = rotate_image(photo.original, photo.rotate_deg)
     bg_original = (None if photo.background_original is None
                    else rotate_image(photo.background_original, photo.rotate_deg))
-    ext = tp.stripe_extents(photo.frame, photo.background)
+    ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate)
     if not ext.visible.any():
         return []
     shift = tp.shift_for(ext)
@@ -475,13 +476,15 @@ FRAMES = ("transplant", "render")
 PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
 
 
-def run_predict(folder, out_dir, specs, *, frames: str = "transplant", grid: Grid = DEFAULT_GRID,
+def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate: str = "path",
+                grid: Grid = DEFAULT_GRID,
                 channel: str = "auto", laser: str = "red", rotate_deg: int = 0, n_angles: int = N_ANGLES,
                 n_boot: int = 1000, seed: int = 0, say=None, err=None) -> dict:
     """``stripebench predict``: measure the photographs, make frames with truth for them, score the trackers.
 
     ``frames`` (:data:`FRAMES`): ``transplant``, each photograph with its own stripe moved both ways
-    (:func:`transplant_frames`; ``seed`` seeds the clean plate's noise); ``render``, renders of
+    (:func:`transplant_frames`; ``seed`` seeds the clean plate's noise, ``estimate`` finds the stripe);
+    ``render``, renders of
     ``grid`` matched to its conditions at ``n_angles`` mirror angles. A photograph whose moved stripe is
     seen in too few rows (transplant: :func:`transplant_frames`) or with a measure outside the grid's
     range (render) is left out, named with the measure (``visible``, or the measure out of range).
@@ -521,7 +524,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", grid: Gri
         if frames == "transplant":
             conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                               laser=ph.laser)
-            moved[ph.name] = made = transplant_frames(ph, seed=seed)
+            moved[ph.name] = made = transplant_frames(ph, seed=seed, estimate=estimate)
             if not made:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("visible",))
                 say(f"stripebench predict: {ph.name}: out of range (visible: the moved stripe is seen in fewer than "
@@ -612,7 +615,8 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", grid: Gri
     atomic_write_text(out / "conditions.csv", conditions_table.to_csv(index=False, float_format="%.6g"))
     atomic_write_text(out / "predicted_photos.csv", per_photo_table.to_csv(index=False, float_format="%.6g"))
     settings = {"kind": "predict", "folder": str(Path(folder)), "trackers": [s.to_value() for s in specs],
-                "frames": frames, "grid": grid.to_value() if frames == "render" else None, "channel": channel,
+                "frames": frames, "estimate": estimate if frames == "transplant" else None,
+                "grid": grid.to_value() if frames == "render" else None, "channel": channel,
                 "laser": laser, "rotate_deg": int(rotate_deg),
                 "n_angles": n_angles, "n_boot": n_boot, "seed": seed,
                 "out_of_range": {ph.name: list(matches[ph.name].out_of_range) for ph in photos

@@ -37,7 +37,8 @@ import numpy as np
 __all__ = ["DEFAULTS", "Case", "case_frames", "study"]
 
 #: The study's defaults (the command's options).
-DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1}
+DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
+            "estimate": "path", "line_fwhm_mrad": None}
 
 
 @dataclass(frozen=True)
@@ -56,11 +57,12 @@ class Case:
 
 
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
-                downscale: int = 1) -> list:
+                downscale: int = 1, line_fwhm_mrad: float | None = None) -> list:
     """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
     ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
     ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`bench.evaluate.pixels.downscale`,
-    as a camera app shrinks a phone's frame: the noise falls N-fold, the stripe stands N times higher)."""
+    as a camera app shrinks a phone's frame: the noise falls); ``line_fwhm_mrad`` replaces the laser line's
+    width of every case (narrower: a thinner, brighter stripe)."""
     import scenes
     from bench.evaluate.pixels import downscale as shrink
     from bench.evaluate.pixels import downscale_columns, select_channel
@@ -69,8 +71,10 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
 
     n = int(downscale)
     render = {**config.render, "width": int(width) * n, "height": int(height) * n}
-    scene = scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render,
-                        **experiment.overrides)
+    overrides = dict(experiment.overrides)
+    if line_fwhm_mrad is not None:
+        overrides["line_fwhm_mrad"] = float(line_fwhm_mrad)
+    scene = scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render, **overrides)
     a = np.asarray(angles_for(experiment, scene), float)
     lo, hi = a[len(a) // 4], a[min(len(a) - 1, (3 * len(a)) // 4)]  # as bench.run.predict's matched renders
     out = []
@@ -88,7 +92,8 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
 
 def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
-          trackers=None, quiet: bool = False) -> int:
+          estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"], trackers=None,
+          quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -109,6 +114,10 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     downscale : int
         Cases rendered this many times larger and shrunk back (:func:`case_frames`): stripes that
         stand as far above the noise as a phone's shrunk frames do. The grid is not shrunk.
+    estimate : str
+        How the transplant finds the stripe (:data:`bench.evaluate.transplant.ESTIMATES`).
+    line_fwhm_mrad : float, optional
+        Every case's laser line width (mrad) instead of its own.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -141,7 +150,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     pred_rows, meas_rows, groups, frames_doc = [], [], {}, []
     for e_i, exp in enumerate(config.experiments):
         for name, case, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
-                                              n_angles=pr.N_ANGLES, downscale=downscale):
+                                              n_angles=pr.N_ANGLES, downscale=downscale,
+                                              line_fwhm_mrad=line_fwhm_mrad):
             img = case.image
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
@@ -150,7 +160,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             if frames == "transplant":
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser)
-                made = pr.transplant_frames(photo, seed=seed)
+                made = pr.transplant_frames(photo, seed=seed, estimate=estimate)
                 frames_doc.append({"name": name, "case": exp.key, "status": "matched" if made else "out of range",
                                    "out_of_range": [] if made else ["visible"],
                                    "shift_px": made[0][4] if made else None})
@@ -193,7 +203,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     cases = compare_by_group(predicted, measured, groups) if pred_rows else {}
     pooled = compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
-           "downscale": int(downscale),
+           "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
            "pooled": comparison_doc(pooled["all"]) if pooled else None}

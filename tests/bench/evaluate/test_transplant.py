@@ -25,19 +25,21 @@ def _frame(centre, *, sigma=1.5, amp=150.0, level=30.0, noise=2.0, seed=0, rows=
     return img
 
 
-def test_extents_find_a_slanted_stripe_and_its_centre():
+@pytest.mark.parametrize("estimate", tp.ESTIMATES)
+def test_extents_find_a_slanted_stripe_and_its_centre(estimate):
     centre = 60.0 + 0.2 * np.arange(H)
-    ext = tp.stripe_extents(_frame(centre))
+    ext = tp.stripe_extents(_frame(centre), estimate=estimate)
     assert ext.visible.all()
     assert np.max(np.abs(ext.centre - centre)) < 0.3
     assert np.all(ext.lo <= np.floor(centre) - 2) and np.all(ext.hi >= np.ceil(centre) + 2)
     assert ext.noise_dn == pytest.approx(2.0, rel=0.25)
 
 
-def test_a_stray_bright_pixel_does_not_guide_the_stripe():
+@pytest.mark.parametrize("estimate", tp.ESTIMATES)
+def test_a_stray_bright_pixel_does_not_guide_the_stripe(estimate):
     img = _frame(60.0)
     img[40, 120] = 255  # one hot pixel, brighter than the stripe, in one row
-    ext = tp.stripe_extents(img)
+    ext = tp.stripe_extents(img, estimate=estimate)
     assert ext.visible.all() and abs(ext.centre[40] - 60.0) < 0.3
 
 
@@ -106,3 +108,16 @@ def test_shift_clears_the_extent_and_bad_input_is_refused():
         tp.transplant(np.zeros((5, W)), ext, 20)
     with pytest.raises(ValueError, match="frame"):
         tp.stripe_extents(np.zeros(10))
+
+
+def test_the_path_follows_the_stripe_past_a_brighter_rival_that_the_argmax_takes():
+    img = _frame(60.0).astype(float)
+    x = np.arange(W, dtype=float)
+    img[:12] += 220.0 * np.exp(-0.5 * ((x - 130.0) / 1.5) ** 2)  # a rival ridge over the stripe's first 12 rows
+    img = np.clip(img, 0, 255).astype(np.uint8)
+    path = tp.stripe_extents(img, estimate="path")
+    argmax = tp.stripe_extents(img, estimate="argmax")
+    assert np.all(np.abs(path.centre[:12] - 60.0) < 0.5)  # the continuous stripe, not the short rival
+    assert np.all(np.abs(argmax.centre[:8] - 130.0) < 0.5)  # each row's maximum, where the rival has support
+    with pytest.raises(ValueError, match="estimate"):
+        tp.stripe_extents(img, estimate="guess")

@@ -66,3 +66,15 @@ def test_shrunk_cases_are_the_grid_s_size_with_their_truth_shrunk(tmp_path):
     rc = main(["predictcheck", "--out", str(tmp_path / "d2"), "--profile", "quick", "--size", "128",
                "--trackers", "threshold", "--downscale", "2", "--quiet"])
     assert rc == 0 and json.loads((tmp_path / "d2" / "predict_check.json").read_text())["downscale"] == 2
+
+
+def test_a_narrower_line_for_every_case_makes_a_thinner_stripe():
+    from bench.config import profile
+    from bench.evaluate import conditions as cond
+    from bench.studies.predict_check import case_frames
+
+    config = profile("quick")
+    exp = config.experiments[0]
+    wide = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, line_fwhm_mrad=6.0)[0][1]
+    thin = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, line_fwhm_mrad=1.0)[0][1]
+    assert cond.measure(thin.image).width_px < 0.6 * cond.measure(wide.image).width_px

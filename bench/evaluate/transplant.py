@@ -60,9 +60,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from bench.evaluate import conditions as cond
+from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "shift_for", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
-           "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
+__all__ = ["Extents", "stripe_extents", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
+           "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
@@ -89,8 +90,8 @@ SUPPORT_ROWS = 3
 SUPPORT_MIN = 4
 #: The ways :func:`stripe_extents` finds the stripe's guide (the first is the default).
 ESTIMATES = ("path", "argmax")
-#: Each row's stripe is looked for within this many px of its guide (the real set's reference window).
-GUIDE_HALF_PX = 6
+#: Each row's stripe is looked for within this many px of its guide: the real set's reference window.
+GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
 
@@ -247,7 +248,16 @@ def shift_for(ext: Extents) -> int:
     return int(max(12, math.ceil(np.percentile(widths, 90)) + 2 * SIDE_PX + 1))
 
 
-def transplant(original, ext: Extents, shift_px: int, *, background_original=None, seed: int = 0):
+def channel_noise(original) -> np.ndarray:
+    """The sensor noise of each channel of a photograph (DN, shape (C,); one value for a grey one), as
+    :func:`bench.evaluate.conditions.measure` reads it: the clean plate's noise (:func:`transplant`)."""
+    f = np.asarray(original, dtype=np.float64)
+    planes = f[..., None] if f.ndim == 2 else f
+    return np.array([cond.measure(planes[..., k]).noise_dn for k in range(planes.shape[-1])])
+
+
+def transplant(original, ext: Extents, shift_px: int, *, background_original=None, seed: int = 0,
+               noise_dn=None):
     """The photograph with its stripe moved ``shift_px`` columns (module docstring, steps 2-3).
 
     Parameters
@@ -262,6 +272,8 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         The laser-off photograph: the clean plate is taken from it.
     seed : int
         Seed of the clean plate's noise.
+    noise_dn : array_like, shape (C,), optional
+        :func:`channel_noise` of ``original``, when the caller has it (it is measured otherwise).
 
     Returns
     -------
@@ -282,7 +294,8 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         bgp = bgp[..., None] if bgp.ndim == 2 else bgp
         if bgp.shape != planes.shape:
             raise ValueError(f"`background_original` must have shape {img.shape}, got {np.shape(background_original)}")
-    noise = np.array([cond.measure(planes[..., k]).noise_dn for k in range(C)])
+    if background_original is None:  # the plate is a line plus noise: each channel's noise
+        noise = channel_noise(img) if noise_dn is None else np.broadcast_to(np.asarray(noise_dn, np.float64), (C,))
     rng = np.random.default_rng(seed)
     if np.issubdtype(img.dtype, np.integer):
         lo_v, hi_v = float(np.iinfo(img.dtype).min), float(np.iinfo(img.dtype).max)

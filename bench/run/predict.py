@@ -51,8 +51,8 @@ from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos",
-           "run_predict", "FRAMES", "PREDICTED_NAMES"]
+           "score_frame", "transplant_frames", "transplant_outcomes", "predict_outcomes", "TABLE_VERSION", "Photo",
+           "collect_photos", "run_predict", "FRAMES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -363,12 +363,24 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "path") 
     if not ext.visible.any():
         return []
     shift = tp.shift_for(ext)
+    noise = tp.channel_noise(original) if bg_original is None else None
     out = []
     for j, s in enumerate((shift, -shift)):
-        moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j)
+        moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
+                                     noise_dn=noise)
         image = select_channel(moved, photo.channel, photo.laser)
         out.append((image, truth, tp.row_states(ext, truth, image), moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+
+
+def transplant_outcomes(trackers: dict, made: list, background=None) -> dict:
+    """Label -> row outcomes (one array per frame) of each tracker on :func:`transplant_frames`' frames
+    ``made``, each read with its own row states (:func:`score_frame`)."""
+    per = {lab: [] for lab in trackers}
+    for image, truth, states, _, _ in made:
+        for lab, codes in score_frame(trackers, image, truth, background, states).items():
+            per[lab].append(codes)
+    return per
 
 
 def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser: str = "red",
@@ -564,10 +576,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     per_photo, sheet = {}, {}
     for i, ph in enumerate(matched):
         if frames == "transplant":
-            per_photo[ph.name] = per = {lab: [] for lab in trackers}
-            for image, truth, states, rgb, _ in moved[ph.name]:
-                for lab, codes in score_frame(trackers, image, truth, ph.background, states).items():
-                    per[lab].append(codes)
+            per_photo[ph.name] = transplant_outcomes(trackers, moved[ph.name], ph.background)
             sheet[ph.name] = [(rgb if rgb.ndim == 3 else image, truth) for image, truth, _, rgb, _ in moved[ph.name]]
             say(f"stripebench predict: tracked {i + 1}/{len(matched)} ({ph.name})")
             continue

@@ -167,10 +167,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 if not made:
                     say(f"stripebench predictcheck: {name}: out of range (visible)")
                     continue
-                per = {lab: [] for lab in tr}
-                for image, truth, states, _, _ in made:
-                    for lab, codes in pr.score_frame(tr, image, truth, None, states).items():
-                        per[lab].append(codes)
+                per = pr.transplant_outcomes(tr, made)
                 for lab in tr:
                     pred_rows.append({"name": name, "tracker": lab, **outcome_counts(np.concatenate(per[lab]))})
                 groups[name] = exp.key

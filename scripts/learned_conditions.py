@@ -13,6 +13,11 @@ name) is a class. Prints per class and mode F1 over rows / hit rate / false-repo
     python scripts/learned_conditions.py --table field-s0.json field-s1.json
 
 A tracker is a name, or ``LABEL=NAME@WEIGHTS`` for a ``learned`` weights file (``old=learned@old.npz``).
+
+Phone-like renders (the second render family of docs/predict.md: narrow, high-contrast stripes, as a camera
+app's shrunk frame shows them): ``--size 256 --downscale 4 --line-fwhm 1.2`` renders every class at
+1024 x 960 with a 1.2 mrad line and shrinks each frame (and its laser-off frame and truth) by 4
+(:func:`bench.evaluate.pixels.downscale`), as ``stripebench predictcheck --downscale 4 --line-fwhm 1.2`` does.
 """
 
 from __future__ import annotations
@@ -34,20 +39,41 @@ def figures(c: dict) -> tuple[float, float, float]:
     return f["f1"], f["recall"], f["false_report_rate"]
 
 
-def frames(config, seed: int, channel: str):
-    """(class, image, laser-off frame, true columns) of every frame of ``config``'s experiments."""
+def frames(config, seed: int, channel: str, *, size: int | None = None, downscale: int = 1,
+           line_fwhm_mrad: float | None = None):
+    """(class, image, laser-off frame, true columns) of every frame of ``config``'s experiments; with
+    ``size`` the frames are ``size`` px wide (15/16 as high), rendered ``downscale`` times larger and
+    shrunk back, and ``line_fwhm_mrad`` replaces every experiment's line width."""
+    import types
+
+    import scenes
     from bench.config import with_overrides
+    from bench.evaluate.pixels import downscale as shrink
+    from bench.evaluate.pixels import downscale_columns
     from bench.run.camera_view import tracker_images
-    from bench.run.plan import angles_for, renderer_for, scene_for
+    from bench.run.plan import angles_for, renderer_for
 
     cfg = with_overrides(config, seed=seed, real_set="")
     renderer_for(cfg)
+    n = int(downscale)
+    render = dict(cfg.render)
+    if size is not None:
+        render.update(width=int(size) * n, height=int(size) * 15 // 16 * n)
+    elif n != 1:
+        raise SystemExit("--downscale needs --size")
     for e in cfg.experiments:
-        scene = scene_for(e, cfg)
+        overrides = dict(e.overrides)
+        if line_fwhm_mrad is not None:
+            overrides["line_fwhm_mrad"] = float(line_fwhm_mrad)
+        scene = scenes.make(e.scene, material=e.material, seed=cfg.seed, **render, **overrides)
         for a in angles_for(e, scene):
             fr = scene.render(float(a), spp=scene.params["spp"], seed=cfg.seed)
+            if n > 1:
+                fr = types.SimpleNamespace(truth=fr.truth, **{
+                    k: None if getattr(fr, k, None) is None else shrink(getattr(fr, k), n)
+                    for k in ("image", "background", "rgb", "rgb_background")})
             img, off = tracker_images(fr, scene.params, channel)
-            yield e.condition or e.key, img, off, fr.truth.columns
+            yield e.condition or e.key, img, off, downscale_columns(fr.truth.columns, n)
 
 
 def make_tracker(spec: str):
@@ -60,13 +86,13 @@ def make_tracker(spec: str):
     return label, trackers.make(name, weights=weights) if weights else trackers.make(name)
 
 
-def evaluate(config, seed: int, channel: str, specs) -> dict:
+def evaluate(config, seed: int, channel: str, specs, **family) -> dict:
     """``{"LABEL|MODE|CLASS": counts}`` (MODE ``bg`` with the laser-off frame, ``nobg`` without)."""
     from bench.evaluate.outcomes import outcome_counts, row_outcomes
 
     made = [make_tracker(s) for s in specs]
     res: dict = {}
-    for cls, img, off, truth in frames(config, seed, channel):
+    for cls, img, off, truth in frames(config, seed, channel, **family):
         for label, tr in made:
             for mode, bg in (("bg", off), ("nobg", None)):
                 c = outcome_counts(row_outcomes(tr.track(img, background=bg).columns, truth))
@@ -102,6 +128,9 @@ def main(argv=None) -> int:
     ap.add_argument("--channel", default="auto", help="the view of a colour frame (default auto)")
     ap.add_argument("--trackers", default="learned,threshold,com_bg,steger,dp8,dp_gap",
                     help="comma-separated trackers (NAME or LABEL=NAME@WEIGHTS)")
+    ap.add_argument("--size", type=int, help="frame width (px; height 15/16 of it) instead of the profile's")
+    ap.add_argument("--downscale", type=int, default=1, help="render N times larger and shrink back (needs --size)")
+    ap.add_argument("--line-fwhm", type=float, help="every experiment's laser line width (mrad)")
     ap.add_argument("--out", help="write the counts here (JSON)")
     args = ap.parse_args(argv)
     if args.table:
@@ -115,7 +144,8 @@ def main(argv=None) -> int:
         from bench.config import load, profile
 
         config = profile(args.profile) if args.profile else load(args.config)
-        res = evaluate(config, args.seed, args.channel, [s for s in args.trackers.split(",") if s])
+        res = evaluate(config, args.seed, args.channel, [s for s in args.trackers.split(",") if s],
+                       size=args.size, downscale=args.downscale, line_fwhm_mrad=args.line_fwhm)
         if args.out:
             with open(args.out, "w") as fh:
                 json.dump(res, fh, indent=0)

@@ -39,6 +39,20 @@ def _views(name: str, text) -> tuple:
     return views
 
 
+def _shrink(name: str, text) -> tuple:
+    """Distinct comma-separated integer factors >= 2, or ``none`` (no shrunk copies)."""
+    t = str(text).strip().lower()
+    if t == "none":
+        return ()
+    try:
+        factors = tuple(int(v) for v in t.split(",") if v.strip())
+    except ValueError:
+        factors = ()
+    if not factors or any(f < 2 for f in factors) or len(set(factors)) < len(factors):
+        raise ConfigError(f"{name} must be distinct integers >= 2 separated by commas, or none, got {text!r}")
+    return factors
+
+
 def _add_trainset(p) -> None:
     p.add_argument("--out", type=Path, required=True, help="training-set folder (a rerun resumes it)")
     p.add_argument("--units", type=arg_type(_count, "--units"), default=30, help="scenes drawn (default 30)")
@@ -81,6 +95,9 @@ def _add_train(p) -> None:
     p.add_argument("--views", type=arg_type(_views, "--views"), default=("auto", "laser"),
                    help="comma-separated views of a colour frame to train and hold out on: auto (what a run gives a "
                         "tracker), laser (the laser's plain channel), r, g, b, gray (default auto,laser)")
+    p.add_argument("--shrink", type=arg_type(_shrink, "--shrink"), default=None, metavar="N,N|none",
+                   help="each frame also used once shrunk by a factor drawn from these (a phone's narrow, clean "
+                        "stripes); none: no shrunk copies (default: HyperParams, 2,4)")
     p.add_argument("--holdout", type=arg_type(_holdout, "--holdout"), default=0.2,
                    help="share of units held out, in (0, 1) (default 0.2)")
     add_quiet(p, "no progress notes")
@@ -99,6 +116,8 @@ def _train(args) -> int:
     hp = HyperParams(seed=args.seed, views=args.views)
     if args.epochs is not None:
         hp = replace(hp, epochs=args.epochs)
+    if args.shrink is not None:
+        hp = replace(hp, shrink=args.shrink)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     prov = train_from_trainset(args.trainset, args.out, hp=hp, holdout=args.holdout, say=say)
     h = prov["heldout"]["both"]

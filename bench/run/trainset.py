@@ -384,24 +384,30 @@ def read_trainset(path) -> tuple[dict, list[dict]]:
 VIEWS = ("auto", "laser") + tuple(c for c in CHANNELS if c != "auto")
 
 
-def tracker_view(root, row: dict, channel: str = "auto") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def tracker_view(root, row: dict, channel: str = "auto", *,
+                 downscale: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(image, background, true columns (H,)) of one frame as a tracker gets it in a run (``channel``
     ``"auto"``), or through another channel of a colour frame (:func:`bench.evaluate.pixels.select_channel`'s
     names, or ``"laser"``: the laser's own plain channel, as a real set's ``channel`` column may ask);
-    a mono frame is the same in every view."""
+    a mono frame is the same in every view. With ``downscale`` N > 1 the stored 8-bit frames are first
+    shrunk by N (:func:`bench.evaluate.pixels.downscale`, as a camera app shrinks a phone's frame: a
+    narrower stripe, less noise) and the truth with them (:func:`bench.evaluate.pixels.downscale_columns`)."""
     import imageio.v3 as iio
 
+    from bench.evaluate.pixels import downscale as shrink
+    from bench.evaluate.pixels import downscale_columns, select_channel
     from bench.run.camera_view import laser_colour
-    from bench.evaluate.pixels import select_channel
 
     root = Path(root)
-    on = iio.imread(root / row["image"])
-    off = iio.imread(root / row["background"])
+    n = int(downscale)
+    on = shrink(iio.imread(root / row["image"]), n)
+    off = shrink(iio.imread(root / row["background"]), n)
     if on.ndim == 3:
         laser = laser_colour(float(row["laser_wavelength_nm"]))
         ch = laser[0] if channel == "laser" else channel
         on, off = select_channel(on, ch, laser), select_channel(off, ch, laser)
-    return on, off, _truth_cols(root / "truth" / f"{row['frame']}.csv", int(row["height"]))
+    truth = _truth_cols(root / "truth" / f"{row['frame']}.csv", int(row["height"]))
+    return on, off, (truth if n == 1 else downscale_columns(truth, n))
 
 
 def _truth_cols(path: Path, height: int) -> np.ndarray:

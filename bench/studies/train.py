@@ -58,6 +58,10 @@ class HyperParams:
     # the views of a colour frame trained on and held out (bench.run.trainset.tracker_view's channels): "auto" is
     # what a run gives a tracker, "laser" the laser's plain channel (a real set's `channel` column may ask for it)
     views: tuple = ("auto", "laser")
+    # each frame (in each view) is also used once shrunk by a factor drawn from these (seeded; () for none): the
+    # narrow stripes standing far above the noise of a camera app's shrunk frame (a phone's); round 3, from the
+    # phone-like renders on which round 2 missed rows (docs/learned.md)
+    shrink: tuple = (2, 4)
     thresholds: tuple = field(default_factory=lambda: tuple(np.round(np.arange(0.05, 0.96, 0.05), 2).tolist()))
 
 
@@ -322,11 +326,22 @@ def plot_curves(curves: dict, table: dict, threshold: float, path) -> Path:
     return path
 
 
-def _load_frames(root, rows, views=("auto",)):
-    """The (image, background, truth) of every row in every view (a mono frame once: its views are equal)."""
+def _load_frames(root, rows, views=("auto",), shrink=(), seed: int = 0):
+    """The (image, background, truth) of every row in every view (a mono frame once: its views are equal),
+    and with ``shrink`` each of those once more, shrunk by a factor drawn from ``shrink`` (seeded by ``seed``
+    and the frame's position: :func:`bench.run.trainset.tracker_view`'s ``downscale``)."""
     from bench.run.trainset import tracker_view
 
-    return [tracker_view(root, r, v) for r in rows for v in views if v == views[0] or r["camera"] == "rgb"]
+    out = []
+    for i, r in enumerate(rows):
+        for j, v in enumerate(views):
+            if v != views[0] and r["camera"] != "rgb":
+                continue
+            out.append(tracker_view(root, r, v))
+            if shrink:
+                n = int(np.random.default_rng([int(seed), 5, i, j]).choice(np.asarray(shrink, np.int64)))
+                out.append(tracker_view(root, r, v, downscale=n))
+    return out
 
 
 def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdout: float = 0.2,
@@ -342,8 +357,10 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
     if not val_rows or not tr_rows:
         raise ValueError("the held-out split left no training or no held-out frames: use more units")
     say(f"stripebench train: {len(tr_rows)} training and {len(val_rows)} held-out frames")
-    tr_frames, val_frames = _load_frames(trainset, tr_rows, hp.views), _load_frames(trainset, val_rows, hp.views)
-    train = samples_from_frames(tr_frames, hp.k, augment=hp.augment, seed=hp.seed)
+    shrink = tuple(int(n) for n in hp.shrink)
+    train = samples_from_frames(_load_frames(trainset, tr_rows, hp.views, shrink, hp.seed), hp.k, augment=hp.augment,
+                                seed=hp.seed)  # the frames themselves are not kept: memory
+    val_frames = _load_frames(trainset, val_rows, hp.views, shrink, hp.seed)
     val = samples_from_frames(val_frames, hp.k)
     t1 = time.perf_counter()
     say(f"  {len(train[0])} training candidates ({int(train[1].sum())} stripes), features in {t1 - t0:.1f} s")
@@ -356,7 +373,7 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
     thr = choose_threshold(table)
     with_bg = evaluate_frames(val_frames, net_k, [thr])[thr]
     no_bg = evaluate_frames([(i, None, t) for i, o, t in val_frames], net_k, [thr])[thr]
-    auto = _load_frames(trainset, val_rows) if tuple(hp.views) != ("auto",) else val_frames
+    auto = _load_frames(trainset, val_rows) if tuple(hp.views) != ("auto",) or shrink else val_frames
     auto_both = evaluate_frames(auto + [(i, None, t) for i, o, t in auto], net_k, [thr])[thr]
     say(f"  held-out rows at threshold {thr}: F1 {table[thr]['f1']:.3f}, hit rate {table[thr]['hit_rate']:.3f} "
         f"(with laser-off frame F1 {with_bg['f1']:.3f}, without {no_bg['f1']:.3f})")
@@ -365,7 +382,8 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
                                                                           "noise_draws", "width", "height", "frames",
                                                                           "seed_base", "code_revision")},
                          "draws": doc.get("draws", 1), "draw_rules": doc.get("draw_rules")},
-            "split": {"rule": "held-out units: bench.run.trainset.holdout_of(unit, holdout_seed, holdout)",
+            "split": {"rule": "held-out units: bench.run.trainset.holdout_of(unit, holdout_seed, holdout); with "
+                              "hyper_parameters.shrink, each frame's shrunk copy goes with it",
                       "holdout": holdout, "holdout_seed": holdout_seed, "train_frames": len(tr_rows),
                       "heldout_frames": len(val_rows), "train_candidates": int(len(train[0])),
                       "heldout_candidates": int(len(val[0]))},

@@ -3,6 +3,7 @@ and session-wide runs of them, so each is rendered and tracked once."""
 
 import copy
 
+import numpy as np
 import pytest
 
 TINY = {
@@ -78,3 +79,29 @@ def tiny_export(tmp_path_factory):
     from bench.run.export import export
 
     return export(parse(copy.deepcopy(TINY)), tmp_path_factory.mktemp("tiny-export") / "frames", quiet=True)
+
+
+def _tiny_trainset(root, *, rgb: bool):
+    """One hand-made 8x6 frame (a stripe at column 2.5 in rows 0-3, none in rows 4-5) in a training set's layout."""
+    from bench.run.trainset import _png
+    from bench.store import frameset as fs
+
+    (root / "images").mkdir(parents=True)
+    (root / "truth").mkdir()
+    img = np.full((6, 8), 20, np.uint8)
+    img[:4, 2:4] = 200
+    off = np.full((6, 8), 20, np.uint8)
+    if rgb:
+        img, off = np.stack([img, img // 2, img // 2], axis=2), np.stack([off] * 3, axis=2)
+    for name, a in (("f.png", img), ("f_off.png", off)):
+        (root / "images" / name).write_bytes(_png(a))
+    cols = np.array([2.5, 2.5, 2.5, 2.5, np.nan, np.nan])
+    (root / "truth" / "f.csv").write_text(fs.truth_csv(cols, np.zeros((6, 3)), np.where(np.isfinite(cols), 0, -1)))
+    return {"frame": "f", "image": "images/f.png", "background": "images/f_off.png", "height": 6,
+            "camera": "rgb" if rgb else "mono", "laser_wavelength_nm": 650.0}, img, off
+
+
+@pytest.fixture
+def tiny_trainset():
+    """A maker of one-frame training sets: ``tiny_trainset(root, rgb=...)`` -> (frames.csv row, image, laser-off frame)."""
+    return _tiny_trainset

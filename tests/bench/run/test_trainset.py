@@ -73,3 +73,19 @@ def test_streamed_resumable_training_set(tmp_path, monkeypatch):
                       quiet=True)
     with pytest.raises(InputError, match="other settings"):
         ts.build_trainset(tmp_path / "ts", n_units=1, angles_per_unit=2, seed=2, width=64, height=60, quiet=True)
+
+
+@pytest.mark.parametrize("rgb", [False, True])
+def test_tracker_view_shrinks_the_stored_frames_and_their_truth(tmp_path, rgb, tiny_trainset):
+    from bench.evaluate.pixels import downscale, select_channel
+
+    row, img, off = tiny_trainset(tmp_path, rgb=rgb)
+    on1, off1, t1 = ts.tracker_view(tmp_path, row, "laser")
+    on2, off2, t2 = ts.tracker_view(tmp_path, row, "laser", downscale=2)
+    assert on1.shape == (6, 8) and on2.shape == (3, 4)
+    small = downscale(img, 2)
+    assert np.array_equal(on2, select_channel(small, "r", "red") if rgb else small)
+    assert np.array_equal(off2, downscale(off, 2)[..., 0] if rgb else downscale(off, 2))
+    assert np.allclose(t1[:4], 2.5) and np.isnan(t1[4:]).all()
+    # rows 0-1 and 2-3 keep a stripe, at (2.5 - 0.5) / 2 = 1.0; rows 4-5 have none
+    assert np.allclose(t2[:2], 1.0) and np.isnan(t2[2])

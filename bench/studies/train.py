@@ -131,7 +131,11 @@ def samples_from_frames(frames, k: int | None = None, *, augment: int = 0, seed:
         for i2, o2, t2 in copies:
             parts.append(frame_samples(i2, o2, t2, k))
             parts.append(frame_samples(i2, None, t2, k))
-    return tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
+    out = []
+    for i in range(4):  # one array at a time, each part's share freed as it is copied: a peak of one array more
+        out.append(np.concatenate([p[i] for p in parts]))
+        parts = [tuple(None if j == i else a for j, a in enumerate(p)) for p in parts]
+    return tuple(out)
 
 
 def _model(hidden):
@@ -182,6 +186,26 @@ def _from_flax(fp, mu, sd) -> dict:
             "b3": f(q["out"]["bias"])}
 
 
+def _standardisation(x, chunk: int = 1 << 18) -> tuple[np.ndarray, np.ndarray]:
+    """Per-feature mean and SD (at least 1e-3) of ``x`` (N, F), float32, in two chunked float64 passes: no
+    full-size temporary (``x.std`` makes two, which a set of 10 M candidates cannot afford here).
+
+    >>> x = np.random.default_rng(0).normal(3.0, 2.0, (1000, 2)).astype(np.float32)
+    >>> mu, sd = _standardisation(x, chunk=64)
+    >>> bool(np.allclose(mu, x.mean(axis=0), atol=1e-5) and np.allclose(sd, x.std(axis=0), atol=1e-5))
+    True
+    """
+    n = max(len(x), 1)
+    total = np.zeros(x.shape[1])
+    for i in range(0, len(x), chunk):
+        total += x[i:i + chunk].sum(axis=0, dtype=np.float64)
+    mean = total / n
+    sq = np.zeros(x.shape[1])
+    for i in range(0, len(x), chunk):
+        sq += np.square(x[i:i + chunk].astype(np.float64) - mean).sum(axis=0)
+    return mean.astype(np.float32), np.maximum(np.sqrt(sq / n), 1e-3).astype(np.float32)
+
+
 def train_network(train, val, hp: HyperParams, *, say=lambda m: None):
     """Fit the network on ``train`` = (x, y, target, w) and track the loss on ``val``; returns
     (params as float32 numpy arrays, curves: per epoch train loss, val loss, val classification accuracy)."""
@@ -192,8 +216,7 @@ def train_network(train, val, hp: HyperParams, *, say=lambda m: None):
     if len(hp.hidden) != 2:
         raise ValueError("the tracker's forward pass has two hidden layers: `hidden` must have two sizes")
     x, y, t, w = train
-    mu = x.mean(axis=0).astype(np.float32)
-    sd = np.maximum(x.std(axis=0), 1e-3).astype(np.float32)
+    mu, sd = _standardisation(x)
     model = _model(hp.hidden)
     key = jax.random.PRNGKey(hp.seed)
     fparams = model.init(key, jnp.zeros((1, x.shape[1]), jnp.float32))

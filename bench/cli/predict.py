@@ -76,12 +76,13 @@ def _predict(args) -> int:
 
 
 def add_estimate(p) -> None:
-    """``--estimate {path,argmax}``: how the transplant finds a photograph's stripe."""
+    """``--estimate {path,argmax,auto}``: how the transplant finds a photograph's stripe."""
     from bench.evaluate.transplant import ESTIMATES
 
     p.add_argument("--estimate", default=ESTIMATES[0], choices=ESTIMATES,
-                   help="how --frames transplant finds the stripe: path (the most continuous bright path; default) "
-                        "or argmax (each row's maximum, kept where its neighbours agree); docs/predict.md")
+                   help="how --frames transplant finds the stripe: auto (argmax for a stripe at most 3 px wide, "
+                        "else path; default), path (the most continuous bright path) or argmax (each row's maximum, "
+                        "kept where its neighbours agree); docs/predict.md")
 
 
 def predict_check_options(p) -> None:

@@ -63,7 +63,7 @@ from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
 __all__ = ["Extents", "stripe_extents", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
-           "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
+           "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX",
            "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
@@ -89,7 +89,11 @@ PATH_JUMP = 2.0
 SUPPORT_ROWS = 3
 SUPPORT_MIN = 4
 #: The ways :func:`stripe_extents` finds the stripe's guide (the first is the default).
-ESTIMATES = ("path", "argmax")
+ESTIMATES = ("auto", "path", "argmax")
+#: ``estimate="auto"``: the argmax guide for a stripe at most this wide (FWHM, px; ``conditions.measure``'s
+#: ``width_px``), else the path. Between the two render families of docs/predict.md: the native ``field`` cases'
+#: stripes (about 4-5 px; the path predicts them better) and the phone-like ones (about 2 px; the argmax does).
+AUTO_WIDTH_PX = 3.0
 #: Each row's stripe is looked for within this many px of its guide: the real set's reference window.
 GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
@@ -113,7 +117,7 @@ class Extents:
     noise_dn: float
 
 
-def stripe_extents(frame, background=None, *, estimate: str = "path") -> Extents:
+def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents:
     """The stripe of a frame: visible rows, their extents and centres (module docstring, step 1).
 
     Parameters
@@ -122,12 +126,13 @@ def stripe_extents(frame, background=None, *, estimate: str = "path") -> Extents
         What the tracker sees (DN), stripe running top to bottom.
     background : array_like, shape (H, W), optional
         Its laser-off frame (DN).
-    estimate : {'path', 'argmax'}
-        How the guide is found (:data:`ESTIMATES`): ``path``, the DP path (module docstring); or
+    estimate : {'auto', 'path', 'argmax'}
+        How the guide is found (:data:`ESTIMATES`): ``path``, the DP path (module docstring);
         ``argmax``, each row's maximum, kept where it stands ``VISIBLE_K`` noise units up within
         ``conditions.JUMP_PX`` px of the median of such rows within :data:`GUIDE_ROWS` rows and has
-        :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS` (the first version; docs/predict.md
-        compares the two).
+        :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS` (the first version); or ``auto``
+        (the default), ``argmax`` for a stripe at most :data:`AUTO_WIDTH_PX` wide, else ``path``
+        (docs/predict.md compares the three).
 
     Returns
     -------
@@ -141,7 +146,11 @@ def stripe_extents(frame, background=None, *, estimate: str = "path") -> Extents
     work = raw if background is None else raw - np.asarray(background, dtype=np.float64)
     if work.shape != raw.shape:
         raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
-    noise = cond.measure(frame, background).noise_dn
+    measured = cond.measure(frame, background)
+    noise = measured.noise_dn
+    if estimate == "auto":
+        narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
+        estimate = "argmax" if narrow else "path"
     H, W = work.shape
     sm = work.copy()
     sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]

@@ -337,7 +337,7 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
     return out
 
 
-def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "path") -> list:
+def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
     how the stripe is found, :data:`bench.evaluate.transplant.ESTIMATES`).
 
@@ -488,7 +488,7 @@ FRAMES = ("transplant", "render")
 PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
 
 
-def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate: str = "path",
+def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate: str = "auto",
                 grid: Grid = DEFAULT_GRID,
                 channel: str = "auto", laser: str = "red", rotate_deg: int = 0, n_angles: int = N_ANGLES,
                 n_boot: int = 1000, seed: int = 0, say=None, err=None) -> dict:

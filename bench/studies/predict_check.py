@@ -38,7 +38,7 @@ __all__ = ["DEFAULTS", "Case", "case_frames", "study"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
-            "estimate": "path", "line_fwhm_mrad": None}
+            "estimate": "auto", "line_fwhm_mrad": None}
 
 
 @dataclass(frozen=True)
@@ -163,7 +163,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 made = pr.transplant_frames(photo, seed=seed, estimate=estimate)
                 frames_doc.append({"name": name, "case": exp.key, "status": "matched" if made else "out of range",
                                    "out_of_range": [] if made else ["visible"],
-                                   "shift_px": made[0][4] if made else None})
+                                   "shift_px": made[0][4] if made else None,
+                                   "width_px": cond.measure(img, None).width_px})
                 if not made:
                     say(f"stripebench predictcheck: {name}: out of range (visible)")
                     continue

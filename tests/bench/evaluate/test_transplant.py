@@ -121,3 +121,17 @@ def test_the_path_follows_the_stripe_past_a_brighter_rival_that_the_argmax_takes
     assert np.all(np.abs(argmax.centre[:8] - 130.0) < 0.5)  # each row's maximum, where the rival has support
     with pytest.raises(ValueError, match="estimate"):
         tp.stripe_extents(img, estimate="guess")
+
+
+@pytest.mark.parametrize("sigma, chosen", [(0.8, "argmax"), (3.0, "path")])
+def test_auto_takes_the_argmax_for_a_narrow_stripe_and_the_path_for_a_wide_one(sigma, chosen):
+    img = _frame(60.0, sigma=sigma).astype(float)
+    x = np.arange(W, dtype=float)
+    img[:12] += 220.0 * np.exp(-0.5 * ((x - 130.0) / sigma) ** 2)  # a rival the two estimates tell apart
+    img = np.clip(img, 0, 255).astype(np.uint8)
+    width = tp.cond.measure(img).width_px
+    assert (width <= tp.AUTO_WIDTH_PX) == (chosen == "argmax")  # FWHM = 2.355 sigma
+    auto, other = tp.stripe_extents(img, estimate="auto"), tp.stripe_extents(img, estimate=chosen)
+    assert np.array_equal(auto.centre, other.centre, equal_nan=True) and np.array_equal(auto.visible, other.visible)
+    unchosen = tp.stripe_extents(img, estimate="path" if chosen == "argmax" else "argmax")
+    assert not np.array_equal(auto.centre, unchosen.centre, equal_nan=True)

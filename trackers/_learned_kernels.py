@@ -23,7 +23,7 @@ import numpy as np
 
 from ._detect import _select
 
-__all__ = ["K", "HALF_W", "ROW_OFFSETS", "N_FEATURES", "SCALARS", "frame_stats", "features", "mlp_forward"]
+__all__ = ["K", "HALF_W", "ROW_OFFSETS", "N_FEATURES", "SCALARS", "frame_stats", "features", "mlp_forward", "decode"]
 
 K = 6  #: candidates per row
 HALF_W = 5  #: half-width of a candidate's patch, columns
@@ -402,4 +402,94 @@ def _mlp(x, mu, sd, w1, b1, w2, b2, w3, b3, perm, sign):
         for i in range(m):
             out[s0 + i, 0] = np.float32(0.5) * (g[0, 0, i] + g[1, 0, i])
             out[s0 + i, 1] = np.float32(0.5) * (g[0, 1, i] - g[1, 1, i])
+    return out
+
+
+def decode(logit: np.ndarray, cols: np.ndarray, none_logit: float, jump_cost: float = 0.0,
+           switch_cost: float = 0.0, jump_cap_px: float = 8.0) -> np.ndarray:
+    """Each row's chosen candidate, or -1 for none: the best chain of states down the frame.
+
+    A row's states are its candidates (node score: the stripe logit; ``-inf`` where none) and *none*
+    (``none_logit``, the logit of the probability threshold). A chain scores the sum of its nodes minus
+    ``jump_cost`` per px of column change between consecutive candidates (at most ``jump_cap_px`` px
+    counted: an occlusion's jump costs no more than that) and ``switch_cost`` per change between
+    a candidate and none. It is found exactly by dynamic programming over rows (Viterbi: a chain's best
+    score up to row ``r`` in state ``s`` depends only on row ``r - 1``'s best scores, so keeping one
+    per state is optimal). With both costs 0 the rows are independent and each row takes its best
+    candidate when its logit is at least ``none_logit``: the plain threshold rule.
+
+    Parameters
+    ----------
+    logit : ndarray (H, K)
+        Candidates' stripe logits, ``-inf`` where a row has fewer than K.
+    cols : ndarray (H, K)
+        Candidates' columns (px).
+    none_logit : float
+        The node score of *none*.
+    jump_cost, switch_cost, jump_cap_px : float
+        Transition costs (logit units per px; logit units; px), >= 0.
+
+    Returns
+    -------
+    ndarray (H,), int64
+        The chosen candidate's index per row; -1: none.
+
+    Examples
+    --------
+    >>> lg = np.array([[3.0, -1.0], [-0.5, 0.2], [3.0, -2.0]])   # row 1 is unsure, its weak twin is off-line
+    >>> cl = np.array([[10.0, 40.0], [10.0, 40.0], [10.0, 40.0]])
+    >>> decode(lg, cl, 0.0).tolist(), decode(lg, cl, 0.0, jump_cost=0.2, switch_cost=1.0).tolist()
+    ([0, 1, 0], [0, 0, 0])
+    """
+    lg = np.ascontiguousarray(logit, dtype=np.float64)
+    cl = np.ascontiguousarray(cols, dtype=np.float64)
+    if lg.ndim != 2 or cl.shape != lg.shape:
+        raise ValueError(f"`logit` and `cols` must be 2-D of one shape, got {lg.shape} and {cl.shape}")
+    return _decode(lg, cl, float(none_logit), float(jump_cost), float(switch_cost), float(jump_cap_px))
+
+
+@nb.njit(cache=True)
+def _decode(lg, cl, none_logit, jump_cost, switch_cost, cap):
+    """:func:`decode`'s chain (state K is none); ties go to the lowest state index, candidates before none."""
+    H, K = lg.shape
+    S = K + 1
+    out = np.full(H, -1, np.int64)
+    if H == 0:
+        return out
+    acc = np.empty((H, S))
+    back = np.zeros((H, S), np.int64)
+    for j in range(K):
+        acc[0, j] = lg[0, j]
+    acc[0, K] = none_logit
+    for r in range(1, H):
+        for j in range(S):
+            node = none_logit if j == K else lg[r, j]
+            if node == -np.inf:
+                acc[r, j] = -np.inf
+                continue
+            best = -np.inf
+            arg = 0
+            for i in range(S):
+                prev = acc[r - 1, i]
+                if prev == -np.inf:
+                    continue
+                if i < K and j < K:
+                    t = jump_cost * min(abs(cl[r, j] - cl[r - 1, i]), cap)
+                elif i == K and j == K:
+                    t = 0.0
+                else:
+                    t = switch_cost
+                v = prev - t
+                if v > best:
+                    best = v
+                    arg = i
+            acc[r, j] = best + node
+            back[r, j] = arg
+    s = 0
+    for j in range(1, S):
+        if acc[H - 1, j] > acc[H - 1, s]:
+            s = j
+    for r in range(H - 1, -1, -1):
+        out[r] = -1 if s == K else s
+        s = back[r, s]
     return out

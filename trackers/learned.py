@@ -27,7 +27,7 @@ from ._base import Track, Tracker
 from ._params import Real
 
 __all__ = ["LearnedTracker", "FORMAT_VERSION", "DEFAULT_WEIGHTS", "WeightsError", "load_weights", "weights_info",
-           "PARAM_KEYS"]
+           "PARAM_KEYS", "candidates", "choose", "predict"]
 
 FORMAT_VERSION = 1
 DEFAULT_WEIGHTS = Path(__file__).resolve().parent / "models" / "learned.npz"
@@ -91,7 +91,9 @@ def _load(path: str, _mtime: int) -> dict:
     for a in net.values():
         a.flags.writeable = False
     prov = json.loads(str(data["provenance"])) if "provenance" in data else {}
-    return {**net, "threshold": float(data["threshold"]), "k": int(data["k"]), "provenance": prov}
+    # the chain's costs (:func:`choose`) came with round 3's operating point; a file without them decides rows alone
+    costs = {k: float(data[k]) if k in data else 0.0 for k in ("jump_cost", "switch_cost")}
+    return {**net, "threshold": float(data["threshold"]), "k": int(data["k"]), **costs, "provenance": prov}
 
 
 def feature_layout() -> dict:
@@ -107,24 +109,70 @@ def weights_info(path=None) -> dict:
     return load_weights(path)["provenance"]
 
 
-def predict(image, background, net: dict):
-    """Per row the best candidate's (column, probability), NaN-free arrays with -inf/0 where no candidate;
-    also returns every candidate's logits for studies. ``net`` as :func:`load_weights` returns."""
+def candidates(image, background, net: dict):
+    """Every candidate of every row: (logit, column, base), each (H, K) float64. ``logit``: the network's
+    stripe logit (``-inf`` where a row has fewer than K candidates); ``column``: the candidate's base
+    (its 3-point fit) plus the network's offset, clipped to :data:`MAX_OFFSET`; ``base``: the fit alone.
+    ``net`` as :func:`load_weights` returns."""
     from . import _learned_kernels as lk
 
     feats, cols, base = lk.features(image, background, net["k"])
     H, K, F = feats.shape
     out = lk.mlp_forward(feats.reshape(H * K, F), net, has_background=background is not None).reshape(H, K, 2)
     logit = np.where(cols >= 0, out[..., 0].astype(np.float64), -np.inf)
+    col = base + np.clip(out[..., 1].astype(np.float64), -MAX_OFFSET, MAX_OFFSET)
+    return logit, col, base
+
+
+def _sigmoid(z):
+    z = np.asarray(z, np.float64)
+    fin = np.isfinite(z)
+    zz = np.where(fin, z, 0.0)
+    e = np.exp(-np.abs(zz))  # a sigmoid that cannot overflow
+    return np.where(fin, np.where(zz >= 0, 1.0 / (1.0 + e), e / (1.0 + e)), np.where(z > 0, 1.0, 0.0))
+
+
+def _logit(p: float) -> float:
+    p = min(max(float(p), 1e-12), 1.0 - 1e-12)
+    return float(np.log(p / (1.0 - p)))
+
+
+def choose(logit, col, base, threshold: float, jump_cost: float = 0.0, switch_cost: float = 0.0):
+    """Each row's reported (column, probability, reported?) from its candidates (:func:`candidates`).
+
+    With both costs 0 a row reports its most probable candidate when that probability reaches
+    ``threshold``. Otherwise the rows are decided together (:func:`trackers._learned_kernels.decode`,
+    with *none* scored at the logit of ``threshold``): a chain of candidates that stays in line is
+    preferred to one that jumps (``jump_cost`` per px) or switches to and from no stripe
+    (``switch_cost``), so an unsure row between sure ones in line is reported and a lone sure-looking
+    peak off the line may not be."""
+    from . import _learned_kernels as lk
+
+    H = logit.shape[0]
+    rows = np.arange(H)
+    if jump_cost == 0 and switch_cost == 0:
+        pick = np.argmax(logit, axis=1) if logit.shape[1] else np.zeros(H, np.int64)
+        prob = _sigmoid(logit[rows, pick]) if logit.shape[1] else np.zeros(H)
+        ok = (prob >= threshold) & (prob > 0)
+    else:
+        chosen = lk.decode(logit, base, _logit(threshold), jump_cost, switch_cost)
+        ok = chosen >= 0
+        pick = np.where(ok, chosen, 0)
+        prob = np.where(ok, _sigmoid(logit[rows, pick]), 0.0) if logit.shape[1] else np.zeros(H)
+    c = col[rows, pick] if logit.shape[1] else np.full(H, np.nan)
+    ok &= np.isfinite(c)
+    return c, prob, ok
+
+
+def predict(image, background, net: dict):
+    """Per row the best candidate's (column, probability), NaN-free arrays with -inf/0 where no candidate;
+    also returns every candidate's logits for studies. ``net`` as :func:`load_weights` returns."""
+    logit, col, base = candidates(image, background, net)
+    H = logit.shape[0]
     best = np.argmax(logit, axis=1)
     rows = np.arange(H)
     bl = logit[rows, best]
-    off = np.clip(out[rows, best, 1].astype(np.float64), -MAX_OFFSET, MAX_OFFSET)
-    col = base[rows, best] + off
-    z = np.where(np.isfinite(bl), bl, 0.0)
-    e = np.exp(-np.abs(z))  # a sigmoid that cannot overflow
-    prob = np.where(np.isfinite(bl), np.where(z >= 0, 1.0 / (1.0 + e), e / (1.0 + e)), 0.0)
-    return col, prob, logit
+    return col[rows, best], _sigmoid(bl), logit
 
 
 class LearnedTracker(Tracker):
@@ -138,6 +186,11 @@ class LearnedTracker(Tracker):
     weights : str or None, default None
         A weights file (``.npz``, format :data:`FORMAT_VERSION`); None: the committed
         ``trackers/models/learned.npz``.
+    jump_cost : float or None, default None
+        Logit units per px of column change between consecutive reported rows (the rows are then decided
+        together, :func:`choose`); None: the weights' own (0 when the file has none).
+    switch_cost : float or None, default None
+        Logit units per change between a reported row and an unreported one; None: the weights' own.
 
     Notes
     -----
@@ -160,17 +213,21 @@ class LearnedTracker(Tracker):
     subpixel = True
     uses_background = True
 
-    def __init__(self, threshold=None, weights=None):
+    def __init__(self, threshold=None, weights=None, jump_cost=None, switch_cost=None):
         self.threshold = threshold
         self.weights = weights
+        self.jump_cost = jump_cost
+        self.switch_cost = switch_cost
 
-    parameter_constraints = {"threshold": Real(low=0, high=1, optional=True), "weights": _WeightsPath()}
+    parameter_constraints = {"threshold": Real(low=0, high=1, optional=True), "weights": _WeightsPath(),
+                             "jump_cost": Real(low=0, optional=True), "switch_cost": Real(low=0, optional=True)}
 
     def find_stripe(self, image, background):
         net = load_weights(self.weights)
         thr = net["threshold"] if self.threshold is None else float(self.threshold)
-        col, prob, _ = predict(image, background, net)
-        ok = (prob >= thr) & (prob > 0) & np.isfinite(col)
+        jc = net["jump_cost"] if self.jump_cost is None else float(self.jump_cost)
+        sc = net["switch_cost"] if self.switch_cost is None else float(self.switch_cost)
+        col, prob, ok = choose(*candidates(image, background, net), thr, jc, sc)
         W = image.shape[1]
         col = np.clip(col, -0.5, W - 0.5)
         return Track(np.where(ok, col, np.nan), np.where(ok, prob, np.nan))

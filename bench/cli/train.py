@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import time
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError
@@ -98,6 +99,9 @@ def _add_train(p) -> None:
     p.add_argument("--shrink", type=arg_type(_shrink, "--shrink"), default=None, metavar="N,N|none",
                    help="each frame also used once shrunk by a factor drawn from these (a phone's narrow, clean "
                         "stripes); none: no shrunk copies (default: HyperParams, 2,4)")
+    p.add_argument("--from-weights", type=Path, default=None, metavar="NPZ",
+                   help="no training: take this weights file's network and choose only its operating point "
+                        "(threshold and chain costs) on the training set's held-out units")
     p.add_argument("--holdout", type=arg_type(_holdout, "--holdout"), default=0.2,
                    help="share of units held out, in (0, 1) (default 0.2)")
     add_quiet(p, "no progress notes")
@@ -111,7 +115,7 @@ def _train(args) -> int:
     if missing:
         raise UsageError(f"stripebench train needs JAX, Flax and Optax ({', '.join(missing)} missing): "
                          "pip install -e '.[learn]'")
-    from bench.studies.train import HyperParams, train_from_trainset
+    from bench.studies.train import HyperParams, operating_point_from_weights, train_from_trainset
 
     hp = HyperParams(seed=args.seed, views=args.views)
     if args.epochs is not None:
@@ -119,10 +123,22 @@ def _train(args) -> int:
     if args.shrink is not None:
         hp = replace(hp, shrink=args.shrink)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
-    prov = train_from_trainset(args.trainset, args.out, hp=hp, holdout=args.holdout, say=say)
-    h = prov["heldout"]["both"]
-    print(f"stripebench: weights at {args.out} (threshold {prov['threshold']}, held-out F1 {h['f1']:.3f}, "
-          f"hit rate {h['hit_rate']:.3f}; {prov['total_s']} s)")
+    t0 = time.perf_counter()
+    if args.from_weights is not None:
+        from trackers.learned import WeightsError, load_weights
+
+        try:
+            load_weights(args.from_weights)
+        except WeightsError as exc:
+            raise UsageError(str(exc)) from None
+        prov = operating_point_from_weights(args.trainset, args.from_weights, args.out, hp=hp, holdout=args.holdout,
+                                            say=say)
+    else:
+        prov = train_from_trainset(args.trainset, args.out, hp=hp, holdout=args.holdout, say=say)
+    h, op = prov["heldout"]["both"], prov["operating_point"]
+    print(f"stripebench: weights at {args.out} (threshold {op['threshold']}, jump cost {op['jump_cost']}, switch "
+          f"cost {op['switch_cost']}; held-out F1 {h['f1']:.3f}, hit rate {h['hit_rate']:.3f}; "
+          f"{time.perf_counter() - t0:.1f} s)")
     return 0
 
 

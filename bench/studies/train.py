@@ -37,7 +37,8 @@ from bench.store.files import atomic_write_bytes
 from bench.store.provenance import git_revision, versions
 
 __all__ = ["HyperParams", "frame_samples", "samples_from_frames", "train_network", "flax_forward",
-           "choose_threshold", "evaluate_frames", "save_weights", "plot_curves", "train_from_trainset"]
+           "choose_threshold", "evaluate_frames", "frame_candidates", "choose_operating_point", "save_weights",
+           "plot_curves", "train_from_trainset", "operating_point_from_weights"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +64,10 @@ class HyperParams:
     # phone-like renders on which round 2 missed rows (docs/learned.md)
     shrink: tuple = (2, 4)
     thresholds: tuple = field(default_factory=lambda: tuple(np.round(np.arange(0.05, 0.96, 0.05), 2).tolist()))
+    # the chain's costs searched with the threshold for the operating point (trackers.learned.choose; 0 and 0: each
+    # row decided alone); round 3
+    jump_costs: tuple = (0.0, 0.05, 0.1, 0.2, 0.5, 1.0)
+    switch_costs: tuple = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0)
 
 
 def frame_samples(image, background, truth, k: int | None = None):
@@ -273,29 +278,54 @@ def train_network(train, val, hp: HyperParams, *, say=lambda m: None):
     return _from_flax(fparams, mu, sd), curves
 
 
-def evaluate_frames(frames, net: dict, thresholds) -> dict:
-    """Row outcomes on (image, background, truth) frames with the tracker's decision at each threshold:
-    per threshold the counts and F1, precision, recall, hit rate (hits / stripe rows) and the mean |error|
-    of the hits (px)."""
-    from trackers.learned import MAX_OFFSET, predict  # noqa: F401
+def _figures(pred, t) -> dict:
+    counts = outcome_counts(row_outcomes(pred, t))
+    stripe = np.isfinite(t)
+    hit = stripe & hits(pred, t)
+    return {**counts, **detection_figures(counts), "hit_rate": float(hit.sum() / max(stripe.sum(), 1)),
+            "mae_hits_px": float(np.mean(np.abs(pred - t)[hit])) if hit.any() else float("nan")}
 
-    cols, probs, truths = [], [], []
-    for img, off, truth in frames:
-        c, p, _ = predict(img, off, net)
-        cols.append(c)
-        probs.append(p)
-        truths.append(np.asarray(truth, np.float64))
-    c, p, t = np.concatenate(cols), np.concatenate(probs), np.concatenate(truths)
+
+def frame_candidates(frames, net: dict) -> list:
+    """(candidates, truth) of each (image, background, truth) frame (:func:`trackers.learned.candidates`)."""
+    from trackers.learned import candidates
+
+    return [(candidates(img, off, net), np.asarray(truth, np.float64)) for img, off, truth in frames]
+
+
+def evaluate_frames(frames, net: dict, thresholds, *, jump_cost: float = 0.0, switch_cost: float = 0.0,
+                    cands=None) -> dict:
+    """Row outcomes on (image, background, truth) frames with the tracker's decision
+    (:func:`trackers.learned.choose`) at each threshold and the given chain costs: per threshold the counts
+    and F1, precision, recall, hit rate (hits / stripe rows) and the mean |error| of the hits (px).
+    ``cands``: :func:`frame_candidates` of ``frames``, if already computed."""
+    from trackers.learned import choose
+
+    cands = frame_candidates(frames, net) if cands is None else cands
+    t = np.concatenate([truth for _, truth in cands]) if cands else np.zeros(0)
     out = {}
     for thr in thresholds:
-        pred = np.where((p >= thr) & (p > 0), c, np.nan)
-        counts = outcome_counts(row_outcomes(pred, t))
-        fig = detection_figures(counts)
-        stripe = np.isfinite(t)
-        hit = stripe & hits(pred, t)
-        out[float(thr)] = {**counts, **fig, "hit_rate": float(hit.sum() / max(stripe.sum(), 1)),
-                           "mae_hits_px": float(np.mean(np.abs(pred - t)[hit])) if hit.any() else float("nan")}
+        preds = []
+        for (logit, col, base), _ in cands:
+            c, _, ok = choose(logit, col, base, float(thr), jump_cost, switch_cost)
+            preds.append(np.where(ok, c, np.nan))
+        out[float(thr)] = _figures(np.concatenate(preds) if preds else np.zeros(0), t)
     return out
+
+
+def choose_operating_point(cands, hp: "HyperParams") -> tuple[dict, dict]:
+    """The operating point of best F1 over the held-out rows (a miss and a false report priced alike),
+    searched jointly over ``hp.thresholds``, ``hp.jump_costs`` and ``hp.switch_costs`` (ties: the lowest
+    jump cost, then switch cost, then threshold). Returns (``{"threshold", "jump_cost", "switch_cost"}``,
+    ``{(jump_cost, switch_cost): evaluate_frames table}``)."""
+    tables = {}
+    for jc in hp.jump_costs:
+        for sc in hp.switch_costs:
+            tables[(float(jc), float(sc))] = evaluate_frames(None, None, hp.thresholds, jump_cost=float(jc),
+                                                             switch_cost=float(sc), cands=cands)
+    best = max(((jc, sc, thr) for (jc, sc), tab in tables.items() for thr in tab),
+               key=lambda k: (np.nan_to_num(tables[k[:2]][k[2]]["f1"], nan=-1.0), -k[0], -k[1], -k[2]))
+    return {"jump_cost": best[0], "switch_cost": best[1], "threshold": best[2]}, tables
 
 
 def choose_threshold(table: dict) -> float:
@@ -304,7 +334,8 @@ def choose_threshold(table: dict) -> float:
     return float(best[0])
 
 
-def save_weights(path, net: dict, threshold: float, k: int, provenance: dict) -> Path:
+def save_weights(path, net: dict, threshold: float, k: int, provenance: dict, *, jump_cost: float = 0.0,
+                 switch_cost: float = 0.0) -> Path:
     """Write a weights file the ``learned`` tracker reads."""
     from trackers.learned import FORMAT_VERSION, PARAM_KEYS, feature_layout
 
@@ -312,6 +343,7 @@ def save_weights(path, net: dict, threshold: float, k: int, provenance: dict) ->
 
     buf = io.BytesIO()
     np.savez_compressed(buf, format_version=np.int64(FORMAT_VERSION), threshold=np.float64(threshold),
+                        jump_cost=np.float64(jump_cost), switch_cost=np.float64(switch_cost),
                         k=np.int64(k), layout=np.str_(json.dumps(feature_layout())),
                         provenance=np.str_(json.dumps(provenance, default=float)),
                         **{key: np.asarray(net[key], np.float32) for key in PARAM_KEYS})
@@ -390,16 +422,7 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
     net, curves = train_network(train, val, hp, say=say)
     t2 = time.perf_counter()
     net_k = {**net, "k": hp.k}
-    # the operating point on held-out rows, with and without the laser-off frame
-    both = [(i, o, t) for i, o, t in val_frames] + [(i, None, t) for i, o, t in val_frames]
-    table = evaluate_frames(both, net_k, hp.thresholds)
-    thr = choose_threshold(table)
-    with_bg = evaluate_frames(val_frames, net_k, [thr])[thr]
-    no_bg = evaluate_frames([(i, None, t) for i, o, t in val_frames], net_k, [thr])[thr]
-    auto = _load_frames(trainset, val_rows) if tuple(hp.views) != ("auto",) or shrink else val_frames
-    auto_both = evaluate_frames(auto + [(i, None, t) for i, o, t in auto], net_k, [thr])[thr]
-    say(f"  held-out rows at threshold {thr}: F1 {table[thr]['f1']:.3f}, hit rate {table[thr]['hit_rate']:.3f} "
-        f"(with laser-off frame F1 {with_bg['f1']:.3f}, without {no_bg['f1']:.3f})")
+    point, heldout, table = _operating_point(trainset, val_rows, val_frames, net_k, hp, say)
     prov = {"what": "stripebench learned tracker weights", "trained_on": "renders only (stripebench trainset)",
             "trainset": {"path": str(trainset), **{k: doc[k] for k in ("seed", "n_units", "angles_per_unit",
                                                                           "noise_draws", "width", "height", "frames",
@@ -412,15 +435,75 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
                       "heldout_candidates": int(len(val[0]))},
             "architecture": {"input": "trackers._learned_kernels features", "hidden": list(hp.hidden),
                              "activation": "relu", "output": ["stripe logit", "offset px from the 3-point fit"]},
-            "hyper_parameters": asdict(hp), "threshold": thr,
-            "heldout": {"both": table[thr], "with_background": with_bg, "without_background": no_bg,
-                        "auto_view_both": auto_both,
-                        "by_threshold": {str(k): v for k, v in table.items()}},
+            "hyper_parameters": asdict(hp), "threshold": point["threshold"], "operating_point": point,
+            "heldout": heldout,
             "curves": curves, "train_s": round(t2 - t1, 1), "total_s": round(time.perf_counter() - t0, 1),
             "versions": {**versions(), **_learn_versions()}, "git_revision": git_revision(),
             "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
-    save_weights(out, net, thr, hp.k, prov)
-    plot_curves(curves, table, thr, Path(out).with_suffix(".png"))
+    save_weights(out, net, point["threshold"], hp.k, prov, jump_cost=point["jump_cost"],
+                 switch_cost=point["switch_cost"])
+    plot_curves(curves, table, point["threshold"], Path(out).with_suffix(".png"))
+    return prov
+
+
+def _operating_point(trainset, val_rows, val_frames, net_k, hp, say):
+    """The operating point on the held-out rows, with and without the laser-off frame
+    (:func:`choose_operating_point`), and the held-out figures a weights file records."""
+    both = [(i, o, t) for i, o, t in val_frames] + [(i, None, t) for i, o, t in val_frames]
+    cands = frame_candidates(both, net_k)
+    point, tables = choose_operating_point(cands, hp)
+    thr, jc, sc = point["threshold"], point["jump_cost"], point["switch_cost"]
+    n = len(val_frames)
+    with_bg = evaluate_frames(None, None, [thr], jump_cost=jc, switch_cost=sc, cands=cands[:n])[thr]
+    no_bg = evaluate_frames(None, None, [thr], jump_cost=jc, switch_cost=sc, cands=cands[n:])[thr]
+    auto = _load_frames(trainset, val_rows) if tuple(hp.views) != ("auto",) or hp.shrink else val_frames
+    auto_both = evaluate_frames(auto + [(i, None, t) for i, o, t in auto], net_k, [thr], jump_cost=jc,
+                                switch_cost=sc)[thr]
+    alone = tables[(0.0, 0.0)]
+    best = tables[(jc, sc)][thr]
+    say(f"  held-out rows at threshold {thr}, jump cost {jc}, switch cost {sc}: F1 {best['f1']:.3f}, hit rate "
+        f"{best['hit_rate']:.3f} (with laser-off frame F1 {with_bg['f1']:.3f}, without {no_bg['f1']:.3f}; rows "
+        f"alone at their best threshold {choose_threshold(alone)}: F1 {alone[choose_threshold(alone)]['f1']:.3f})")
+    heldout = {"both": best, "with_background": with_bg, "without_background": no_bg, "auto_view_both": auto_both,
+               "by_threshold": {str(k): v for k, v in alone.items()},
+               "by_costs": {f"{a},{b}": {"best_threshold": choose_threshold(t), "f1": t[choose_threshold(t)]["f1"]}
+                            for (a, b), t in tables.items()}}
+    return point, heldout, alone
+
+
+def operating_point_from_weights(trainset, weights, out, *, hp: HyperParams = HyperParams(), holdout: float = 0.2,
+                                 holdout_seed: int = 0, say=lambda m: None) -> dict:
+    """A weights file's network with its operating point chosen again (:func:`choose_operating_point`) on
+    the held-out split of ``trainset`` (the split :func:`train_from_trainset` used, with ``hp``'s views and
+    shrink): written to ``out`` with the provenance extended; returns it. No training."""
+    from bench.run.trainset import holdout_of, read_trainset
+    from trackers.learned import PARAM_KEYS, load_weights
+
+    t0 = time.perf_counter()
+    w = load_weights(weights)
+    _, rows = read_trainset(trainset)
+    val_rows = [r for r in rows if holdout_of(int(r["unit"]), holdout_seed, holdout)]
+    if not val_rows:
+        raise ValueError("the held-out split left no held-out frames: use more units")
+    net_k = {**{k: w[k] for k in PARAM_KEYS}, "k": w["k"]}
+    val_frames = _load_frames(trainset, val_rows, hp.views, tuple(int(n) for n in hp.shrink), hp.seed)
+    point, heldout, table = _operating_point(trainset, val_rows, val_frames, net_k, hp, say)
+    prov = dict(w["provenance"])
+    prov["operating_point_history"] = list(prov.get("operating_point_history", [])) + [
+        {"threshold": prov.get("threshold"), "operating_point": prov.get("operating_point"),
+         "heldout_both": prov.get("heldout", {}).get("both")}]
+    prov.update({"threshold": point["threshold"], "operating_point": point, "heldout": heldout,
+                 "operating_point_chosen": {"by": "bench.studies.train.operating_point_from_weights",
+                                            "trainset": str(trainset), "holdout": holdout,
+                                            "holdout_seed": holdout_seed, "jump_costs": list(hp.jump_costs),
+                                            "switch_costs": list(hp.switch_costs),
+                                            "thresholds": list(hp.thresholds), "git_revision": git_revision(),
+                                            "s": round(time.perf_counter() - t0, 1),
+                                            "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}})
+    save_weights(out, net_k, point["threshold"], w["k"], prov, jump_cost=point["jump_cost"],
+                 switch_cost=point["switch_cost"])
+    if prov.get("curves"):
+        plot_curves(prov["curves"], table, point["threshold"], Path(out).with_suffix(".png"))
     return prov
 
 

@@ -53,6 +53,71 @@ def test_features_are_flip_symmetric():
     assert np.array_equal(a[::-1], b) and np.array_equal(ca[::-1], cb)
 
 
+def _brute_force_chain(lg, cl, none, jc, sc, cap=8.0):
+    """The best chain's score by trying every chain (tiny cases only)."""
+    import itertools
+
+    H, K = lg.shape
+    best = -np.inf
+    for states in itertools.product(range(K + 1), repeat=H):
+        node = [none if s == K else lg[r, s] for r, s in enumerate(states)]
+        if not np.all(np.isfinite(node)):
+            continue
+        v = float(np.sum(node))
+        for r in range(1, H):
+            a, b = states[r - 1], states[r]
+            if a < K and b < K:
+                v -= jc * min(abs(cl[r, b] - cl[r - 1, a]), cap)
+            elif (a == K) != (b == K):
+                v -= sc
+        best = max(best, v)
+    return best
+
+
+def _chain_score(lg, cl, none, jc, sc, states, cap=8.0):
+    K = lg.shape[1]
+    st = [K if s < 0 else s for s in states]
+    v = sum(none if s == K else lg[r, s] for r, s in enumerate(st))
+    for r in range(1, len(st)):
+        a, b = st[r - 1], st[r]
+        if a < K and b < K:
+            v -= jc * min(abs(cl[r, b] - cl[r - 1, a]), cap)
+        elif (a == K) != (b == K):
+            v -= sc
+    return v
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_decode_finds_the_best_chain_and_without_costs_is_the_threshold_rule(seed):
+    rng = np.random.default_rng(seed)
+    H, K = 5, 2
+    lg = rng.normal(0, 2, (H, K))
+    lg[rng.random((H, K)) < 0.2] = -np.inf
+    cl = rng.uniform(0, 30, (H, K))
+    for jc, sc in ((0.3, 1.0), (0.05, 3.0), (1.0, 0.0)):
+        got = lk.decode(lg, cl, -0.4, jc, sc)
+        assert _chain_score(lg, cl, -0.4, jc, sc, got) == pytest.approx(_brute_force_chain(lg, cl, -0.4, jc, sc))
+    alone = lk.decode(lg, cl, -0.4)
+    best = np.argmax(lg, axis=1)
+    assert np.array_equal(alone, np.where(lg[np.arange(H), best] >= -0.4, best, -1))
+
+
+def test_chain_costs_come_from_the_weights_and_zero_costs_keep_the_rule():
+    from trackers.learned import candidates, choose
+
+    img, truth = make_stripe_image(seed=3)
+    net = load_weights()
+    logit, col, base = candidates(img, None, net)
+    c0, p0, ok0 = choose(logit, col, base, 0.3)
+    c1, p1, ok1 = choose(logit, col, base, 0.3, 0.0, 0.0)
+    assert np.array_equal(ok0, ok1) and np.array_equal(c0[ok0], c1[ok1])
+    with np.load(DEFAULT_WEIGHTS) as z:
+        assert float(z["jump_cost"]) == net["jump_cost"] and float(z["switch_cost"]) == net["switch_cost"]
+    plain = LearnedTracker(jump_cost=0.0, switch_cost=0.0, threshold=0.3).track(img)
+    W = img.shape[1]
+    assert np.array_equal(plain.detected, ok0) and np.allclose(plain.columns[ok0], np.clip(c0[ok0], -0.5, W - 0.5))
+
+
 def _synthetic_frames(seeds):
     """Stripes of random strength in the top half of each frame, nothing in the bottom half."""
     frames = []

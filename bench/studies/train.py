@@ -65,9 +65,9 @@ class HyperParams:
     shrink: tuple = (2, 4)
     thresholds: tuple = field(default_factory=lambda: tuple(np.round(np.arange(0.05, 0.96, 0.05), 2).tolist()))
     # the chain's costs searched with the threshold for the operating point (trackers.learned.choose; 0 and 0: each
-    # row decided alone); round 3
-    jump_costs: tuple = (0.0, 0.05, 0.1, 0.2, 0.5, 1.0)
-    switch_costs: tuple = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0)
+    # row decided alone); round 3b (the first grid, to 1 and 8, chose its corner: widened to 4 and 32)
+    jump_costs: tuple = (0.0, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 4.0)
+    switch_costs: tuple = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0)
 
 
 def frame_samples(image, background, truth, k: int | None = None):

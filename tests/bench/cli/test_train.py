@@ -51,3 +51,17 @@ def test_trainset_then_train_writes_weights_the_tracker_reads(tmp_path, capsys, 
     assert info["trainset"]["n_units"] == 3 and info["hyper_parameters"]["epochs"] == 1
     track = trackers.make("learned", weights=str(out)).track(np.zeros((60, 64), np.uint8))
     assert track.height == 60
+    # the operating point alone, chosen again for the same network
+    again = tmp_path / "w2.npz"
+    assert main(["train", str(ts), "--from-weights", str(out), "--out", str(again), "--holdout", "0.5",
+                 "--quiet"]) == 0
+    from trackers.learned import PARAM_KEYS, load_weights
+
+    a, b = load_weights(out), load_weights(again)
+    assert all(np.array_equal(a[k], b[k]) for k in PARAM_KEYS)
+    assert (a["threshold"], a["jump_cost"], a["switch_cost"]) == (b["threshold"], b["jump_cost"], b["switch_cost"])
+    assert len(weights_info(again)["operating_point_history"]) == 1
+    capsys.readouterr()
+    assert main(["train", str(ts), "--from-weights", str(tmp_path / "none.npz"), "--out", str(again)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "cannot read learned weights" in err and "\n" not in err

@@ -103,5 +103,6 @@ def _tiny_trainset(root, *, rgb: bool):
 
 @pytest.fixture
 def tiny_trainset():
-    """A maker of one-frame training sets: ``tiny_trainset(root, rgb=...)`` -> (frames.csv row, image, laser-off frame)."""
+    """A maker of one-frame training sets: ``tiny_trainset(root, rgb=...)`` -> (frames.csv row, image,
+    laser-off frame)."""
     return _tiny_trainset

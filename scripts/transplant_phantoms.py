@@ -6,8 +6,10 @@ it (a floor's mirror image of the stripe, a rival), so some moved rows carry som
 stripe. On renders the truth is known: this script makes the transplants of ``stripebench predictcheck``'s
 cases and counts the moved rows scored as stripe rows where the render has no stripe (phantom rows),
 with each tracker's hit rate on them and on the other (real) stripe rows. A tracker that rightly stays quiet
-on a reflection is scored as missing it there, one that reports the reflection as hitting it. Used for
-docs/predict.md:
+on a reflection is scored as missing it there, one that reports the reflection as hitting it. It also
+prints how high the estimate's visible rows stand against the frame's median visible row (the peak over
+the reference window's median), for real and phantom rows: the data a height rule would be chosen on.
+Used for docs/predict.md:
 
     python scripts/transplant_phantoms.py --seed 1
     python scripts/transplant_phantoms.py --seed 1 --downscale 4 --line-fwhm 1.2
@@ -35,6 +37,7 @@ def main(argv=None) -> int:
 
     from bench.config import parse_trackers, profile
     from bench.evaluate.outcomes import HIT, STRIPE
+    from bench.evaluate.transplant import GUIDE_HALF_PX, stripe_extents
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
     from bench.run.track import build_trackers
@@ -44,12 +47,23 @@ def main(argv=None) -> int:
     labs = [t for t in args.trackers.split(",") if t]
     tr = build_trackers(parse_trackers(labs))
     hits = {lab: {"real": [0, 0], "phantom": [0, 0]} for lab in labs}
+    ratios = {"real": [], "phantom": []}
     for exp in cfg.experiments:
         for name, case, params in case_frames(exp, cfg, seed=args.seed, width=args.size,
                                               height=args.size * 15 // 16, n_angles=pr.N_ANGLES,
                                               downscale=args.downscale, line_fwhm_mrad=args.line_fwhm):
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
             photo = pr.Photo(name, Path(name), case.image, None, case.original, laser)
+            ext = stripe_extents(case.image, estimate=args.estimate)
+            vis = np.flatnonzero(ext.visible)
+            if vis.size:
+                img = np.asarray(case.image, np.float64)
+                h = np.array([img[r, ext.peak[r]] - np.median(img[r, max(ext.peak[r] - GUIDE_HALF_PX, 0):
+                                                                    ext.peak[r] + GUIDE_HALF_PX + 1]) for r in vis])
+                ratio = h / np.median(h)
+                ph = ~np.isfinite(case.truth_columns[vis])
+                ratios["real"].append(ratio[~ph])
+                ratios["phantom"].append(ratio[ph])
             made = pr.transplant_frames(photo, seed=args.seed, estimate=args.estimate)
             if not made:
                 continue
@@ -68,6 +82,13 @@ def main(argv=None) -> int:
     for lab in labs:
         r, p = hits[lab]["real"], hits[lab]["phantom"]
         print(f"{lab:<12}{r[0] / max(r[1], 1):>22.3f}{p[0] / max(p[1], 1):>25.3f}")
+    print("the estimate's visible rows in the cases, height / the frame's median visible height:")
+    for kind in ("real", "phantom"):
+        x = np.concatenate(ratios[kind]) if ratios[kind] else np.zeros(0)
+        if x.size:
+            q = ", ".join(f"{v:.2f}" for v in np.quantile(x, (0.1, 0.25, 0.5, 0.75)))
+            below = ", ".join(f"{np.mean(x < f):.3f}" for f in (0.2, 0.3, 0.5))
+            print(f"  {kind:<8} {x.size:>5} rows; quartiles (10/25/50/75 %) {q}; share under 0.2 / 0.3 / 0.5: {below}")
     return 0
 
 

@@ -98,12 +98,6 @@ AUTO_WIDTH_PX = 3.0
 GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
-#: The moved stripe's excess is scaled by the surface's brightness where it goes over where it was
-#: (:func:`_albedo_gain`): levels over the camera's dark level (this percentile of the frame, per channel),
-#: each raised by ALBEDO_FLOOR_K channel-noise units, the ratio clipped to [1 / ALBEDO_MAX_GAIN, ALBEDO_MAX_GAIN].
-ALBEDO_DARK_PCT = 1.0
-ALBEDO_FLOOR_K = 3.0
-ALBEDO_MAX_GAIN = 4.0
 
 
 @dataclass(frozen=True)
@@ -319,11 +313,6 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
     out = planes.copy()
     truth = np.full(H, np.nan)
     s = int(shift_px)
-    # the surface's brightness without the laser, per channel: the camera's dark level and a floor that keeps
-    # the gain near 1 where both places are dark (_albedo_gain)
-    amb = planes if background_original is None else bgp
-    dark = np.percentile(amb.reshape(-1, C), ALBEDO_DARK_PCT, axis=0)
-    floor = ALBEDO_FLOOR_K * (channel_noise(img) if background_original is not None else noise)
     lo, hi = _span_extents(ext, W)
     for r in np.flatnonzero(lo >= 0):
         a, b = int(lo[r]), int(hi[r])
@@ -336,9 +325,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         if a + s - SIDE_PX < 0 or b + s + SIDE_PX > W - 1 or abs(s) < b - a + 1 + SIDE_PX:
             continue  # the moved extent would leave the frame or meet the old one: removed, not moved
         src = planes[r, a:b + 1]
-        dest = planes[r, a + s:b + s + 1] if background_original is None else bgp[r, a + s:b + s + 1]
-        gain = _albedo_gain(line, dest, dark, floor)
-        out[r, a + s:b + s + 1] = np.where(src >= hi_v, hi_v, planes[r, a + s:b + s + 1] + gain * (src - line))
+        out[r, a + s:b + s + 1] = np.where(src >= hi_v, hi_v, planes[r, a + s:b + s + 1] + (src - line))
         if np.isfinite(ext.centre[r]):
             truth[r] = ext.centre[r] + s
     out = np.clip(out, lo_v, hi_v)
@@ -346,21 +333,6 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         out = np.rint(out)
     out = out.astype(img.dtype)
     return (out[..., 0] if img.ndim == 2 else out), truth
-
-
-def _albedo_gain(old, new, dark, floor) -> np.ndarray:
-    """Per channel (C,), the moved stripe's gain: how much brighter the surface is, without the laser, where
-    the stripe goes (``new``, (n, C)) than where it was (``old``, (n, C)), over the camera's ``dark`` level,
-    each level raised by ``floor`` (DN) and the ratio clipped to [1 / ALBEDO_MAX_GAIN, ALBEDO_MAX_GAIN]. A
-    stripe is as bright as the surface that scatters it; moved across a printed board's squares, it
-    darkens on a black one and brightens on a white one.
-
-    >>> _albedo_gain(np.full((3, 1), 40.0), np.full((3, 1), 110.0), np.array([10.0]), np.array([0.0])).tolist()
-    [3.3333333333333335]
-    """
-    o = np.maximum(np.mean(old, axis=0) - dark, 0.0) + floor
-    n = np.maximum(np.mean(new, axis=0) - dark, 0.0) + floor
-    return np.clip(n / np.maximum(o, 1e-9), 1.0 / ALBEDO_MAX_GAIN, ALBEDO_MAX_GAIN)
 
 
 def _span_extents(ext: Extents, W: int) -> tuple[np.ndarray, np.ndarray]:

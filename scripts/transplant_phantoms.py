@@ -7,8 +7,8 @@ stripe. On renders the truth is known: this script makes the transplants of ``st
 cases and counts the moved rows scored as stripe rows where the render has no stripe (phantom rows),
 with each tracker's hit rate on them and on the other (real) stripe rows. A tracker that rightly stays quiet
 on a reflection is scored as missing it there, one that reports the reflection as hitting it. It also
-prints how high the estimate's visible rows stand against the frame's median visible row (the peak over
-the reference window's median), for real and phantom rows: the data a height rule would be chosen on.
+prints how high the estimate's visible rows stand against the frame's median visible row (``Extents.height``,
+the peak over the reference window's median), for real and phantom rows: the data a height rule would be chosen on.
 Used for docs/predict.md:
 
     python scripts/transplant_phantoms.py --seed 1
@@ -37,7 +37,7 @@ def main(argv=None) -> int:
 
     from bench.config import parse_trackers, profile
     from bench.evaluate.outcomes import HIT, STRIPE
-    from bench.evaluate.transplant import GUIDE_HALF_PX, stripe_extents
+    from bench.evaluate.transplant import stripe_extents
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
     from bench.run.track import build_trackers
@@ -57,10 +57,7 @@ def main(argv=None) -> int:
             ext = stripe_extents(case.image, estimate=args.estimate)
             vis = np.flatnonzero(ext.visible)
             if vis.size:
-                img = np.asarray(case.image, np.float64)
-                h = np.array([img[r, ext.peak[r]] - np.median(img[r, max(ext.peak[r] - GUIDE_HALF_PX, 0):
-                                                                    ext.peak[r] + GUIDE_HALF_PX + 1]) for r in vis])
-                ratio = h / np.median(h)
+                ratio = ext.height[vis] / np.median(ext.height[vis])
                 ph = ~np.isfinite(case.truth_columns[vis])
                 ratios["real"].append(ratio[~ph])
                 ratios["phantom"].append(ratio[ph])

@@ -30,7 +30,7 @@ from ._base import Track, Tracker
 from ._params import Real
 
 __all__ = ["LearnedTracker", "FORMAT_VERSION", "DEFAULT_WEIGHTS", "WeightsError", "load_weights", "weights_info",
-           "PARAM_KEYS", "candidates", "choose", "predict"]
+           "PARAM_KEYS", "candidates", "choose"]
 
 FORMAT_VERSION = 1
 DEFAULT_WEIGHTS = Path(__file__).resolve().parent / "models" / "learned.npz"
@@ -148,34 +148,22 @@ def choose(logit, col, base, threshold: float, jump_cost: float = 0.0, switch_co
     with *none* scored at the logit of ``threshold``): a chain of candidates that stays in line is
     preferred to one that jumps (``jump_cost`` per px) or switches to and from no stripe
     (``switch_cost``), so an unsure row between sure ones in line is reported and a lone sure-looking
-    peak off the line may not be."""
+    peak off the line may not be. (Costs 0 give the same rows through the chain, a test checks; the
+    direct rule is faster and compares probabilities exactly.)"""
     from . import _learned_kernels as lk
 
-    H = logit.shape[0]
-    rows = np.arange(H)
+    rows = np.arange(logit.shape[0])
     if jump_cost == 0 and switch_cost == 0:
-        pick = np.argmax(logit, axis=1) if logit.shape[1] else np.zeros(H, np.int64)
-        prob = _sigmoid(logit[rows, pick]) if logit.shape[1] else np.zeros(H)
+        pick = np.argmax(logit, axis=1)
+        prob = _sigmoid(logit[rows, pick])
         ok = (prob >= threshold) & (prob > 0)
     else:
         chosen = lk.decode(logit, base, _logit(threshold), jump_cost, switch_cost)
         ok = chosen >= 0
         pick = np.where(ok, chosen, 0)
-        prob = np.where(ok, _sigmoid(logit[rows, pick]), 0.0) if logit.shape[1] else np.zeros(H)
-    c = col[rows, pick] if logit.shape[1] else np.full(H, np.nan)
-    ok &= np.isfinite(c)
-    return c, prob, ok
-
-
-def predict(image, background, net: dict):
-    """Per row the best candidate's (column, probability), NaN-free arrays with -inf/0 where no candidate;
-    also returns every candidate's logits for studies. ``net`` as :func:`load_weights` returns."""
-    logit, col, base = candidates(image, background, net)
-    H = logit.shape[0]
-    best = np.argmax(logit, axis=1)
-    rows = np.arange(H)
-    bl = logit[rows, best]
-    return col[rows, best], _sigmoid(bl), logit
+        prob = np.where(ok, _sigmoid(logit[rows, pick]), 0.0)
+    c = col[rows, pick]
+    return c, prob, ok & np.isfinite(c)
 
 
 class LearnedTracker(Tracker):

@@ -107,7 +107,8 @@ class Extents:
     ``peak``: in a guided row the maximum within :data:`GUIDE_HALF_PX` px of its guide, else the row's
     argmax (px); ``visible``: the stripe stands out in that row; ``lo``, ``hi``: the extent's first
     and last column (inclusive; meaningful where visible); ``centre``: the stripe's centre (px, NaN
-    in a row without a guide); ``noise_dn``: the frame's sensor noise (DN)."""
+    in a row without a guide); ``noise_dn``: the frame's sensor noise (DN); ``height``: the peak over
+    the window's median (DN, NaN in a row without a guide; None when not measured)."""
 
     peak: np.ndarray
     visible: np.ndarray
@@ -115,6 +116,7 @@ class Extents:
     hi: np.ndarray
     centre: np.ndarray
     noise_dn: float
+    height: np.ndarray | None = None
 
 
 def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents:
@@ -171,6 +173,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
     visible = np.zeros(H, bool)
     lo, hi = peak.copy(), peak.copy()
     centre = np.full(H, np.nan)
+    heights = np.full(H, np.nan)
     for r in range(H):
         if not np.isfinite(guide[r]):
             continue
@@ -180,7 +183,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
         row = work[r]
         base = float(np.median(row[w0:w1 + 1]))
         height = row[c] - base
-        peak[r] = c
+        peak[r], heights[r] = c, height
         v0, v1 = max(c - 3, 0), min(c + 3, W - 1)
         seg = row[v0:v1 + 1] - base
         wts = np.clip(seg - 0.5 * height, 0.0, None)
@@ -196,7 +199,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
         while b < W - 1 and b - c < MAX_HALF_PX and row[b + 1] > edge:
             b += 1
         lo[r], hi[r] = max(a - PAD_PX, c - MAX_HALF_PX, 0), min(b + PAD_PX, c + MAX_HALF_PX, W - 1)
-    return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise))
+    return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise), height=heights)
 
 
 def _path(score) -> np.ndarray:

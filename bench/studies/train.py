@@ -37,8 +37,8 @@ from bench.store.files import atomic_write_bytes
 from bench.store.provenance import git_revision, versions
 
 __all__ = ["HyperParams", "frame_samples", "samples_from_frames", "train_network", "flax_forward",
-           "choose_threshold", "evaluate_frames", "frame_candidates", "choose_operating_point", "save_weights",
-           "plot_curves", "train_from_trainset", "operating_point_from_weights"]
+           "choose_threshold", "evaluate_frames", "evaluate_candidates", "frame_candidates", "choose_operating_point",
+           "save_weights", "plot_curves", "train_from_trainset", "operating_point_from_weights"]
 
 
 @dataclass(frozen=True)
@@ -293,15 +293,12 @@ def frame_candidates(frames, net: dict) -> list:
     return [(candidates(img, off, net), np.asarray(truth, np.float64)) for img, off, truth in frames]
 
 
-def evaluate_frames(frames, net: dict, thresholds, *, jump_cost: float = 0.0, switch_cost: float = 0.0,
-                    cands=None) -> dict:
-    """Row outcomes on (image, background, truth) frames with the tracker's decision
+def evaluate_candidates(cands, thresholds, *, jump_cost: float = 0.0, switch_cost: float = 0.0) -> dict:
+    """Row outcomes of :func:`frame_candidates`' output with the tracker's decision
     (:func:`trackers.learned.choose`) at each threshold and the given chain costs: per threshold the counts
-    and F1, precision, recall, hit rate (hits / stripe rows) and the mean |error| of the hits (px).
-    ``cands``: :func:`frame_candidates` of ``frames``, if already computed."""
+    and F1, precision, recall, hit rate (hits / stripe rows) and the mean |error| of the hits (px)."""
     from trackers.learned import choose
 
-    cands = frame_candidates(frames, net) if cands is None else cands
     t = np.concatenate([truth for _, truth in cands]) if cands else np.zeros(0)
     out = {}
     for thr in thresholds:
@@ -313,6 +310,12 @@ def evaluate_frames(frames, net: dict, thresholds, *, jump_cost: float = 0.0, sw
     return out
 
 
+def evaluate_frames(frames, net: dict, thresholds, *, jump_cost: float = 0.0, switch_cost: float = 0.0) -> dict:
+    """:func:`evaluate_candidates` of (image, background, truth) frames under the network ``net``."""
+    return evaluate_candidates(frame_candidates(frames, net), thresholds, jump_cost=jump_cost,
+                               switch_cost=switch_cost)
+
+
 def choose_operating_point(cands, hp: "HyperParams") -> tuple[dict, dict]:
     """The operating point of best F1 over the held-out rows (a miss and a false report priced alike),
     searched jointly over ``hp.thresholds``, ``hp.jump_costs`` and ``hp.switch_costs`` (ties: the lowest
@@ -321,8 +324,8 @@ def choose_operating_point(cands, hp: "HyperParams") -> tuple[dict, dict]:
     tables = {}
     for jc in hp.jump_costs:
         for sc in hp.switch_costs:
-            tables[(float(jc), float(sc))] = evaluate_frames(None, None, hp.thresholds, jump_cost=float(jc),
-                                                             switch_cost=float(sc), cands=cands)
+            tables[(float(jc), float(sc))] = evaluate_candidates(cands, hp.thresholds, jump_cost=float(jc),
+                                                                 switch_cost=float(sc))
     best = max(((jc, sc, thr) for (jc, sc), tab in tables.items() for thr in tab),
                key=lambda k: (np.nan_to_num(tables[k[:2]][k[2]]["f1"], nan=-1.0), -k[0], -k[1], -k[2]))
     return {"jump_cost": best[0], "switch_cost": best[1], "threshold": best[2]}, tables
@@ -454,8 +457,8 @@ def _operating_point(trainset, val_rows, val_frames, net_k, hp, say):
     point, tables = choose_operating_point(cands, hp)
     thr, jc, sc = point["threshold"], point["jump_cost"], point["switch_cost"]
     n = len(val_frames)
-    with_bg = evaluate_frames(None, None, [thr], jump_cost=jc, switch_cost=sc, cands=cands[:n])[thr]
-    no_bg = evaluate_frames(None, None, [thr], jump_cost=jc, switch_cost=sc, cands=cands[n:])[thr]
+    with_bg = evaluate_candidates(cands[:n], [thr], jump_cost=jc, switch_cost=sc)[thr]
+    no_bg = evaluate_candidates(cands[n:], [thr], jump_cost=jc, switch_cost=sc)[thr]
     auto = _load_frames(trainset, val_rows) if tuple(hp.views) != ("auto",) or hp.shrink else val_frames
     auto_both = evaluate_frames(auto + [(i, None, t) for i, o, t in auto], net_k, [thr], jump_cost=jc,
                                 switch_cost=sc)[thr]

@@ -43,7 +43,8 @@ def frames(config, seed: int, channel: str, *, size: int | None = None, downscal
            line_fwhm_mrad: float | None = None):
     """(class, image, laser-off frame, true columns) of every frame of ``config``'s experiments; with
     ``size`` the frames are ``size`` px wide (15/16 as high), rendered ``downscale`` times larger and
-    shrunk back, and ``line_fwhm_mrad`` replaces every experiment's line width."""
+    shrunk back (without ``size``, the profile's size shrunk by ``downscale``), and ``line_fwhm_mrad``
+    replaces every experiment's line width."""
     import types
 
     import scenes
@@ -59,8 +60,6 @@ def frames(config, seed: int, channel: str, *, size: int | None = None, downscal
     render = dict(cfg.render)
     if size is not None:
         render.update(width=int(size) * n, height=int(size) * 15 // 16 * n)
-    elif n != 1:
-        raise SystemExit("--downscale needs --size")
     for e in cfg.experiments:
         overrides = dict(e.overrides)
         if line_fwhm_mrad is not None:
@@ -133,6 +132,8 @@ def main(argv=None) -> int:
     ap.add_argument("--line-fwhm", type=float, help="every experiment's laser line width (mrad)")
     ap.add_argument("--out", help="write the counts here (JSON)")
     args = ap.parse_args(argv)
+    if args.downscale != 1 and args.size is None:
+        ap.error("--downscale needs --size")
     if args.table:
         res: dict = {}
         for f in args.table:

@@ -126,6 +126,7 @@ def _predict_and_compare(args, specs, out) -> None:
     """``real --predict``: the prediction into ``RUN/predict``, then predicted beside measured."""
     from dataclasses import replace
 
+    from bench.report.predict import build_predict_report
     from bench.run.predict import DEFAULT_GRID, SMALL_GRID
     from bench.run.real import predict_real
 
@@ -134,8 +135,6 @@ def _predict_and_compare(args, specs, out) -> None:
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     res = predict_real(args.dataset, out, specs, frames=args.predict_frames, grid=grid, n_boot=args.n_boot,
                        seed=args.seed, say=say)
-    from bench.report.predict import build_predict_report
-
     build_predict_report(res["result"])
     names, cmp, rigs = res["doc"]["photographs"], res["result"]["comparison"], res["result"]["comparison_rigs"]
     print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")

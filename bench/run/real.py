@@ -253,8 +253,6 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     return out
 
 
-
-
 def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", grid=None, n_boot: int = 1000,
                  seed: int = 0, say=None) -> dict:
     """``real --predict``: predict a real run's figures (:func:`bench.run.predict.run_predict` into

@@ -2,7 +2,7 @@
 
 Two steps, both repeatable:
 
-``python scripts/make_real_set.py images SRC_DIR``
+``python scripts/make_real_set.py images SRC_DIR [NAME ...]``
     Downscale the original photographs (fetched from their public repositories,
     see ``bench/data/real/manifest.csv`` for repository, commit and path) into
     ``NAME.png`` files by block averaging. ``SRC_DIR`` holds the original files
@@ -62,6 +62,10 @@ SOURCES = {
     "rb_figure1_off": ("img_5013.jpg", 2, None),
     "rb_figure2": ("img_5397.jpg", 2, None),
     "rb_figure2_off": ("img_5396.jpg", 2, None),
+    "bb_speaker": ("l5.jpg", 8, None),
+    "bb_dark": ("l1.jpg", 8, None),
+    "bb_board": ("brightness_15cm_0.png", 1, None),
+    "bb_hand": ("test_1.png", 1, None),
 }
 
 
@@ -75,10 +79,16 @@ def _downscale(a: np.ndarray, f: int) -> np.ndarray:
     return np.clip(np.rint(downscale_local_mean(a[:H, :W], (f, f, 1))), 0, 255).astype(np.uint8)
 
 
-def make_images(src: Path) -> None:
+def make_images(src: Path, names=None) -> None:
+    """Write ``NAME.png`` for each of ``names`` (default: every name of :data:`SOURCES`) from ``src``."""
     import imageio.v3 as iio
 
+    unknown = sorted(set(names or ()) - set(SOURCES))
+    if unknown:
+        raise SystemExit(f"make_real_set.py images: unknown names {', '.join(unknown)} (known: {', '.join(SOURCES)})")
     for name, (fname, f, crop) in SOURCES.items():
+        if names and name not in names:
+            continue
         a = np.asarray(iio.imread(src / fname))
         if crop is not None:
             r0, r1, c0, c1 = crop
@@ -200,10 +210,11 @@ def main(argv=None) -> int:
     sub = p.add_subparsers(dest="cmd", required=True)
     s = sub.add_parser("images")
     s.add_argument("src", type=Path)
+    s.add_argument("names", nargs="*", help="only these images (default: all)")
     sub.add_parser("refs")
     args = p.parse_args(argv)
     if args.cmd == "images":
-        make_images(args.src)
+        make_images(args.src, args.names)
     else:
         make_refs()
     return 0

@@ -161,10 +161,11 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             if frames == "transplant":
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser)
                 made = pr.transplant_frames(photo, seed=seed, estimate=estimate)
+                c = cond.measure(img, None)
                 frames_doc.append({"name": name, "case": exp.key, "status": "matched" if made else "out of range",
                                    "out_of_range": [] if made else ["visible"],
                                    "shift_px": made[0][4] if made else None,
-                                   "width_px": cond.measure(img, None).width_px})
+                                   "width_px": c.width_px, "contrast": c.contrast})
                 if not made:
                     say(f"stripebench predictcheck: {name}: out of range (visible)")
                     continue

@@ -62,9 +62,9 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
+__all__ = ["Extents", "stripe_extents", "capped_share", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
            "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP",
-           "ESTIMATES", "AUTO_WIDTH_PX", "SUPPORT_ROWS", "SUPPORT_MIN"]
+           "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -94,6 +94,13 @@ ESTIMATES = ("auto", "path", "argmax")
 #: ``width_px``), else the path. Between the two render families of docs/predict.md: the native ``field`` cases'
 #: stripes (about 4-5 px; the path predicts them better) and the phone-like ones (about 2 px; the argmax does).
 AUTO_WIDTH_PX = 3.0
+#: ``estimate="auto"``: also the argmax guide where at least this share of the frame's pixels stand ``PATH_CAP``
+#: noise units over their row's median (the path's score capped): then the cap is a few DN (a smooth, nearly
+#: noiseless JPEG, whose noise is the quantisation floor) and the path's score is a mask of everything slightly
+#: brighter than its row, so its most continuous path may be a wall's. On the renders of docs/predict.md every frame
+#: at the quantisation floor has 15-34 % capped, every other at most 11 %; chosen there as a guard that changes no
+#: render frame's estimate.
+AUTO_CAPPED = 0.12
 #: Each row's stripe is looked for within this many px of its guide: the real set's reference window.
 GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
@@ -133,7 +140,8 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
         ``argmax``, each row's maximum, kept where it stands ``VISIBLE_K`` noise units up within
         ``conditions.JUMP_PX`` px of the median of such rows within :data:`GUIDE_ROWS` rows and has
         :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS` (the first version); or ``auto``
-        (the default), ``argmax`` for a stripe at most :data:`AUTO_WIDTH_PX` wide, else ``path``
+        (the default), ``argmax`` for a stripe at most :data:`AUTO_WIDTH_PX` wide or a frame with at
+        least :data:`AUTO_CAPPED` of its pixels at the path's cap, else ``path``
         (docs/predict.md compares the three).
 
     Returns
@@ -150,15 +158,15 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
         raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
     measured = cond.measure(frame, background)
     noise = measured.noise_dn
-    if estimate == "auto":
-        narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
-        estimate = "argmax" if narrow else "path"
     H, W = work.shape
     sm = work.copy()
     sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
     rows = np.arange(H)
     first = np.argmax(sm, axis=1)
     med = np.median(work, axis=1)
+    if estimate == "auto":
+        narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
+        estimate = "argmax" if narrow or capped_share(sm, med, noise) >= AUTO_CAPPED else "path"
     window = np.ones(2 * SUPPORT_ROWS + 1, int)
     if estimate == "path":
         path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
@@ -200,6 +208,20 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
             b += 1
         lo[r], hi[r] = max(a - PAD_PX, c - MAX_HALF_PX, 0), min(b + PAD_PX, c + MAX_HALF_PX, W - 1)
     return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise), height=heights)
+
+
+def capped_share(smoothed, row_median, noise_dn: float) -> float:
+    """The share of pixels whose path score is capped: ``smoothed`` (H, W; DN) standing at least
+    :data:`PATH_CAP` x ``noise_dn`` over ``row_median`` (H,; DN).
+
+    Examples
+    --------
+    >>> f = np.zeros((4, 10)); f[:, 3] = 50.0; f[:, 6:] = 8.0
+    >>> capped_share(f, np.median(f, axis=1), 1.0), capped_share(f, np.median(f, axis=1), 0.3)
+    (0.1, 0.5)
+    """
+    lift = np.asarray(smoothed, dtype=np.float64) - np.asarray(row_median, dtype=np.float64)[:, None]
+    return float(np.mean(lift >= PATH_CAP * float(noise_dn)))
 
 
 def _path(score) -> np.ndarray:

@@ -135,3 +135,24 @@ def test_auto_takes_the_argmax_for_a_narrow_stripe_and_the_path_for_a_wide_one(s
     assert np.array_equal(auto.centre, other.centre, equal_nan=True) and np.array_equal(auto.visible, other.visible)
     unchosen = tp.stripe_extents(img, estimate="path" if chosen == "argmax" else "argmax")
     assert not np.array_equal(auto.centre, unchosen.centre, equal_nan=True)
+
+
+@pytest.mark.parametrize("noise, guarded", [(0.0, True), (2.0, False)])
+def test_auto_takes_the_argmax_where_the_paths_score_is_capped_over_much_of_the_frame(noise, guarded):
+    # a wide stripe (FWHM 5.9 px) with a 2-row gap every 10 rows, beside a pale wall 6 DN up, unbroken
+    rows = (np.arange(H) % 10) < 8
+    img = _frame(40.0, sigma=2.5, noise=noise, rows=rows).astype(float)
+    img[:, 110:] += 6.0
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    m = tp.cond.measure(img)
+    assert m.width_px > tp.AUTO_WIDTH_PX  # the width rule alone would take the path
+    sm = img.astype(float)
+    sm[:, 1:-1] = 0.25 * sm[:, :-2] + 0.5 * sm[:, 1:-1] + 0.25 * sm[:, 2:]
+    share = tp.capped_share(sm, np.median(img.astype(float), axis=1), m.noise_dn)
+    assert (share >= tp.AUTO_CAPPED) == guarded
+    auto = tp.stripe_extents(img, estimate="auto")
+    same = tp.stripe_extents(img, estimate="argmax" if guarded else "path")
+    assert np.array_equal(auto.centre, same.centre, equal_nan=True)
+    assert np.all(np.abs(auto.centre[rows] - 40.0) < 0.5)  # the stripe, wherever it is
+    if guarded:  # without noise the cap is 3.5 DN: the wall scores as high as the stripe, and the path takes it
+        assert np.mean(np.abs(tp.stripe_extents(img, estimate="path").centre[rows] - 40.0) < 0.5) < 0.5

@@ -35,6 +35,9 @@ def _add_predict(p) -> None:
     p.add_argument("--laser", default="red", choices=LASERS, help="laser colour (default red)")
     p.add_argument("--rotate", type=int, default=0, choices=ROTATIONS,
                    help="turn the image counter-clockwise first (for horizontal stripes)")
+    p.add_argument("--downscale", type=int, default=1, choices=(1, 2, 4, 8),
+                   help="average each N x N block of pixels first, for trackers that run on shrunk frames (a phone's "
+                        "full-size photograph: its stripe may be wider than the reference window); default 1")
     add_frames(p)
     add_estimate(p)
     p.add_argument("--size", type=int, default=256, choices=SIZES,
@@ -65,8 +68,12 @@ def _predict(args) -> int:
 
     result = run_predict(args.photos, out, specs, frames=args.frames, estimate=args.estimate, grid=grid,
                          channel=args.channel, laser=args.laser,
-                         rotate_deg=args.rotate, n_boot=args.n_boot, seed=args.seed, say=say)
+                         rotate_deg=args.rotate, downscale=args.downscale, n_boot=args.n_boot, seed=args.seed, say=say)
     page = build_predict_report(result)
+    if all(m.out_of_range for m in result["matches"].values()):
+        print(f"stripebench predict: none of the {len(result['matches'])} photographs is in range, nothing predicted "
+              f"(why: {page})", file=sys.stderr)
+        return 2
     if not args.quiet:
         print(f"{'tracker':<16}{'hit rate':>10}{'false reports':>15}{'F1':>8}")
         for r in result["predicted"].to_dict("records"):
@@ -80,9 +87,9 @@ def add_estimate(p) -> None:
     from bench.evaluate.transplant import ESTIMATES
 
     p.add_argument("--estimate", default=ESTIMATES[0], choices=ESTIMATES,
-                   help="how --frames transplant finds the stripe: auto (argmax for a stripe at most 3 px wide, "
-                        "else path; default), path (the most continuous bright path) or argmax (each row's maximum, "
-                        "kept where its neighbours agree); docs/predict.md")
+                   help="how --frames transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
+                        "or a nearly noiseless frame, else path; default), path (the most continuous bright path) "
+                        "or argmax (each row's maximum, kept where its neighbours agree); docs/predict.md")
 
 
 def predict_check_options(p) -> None:

@@ -64,7 +64,7 @@ from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
 __all__ = ["Extents", "stripe_extents", "capped_share", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
            "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP",
-           "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "SUPPORT_ROWS", "SUPPORT_MIN"]
+           "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -105,6 +105,10 @@ AUTO_CAPPED = 0.12
 GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
+#: A stripe wider (FWHM, px; ``conditions.measure``'s ``width_px``) than the reference window cannot be read by the
+#: reference rule (the window's median is then the stripe itself, and its "centre" is wherever its brightest pixel
+#: is): such a photograph is out of range (``width_px``). A phone's full-size frame is one; shrunk, it may not be.
+MAX_WIDTH_PX = 2 * GUIDE_HALF_PX + 1
 
 
 @dataclass(frozen=True)

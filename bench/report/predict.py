@@ -20,6 +20,15 @@ __all__ = ["thumbnail", "build_predict_report"]
 THUMB_H = 180
 
 
+def _why_out(measures, transplant: bool) -> str:
+    """Why a photograph was left out, in words (``measures``: :attr:`bench.run.predict.Match.out_of_range`)."""
+    if not transplant:
+        return "outside what the renders show"
+    if "width_px" in measures:
+        return "(its stripe is wider than the reference window: shrink the photographs)"
+    return "(too few rows of the moved stripe seen)"
+
+
 def thumbnail(image, height: int = THUMB_H) -> np.ndarray:
     """An 8-bit picture of ``image`` (grey or RGB, any dtype), scaled by whole pixels (nearest) to about ``height`` rows.
 
@@ -120,7 +129,7 @@ def build_predict_report(result: dict) -> Path:
     if bad:
         parts.append("<h2>Out of range (left out)</h2><ul>" + "".join(
             f"<li><code>{esc(n)}</code>: {esc(', '.join(m.out_of_range))} "
-            f"{'(too few rows of the moved stripe seen)' if transplant else 'outside what the renders show'}</li>"
+            f"{_why_out(m.out_of_range, transplant)}</li>"
             for n, m in bad) + "</ul>")
     what = "its stripe moved" if transplant else "matched render"
     parts.append(f"<h2>Contact sheet: photograph and {what}</h2>")

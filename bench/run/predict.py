@@ -440,11 +440,15 @@ class Photo:
         return o.ndim == 3 and not (np.array_equal(o[..., 0], o[..., 1]) and np.array_equal(o[..., 0], o[..., 2]))
 
 
-def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0,
+def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0, downscale: int = 1,
                    err=None) -> list[Photo]:
     """The photographs of ``folder``: a real set's (its manifest's laser, channel and rotation;
     references ignored) or every image file (``NAME_off.EXT`` frames paired as laser-off frames),
-    with the given ``channel``, ``laser`` and ``rotate_deg``. An unreadable file gets one line on ``err``."""
+    with the given ``channel``, ``laser`` and ``rotate_deg``, each ``downscale`` x ``downscale`` block of
+    pixels averaged into one (:func:`bench.evaluate.pixels.downscale`; 1: as they are). An unreadable file
+    gets one line on ``err``."""
+    from bench.evaluate.pixels import downscale as shrink
+    from bench.evaluate.pixels import rotate_image, select_channel
     from bench.store import realset as real
 
     err = sys.stderr if err is None else err
@@ -475,6 +479,12 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
         except real.ImageError as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
+        if downscale != 1:  # the file's pixels shrunk, then the tracker's frame made from them (as the real set's)
+            original = shrink(original, downscale)
+            frame = rotate_image(select_channel(original, ch, las), rot)
+            if bg is not None:
+                bg_original = shrink(bg_original, downscale)
+                bg = rotate_image(select_channel(bg_original, ch, las), rot)
         photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original))
     return photos
 
@@ -490,8 +500,8 @@ PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate
 
 def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate: str = "auto",
                 grid: Grid = DEFAULT_GRID,
-                channel: str = "auto", laser: str = "red", rotate_deg: int = 0, n_angles: int = N_ANGLES,
-                n_boot: int = 1000, seed: int = 0, say=None, err=None) -> dict:
+                channel: str = "auto", laser: str = "red", rotate_deg: int = 0, downscale: int = 1,
+                n_angles: int = N_ANGLES, n_boot: int = 1000, seed: int = 0, say=None, err=None) -> dict:
     """``stripebench predict``: measure the photographs, make frames with truth for them, score the trackers.
 
     ``frames`` (:data:`FRAMES`): ``transplant``, each photograph with its own stripe moved both ways
@@ -499,7 +509,10 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     ``render``, renders of
     ``grid`` matched to its conditions at ``n_angles`` mirror angles. A photograph whose moved stripe is
     seen in too few rows (transplant: :func:`transplant_frames`) or with a measure outside the grid's
-    range (render) is left out, named with the measure (``visible``, or the measure out of range).
+    range (render) is left out, named with the measure (``visible``, or the measure out of range); so is, with
+    transplants, a photograph whose stripe is wider than the reference window
+    (:data:`bench.evaluate.transplant.MAX_WIDTH_PX`: ``width_px``). ``downscale``: each photograph (and
+    laser-off frame) is shrunk by this factor first (:func:`collect_photos`), for trackers run on shrunk frames.
 
     Writes ``conditions.csv`` (one line per photograph and side, ``photo`` or ``render``: every
     measure, the distance, the matched knobs, ``status`` matched / out of range and the measures
@@ -525,7 +538,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     if frames not in FRAMES:
         raise ValueError(f"`frames` must be one of {', '.join(FRAMES)}, got {frames!r}")
     say = (lambda m: print(m, file=sys.stderr, flush=True)) if say is None else say
-    photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, err=err)
+    photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, downscale=downscale, err=err)
     if not photos:
         raise real.ImageError(f"{str(folder)!r}: no readable photograph (PNG, JPEG, TIFF)")
     trackers = build_trackers(specs)
@@ -536,6 +549,13 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         if frames == "transplant":
             conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                               laser=ph.laser)
+            width = conds[ph.name].width_px
+            if math.isfinite(width) and width > tp.MAX_WIDTH_PX:
+                matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("width_px",))
+                moved[ph.name] = []
+                say(f"stripebench predict: {ph.name}: out of range (width_px: its stripe is {width:.1f} px wide, wider "
+                    f"than the reference window's {tp.MAX_WIDTH_PX} px; shrink the photographs): left out")
+                continue
             moved[ph.name] = made = transplant_frames(ph, seed=seed, estimate=estimate)
             if not made:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("visible",))
@@ -626,7 +646,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     settings = {"kind": "predict", "folder": str(Path(folder)), "trackers": [s.to_value() for s in specs],
                 "frames": frames, "estimate": estimate if frames == "transplant" else None,
                 "grid": grid.to_value() if frames == "render" else None, "channel": channel,
-                "laser": laser, "rotate_deg": int(rotate_deg),
+                "laser": laser, "rotate_deg": int(rotate_deg), "downscale": int(downscale),
                 "n_angles": n_angles, "n_boot": n_boot, "seed": seed,
                 "out_of_range": {ph.name: list(matches[ph.name].out_of_range) for ph in photos
                                  if matches[ph.name].out_of_range}}

@@ -60,8 +60,8 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     rc = main(["predict", str(photos), "--out", str(out), "--trackers", "threshold,dp8", "--n-boot", "200"])
     assert rc == 0
     err = capsys.readouterr().err
-    # the blurred stripe (FWHM 28 px) is wider than the reference window: no row of it is seen, so it is left out
-    assert "blurred: out of range (visible" in err and "board: its stripe moved by" in err
+    # the blurred stripe (FWHM 28 px) is wider than the reference window (13 px): left out, and why
+    assert "blurred: out of range (width_px: its stripe is 2" in err and "board: its stripe moved by" in err
     with open(out / "predicted.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert [(r["tracker"], r["n_photos"], r["n_frames"]) for r in rows] == [("threshold", "1", "2"), ("dp8", "1", "2")]
@@ -76,7 +76,7 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     assert set(board) == {"photo", "render"} and int(float(board["render"]["shift_px"])) >= 12
     assert float(board["render"]["distance"]) < 1.0  # the moved photograph keeps the photograph's conditions
     html = (out / "report.html").read_text()
-    assert "its stripe moved" in html and "too few rows" in html and html.count("<img") == 3
+    assert "its stripe moved" in html and "wider than the reference window" in html and html.count("<img") == 3
 
 
 def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
@@ -117,3 +117,23 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
     assert "someone/rig" in printed
     html = (out / "predict" / "report.html").read_text()
     assert "Predicted beside measured" in html and "Per rig" in html and "Per photograph" in html
+
+
+def test_a_photo_too_wide_for_the_window_is_predicted_shrunk_and_nothing_in_range_exits_2(tmp_path, capsys):
+    d = tmp_path / "phone"
+    d.mkdir()
+    rng = np.random.default_rng(1)
+    x = np.arange(256.0)
+    wide = 30.0 + 150.0 * np.exp(-0.5 * ((x - 128.0) / 8.0) ** 2) + rng.normal(0, 2.0, (160, 256))  # FWHM 18.8 px
+    iio.imwrite(d / "big.png", np.clip(wide, 0, 255).round().astype(np.uint8))
+    rc = main(["predict", str(d), "--out", str(tmp_path / "full"), "--trackers", "threshold", "--n-boot", "50"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "big: out of range (width_px: its stripe is 18." in err
+    assert "none of the 1 photographs is in range, nothing predicted" in err.splitlines()[-1]
+    rc = main(["predict", str(d), "--out", str(tmp_path / "half"), "--trackers", "threshold", "--n-boot", "50",
+               "--downscale", "2"])
+    assert rc == 0 and "big: its stripe moved by" in capsys.readouterr().err
+    with open(tmp_path / "half" / "conditions.csv", newline="") as fh:
+        photo = next(r for r in csv.DictReader(fh) if r["side"] == "photo")
+    assert 8.0 < float(photo["width_px"]) < 11.0  # half the full-size FWHM
+    assert '"downscale": 2' in (tmp_path / "half" / "predict.json").read_text()

@@ -95,3 +95,26 @@ def test_score_frame_scores_stripe_rows_it_sees_and_stripe_less_rows():
     assert codes[10] == oc.UNKNOWN
     assert np.all(codes[np.r_[0:10, 11:80]] == oc.HIT)
     assert set(np.unique(codes[80:])) <= {oc.QUIET, oc.FALSE}
+
+
+def test_transplant_frames_need_enough_rows_of_the_moved_stripe_seen():
+    """A clear stripe over 40 rows gives two moved frames; the same stripe in 4 rows gives none (out of range)."""
+    from pathlib import Path
+
+    from bench.evaluate import transplant as tp
+
+    rng = np.random.default_rng(3)
+    x = np.arange(96.0)
+
+    def photo(n_rows):
+        img = 30.0 + rng.normal(0, 2.0, (40, 96))
+        img[:n_rows] += 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
+        img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+        return pr.Photo("p", Path("p.png"), img, None, img)
+
+    made = pr.transplant_frames(photo(40))
+    shift = made[0][4]
+    assert len(made) == 2 and {s for *_, s in made} == {shift, -shift} and shift >= 12
+    for image, truth, states, moved, s in made:
+        assert np.nanmedian(truth) == pytest.approx(40.0 + s, abs=0.3) and (states == 1).sum() >= tp.MIN_ROWS
+    assert pr.transplant_frames(photo(4)) == []

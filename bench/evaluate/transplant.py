@@ -295,7 +295,7 @@ def channel_noise(original) -> np.ndarray:
 
 
 def transplant(original, ext: Extents, shift_px: int, *, background_original=None, seed: int = 0,
-               noise_dn=None):
+               noise_dn=None, keep=None):
     """The photograph with its stripe moved ``shift_px`` columns (module docstring, steps 2-3).
 
     Parameters
@@ -343,6 +343,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
     truth = np.full(H, np.nan)
     s = int(shift_px)
     lo, hi = _span_extents(ext, W)
+    kept = np.ones(H, bool) if keep is None else np.asarray(keep, bool)
     for r in np.flatnonzero(lo >= 0):
         a, b = int(lo[r]), int(hi[r])
         if background_original is None:
@@ -351,7 +352,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         else:
             line = bgp[r, a:b + 1]
             out[r, a:b + 1] = line
-        if a + s - SIDE_PX < 0 or b + s + SIDE_PX > W - 1 or abs(s) < b - a + 1 + SIDE_PX:
+        if not kept[r] or a + s - SIDE_PX < 0 or b + s + SIDE_PX > W - 1 or abs(s) < b - a + 1 + SIDE_PX:
             continue  # the moved extent would leave the frame or meet the old one: removed, not moved
         src = planes[r, a:b + 1]
         out[r, a + s:b + s + 1] = np.where(src >= hi_v, hi_v, planes[r, a + s:b + s + 1] + (src - line))
@@ -397,7 +398,7 @@ def _line(row, a: int, b: int) -> np.ndarray:
     return ml[None, :] + t[:, None] * (mr - ml)[None, :]
 
 
-def row_states(ext: Extents, truth, image) -> np.ndarray:
+def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
@@ -420,6 +421,8 @@ def row_states(ext: Extents, truth, image) -> np.ndarray:
     t = np.asarray(truth, dtype=np.float64)
     lo, _ = _span_extents(ext, np.shape(image)[1])
     crossed = (lo >= 0) | np.isfinite(ext.centre)
+    if keep is not None:
+        crossed &= np.asarray(keep, bool)
     states = fallback_states(np.where(crossed, 0.0, np.nan))
     states[states == STRIPE] = UNSURE
     moved = np.isfinite(t)

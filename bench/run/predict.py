@@ -364,12 +364,21 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") 
         return []
     shift = tp.shift_for(ext)
     noise = tp.channel_noise(original) if bg_original is None else None
+    import os
+    keep = None
+    f = float(os.environ.get("SB_TRIM", "0"))
+    if f > 0:
+        vis = np.flatnonzero(ext.visible)
+        k = int(round(f * (vis[-1] - vis[0] + 1)))
+        if vis[-1] - vis[0] + 1 - 2 * k >= 40:
+            keep = np.zeros(ext.visible.shape[0], bool)
+            keep[vis[0] + k:vis[-1] - k + 1] = True
     out = []
     for j, s in enumerate((shift, -shift)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
-                                     noise_dn=noise)
+                                     noise_dn=noise, keep=keep)
         image = select_channel(moved, photo.channel, photo.laser)
-        out.append((image, truth, tp.row_states(ext, truth, image), moved, s))
+        out.append((image, truth, tp.row_states(ext, truth, image, keep), moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
 
 

@@ -62,9 +62,10 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "capped_share", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
+__all__ = ["Extents", "stripe_extents", "capped_share", "cut_ends", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS",
            "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP",
-           "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "SUPPORT_ROWS", "SUPPORT_MIN"]
+           "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS",
+           "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -105,6 +106,13 @@ AUTO_CAPPED = 0.12
 GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
+#: The false-report frames of a transplant (``bench.run.predict.transplant_frames``) cut this share of the stripe's
+#: visible span (rows) off each end: cleaned, not moved, so those rows keep the photograph's clutter without a stripe
+#: and are scored as a real set's rows beyond the stripe's end are. Chosen on renders (docs/predict.md: 0.15, 0.25,
+#: 0.35 tried; 0.15 predicts the false-report rate best).
+END_CUT = 0.15
+#: ... and only where at least this many rows of the span stay moved.
+END_CUT_MIN_ROWS = 40
 #: A stripe wider (FWHM, px; ``conditions.measure``'s ``width_px``) than the reference window cannot be read by the
 #: reference rule (the window's median is then the stripe itself, and its "centre" is wherever its brightest pixel
 #: is): such a photograph is out of range (``width_px``). A phone's full-size frame is one; shrunk, it may not be.
@@ -312,6 +320,8 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         Seed of the clean plate's noise.
     noise_dn : array_like, shape (C,), optional
         :func:`channel_noise` of ``original``, when the caller has it (it is measured otherwise).
+    keep : array_like of bool, shape (H,), optional
+        The rows whose stripe is moved (default: all); the others are cleaned, not moved (:func:`cut_ends`).
 
     Returns
     -------
@@ -365,6 +375,34 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
     return (out[..., 0] if img.ndim == 2 else out), truth
 
 
+def cut_ends(ext: Extents, share: float = END_CUT, min_rows: int = END_CUT_MIN_ROWS):
+    """The rows whose stripe a false-report frame moves: the visible span without ``share`` of it at each end.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (H,), or None
+        True from the first visible row + k to the last - k (k = ``share`` x the span, rounded), or None when
+        fewer than ``min_rows`` rows would stay (or no row is visible).
+
+    Examples
+    --------
+    >>> vis = np.r_[np.zeros(10, bool), np.ones(100, bool), np.zeros(10, bool)]
+    >>> e = Extents(np.zeros(120, int), vis, np.zeros(120, int), np.zeros(120, int), np.full(120, np.nan), 1.0)
+    >>> k = cut_ends(e); int(np.argmax(k)), int(k.sum()), cut_ends(e, 0.35, min_rows=40) is None
+    (25, 70, True)
+    """
+    vis = np.flatnonzero(ext.visible)
+    if vis.size == 0:
+        return None
+    span = int(vis[-1] - vis[0] + 1)
+    k = int(round(float(share) * span))
+    if span - 2 * k < min_rows:
+        return None
+    keep = np.zeros(ext.visible.shape[0], bool)
+    keep[vis[0] + k:vis[-1] - k + 1] = True
+    return keep
+
+
 def _span_extents(ext: Extents, W: int) -> tuple[np.ndarray, np.ndarray]:
     """The extents of every row between the first and the last visible one (-1 elsewhere): a
     visible row's own; an invisible row's centred on the straight line between its nearest visible
@@ -406,6 +444,7 @@ def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     else ``UNSURE``; a row the stripe crosses without a moved centre is ``UNSURE``; every other row is
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
+    With ``keep`` (:func:`transplant`'s), the rows it leaves out hold no stripe and count as rows without one.
 
     Examples
     --------

@@ -51,7 +51,7 @@ from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "transplant_outcomes", "predict_outcomes", "TABLE_VERSION", "Photo",
+           "score_frame", "transplant_frames", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo",
            "collect_photos", "run_predict", "FRAMES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
@@ -339,12 +339,16 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
 
 def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
-    how the stripe is found, :data:`bench.evaluate.transplant.ESTIMATES`).
+    how the stripe is found, :data:`bench.evaluate.transplant.ESTIMATES`), and, where the stripe is long
+    enough, two *false-report frames*: moved the same ways with its ends cut off
+    (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
+    stripe rows are ``UNSURE``): the hit rate is read from the first two frames alone, the false-report
+    rate from the stripe-less rows of all four (docs/predict.md).
 
     Returns
     -------
     list
-        ``[(image, truth, states, moved, shift_px), ...]``: the tracker's frame of the moved
+        ``[(image, truth, states, moved, shift_px), ...]`` (two or four): the tracker's frame of the moved
         photograph (:func:`bench.evaluate.pixels.select_channel` with the photograph's channel and
         laser), the moved stripe's columns (px, NaN where not moved), its row states
         (:func:`bench.evaluate.transplant.row_states`), the moved photograph (turned as the frame) and
@@ -353,7 +357,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") 
         predict from (no visible stripe, or one much wider than the reference window).
     """
     from bench.evaluate import transplant as tp
-    from bench.evaluate.outcomes import STRIPE
+    from bench.evaluate.outcomes import STRIPE, UNSURE
     from bench.evaluate.pixels import rotate_image, select_channel
 
     original = rotate_image(photo.original, photo.rotate_deg)
@@ -364,22 +368,45 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") 
         return []
     shift = tp.shift_for(ext)
     noise = tp.channel_noise(original) if bg_original is None else None
-    import os
-    keep = None
-    f = float(os.environ.get("SB_TRIM", "0"))
-    if f > 0:
-        vis = np.flatnonzero(ext.visible)
-        k = int(round(f * (vis[-1] - vis[0] + 1)))
-        if vis[-1] - vis[0] + 1 - 2 * k >= 40:
-            keep = np.zeros(ext.visible.shape[0], bool)
-            keep[vis[0] + k:vis[-1] - k + 1] = True
     out = []
     for j, s in enumerate((shift, -shift)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
-                                     noise_dn=noise, keep=keep)
+                                     noise_dn=noise)
         image = select_channel(moved, photo.channel, photo.laser)
-        out.append((image, truth, tp.row_states(ext, truth, image, keep), moved, s))
+        out.append((image, truth, tp.row_states(ext, truth, image), moved, s))
+    keep = tp.cut_ends(ext)
+    if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
+        for j, s in enumerate((shift, -shift)):
+            moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
+                                         noise_dn=noise, keep=keep)
+            image = select_channel(moved, photo.channel, photo.laser)
+            states = tp.row_states(ext, truth, image, keep)
+            states[states == STRIPE] = UNSURE
+            out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+
+
+#: The first N_MOVED frames of :func:`transplant_frames` are the moved frames (hit rate and F1 are read from them); any
+#: after them are false-report frames (only their stripe-less rows are scored, and only the false-report rate reads
+#: them: they would change F1's mix of stripe and stripe-less rows, which is the photograph's in the moved frames).
+N_MOVED = 2
+
+
+def cut_counts(per_frame: list) -> dict:
+    """``n_false_cut`` and ``n_quiet_cut``: the false-report frames' stripe-less rows among one tracker's outcome
+    arrays of one photograph (:func:`transplant_outcomes`; frames after :data:`N_MOVED`).
+
+    Examples
+    --------
+    >>> from bench.evaluate.outcomes import FALSE, HIT, QUIET
+    >>> cut_counts([np.array([HIT]), np.array([HIT]), np.array([FALSE, QUIET, QUIET])])
+    {'n_false_cut': 1, 'n_quiet_cut': 2}
+    """
+    from bench.evaluate.outcomes import outcome_counts
+
+    extra = [np.ravel(c) for c in per_frame[N_MOVED:]]
+    counts = outcome_counts(np.concatenate(extra)) if extra else {"n_false": 0, "n_quiet": 0}
+    return {"n_false_cut": int(counts["n_false"]), "n_quiet_cut": int(counts["n_quiet"])}
 
 
 def transplant_outcomes(trackers: dict, made: list, background=None) -> dict:
@@ -616,13 +643,17 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         sheet[ph.name] = res["_frames"][ph.name]
         say(f"stripebench predict: rendered and tracked {i + 1}/{len(matched)} ({ph.name})")
     rows = []
+    n_main = N_MOVED if frames == "transplant" else None  # the false-report frames feed the false-report rate only
     for j, lab in enumerate(trackers):
-        codes = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]
+        codes = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab][:n_main]]) for ph in matched]
+        every = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]
         rec = {"tracker": lab, "n_photos": len(matched), "n_frames": sum(len(sheet[ph.name]) for ph in matched)}
         if codes:
             b = bootstrap_frames(codes, n_boot=n_boot, seed=seed + j)
+            b_all = bootstrap_frames(every, n_boot=n_boot, seed=seed + j)
             for k, name in PREDICTED_NAMES.items():
-                rec[name], rec[f"{name}_lo"], rec[f"{name}_hi"] = b[k], b[f"{k}_lo"], b[f"{k}_hi"]
+                src = b_all if k == "false_report_rate" else b
+                rec[name], rec[f"{name}_lo"], rec[f"{name}_hi"] = src[k], src[f"{k}_lo"], src[f"{k}_hi"]
         else:
             for name in PREDICTED_NAMES.values():
                 rec[name] = rec[f"{name}_lo"] = rec[f"{name}_hi"] = float("nan")
@@ -631,12 +662,17 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     photo_rows = []
     for ph in matched:
         for lab in trackers:
-            counts = outcome_counts(np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]))
+            counts = outcome_counts(np.concatenate([c.ravel() for c in per_photo[ph.name][lab][:n_main]]))
+            cut = cut_counts(per_photo[ph.name][lab]) if frames == "transplant" else {"n_false_cut": 0,
+                                                                                       "n_quiet_cut": 0}
             fig = detection_figures(counts)
+            fig["false_report_rate"] = detection_figures(
+                {**counts, "n_false": counts["n_false"] + cut["n_false_cut"],
+                 "n_quiet": counts["n_quiet"] + cut["n_quiet_cut"]})["false_report_rate"]
             photo_rows.append({"name": ph.name, "tracker": lab, **{n: fig[k] for k, n in PREDICTED_NAMES.items()},
-                               **counts})
+                               **counts, **cut})
     per_photo_table = pd.DataFrame.from_records(
-        photo_rows, columns=["name", "tracker", *PREDICTED_NAMES.values(), *COUNT_KEYS])
+        photo_rows, columns=["name", "tracker", *PREDICTED_NAMES.values(), *COUNT_KEYS, "n_false_cut", "n_quiet_cut"])
     crow = []
     for ph in photos:
         m = matches[ph.name]

@@ -171,7 +171,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                     continue
                 per = pr.transplant_outcomes(tr, made)
                 for lab in tr:
-                    pred_rows.append({"name": name, "tracker": lab, **outcome_counts(np.concatenate(per[lab]))})
+                    pred_rows.append({"name": name, "tracker": lab,
+                                      **outcome_counts(np.concatenate(per[lab][:pr.N_MOVED])),
+                                      **pr.cut_counts(per[lab])})
                 groups[name] = exp.key
                 say(f"stripebench predictcheck: {name}: its stripe moved by +-{made[0][4]} px "
                     f"[case {e_i + 1}/{len(config.experiments)}]")

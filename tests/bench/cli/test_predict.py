@@ -64,12 +64,18 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     assert "blurred: out of range (width_px: its stripe is 2" in err and "board: its stripe moved by" in err
     with open(out / "predicted.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert [(r["tracker"], r["n_photos"], r["n_frames"]) for r in rows] == [("threshold", "1", "2"), ("dp8", "1", "2")]
+    # two moved frames and two false-report frames (the stripe's ends cut off)
+    assert [(r["tracker"], r["n_photos"], r["n_frames"]) for r in rows] == [("threshold", "1", "4"), ("dp8", "1", "4")]
     with open(out / "predicted_photos.csv", newline="") as fh:
         per = list(csv.DictReader(fh))
     for r in per:  # a clean board: both trackers find the moved stripe on (nearly) every row the rule sees
         counts = {k: int(r[k]) for k in ("n_hit", "n_wrong", "n_missed", "n_false", "n_quiet", "n_unknown")}
         assert sum(counts.values()) == 2 * 120 and counts["n_hit"] >= 100 and float(r["hit_rate"]) > 0.9
+        # the false-report frames' stripe-less rows (the cut ends, 15 or more rows from the moved stripe) feed the
+        # false-report rate alone
+        cut = int(r["n_false_cut"]) + int(r["n_quiet_cut"])
+        assert cut >= 8 and float(r["false_report_rate"]) == pytest.approx(
+            (counts["n_false"] + int(r["n_false_cut"])) / (counts["n_false"] + counts["n_quiet"] + cut), abs=1e-5)
     with open(out / "conditions.csv", newline="") as fh:
         cond = list(csv.DictReader(fh))
     board = {r["side"]: r for r in cond if r["name"] == "board"}

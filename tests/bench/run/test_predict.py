@@ -118,3 +118,27 @@ def test_transplant_frames_need_enough_rows_of_the_moved_stripe_seen():
     for image, truth, states, moved, s in made:
         assert np.nanmedian(truth) == pytest.approx(40.0 + s, abs=0.3) and (states == 1).sum() >= tp.MIN_ROWS
     assert pr.transplant_frames(photo(4)) == []
+
+
+def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off():
+    """Frames 3 and 4 move the stripe only between the cut ends (bench.evaluate.transplant.cut_ends) and score no
+    stripe row: the cut rows, cleaned and left without a stripe, are stripe-less rows where 15 or more from it."""
+    from pathlib import Path
+
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import NO_STRIPE, STRIPE
+
+    rng = np.random.default_rng(4)
+    x = np.arange(96.0)
+    img = 30.0 + rng.normal(0, 2.0, (160, 96)) + 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
+    assert len(made) == 4 and [m[4] for m in made[2:]] == [m[4] for m in made[:2]]
+    keep = tp.cut_ends(tp.stripe_extents(img))
+    assert keep is not None and 100 <= keep.sum() <= 120
+    for image, truth, states, moved, s in made[2:]:
+        assert not (states == STRIPE).any() and (states == NO_STRIPE).sum() >= 2 * 5
+        assert np.isnan(truth[~keep]).all() and np.isfinite(truth[keep]).mean() > 0.9
+        cut = np.flatnonzero(~keep)
+        assert moved[cut].max() < 60  # neither the old stripe nor a moved one in the cut rows
+    assert (made[0][2] == STRIPE).sum() >= 150  # the first two frames score the whole stripe

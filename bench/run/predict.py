@@ -51,8 +51,8 @@ from bench.evaluate import conditions as cond
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo",
-           "collect_photos", "run_predict", "FRAMES", "PREDICTED_NAMES"]
+           "score_frame", "transplant_frames", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes",
+           "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -574,6 +574,10 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     if frames not in FRAMES:
         raise ValueError(f"`frames` must be one of {', '.join(FRAMES)}, got {frames!r}")
     say = (lambda m: print(m, file=sys.stderr, flush=True)) if say is None else say
+
+    def warn(m):  # a photograph left out: said even when progress is not
+        print(m, file=sys.stderr if err is None else err, flush=True)
+
     photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, downscale=downscale, err=err)
     if not photos:
         raise real.ImageError(f"{str(folder)!r}: no readable photograph (PNG, JPEG, TIFF)")
@@ -589,14 +593,14 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
             if math.isfinite(width) and width > tp.MAX_WIDTH_PX:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("width_px",))
                 moved[ph.name] = []
-                say(f"stripebench predict: {ph.name}: out of range (width_px: its stripe is {width:.1f} px wide, wider "
-                    f"than the reference window's {tp.MAX_WIDTH_PX} px; shrink the photographs): left out")
+                warn(f"stripebench predict: {ph.name}: out of range (width_px: its stripe is {width:.1f} px wide, "
+                     f"wider than the reference window's {tp.MAX_WIDTH_PX} px; shrink the photographs): left out")
                 continue
             moved[ph.name] = made = transplant_frames(ph, seed=seed, estimate=estimate)
             if not made:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("visible",))
-                say(f"stripebench predict: {ph.name}: out of range (visible: the moved stripe is seen in fewer than "
-                    f"{tp.MIN_ROWS} rows): left out")
+                warn(f"stripebench predict: {ph.name}: out of range (visible: the moved stripe is seen in fewer than "
+                     f"{tp.MIN_ROWS} rows): left out")
                 continue
             image, _, _, rgb, shift = made[0]
             c = cond.measure(image, ph.background, rgb=rgb if ph.colour else None, laser=ph.laser)
@@ -624,7 +628,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
             save_refined_memo(memos[key], grid, colour=key[0], laser=key[1], use_background=key[2])
         m = matches[ph.name]
         if m.out_of_range:
-            say(f"stripebench predict: {ph.name}: out of range ({', '.join(m.out_of_range)}): left out")
+            warn(f"stripebench predict: {ph.name}: out of range ({', '.join(m.out_of_range)}): left out")
         else:
             say(f"stripebench predict: {ph.name}: matched (distance {m.distance:.2f}): {m.point['setup']}, "
                 f"{m.point['laser_power_mw']:.3g} mW, {m.point['ambient_lux']:.4g} lux")

@@ -487,6 +487,8 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     from bench.evaluate.pixels import rotate_image, select_channel
     from bench.store import realset as real
 
+    if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
+        raise ValueError(f"`downscale` must be an integer >= 1, got {downscale!r}")
     err = sys.stderr if err is None else err
     root = Path(folder)
     if not root.is_dir():

@@ -142,3 +142,8 @@ def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off(
         cut = np.flatnonzero(~keep)
         assert moved[cut].max() < 60  # neither the old stripe nor a moved one in the cut rows
     assert (made[0][2] == STRIPE).sum() >= 150  # the first two frames score the whole stripe
+
+
+def test_collect_photos_refuses_a_bad_downscale(tmp_path):
+    with pytest.raises(ValueError, match="`downscale` must be an integer >= 1, got 0"):
+        pr.collect_photos(tmp_path, downscale=0)

@@ -64,8 +64,8 @@ from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
 __all__ = ["Extents", "stripe_extents", "capped_share", "cut_ends", "shift_for", "channel_noise", "transplant",
            "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX",
-           "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS",
-           "SUPPORT_ROWS", "SUPPORT_MIN"]
+           "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT",
+           "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0

@@ -62,9 +62,9 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "capped_share", "cut_ends", "shift_for", "channel_noise", "transplant",
-           "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX",
-           "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT",
+__all__ = ["Extents", "stripe_extents", "capped_share", "cut_ends", "out_of_range", "shift_for", "channel_noise",
+           "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS",
+           "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT",
            "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
@@ -138,7 +138,7 @@ class Extents:
     height: np.ndarray | None = None
 
 
-def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents:
+def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=None) -> Extents:
     """The stripe of a frame: visible rows, their extents and centres (module docstring, step 1).
 
     Parameters
@@ -155,6 +155,9 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
         (the default), ``argmax`` for a stripe at most :data:`AUTO_WIDTH_PX` wide or a frame with at
         least :data:`AUTO_CAPPED` of its pixels at the path's cap, else ``path``
         (docs/predict.md compares the three).
+    measured : bench.evaluate.conditions.Conditions, optional
+        The frame's conditions (``conditions.measure(frame, background)``, with or without its colour
+        photograph: only ``width_px`` and ``noise_dn`` are read), when the caller has them; measured otherwise.
 
     Returns
     -------
@@ -168,7 +171,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto") -> Extents
     work = raw if background is None else raw - np.asarray(background, dtype=np.float64)
     if work.shape != raw.shape:
         raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
-    measured = cond.measure(frame, background)
+    measured = cond.measure(frame, background) if measured is None else measured
     noise = measured.noise_dn
     H, W = work.shape
     sm = work.copy()
@@ -275,6 +278,21 @@ def _guide(peak, strong) -> np.ndarray:
         if i1 > i0:
             out[r] = float(np.median(peak[idx[i0:i1]]))
     return out
+
+
+def out_of_range(measured) -> tuple:
+    """The measures that put a frame out of the transplant's range: ``("width_px",)`` for a stripe wider
+    than :data:`MAX_WIDTH_PX` (``measured``: its :func:`bench.evaluate.conditions.measure`), else ``()``.
+
+    Examples
+    --------
+    >>> thin = np.full((20, 60), 10.0); thin[:, 30] = 200.0
+    >>> wide = np.full((20, 60), 10.0); wide[:, 20:40] = 200.0
+    >>> out_of_range(cond.measure(thin)), out_of_range(cond.measure(wide))
+    ((), ('width_px',))
+    """
+    w = measured.width_px
+    return ("width_px",) if math.isfinite(w) and w > MAX_WIDTH_PX else ()
 
 
 def shift_for(ext: Extents) -> int:

@@ -337,13 +337,15 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
     return out
 
 
-def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") -> list:
+def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
     how the stripe is found, :data:`bench.evaluate.transplant.ESTIMATES`), and, where the stripe is long
     enough, two *false-report frames*: moved the same ways with its ends cut off
     (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
     stripe rows are ``UNSURE``): the hit rate is read from the first two frames alone, the false-report
-    rate from the stripe-less rows of all four (docs/predict.md).
+    rate from the stripe-less rows of all four (docs/predict.md). ``measured``: the frame's conditions, when
+    the caller has them (:func:`bench.evaluate.transplant.stripe_extents`). A frame out of the transplant's
+    range (:func:`bench.evaluate.transplant.out_of_range`) is the caller's to leave out, with its reason.
 
     Returns
     -------
@@ -363,7 +365,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto") 
     original = rotate_image(photo.original, photo.rotate_deg)
     bg_original = (None if photo.background_original is None
                    else rotate_image(photo.background_original, photo.rotate_deg))
-    ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate)
+    ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
     if not ext.visible.any():
         return []
     shift = tp.shift_for(ext)
@@ -481,10 +483,8 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     """The photographs of ``folder``: a real set's (its manifest's laser, channel and rotation;
     references ignored) or every image file (``NAME_off.EXT`` frames paired as laser-off frames),
     with the given ``channel``, ``laser`` and ``rotate_deg``, each ``downscale`` x ``downscale`` block of
-    pixels averaged into one (:func:`bench.evaluate.pixels.downscale`; 1: as they are). An unreadable file
+    pixels averaged into one (:func:`bench.store.realset.load_frame`; 1: as they are). An unreadable file
     gets one line on ``err``."""
-    from bench.evaluate.pixels import downscale as shrink
-    from bench.evaluate.pixels import rotate_image, select_channel
     from bench.store import realset as real
 
     if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
@@ -507,22 +507,16 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     photos = []
     for name, path, bgp, ch, las, rot in jobs:
         try:
-            frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot)
+            frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)
             bg = bg_original = None
             if bgp is not None:
-                bg, bg_original = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot)
+                bg, bg_original = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)
                 if bg.shape != frame.shape:
                     raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
                                           f"the image {frame.shape}")
         except real.ImageError as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
-        if downscale != 1:  # the file's pixels shrunk, then the tracker's frame made from them (as the real set's)
-            original = shrink(original, downscale)
-            frame = rotate_image(select_channel(original, ch, las), rot)
-            if bg is not None:
-                bg_original = shrink(bg_original, downscale)
-                bg = rotate_image(select_channel(bg_original, ch, las), rot)
         photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original))
     return photos
 
@@ -591,14 +585,14 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         if frames == "transplant":
             conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                               laser=ph.laser)
-            width = conds[ph.name].width_px
-            if math.isfinite(width) and width > tp.MAX_WIDTH_PX:
+            if tp.out_of_range(conds[ph.name]):
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("width_px",))
                 moved[ph.name] = []
-                warn(f"stripebench predict: {ph.name}: out of range (width_px: its stripe is {width:.1f} px wide, "
-                     f"wider than the reference window's {tp.MAX_WIDTH_PX} px; shrink the photographs): left out")
+                warn(f"stripebench predict: {ph.name}: out of range (width_px: its stripe is "
+                     f"{conds[ph.name].width_px:.1f} px wide, wider than the reference window's {tp.MAX_WIDTH_PX} px; "
+                     "shrink the photographs): left out")
                 continue
-            moved[ph.name] = made = transplant_frames(ph, seed=seed, estimate=estimate)
+            moved[ph.name] = made = transplant_frames(ph, seed=seed, estimate=estimate, measured=conds[ph.name])
             if not made:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("visible",))
                 warn(f"stripebench predict: {ph.name}: out of range (visible: the moved stripe is seen in fewer than "

@@ -180,17 +180,22 @@ def background_for(path) -> Path | None:
     return None
 
 
-def load_frame(path, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0):
+def load_frame(path, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0, downscale: int = 1):
     """Read a photograph as the 2-D frame a tracker sees, plus its original.
+
+    ``downscale`` N > 1 first averages each N x N block of the file's pixels into one
+    (:func:`bench.evaluate.pixels.downscale`, as the shipped set's photographs were shrunk).
 
     Returns
     -------
     frame : ndarray, shape (H', W')
         :func:`select_channel` then :func:`rotate_image`.
     original : ndarray, shape (H, W) or (H, W, 3)
-        The file's pixels as read.
+        The file's pixels as read (shrunk with ``downscale``).
     """
-    original = read_image(path)
+    from bench.evaluate.pixels import downscale as shrink
+
+    original = shrink(read_image(path), downscale)
     return rotate_image(select_channel(original, channel, laser), rotate_deg), original
 
 

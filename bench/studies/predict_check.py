@@ -132,6 +132,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
+    from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import outcome_counts
     from bench.evaluate.prediction import compare_by_group, comparison_doc
     from bench.run import predict as pr
@@ -160,14 +161,15 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             if frames == "transplant":
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser)
-                made = pr.transplant_frames(photo, seed=seed, estimate=estimate)
                 c = cond.measure(img, None)
-                frames_doc.append({"name": name, "case": exp.key, "status": "matched" if made else "out of range",
-                                   "out_of_range": [] if made else ["visible"],
-                                   "shift_px": made[0][4] if made else None,
+                bad = list(tp.out_of_range(c))
+                made = [] if bad else pr.transplant_frames(photo, seed=seed, estimate=estimate, measured=c)
+                bad = bad or ([] if made else ["visible"])
+                frames_doc.append({"name": name, "case": exp.key, "status": "out of range" if bad else "matched",
+                                   "out_of_range": bad, "shift_px": made[0][4] if made else None,
                                    "width_px": c.width_px, "contrast": c.contrast})
-                if not made:
-                    say(f"stripebench predictcheck: {name}: out of range (visible)")
+                if bad:
+                    say(f"stripebench predictcheck: {name}: out of range ({', '.join(bad)})")
                     continue
                 per = pr.transplant_outcomes(tr, made)
                 for lab in tr:

@@ -43,36 +43,24 @@ def frames(config, seed: int, channel: str, *, size: int | None = None, downscal
            line_fwhm_mrad: float | None = None):
     """(class, image, laser-off frame, true columns) of every frame of ``config``'s experiments; with
     ``size`` the frames are ``size`` px wide (15/16 as high), rendered ``downscale`` times larger and
-    shrunk back (without ``size``, the profile's size shrunk by ``downscale``), and ``line_fwhm_mrad``
-    replaces every experiment's line width."""
-    import types
-
-    import scenes
+    shrunk back (:func:`bench.studies.predict_check.family_scene`, ``shrink_frame``; without ``size``, the
+    profile's size), and ``line_fwhm_mrad`` replaces every experiment's line width."""
     from bench.config import with_overrides
-    from bench.evaluate.pixels import downscale as shrink
-    from bench.evaluate.pixels import downscale_columns
     from bench.run.camera_view import tracker_images
     from bench.run.plan import angles_for, renderer_for
+    from bench.studies.predict_check import family_scene, shrink_frame
 
     cfg = with_overrides(config, seed=seed, real_set="")
     renderer_for(cfg)
-    n = int(downscale)
-    render = dict(cfg.render)
-    if size is not None:
-        render.update(width=int(size) * n, height=int(size) * 15 // 16 * n)
+    width, height = (int(size), int(size) * 15 // 16) if size is not None else (cfg.render["width"],
+                                                                             cfg.render["height"])
     for e in cfg.experiments:
-        overrides = dict(e.overrides)
-        if line_fwhm_mrad is not None:
-            overrides["line_fwhm_mrad"] = float(line_fwhm_mrad)
-        scene = scenes.make(e.scene, material=e.material, seed=cfg.seed, **render, **overrides)
+        scene = family_scene(e, cfg, seed=cfg.seed, width=width, height=height, downscale=downscale,
+                             line_fwhm_mrad=line_fwhm_mrad)
         for a in angles_for(e, scene):
-            fr = scene.render(float(a), spp=scene.params["spp"], seed=cfg.seed)
-            if n > 1:
-                fr = types.SimpleNamespace(truth=fr.truth, **{
-                    k: None if getattr(fr, k, None) is None else shrink(getattr(fr, k), n)
-                    for k in ("image", "background", "rgb", "rgb_background")})
+            fr = shrink_frame(scene.render(float(a), spp=scene.params["spp"], seed=cfg.seed), downscale)
             img, off = tracker_images(fr, scene.params, channel)
-            yield e.condition or e.key, img, off, downscale_columns(fr.truth.columns, n)
+            yield e.condition or e.key, img, off, fr.truth_columns
 
 
 def make_tracker(spec: str):

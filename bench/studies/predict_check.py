@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "Case", "case_frames", "study"]
+__all__ = ["DEFAULTS", "Case", "family_scene", "shrink_frame", "case_frames", "study"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -56,37 +56,59 @@ class Case:
         return self.rgb if self.rgb is not None else self.image
 
 
-def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
-                downscale: int = 1, line_fwhm_mrad: float | None = None) -> list:
-    """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
-    ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
-    ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`bench.evaluate.pixels.downscale`,
-    as a camera app shrinks a phone's frame: the noise falls); ``line_fwhm_mrad`` replaces the laser line's
-    width of every case (narrower: a thinner, brighter stripe)."""
+def family_scene(experiment, config, *, seed: int, width: int, height: int, downscale: int = 1,
+                 line_fwhm_mrad: float | None = None):
+    """The scene of one experiment of ``config`` for a render family: ``width`` x ``height`` px rendered
+    ``downscale`` times larger (to be shrunk back by :func:`shrink_frame`), with ``line_fwhm_mrad`` in place
+    of the experiment's laser line width (narrower: a thinner, brighter stripe)."""
     import scenes
-    from bench.evaluate.pixels import downscale as shrink
-    from bench.evaluate.pixels import downscale_columns, select_channel
-    from bench.run.camera_view import laser_colour
-    from bench.run.plan import angles_for
 
     n = int(downscale)
     render = {**config.render, "width": int(width) * n, "height": int(height) * n}
     overrides = dict(experiment.overrides)
     if line_fwhm_mrad is not None:
         overrides["line_fwhm_mrad"] = float(line_fwhm_mrad)
-    scene = scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render, **overrides)
+    return scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render, **overrides)
+
+
+def shrink_frame(frame, downscale: int):
+    """A rendered frame shrunk by ``downscale`` (:func:`bench.evaluate.pixels.downscale`, as a camera app
+    shrinks a phone's frame: the noise falls): its ``image``, ``background``, ``rgb`` and ``rgb_background``
+    (None stays None) and ``truth_columns`` (:func:`bench.evaluate.pixels.downscale_columns`)."""
+    from types import SimpleNamespace
+
+    from bench.evaluate.pixels import downscale as shrink
+    from bench.evaluate.pixels import downscale_columns
+
+    n = int(downscale)
+    planes = {k: None if getattr(frame, k, None) is None else shrink(getattr(frame, k), n)
+              for k in ("image", "background", "rgb", "rgb_background")}
+    return SimpleNamespace(**planes, truth_columns=downscale_columns(frame.truth.columns, n))
+
+
+def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
+                downscale: int = 1, line_fwhm_mrad: float | None = None) -> list:
+    """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
+    ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
+    ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`family_scene`, :func:`shrink_frame`);
+    ``line_fwhm_mrad`` replaces the laser line's width of every case."""
+    from bench.evaluate.pixels import select_channel
+    from bench.run.camera_view import laser_colour
+    from bench.run.plan import angles_for
+
+    scene = family_scene(experiment, config, seed=seed, width=width, height=height, downscale=downscale,
+                         line_fwhm_mrad=line_fwhm_mrad)
     a = np.asarray(angles_for(experiment, scene), float)
     lo, hi = a[len(a) // 4], a[min(len(a) - 1, (3 * len(a)) // 4)]  # as bench.run.predict's matched renders
     out = []
     for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
-        f = scene.render(float(ang))
-        truth = downscale_columns(f.truth.columns, n)
+        f = shrink_frame(scene.render(float(ang)), downscale)
         if f.rgb is not None:
-            rgb = shrink(f.rgb, n)
             laser = laser_colour(scene.params["laser_wavelength_nm"])
-            out.append((f"{experiment.key}@{i}", Case(select_channel(rgb, "auto", laser), rgb, truth), scene.params))
+            case = Case(select_channel(f.rgb, "auto", laser), f.rgb, f.truth_columns)
         else:
-            out.append((f"{experiment.key}@{i}", Case(shrink(f.image, n), None, truth), scene.params))
+            case = Case(f.image, None, f.truth_columns)
+        out.append((f"{experiment.key}@{i}", case, scene.params))
     return out
 
 

@@ -219,12 +219,13 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     if samples_df.empty:
         say("stripebench: warning: no lit object points were scanned, so there are no sample points", quiet)
     conditions = _conditions(config)
-    # the statistics (bootstrap intervals: seconds of numpy, much of it without the GIL) in a thread
-    # while this one writes the tables and tracks the real set (whose tracker time-outs need the main
-    # thread's signals); the results are the same as one after the other
-    with concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="stripebench-stats") as pool:
+    # the statistics and the detection figures (bootstrap intervals: seconds of numpy and of a numba loop,
+    # much of it without the GIL) in two threads while this one writes the tables and tracks the real set
+    # (whose tracker time-outs need the main thread's signals); each is a pure function of its arguments
+    # and its own seeds, so the results are the same as one after the other
+    with concurrent.futures.ThreadPoolExecutor(2, thread_name_prefix="stripebench-stats") as pool:
         statistics = pool.submit(_statistics, config, samples_df, labels, dp)
-        detection = _detection(config, out, conditions)
+        detection_job = pool.submit(_detection, config, out, conditions)
         write_tables(out, metrics, samples_df)
         write_gallery(out, gallery)
         if fig7 is not None:
@@ -233,6 +234,7 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
         if config.real_set and kind == "run":
             extra["sim_to_real"] = _sim_to_real(config, out, metrics, quiet)
         stats, robust = statistics.result()
+        detection = detection_job.result()
     verdicts = analysis.verdicts(robust, stats, dp, config.baselines)
     claims = readings.paper_claims(config.to_dict(), robust, stats, verdicts, conditions, samples_df,
                                    paper_improvement=PAPER_IMPROVEMENT, within_mm=WITHIN_MM)

@@ -30,7 +30,7 @@ from bench.config import MAX_N_BOOT, MIN_N_BOOT, ConfigError, parse_trackers_arg
 from bench.config.options import REAL_DEFAULTS, finite_float, int_in_range, seed_value
 
 __all__ = ["OneLineParser", "HelpFormatter", "arg_type", "add_out", "add_force", "add_quiet", "add_seed",
-           "add_trackers", "add_n_boot", "add_tol", "add_frames", "plain", "first_paragraph"]
+           "add_trackers", "add_n_boot", "add_tol", "add_frames", "add_estimate", "plain", "first_paragraph"]
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -116,6 +116,19 @@ def add_frames(parser, flag: str = "--frames") -> None:
                         help="the frames with truth the prediction scores: transplant (each photograph with its own "
                              "stripe moved to a known place) or render (renders matched to its conditions); "
                              f"default {FRAMES[0]}")
+
+
+def add_estimate(parser, flag: str = "--estimate") -> None:
+    """``--estimate {auto,path,argmax,reference}``: how a transplant finds a photograph's stripe
+    (:data:`bench.run.predict.ESTIMATES`)."""
+    from bench.run.predict import ESTIMATES
+
+    parser.add_argument(flag, default=ESTIMATES[0], choices=ESTIMATES,
+                        help="how the transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
+                             "or a nearly noiseless frame, else path; default), path (the most continuous bright "
+                             "path), argmax (each row's maximum, kept where its neighbours agree) or reference (a "
+                             "real set's references: what a perfect stripe estimate would predict, an ablation); "
+                             "docs/predict.md")
 
 
 def plain(text: str) -> str:

@@ -9,7 +9,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder, study_command
-from bench.cli.options import add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_trackers, arg_type
+from bench.cli.options import (add_estimate, add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed,
+                               add_trackers, arg_type)
 from bench.config.options import finite_float
 
 __all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options"]
@@ -58,6 +59,9 @@ def _predict(args) -> int:
     specs = args.trackers if args.trackers is not None else parse_trackers(list(DEFAULT_TRACKERS))
     if not args.photos.is_dir():
         raise UsageError(f"PHOTOS must be a folder, got {str(args.photos)!r}")
+    if args.estimate == "reference" and args.downscale != 1:
+        raise UsageError(f"--estimate reference reads the references at the photographs' own size; got --downscale "
+                         f"{args.downscale}")
     check_out_folder(args.out)
     out = Path(args.out)
     if out.is_dir() and any(out.iterdir()) and not (out / "predict.json").is_file() and not args.force:
@@ -80,16 +84,6 @@ def _predict(args) -> int:
             print(f"{r['tracker']:<16}{r['hit_rate']:>10.3f}{r['false_report_rate']:>15.3f}{r['f1']:>8.3f}")
     print(f"stripebench: predictions in {out} (report {page})")
     return 0
-
-
-def add_estimate(p) -> None:
-    """``--estimate {path,argmax,auto}``: how the transplant finds a photograph's stripe."""
-    from bench.evaluate.transplant import ESTIMATES
-
-    p.add_argument("--estimate", default=ESTIMATES[0], choices=ESTIMATES,
-                   help="how --frames transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
-                        "or a nearly noiseless frame, else path; default), path (the most continuous bright path) "
-                        "or argmax (each row's maximum, kept where its neighbours agree); docs/predict.md")
 
 
 def predict_check_options(p) -> None:

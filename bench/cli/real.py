@@ -6,7 +6,8 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder
-from bench.cli.options import add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
+from bench.cli.options import (add_estimate, add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_tol,
+                               add_trackers)
 from bench.config.options import REAL_DEFAULTS
 
 __all__ = ["COMMANDS"]
@@ -69,6 +70,7 @@ def _add_real(p) -> None:
                    help="also predict the figures from frames made for the photographs (as `stripebench predict`, "
                         "into RUN/predict) and compare them with the measured ones")
     add_frames(p, "--predict-frames")
+    add_estimate(p, "--predict-estimate")
     p.add_argument("--predict-size", type=int, default=256, choices=(128, 256, 512),
                    help="render width of --predict-frames render in px (default 256)")
     p.add_argument("--predict-grid", default="default", choices=("default", "small"),
@@ -133,8 +135,8 @@ def _predict_and_compare(args, specs, out) -> None:
     grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
     grid = replace(grid, width=args.predict_size, height=args.predict_size * 15 // 16)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
-    res = predict_real(args.dataset, out, specs, frames=args.predict_frames, grid=grid, n_boot=args.n_boot,
-                       seed=args.seed, say=say)
+    res = predict_real(args.dataset, out, specs, frames=args.predict_frames, estimate=args.predict_estimate, grid=grid,
+                       n_boot=args.n_boot, seed=args.seed, say=say)
     build_predict_report(res["result"])
     names, cmp, rigs = res["doc"]["photographs"], res["result"]["comparison"], res["result"]["comparison_rigs"]
     print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")

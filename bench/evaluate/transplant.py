@@ -138,7 +138,7 @@ class Extents:
     height: np.ndarray | None = None
 
 
-def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=None) -> Extents:
+def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=None, guide=None) -> Extents:
     """The stripe of a frame: visible rows, their extents and centres (module docstring, step 1).
 
     Parameters
@@ -158,10 +158,25 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
     measured : bench.evaluate.conditions.Conditions, optional
         The frame's conditions (``conditions.measure(frame, background)``, with or without its colour
         photograph: only ``width_px`` and ``noise_dn`` are read), when the caller has them; measured otherwise.
+    guide : array_like, shape (H,), optional
+        The stripe's columns (px, NaN where a row has none) to follow instead of estimating them
+        (``estimate`` is then not used): a labelled photograph's reference, for the ablation that
+        predicts with a perfect stripe estimate (``predict --estimate reference``, docs/predict.md). Each row's
+        peak is still sought within :data:`GUIDE_HALF_PX` of it, as around an estimated guide.
 
     Returns
     -------
     Extents
+
+    Examples
+    --------
+    Two stripes, the left one brighter: the estimate takes the left one, a guide the right one.
+
+    >>> img = np.full((40, 60), 10.0)
+    >>> img[:, 15] += 120.0
+    >>> img[:, 45] += 60.0
+    >>> float(np.nanmedian(stripe_extents(img).centre)), float(np.nanmedian(stripe_extents(img, guide=np.full(40, 45.0)).centre))
+    (15.0, 45.0)
     """
     if estimate not in ESTIMATES:
         raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
@@ -176,22 +191,15 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
     H, W = work.shape
     sm = work.copy()
     sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
-    rows = np.arange(H)
     first = np.argmax(sm, axis=1)
     med = np.median(work, axis=1)
-    if estimate == "auto":
-        narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
-        estimate = "argmax" if narrow or capped_share(sm, med, noise) >= AUTO_CAPPED else "path"
-    window = np.ones(2 * SUPPORT_ROWS + 1, int)
-    if estimate == "path":
-        path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
-        on = sm[rows, path] - med >= cond.VISIBLE_K * noise
-        guide = _guide(path, on & (np.convolve(on.astype(int), window, mode="same") >= SUPPORT_MIN))
+    if guide is not None:
+        guide = np.asarray(guide, dtype=np.float64)
+        if guide.shape != (H,):
+            raise ValueError(f"`guide` must have one column per row of `frame`, shape {(H,)}, got {guide.shape}")
+        guide = np.where(np.isfinite(guide), np.clip(guide, 0, W - 1), np.nan)
     else:
-        strong = sm[rows, first] - med >= cond.VISIBLE_K * noise
-        near = np.abs(first - np.nan_to_num(_guide(first, strong), nan=-1e9)) <= cond.JUMP_PX
-        kept = strong & near
-        guide = _guide(first, kept & (np.convolve(kept.astype(int), window, mode="same") >= SUPPORT_MIN))
+        guide = _estimated_guide(sm, med, first, noise, estimate, measured)
     peak = first.copy()
     visible = np.zeros(H, bool)
     lo, hi = peak.copy(), peak.copy()
@@ -223,6 +231,24 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
             b += 1
         lo[r], hi[r] = max(a - PAD_PX, c - MAX_HALF_PX, 0), min(b + PAD_PX, c + MAX_HALF_PX, W - 1)
     return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise), height=heights)
+
+
+def _estimated_guide(sm, med, first, noise: float, estimate: str, measured) -> np.ndarray:
+    """:func:`stripe_extents`' guide by ``estimate`` (``auto``, ``path`` or ``argmax``), NaN where no stripe:
+    ``sm`` the row-smoothed frame (H, W), ``med`` its rows' medians, ``first`` their argmax."""
+    if estimate == "auto":
+        narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
+        estimate = "argmax" if narrow or capped_share(sm, med, noise) >= AUTO_CAPPED else "path"
+    rows = np.arange(sm.shape[0])
+    window = np.ones(2 * SUPPORT_ROWS + 1, int)
+    if estimate == "path":
+        path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
+        on = sm[rows, path] - med >= cond.VISIBLE_K * noise
+        return _guide(path, on & (np.convolve(on.astype(int), window, mode="same") >= SUPPORT_MIN))
+    strong = sm[rows, first] - med >= cond.VISIBLE_K * noise
+    near = np.abs(first - np.nan_to_num(_guide(first, strong), nan=-1e9)) <= cond.JUMP_PX
+    kept = strong & near
+    return _guide(first, kept & (np.convolve(kept.astype(int), window, mode="same") >= SUPPORT_MIN))
 
 
 def capped_share(smoothed, row_median, noise_dn: float) -> float:

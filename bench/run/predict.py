@@ -48,11 +48,12 @@ from pathlib import Path
 import numpy as np
 
 from bench.evaluate import conditions as cond
+from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
            "score_frame", "transplant_frames", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes",
-           "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES", "PREDICTED_NAMES"]
+           "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -339,7 +340,8 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
 
 def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
-    how the stripe is found, :data:`bench.evaluate.transplant.ESTIMATES`), and, where the stripe is long
+    how the stripe is found, :data:`ESTIMATES`: ``reference`` follows ``photo.reference``, the ablation with a
+    perfect estimate), and, where the stripe is long
     enough, two *false-report frames*: moved the same ways with its ends cut off
     (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
     stripe rows are ``UNSURE``): the hit rate is read from the first two frames alone, the false-report
@@ -365,7 +367,13 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     original = rotate_image(photo.original, photo.rotate_deg)
     bg_original = (None if photo.background_original is None
                    else rotate_image(photo.background_original, photo.rotate_deg))
-    ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
+    if estimate == "reference":
+        if photo.reference is None:
+            raise ValueError(f"{photo.name}: `estimate` 'reference' needs the photograph's reference (a real set's "
+                             "NAME_ref.csv, photographs at their own size)")
+        ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=photo.reference)
+    else:
+        ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
     if not ext.visible.any():
         return []
     shift = tp.shift_for(ext)
@@ -470,6 +478,9 @@ class Photo:
     rotate_deg: int = 0
     channel: str = "auto"
     background_original: np.ndarray | None = None
+    reference: np.ndarray | None = None
+    """A real set's reference columns per row of ``frame`` (px, NaN: no stripe), read only for
+    ``estimate="reference"``; None otherwise."""
 
     @property
     def colour(self) -> bool:
@@ -479,16 +490,19 @@ class Photo:
 
 
 def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0, downscale: int = 1,
-                   err=None) -> list[Photo]:
+                   references: bool = False, err=None) -> list[Photo]:
     """The photographs of ``folder``: a real set's (its manifest's laser, channel and rotation;
-    references ignored) or every image file (``NAME_off.EXT`` frames paired as laser-off frames),
-    with the given ``channel``, ``laser`` and ``rotate_deg``, each ``downscale`` x ``downscale`` block of
-    pixels averaged into one (:func:`bench.store.realset.load_frame`; 1: as they are). An unreadable file
+    references ignored unless ``references``: then read into :attr:`Photo.reference`) or every image file
+    (``NAME_off.EXT`` frames paired as laser-off frames, no reference), with the given ``channel``, ``laser``
+    and ``rotate_deg``, each ``downscale`` x ``downscale`` block of pixels averaged into one
+    (:func:`bench.store.realset.load_frame`; 1: as they are; references only at 1). An unreadable file
     gets one line on ``err``."""
     from bench.store import realset as real
 
     if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
         raise ValueError(f"`downscale` must be an integer >= 1, got {downscale!r}")
+    if references and downscale != 1:
+        raise ValueError(f"`references` needs the photographs at their own size (`downscale` 1), got {downscale!r}")
     err = sys.stderr if err is None else err
     root = Path(folder)
     if not root.is_dir():
@@ -497,15 +511,16 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     if (root / "manifest.csv").is_file():
         images, _ = real.validate_dataset(root)
         for im in images:
-            jobs.append((im.name, im.image_path, im.background_path, im.channel, im.laser_colour, im.rotate_deg))
+            jobs.append((im.name, im.image_path, im.background_path, im.channel, im.laser_colour, im.rotate_deg,
+                         im.reference_path if references else None))
     if not jobs:
         files = sorted(p for p in root.iterdir() if p.is_file() and p.suffix.lower() in real.IMAGE_SUFFIXES)
         for p in files:
             if p.stem.endswith("_off"):
                 continue
-            jobs.append((p.stem, p, real.background_for(p), channel, laser, rotate_deg))
+            jobs.append((p.stem, p, real.background_for(p), channel, laser, rotate_deg, None))
     photos = []
-    for name, path, bgp, ch, las, rot in jobs:
+    for name, path, bgp, ch, las, rot, refp in jobs:
         try:
             frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)
             bg = bg_original = None
@@ -514,10 +529,11 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
                 if bg.shape != frame.shape:
                     raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
                                           f"the image {frame.shape}")
-        except real.ImageError as exc:
+            ref = None if refp is None else real.read_reference(refp, frame.shape)
+        except (real.ImageError, real.DatasetError) as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
-        photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original))
+        photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original, ref))
     return photos
 
 
@@ -525,6 +541,11 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
 #: stripe moved (the default: it predicts renders far better than matched renders do, ``stripebench
 #: predictcheck``, docs/predict.md), or ``render``, renders matched to the photograph's conditions.
 FRAMES = ("transplant", "render")
+
+#: How a transplant finds each photograph's stripe (``--estimate``): the estimates of
+#: :data:`bench.evaluate.transplant.ESTIMATES` (``auto``, the default, first), or ``reference``, a labelled
+#: photograph's reference: the ablation that shows what a perfect stripe estimate would predict (docs/predict.md).
+ESTIMATES = (*_STRIPE_ESTIMATES, "reference")
 
 #: The names the prediction's tables give :func:`bench.evaluate.outcomes.bootstrap_frames`' figures.
 PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
@@ -537,7 +558,8 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     """``stripebench predict``: measure the photographs, make frames with truth for them, score the trackers.
 
     ``frames`` (:data:`FRAMES`): ``transplant``, each photograph with its own stripe moved both ways
-    (:func:`transplant_frames`; ``seed`` seeds the clean plate's noise, ``estimate`` finds the stripe);
+    (:func:`transplant_frames`; ``seed`` seeds the clean plate's noise, ``estimate`` finds the stripe,
+    :data:`ESTIMATES`: ``reference`` takes each photograph's reference, a real set's at ``downscale`` 1 only);
     ``render``, renders of
     ``grid`` matched to its conditions at ``n_angles`` mirror angles. A photograph whose moved stripe is
     seen in too few rows (transplant: :func:`transplant_frames`) or with a measure outside the grid's
@@ -569,14 +591,21 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
 
     if frames not in FRAMES:
         raise ValueError(f"`frames` must be one of {', '.join(FRAMES)}, got {frames!r}")
+    if estimate not in ESTIMATES:
+        raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
+    with_references = frames == "transplant" and estimate == "reference"
     say = (lambda m: print(m, file=sys.stderr, flush=True)) if say is None else say
 
     def warn(m):  # a photograph left out: said even when progress is not
         print(m, file=sys.stderr if err is None else err, flush=True)
 
-    photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, downscale=downscale, err=err)
+    photos = collect_photos(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, downscale=downscale,
+                            references=with_references, err=err)
     if not photos:
         raise real.ImageError(f"{str(folder)!r}: no readable photograph (PNG, JPEG, TIFF)")
+    if with_references and any(ph.reference is None for ph in photos):
+        raise real.ImageError(f"{str(folder)!r}: --estimate reference needs a real set (a manifest and each "
+                              "photograph's NAME_ref.csv); this folder has photographs without one")
     trackers = build_trackers(specs)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -253,8 +253,8 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     return out
 
 
-def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", grid=None, n_boot: int = 1000,
-                 seed: int = 0, say=None) -> dict:
+def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimate: str = "auto", grid=None,
+                 n_boot: int = 1000, seed: int = 0, say=None) -> dict:
     """``real --predict``: predict a real run's figures (:func:`bench.run.predict.run_predict` into
     ``RUN/predict``) and set them beside the measured ones, pooled, per rig and per photograph.
 
@@ -266,8 +266,9 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", grid=No
         A finished real run (:func:`run_real`).
     specs : sequence of TrackerSpec
         Its trackers.
-    frames, grid, n_boot, seed, say
-        As :func:`bench.run.predict.run_predict` (``grid`` default :data:`~bench.run.predict.DEFAULT_GRID`).
+    frames, estimate, grid, n_boot, seed, say
+        As :func:`bench.run.predict.run_predict` (``grid`` default :data:`~bench.run.predict.DEFAULT_GRID`;
+        ``estimate="reference"``: the stripe taken from the set's references, the ablation of docs/predict.md).
 
     Returns
     -------
@@ -287,8 +288,8 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", grid=No
     from bench.store.realrun import load_real_run
 
     out = Path(run_dir)
-    result = run_predict(dataset, out / "predict", specs, frames=frames, grid=DEFAULT_GRID if grid is None else grid,
-                         n_boot=n_boot, seed=seed, say=say)
+    result = run_predict(dataset, out / "predict", specs, frames=frames, estimate=estimate,
+                         grid=DEFAULT_GRID if grid is None else grid, n_boot=n_boot, seed=seed, say=say)
     names = [n for n, m in result["matches"].items() if not m.out_of_range]
     metrics = load_real_run(out)["metrics"]
     cmp = compare_with_real(result["predicted"], metrics, names)
@@ -296,7 +297,7 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", grid=No
     rigs = compare_by_group(result["predicted_photos"], metrics, {n: rig_of.get(n, n) for n in names})
     photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
     result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)
-    doc = {"photographs": names, "frames": frames,
+    doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
            "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
            **comparison_doc(cmp), "rigs": {g: comparison_doc(v) for g, v in rigs.items()},
            "per_photograph": {g: comparison_doc(v) for g, v in photos.items()}}

@@ -137,7 +137,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         Cases rendered this many times larger and shrunk back (:func:`case_frames`): stripes that
         stand as far above the noise as a phone's shrunk frames do. The grid is not shrunk.
     estimate : str
-        How the transplant finds the stripe (:data:`bench.evaluate.transplant.ESTIMATES`).
+        How the transplant finds the stripe (:data:`bench.run.predict.ESTIMATES`; ``reference``: the render's
+        truth, what a perfect stripe estimate would predict).
     line_fwhm_mrad : float, optional
         Every case's laser line width (mrad) instead of its own.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
@@ -182,7 +183,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             for lab, codes in pr.score_frame(tr, img, case.truth_columns).items():
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             if frames == "transplant":
-                photo = pr.Photo(name, Path(name), img, None, case.original, laser)
+                photo = pr.Photo(name, Path(name), img, None, case.original, laser, reference=case.truth_columns)
                 c = cond.measure(img, None)
                 bad = list(tp.out_of_range(c))
                 made = [] if bad else pr.transplant_frames(photo, seed=seed, estimate=estimate, measured=c)

@@ -125,6 +125,39 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
     assert "Predicted beside measured" in html and "Per rig" in html and "Per photograph" in html
 
 
+def test_real_predict_with_the_reference_estimate_and_its_refusals(photos, tmp_path, capsys):
+    """``--predict-estimate reference`` predicts with the set's references as the stripe (the ablation of
+    docs/predict.md) and says so in compare.json; ``predict --estimate reference`` refuses shrunk photographs and
+    a folder without references, each in one line with exit status 2."""
+    import json
+    import shutil
+
+    ds = tmp_path / "set"
+    ds.mkdir()
+    shutil.copy(photos / "board.png", ds / "board.png")
+    frame = iio.imread(ds / "board.png")
+    (ds / "board_ref.csv").write_text("row,col\n" + "".join(f"{r},{c:g}\n" for r, c in
+                                                              enumerate(frame.argmax(axis=1).astype(float))))
+    (ds / "manifest.csv").write_text("name,has_background,laser_colour\nboard,0,red\n")
+    out = tmp_path / "run"
+    rc = main(["real", str(ds), "--out", str(out), "--trackers", "threshold,dp8", "--n-boot", "50", "--quiet",
+               "--predict", "--predict-estimate", "reference"])
+    assert rc == 0
+    doc = json.loads((out / "predict" / "compare.json").read_text())
+    assert doc["estimate"] == "reference" and doc["photographs"] == ["board"]
+    capsys.readouterr()
+    assert main(["predict", str(ds), "--out", str(tmp_path / "p1"), "--estimate", "reference", "--downscale", "2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["stripebench: error: --estimate reference reads the references at the photographs' own size; "
+                   "got --downscale 2"]
+    loose = tmp_path / "loose"
+    loose.mkdir()
+    shutil.copy(photos / "board.png", loose / "board.png")
+    assert main(["predict", str(loose), "--out", str(tmp_path / "p2"), "--estimate", "reference", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--estimate reference needs a real set" in err[0]
+
+
 def test_a_photo_too_wide_for_the_window_is_predicted_shrunk_and_nothing_in_range_exits_2(tmp_path, capsys):
     d = tmp_path / "phone"
     d.mkdir()

@@ -156,3 +156,9 @@ def test_auto_takes_the_argmax_where_the_paths_score_is_capped_over_much_of_the_
     assert np.all(np.abs(auto.centre[rows] - 40.0) < 0.5)  # the stripe, wherever it is
     if guarded:  # without noise the cap is 3.5 DN: the wall scores as high as the stripe, and the path takes it
         assert np.mean(np.abs(tp.stripe_extents(img, estimate="path").centre[rows] - 40.0) < 0.5) < 0.5
+
+
+def test_a_guide_of_the_wrong_length_is_refused():
+    img = np.full((20, 30), 10.0)
+    with pytest.raises(ValueError, match=r"`guide` must have one column per row of `frame`, shape \(20,\), got \(19,\)"):
+        tp.stripe_extents(img, guide=np.zeros(19))

@@ -147,3 +147,50 @@ def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off(
 def test_collect_photos_refuses_a_bad_downscale(tmp_path):
     with pytest.raises(ValueError, match="`downscale` must be an integer >= 1, got 0"):
         pr.collect_photos(tmp_path, downscale=0)
+
+
+def _two_stripes(rows=60, seed=5):
+    """A brighter line (a lamp's edge) at column 35 and the laser's dimmer stripe at column 70, uint8."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(96.0)
+    img = (30.0 + rng.normal(0, 2.0, (rows, 96)) + 200.0 * np.exp(-0.5 * ((x - 35.0) / 1.2) ** 2)
+           + 90.0 * np.exp(-0.5 * ((x - 70.0) / 1.2) ** 2))
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+
+
+def test_the_reference_estimate_moves_the_referenced_stripe_where_the_estimate_takes_the_brighter_line():
+    """``estimate="reference"`` (the ablation with a perfect stripe estimate) follows the photograph's reference;
+    the default estimate takes the brighter line, and the moved stripe is then the wrong one."""
+    from pathlib import Path
+
+    img = _two_stripes()
+    ref = np.full(img.shape[0], 70.0)
+    photo = pr.Photo("p", Path("p.png"), img, None, img, reference=ref)
+    for estimate, column in (("reference", 70.0), ("auto", 35.0)):
+        made = pr.transplant_frames(photo, estimate=estimate)
+        assert len(made) >= pr.N_MOVED
+        for _, truth, _, _, s in made[:pr.N_MOVED]:
+            assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5), estimate
+
+
+def test_the_reference_estimate_needs_a_reference():
+    from pathlib import Path
+
+    img = _two_stripes()
+    with pytest.raises(ValueError, match="p: `estimate` 'reference' needs the photograph's reference"):
+        pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img), estimate="reference")
+    with pytest.raises(ValueError, match="`references` needs the photographs at their own size"):
+        pr.collect_photos(Path("."), references=True, downscale=2)
+
+
+def test_run_predict_with_the_reference_estimate_refuses_photographs_without_references(tmp_path):
+    import imageio.v3 as iio
+
+    from bench.config import parse_trackers
+    from bench.store.realset import ImageError
+
+    iio.imwrite(tmp_path / "a.png", _two_stripes())
+    with pytest.raises(ValueError, match="`estimate` must be one of auto, path, argmax, reference, got 'oracle'"):
+        pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="oracle")
+    with pytest.raises(ImageError, match="--estimate reference needs a real set"):
+        pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="reference")

@@ -78,3 +78,26 @@ def test_a_narrower_line_for_every_case_makes_a_thinner_stripe():
     wide = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, line_fwhm_mrad=6.0)[0][1]
     thin = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, line_fwhm_mrad=1.0)[0][1]
     assert cond.measure(thin.image).width_px < 0.6 * cond.measure(wide.image).width_px
+
+
+def test_the_truth_as_the_stripe_estimate_moves_the_rendered_stripe_itself(tmp_path):
+    """``--estimate reference`` on renders: each case's truth is the estimate (the ablation of docs/predict.md),
+    so the moved stripe's truth is the render's own truth shifted, on every row the render has one."""
+    from bench.config import profile as load_profile
+    from bench.run import predict as pr
+    from bench.studies.predict_check import case_frames
+
+    config = load_profile("quick")
+    name, case, _ = next(iter(case_frames(config.experiments[0], config, seed=1, width=128, height=120,
+                                          n_angles=pr.N_ANGLES)))
+    photo = pr.Photo(name, tmp_path / name, case.image, None, case.original, reference=case.truth_columns)
+    made = pr.transplant_frames(photo, estimate="reference")
+    assert made
+    for _, truth, _, _, s in made[:pr.N_MOVED]:
+        both = np.isfinite(truth) & np.isfinite(case.truth_columns)
+        assert both.sum() >= 20
+        assert np.median(np.abs(truth[both] - (case.truth_columns[both] + s))) < 1.0
+    out = tmp_path / "pc"
+    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers", "threshold",
+                 "--estimate", "reference", "--quiet"]) == 0
+    assert json.loads((out / "predict_check.json").read_text())["estimate"] == "reference"

@@ -54,7 +54,10 @@ def main(argv=None) -> int:
                                               downscale=args.downscale, line_fwhm_mrad=args.line_fwhm):
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
             photo = pr.Photo(name, Path(name), case.image, None, case.original, laser)
-            ext = stripe_extents(case.image, estimate=args.estimate)
+            if args.estimate == "auto" and photo.colour:  # as transplant_frames finds it
+                ext = stripe_extents(case.image, guide=pr.colour_guide(photo, case.original))
+            else:
+                ext = stripe_extents(case.image, estimate=args.estimate)
             vis = np.flatnonzero(ext.visible)
             if vis.size:
                 ratio = ext.height[vis] / np.median(ext.height[vis])

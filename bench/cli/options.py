@@ -125,10 +125,10 @@ def add_estimate(parser, flag: str = "--estimate") -> None:
 
     parser.add_argument(flag, default=ESTIMATES[0], choices=ESTIMATES,
                         help="how the transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
-                             "or a nearly noiseless frame, else path; default), path (the most continuous bright "
-                             "path), argmax (each row's maximum, kept where its neighbours agree) or reference (a "
-                             "real set's references: what a perfect stripe estimate would predict, an ablation); "
-                             "docs/predict.md")
+                             "or a nearly noiseless frame, else path, on a colour photograph found where the laser's "
+                             "colour is; default), path (the most continuous bright path), argmax (each row's "
+                             "maximum, kept where its neighbours agree) or reference (a real set's references: what "
+                             "a perfect stripe estimate would predict, an ablation); docs/predict.md")
 
 
 def plain(text: str) -> str:

@@ -62,7 +62,7 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "capped_share", "cut_ends", "out_of_range", "shift_for", "channel_noise",
+__all__ = ["Extents", "stripe_extents", "estimate_guide", "capped_share", "cut_ends", "out_of_range", "shift_for", "channel_noise",
            "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS",
            "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT",
            "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
@@ -178,28 +178,16 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
     >>> float(np.nanmedian(stripe_extents(img).centre)), float(np.nanmedian(stripe_extents(img, guide=np.full(40, 45.0)).centre))
     (15.0, 45.0)
     """
-    if estimate not in ESTIMATES:
-        raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
-    raw = np.asarray(frame, dtype=np.float64)
-    if raw.ndim != 2 or raw.shape[0] < 2 or raw.shape[1] < 8:
-        raise ValueError(f"`frame` must be 2-D, at least 2x8, got shape {raw.shape}")
-    work = raw if background is None else raw - np.asarray(background, dtype=np.float64)
-    if work.shape != raw.shape:
-        raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
-    measured = cond.measure(frame, background) if measured is None else measured
+    work, sm, first, measured = _prepared(frame, background, estimate, measured)
     noise = measured.noise_dn
     H, W = work.shape
-    sm = work.copy()
-    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
-    first = np.argmax(sm, axis=1)
-    med = np.median(work, axis=1)
     if guide is not None:
         guide = np.asarray(guide, dtype=np.float64)
         if guide.shape != (H,):
             raise ValueError(f"`guide` must have one column per row of `frame`, shape {(H,)}, got {guide.shape}")
         guide = np.where(np.isfinite(guide), np.clip(guide, 0, W - 1), np.nan)
     else:
-        guide = _estimated_guide(sm, med, first, noise, estimate, measured)
+        guide = _estimated_guide(sm, np.median(work, axis=1), first, noise, estimate, measured)
     peak = first.copy()
     visible = np.zeros(H, bool)
     lo, hi = peak.copy(), peak.copy()
@@ -231,6 +219,39 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
             b += 1
         lo[r], hi[r] = max(a - PAD_PX, c - MAX_HALF_PX, 0), min(b + PAD_PX, c + MAX_HALF_PX, W - 1)
     return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise), height=heights)
+
+
+def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=None) -> np.ndarray:
+    """The columns :func:`stripe_extents` follows when it estimates them, shape (H,), px (NaN: no stripe
+    found in that row); the arguments are :func:`stripe_extents`'.
+
+    Examples
+    --------
+    >>> img = np.full((40, 60), 10.0)
+    >>> img[:, 15] += 120.0
+    >>> float(np.nanmedian(estimate_guide(img)))
+    15.0
+    """
+    work, sm, first, measured = _prepared(frame, background, estimate, measured)
+    return _estimated_guide(sm, np.median(work, axis=1), first, measured.noise_dn, estimate, measured)
+
+
+def _prepared(frame, background, estimate: str, measured):
+    """The checked inputs of :func:`stripe_extents` and :func:`estimate_guide`: ``(work, sm, first, measured)``,
+    the frame less its laser-off frame (float64, H x W, DN), that smoothed along each row, each row's argmax
+    of it, and the frame's conditions."""
+    if estimate not in ESTIMATES:
+        raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
+    raw = np.asarray(frame, dtype=np.float64)
+    if raw.ndim != 2 or raw.shape[0] < 2 or raw.shape[1] < 8:
+        raise ValueError(f"`frame` must be 2-D, at least 2x8, got shape {raw.shape}")
+    work = raw if background is None else raw - np.asarray(background, dtype=np.float64)
+    if work.shape != raw.shape:
+        raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
+    measured = cond.measure(frame, background) if measured is None else measured
+    sm = work.copy()
+    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
+    return work, sm, np.argmax(sm, axis=1), measured
 
 
 def _estimated_guide(sm, med, first, noise: float, estimate: str, measured) -> np.ndarray:

@@ -52,7 +52,7 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes",
+           "score_frame", "transplant_frames", "colour_guide", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes",
            "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
@@ -340,8 +340,8 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
 
 def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
-    how the stripe is found, :data:`ESTIMATES`: ``reference`` follows ``photo.reference``, the ablation with a
-    perfect estimate), and, where the stripe is long
+    how the stripe is found, :data:`ESTIMATES`: ``auto`` on a colour photograph follows :func:`colour_guide`,
+    ``reference`` follows ``photo.reference``, the ablation with a perfect estimate), and, where the stripe is long
     enough, two *false-report frames*: moved the same ways with its ends cut off
     (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
     stripe rows are ``UNSURE``): the hit rate is read from the first two frames alone, the false-report
@@ -372,6 +372,9 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
             raise ValueError(f"{photo.name}: `estimate` 'reference' needs the photograph's reference (a real set's "
                              "NAME_ref.csv, photographs at their own size)")
         ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=photo.reference)
+    elif estimate == "auto" and photo.colour:  # the guide where the laser's colour is (docs/predict.md)
+        ext = tp.stripe_extents(photo.frame, photo.background, measured=measured,
+                                guide=colour_guide(photo, original, bg_original, measured))
     else:
         ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
     if not ext.visible.any():
@@ -394,6 +397,22 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+
+
+def colour_guide(photo: "Photo", original, background_original=None, measured=None) -> np.ndarray:
+    """``estimate="auto"``'s guide of a colour photograph, shape (H,), px (NaN: no stripe): the ``auto`` guide
+    found on the pure laser-colour excess (:func:`bench.evaluate.pixels.select_channel` ``excess``: white light,
+    clipped or not, has none), and where that finds no stripe, the ``auto`` guide of the tracker's frame
+    (``measured``: its conditions). ``original`` and ``background_original``: the photograph and its laser-off
+    frame, turned as the frame (docs/predict.md, "The guide found on the laser's colour")."""
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.pixels import select_channel
+
+    excess = select_channel(original, "excess", photo.laser)
+    bg = None if background_original is None else select_channel(background_original, "excess", photo.laser)
+    on_colour = tp.estimate_guide(excess, bg)
+    own = tp.estimate_guide(photo.frame, photo.background, measured=measured)
+    return np.where(np.isfinite(on_colour), on_colour, own)
 
 
 #: The first N_MOVED frames of :func:`transplant_frames` are the moved frames (hit rate and F1 are read from them); any

@@ -194,3 +194,26 @@ def test_run_predict_with_the_reference_estimate_refuses_photographs_without_ref
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="oracle")
     with pytest.raises(ImageError, match="--estimate reference needs a real set"):
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="reference")
+
+
+def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
+    """A clipped white bar (a window's frame) is brighter in the tracker's frame than the green stripe: on the colour
+    photograph ``auto`` moves the stripe (its guide found on the colour excess, where white has none); on the same
+    frame without its colours it moves the bar (docs/predict.md, "The guide found on the laser's colour")."""
+    from pathlib import Path
+
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(6)
+    rgb = np.array([30.0, 60.0, 30.0]) + rng.normal(0, 2.0, (60, 192, 3))  # a greenish wall: an excess above 0
+    rgb[:, 34:37, :] = 255.0
+    x = np.arange(192.0)
+    rgb[..., 1] += 150.0 * np.exp(-0.5 * ((x - 130.0) / 1.2) ** 2)
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    frame = select_channel(rgb, "auto", "green")
+    assert frame[:, 35].mean() > frame[:, 130].mean() + 50  # the bar is the brightest line the trackers see
+    for original, column in ((rgb, 130.0), (frame, 35.0)):
+        made = pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, original, "green"))
+        assert len(made) >= pr.N_MOVED
+        for _, truth, _, _, s in made[:pr.N_MOVED]:
+            assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5)

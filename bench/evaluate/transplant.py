@@ -62,9 +62,10 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "estimate_guide", "capped_share", "cut_ends", "out_of_range", "shift_for", "channel_noise",
-           "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS",
-           "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT",
+__all__ = ["Extents", "stripe_extents", "estimate_guide", "capped_share", "cut_ends", "out_of_range", "shift_for",
+           "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX",
+           "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED",
+           "MAX_WIDTH_PX", "END_CUT",
            "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
@@ -175,8 +176,10 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
     >>> img = np.full((40, 60), 10.0)
     >>> img[:, 15] += 120.0
     >>> img[:, 45] += 60.0
-    >>> float(np.nanmedian(stripe_extents(img).centre)), float(np.nanmedian(stripe_extents(img, guide=np.full(40, 45.0)).centre))
-    (15.0, 45.0)
+    >>> float(np.nanmedian(stripe_extents(img).centre))
+    15.0
+    >>> float(np.nanmedian(stripe_extents(img, guide=np.full(40, 45.0)).centre))
+    45.0
     """
     work, sm, first, measured = _prepared(frame, background, estimate, measured)
     noise = measured.noise_dn

@@ -52,7 +52,8 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "colour_guide", "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes",
+           "score_frame", "transplant_frames", "colour_guide", "transplant_outcomes", "cut_counts", "N_MOVED",
+           "predict_outcomes",
            "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.

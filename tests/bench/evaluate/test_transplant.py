@@ -160,5 +160,6 @@ def test_auto_takes_the_argmax_where_the_paths_score_is_capped_over_much_of_the_
 
 def test_a_guide_of_the_wrong_length_is_refused():
     img = np.full((20, 30), 10.0)
-    with pytest.raises(ValueError, match=r"`guide` must have one column per row of `frame`, shape \(20,\), got \(19,\)"):
+    with pytest.raises(ValueError,
+                       match=r"`guide` must have one column per row of `frame`, shape \(20,\), got \(19,\)"):
         tp.stripe_extents(img, guide=np.zeros(19))

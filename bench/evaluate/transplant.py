@@ -493,13 +493,30 @@ def _span_extents(ext: Extents, W: int) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+def _few_median(pixels) -> np.ndarray:
+    """``np.median(pixels, axis=0)`` of a few pixels (k, C), the same float64 values, without its overhead (the
+    clean plate takes two per row).
+
+    Examples
+    --------
+    >>> px = np.array([[3, 9], [1, 7], [2, 250]], dtype=np.uint8)
+    >>> [bool(np.array_equal(_few_median(px[:k]), np.median(px[:k], axis=0))) for k in (1, 2, 3)]
+    [True, True, True]
+    """
+    v = np.sort(np.asarray(pixels, dtype=np.float64), axis=0)
+    n = v.shape[0]
+    if n == 0:  # np.median's NaN (a stripe across the whole row), without its warning
+        return np.full(v.shape[1:], np.nan)
+    return v[n // 2] if n % 2 else (v[n // 2 - 1] + v[n // 2]) / 2.0
+
+
 def _line(row, a: int, b: int) -> np.ndarray:
     """Row ``row`` (W, C) over columns ``a..b``: the line between the medians of the
     :data:`SIDE_PX` pixels either side (shape (b - a + 1, C))."""
     W = row.shape[0]
     left = row[max(a - SIDE_PX, 0):a] if a > 0 else row[b + 1:b + 1 + SIDE_PX]
     right = row[b + 1:min(b + 1 + SIDE_PX, W)] if b < W - 1 else left
-    ml, mr = np.median(left, axis=0), np.median(right, axis=0)
+    ml, mr = _few_median(left), _few_median(right)
     t = (np.arange(a, b + 1) - (a - 1)) / float(b - a + 2)
     return ml[None, :] + t[:, None] * (mr - ml)[None, :]
 

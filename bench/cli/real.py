@@ -130,6 +130,7 @@ def _predict_and_compare(args, specs, out) -> None:
 
     from bench.report.predict import build_predict_report
     from bench.run.predict import DEFAULT_GRID, SMALL_GRID
+    from bench.evaluate.prediction import COMPARED
     from bench.run.real import predict_real
 
     grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
@@ -145,7 +146,7 @@ def _predict_and_compare(args, specs, out) -> None:
     for r in cmp["hit_rate"]["table"]:
         g = f1.get(r["tracker"], {"synthetic": float("nan"), "real": float("nan")})
         print(f"{r['tracker']:<16}{r['synthetic']:>14.3f}{r['real']:>10.3f}{g['synthetic']:>9.3f}{g['real']:>10.3f}")
-    for k in ("hit_rate", "f1"):
+    for k in COMPARED:
         v = cmp[k]
         print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}), "
               f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")

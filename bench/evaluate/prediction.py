@@ -2,24 +2,50 @@
 
 ``stripebench real --predict`` and ``stripebench predictcheck`` compare the figures predicted for
 photographs (or frames standing in for them) with the figures measured on them: Spearman's rank
-correlation across trackers and the mean |predicted - measured|, for hit rate and F1, pooled over
-all photographs (:func:`compare_with_real`) or within groups of them (:func:`compare_by_group`).
-Both sides pool the rows of the photographs compared, from their row-outcome counts. Pure
-functions on tables.
+correlation across trackers and the mean |predicted - measured|, for hit rate, F1 and the false-report
+rate, pooled over all photographs (:func:`compare_with_real`) or within groups of them
+(:func:`compare_by_group`). Both sides pool the rows of the photographs compared, from their row-outcome
+counts; a prediction's false-report rate also counts its false-report frames' stripe-less rows
+(:func:`predicted_figures`). Pure functions on tables.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["COMPARED", "compare_with_real", "compare_by_group", "comparison_doc"]
+__all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc"]
 
 #: The figures compared.
-COMPARED = ("hit_rate", "f1")
+COMPARED = ("hit_rate", "f1", "false_report_rate")
+
+
+def predicted_figures(counts: dict) -> dict:
+    """A prediction's figures from its row-outcome counts: :func:`bench.evaluate.outcomes.detection_figures` of
+    the moved frames' counts (``n_hit`` ...), with the false-report rate also counting the false-report frames'
+    stripe-less rows (``n_false_cut``, ``n_quiet_cut``, when given: :func:`bench.run.predict.cut_counts`), which
+    only that figure reads (docs/predict.md).
+
+    Examples
+    --------
+    >>> c = {"n_hit": 8, "n_wrong": 0, "n_missed": 2, "n_false": 1, "n_quiet": 9}
+    >>> f = predicted_figures({**c, "n_false_cut": 3, "n_quiet_cut": 7})
+    >>> f["recall"], round(f["f1"], 4), f["false_report_rate"]
+    (0.8, 0.8421, 0.2)
+    """
+    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+
+    moved = {k: int(counts[k]) for k in COUNT_KEYS if k in counts}
+    fig = detection_figures(moved)
+    cut_false, cut_quiet = int(counts.get("n_false_cut", 0)), int(counts.get("n_quiet_cut", 0))
+    if cut_false or cut_quiet:
+        fig["false_report_rate"] = detection_figures(
+            {**moved, "n_false": moved.get("n_false", 0) + cut_false,
+             "n_quiet": moved.get("n_quiet", 0) + cut_quiet})["false_report_rate"]
+    return fig
 
 
 def compare_with_real(predicted, real_metrics, names) -> dict:
-    """Predicted beside measured, per figure (``hit_rate`` and ``f1``), on the same photographs.
+    """Predicted beside measured, per figure (:data:`COMPARED`), on the same photographs.
 
     Parameters
     ----------
@@ -40,7 +66,8 @@ def compare_with_real(predicted, real_metrics, names) -> dict:
     Examples
     --------
     >>> import pandas as pd
-    >>> pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.9, 0.5, 0.7]})
+    >>> pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.9, 0.5, 0.7],
+    ...                      "false_report_rate": [0.0, 0.0, 0.0]})
     >>> rows = [{"experiment": "p", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
     ...          "n_quiet": 0} for t, h in (("a", 8), ("b", 4), ("c", 6))]
     >>> r = compare_with_real(pred, pd.DataFrame(rows), ["p"])
@@ -70,7 +97,7 @@ def compare_by_group(predicted_photos, real_metrics, groups: dict) -> dict:
     Returns
     -------
     dict
-        Group label -> ``{"photographs": [...], "hit_rate": ..., "f1": ...}``, each figure as
+        Group label -> ``{"photographs": [...], "hit_rate": ..., "f1": ..., "false_report_rate": ...}``, each as
         :func:`compare_with_real`'s (:func:`bench.evaluate.simreal.sim_to_real` with ``mean_abs_diff``).
 
     Examples
@@ -107,15 +134,18 @@ def comparison_doc(result: dict) -> dict:
 
 
 def _pooled_figures(df, name_col: str, names) -> dict:
-    """Figure -> tracker -> value from the row-outcome counts of ``df``'s rows of ``names``, pooled."""
-    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+    """Figure -> tracker -> value from the row-outcome counts of ``df``'s rows of ``names``, pooled
+    (:func:`predicted_figures`: a prediction's false-report frames count where ``df`` has them)."""
+    from bench.evaluate.outcomes import COUNT_KEYS
 
     sub = df[df[name_col].isin(set(names))]
+    keys = [k for k in (*COUNT_KEYS, "n_false_cut", "n_quiet_cut") if k in sub.columns]
     out: dict = {f: {} for f in COMPARED}
     for lab, rows in sub.groupby("tracker", sort=False):
-        fig = detection_figures({k: int(rows[k].sum()) for k in COUNT_KEYS if k in rows.columns})
+        fig = predicted_figures({k: int(rows[k].sum()) for k in keys})
         out["hit_rate"][str(lab)] = fig["recall"]
         out["f1"][str(lab)] = fig["f1"]
+        out["false_report_rate"][str(lab)] = fig["false_report_rate"]
     return out
 
 

@@ -604,7 +604,8 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     import pandas as pd
 
     from bench.evaluate import transplant as tp
-    from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, detection_figures, outcome_counts
+    from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, outcome_counts
+    from bench.evaluate.prediction import predicted_figures
     from bench.run.track import build_trackers
     from bench.store import realset as real
     from bench.store.files import atomic_write_text
@@ -714,10 +715,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
             counts = outcome_counts(np.concatenate([c.ravel() for c in per_photo[ph.name][lab][:n_main]]))
             cut = cut_counts(per_photo[ph.name][lab]) if frames == "transplant" else {"n_false_cut": 0,
                                                                                        "n_quiet_cut": 0}
-            fig = detection_figures(counts)
-            fig["false_report_rate"] = detection_figures(
-                {**counts, "n_false": counts["n_false"] + cut["n_false_cut"],
-                 "n_quiet": counts["n_quiet"] + cut["n_quiet_cut"]})["false_report_rate"]
+            fig = predicted_figures({**counts, **cut})
             photo_rows.append({"name": ph.name, "tracker": lab, **{n: fig[k] for k, n in PREDICTED_NAMES.items()},
                                **counts, **cut})
     per_photo_table = pd.DataFrame.from_records(

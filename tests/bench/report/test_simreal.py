@@ -80,7 +80,8 @@ def test_predicted_beside_measured_is_escaped_and_names_what_was_left_out():
 
     from bench.evaluate.prediction import compare_with_real, comparison_doc
 
-    pred = pd.DataFrame({"tracker": ["a", EVIL], "hit_rate": [0.9, 0.5], "f1": [0.8, 0.6]})
+    pred = pd.DataFrame({"tracker": ["a", EVIL], "hit_rate": [0.9, 0.5], "f1": [0.8, 0.6],
+                         "false_report_rate": [0.0, 0.1]})
     rows = [{"experiment": "p", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
              "n_quiet": 0} for t, h in (("a", 8), (EVIL, 4))]
     doc = _saved({"photographs": ["p"], "frames": "transplant", "out_of_range": {"wide": ["visible"]},

@@ -52,9 +52,9 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "colour_guide", "transplant_outcomes", "cut_counts", "N_MOVED",
-           "predict_outcomes",
-           "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES"]
+           "score_frame", "transplant_frames", "transplanted", "colour_guide", "transplant_outcomes", "cut_counts",
+           "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES",
+           "ESTIMATES", "PREDICTED_NAMES"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -416,6 +416,21 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
     return np.where(np.isfinite(on_colour), on_colour, own)
 
 
+def transplanted(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> tuple:
+    """:func:`transplant_frames` of a photograph in the transplant's range, else why not: ``(frames, ())``, or
+    ``([], ("width_px",))`` for a stripe wider than the reference window
+    (:func:`bench.evaluate.transplant.out_of_range`, not moved at all) or ``([], ("visible",))`` for a moved
+    stripe seen in too few rows. ``measured``: the photograph's conditions (measured here when None)."""
+    from bench.evaluate import transplant as tp
+
+    measured = cond.measure(photo.frame, photo.background) if measured is None else measured
+    bad = tp.out_of_range(measured)
+    if bad:
+        return [], bad
+    made = transplant_frames(photo, seed=seed, estimate=estimate, measured=measured)
+    return (made, ()) if made else ([], ("visible",))
+
+
 #: The first N_MOVED frames of :func:`transplant_frames` are the moved frames (hit rate and F1 are read from them); any
 #: after them are false-report frames (only their stripe-less rows are scored, and only the false-report rate reads
 #: them: they would change F1's mix of stripe and stripe-less rows, which is the photograph's in the moved frames).
@@ -635,18 +650,14 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         if frames == "transplant":
             conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                               laser=ph.laser)
-            if tp.out_of_range(conds[ph.name]):
-                matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("width_px",))
-                moved[ph.name] = []
-                warn(f"stripebench predict: {ph.name}: out of range (width_px: its stripe is "
-                     f"{conds[ph.name].width_px:.1f} px wide, wider than the reference window's {tp.MAX_WIDTH_PX} px; "
-                     "shrink the photographs): left out")
-                continue
-            moved[ph.name] = made = transplant_frames(ph, seed=seed, estimate=estimate, measured=conds[ph.name])
-            if not made:
-                matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), ("visible",))
-                warn(f"stripebench predict: {ph.name}: out of range (visible: the moved stripe is seen in fewer than "
-                     f"{tp.MIN_ROWS} rows): left out")
+            made, bad = transplanted(ph, seed=seed, estimate=estimate, measured=conds[ph.name])
+            moved[ph.name] = made
+            if bad:
+                matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), bad)
+                why = (f"width_px: its stripe is {conds[ph.name].width_px:.1f} px wide, wider than the reference "
+                       f"window's {tp.MAX_WIDTH_PX} px; shrink the photographs" if bad == ("width_px",) else
+                       f"visible: the moved stripe is seen in fewer than {tp.MIN_ROWS} rows")
+                warn(f"stripebench predict: {ph.name}: out of range ({why}): left out")
                 continue
             image, _, _, rgb, shift = made[0]
             c = cond.measure(image, ph.background, rgb=rgb if ph.colour else None, laser=ph.laser)

@@ -155,7 +155,6 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
-    from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import outcome_counts
     from bench.evaluate.prediction import compare_by_group, comparison_doc
     from bench.run import predict as pr
@@ -185,9 +184,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             if frames == "transplant":
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser, reference=case.truth_columns)
                 c = cond.measure(img, None)
-                bad = list(tp.out_of_range(c))
-                made = [] if bad else pr.transplant_frames(photo, seed=seed, estimate=estimate, measured=c)
-                bad = bad or ([] if made else ["visible"])
+                made, bad = pr.transplanted(photo, seed=seed, estimate=estimate, measured=c)
+                bad = list(bad)
                 frames_doc.append({"name": name, "case": exp.key, "status": "out of range" if bad else "matched",
                                    "out_of_range": bad, "shift_px": made[0][4] if made else None,
                                    "width_px": c.width_px, "contrast": c.contrast})

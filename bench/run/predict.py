@@ -708,10 +708,12 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     for j, lab in enumerate(trackers):
         codes = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab][:n_main]]) for ph in matched]
         every = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]
+        extra = n_main is not None and any(len(per_photo[ph.name][lab]) > n_main for ph in matched)
         rec = {"tracker": lab, "n_photos": len(matched), "n_frames": sum(len(sheet[ph.name]) for ph in matched)}
         if codes:
             b = bootstrap_frames(codes, n_boot=n_boot, seed=seed + j)
-            b_all = bootstrap_frames(every, n_boot=n_boot, seed=seed + j)
+            # the false-report rate from every frame: a second bootstrap only where there are more frames
+            b_all = bootstrap_frames(every, n_boot=n_boot, seed=seed + j) if extra else b
             for k, name in PREDICTED_NAMES.items():
                 src = b_all if k == "false_report_rate" else b
                 rec[name], rec[f"{name}_lo"], rec[f"{name}_hi"] = src[k], src[f"{k}_lo"], src[f"{k}_hi"]

@@ -65,8 +65,7 @@ from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 __all__ = ["Extents", "stripe_extents", "estimate_guide", "capped_share", "cut_ends", "out_of_range", "shift_for",
            "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX",
            "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED",
-           "MAX_WIDTH_PX", "END_CUT",
-           "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
+           "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0

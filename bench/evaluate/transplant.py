@@ -62,10 +62,10 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "estimate_guide", "capped_share", "cut_ends", "out_of_range", "shift_for",
+__all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arbitrate", "capped_share", "cut_ends", "out_of_range", "shift_for",
            "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX",
            "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED",
-           "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN"]
+           "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN", "ARBITER_HALF_PX"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -104,6 +104,9 @@ AUTO_WIDTH_PX = 3.0
 AUTO_CAPPED = 0.12
 #: Each row's stripe is looked for within this many px of its guide: the real set's reference window.
 GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
+#: :func:`arbitrate`: where two guides of a row lie more than ``conditions.JUMP_PX`` apart, each is scored by the most
+#: laser evidence within this many px of it (a guide is a median of peaks, so the peak may lie a px or two off it).
+ARBITER_HALF_PX = 2
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
 #: The false-report frames of a transplant (``bench.run.predict.transplant_frames``) cut this share of the stripe's
@@ -236,6 +239,84 @@ def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=N
     """
     work, sm, first, measured = _prepared(frame, background, estimate, measured)
     return _estimated_guide(sm, np.median(work, axis=1), first, measured.noise_dn, estimate, measured)
+
+
+def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None) -> np.ndarray:
+    """How much each pixel looks like the laser, shape (H, W), DN: the geometric mean of two lifts over their row's
+    median, each clipped at 0: the laser's own channel (bright), and the laser-colour excess
+    (:func:`bench.evaluate.pixels.select_channel` ``excess``) at its most within :data:`GUIDE_HALF_PX` px along the
+    row (coloured: a stripe's core clipped white in every channel takes its fringe's colour). White light (a lamp,
+    a window) is bright without colour; a surface of the laser's hue is coloured without being brighter than its
+    row; the stripe is both.
+
+    Parameters
+    ----------
+    laser_channel, excess : array_like, shape (H, W)
+        The photograph's laser channel and its laser-colour excess (DN).
+    laser_background, excess_background : array_like, shape (H, W), optional
+        The same of its laser-off frame, subtracted first.
+
+    Examples
+    --------
+    A white lamp (column 5), an orange surface (column 30) and a stripe clipped white with a red fringe
+    (columns 60-62):
+
+    >>> red = np.full((3, 80), 100.0); excess = np.zeros((3, 80))
+    >>> red[:, 5] = 255.0
+    >>> excess[:, 30] = 80.0
+    >>> red[:, 60:63] = [200.0, 255.0, 200.0]; excess[:, 60:63] = [40.0, 0.0, 40.0]
+    >>> ev = laser_evidence(red, excess)
+    >>> int(np.argmax(ev[0])), float(ev[0, 5]), float(ev[0, 30])
+    (61, 0.0, 0.0)
+    """
+    lc = np.asarray(laser_channel, dtype=np.float64)
+    ex = np.asarray(excess, dtype=np.float64)
+    if lc.ndim != 2 or ex.shape != lc.shape:
+        raise ValueError(f"`laser_channel` and `excess` must be 2-D of one shape, got {lc.shape} and {ex.shape}")
+    for name, bg in (("laser_background", laser_background), ("excess_background", excess_background)):
+        if bg is not None and np.shape(bg) != lc.shape:
+            raise ValueError(f"`{name}` must have the shape of `laser_channel` {lc.shape}, got {np.shape(bg)}")
+    if laser_background is not None:
+        lc = lc - np.asarray(laser_background, dtype=np.float64)
+    if excess_background is not None:
+        ex = ex - np.asarray(excess_background, dtype=np.float64)
+    from scipy.ndimage import maximum_filter1d
+
+    ex = maximum_filter1d(ex, 2 * GUIDE_HALF_PX + 1, axis=1, mode="nearest")
+    bright = np.clip(lc - np.median(lc, axis=1, keepdims=True), 0.0, None)
+    coloured = np.clip(ex - np.median(ex, axis=1, keepdims=True), 0.0, None)
+    return np.sqrt(bright * coloured)
+
+
+def arbitrate(guide, other, evidence) -> np.ndarray:
+    """Two guides made one, shape (H,), px: ``guide``, and ``other`` where ``guide`` has no stripe; where both do
+    and lie more than ``conditions.JUMP_PX`` apart, the one with the more ``evidence`` (H, W; e.g.
+    :func:`laser_evidence`) within :data:`ARBITER_HALF_PX` px of it (``guide`` on a tie).
+
+    Examples
+    --------
+    >>> ev = np.zeros((3, 20)); ev[:, 12] = 5.0
+    >>> arbitrate(np.array([3.0, 3.0, np.nan]), np.array([3.0, 12.0, 12.0]), ev).tolist()
+    [3.0, 12.0, 12.0]
+    """
+    guide = np.asarray(guide, dtype=np.float64)
+    other = np.asarray(other, dtype=np.float64)
+    evidence = np.asarray(evidence, dtype=np.float64)
+    if guide.shape != other.shape or evidence.ndim != 2 or evidence.shape[0] != guide.shape[0]:
+        raise ValueError(f"`guide` and `other` must have one entry per row of `evidence` {evidence.shape}, "
+                         f"got {guide.shape} and {other.shape}")
+    out = np.where(np.isfinite(guide), guide, other)
+    W = evidence.shape[1]
+    both = np.isfinite(guide) & np.isfinite(other) & (np.abs(guide - other) > cond.JUMP_PX)
+
+    def near(r, g):
+        c = int(round(g))
+        return float(np.max(evidence[r, max(c - ARBITER_HALF_PX, 0):min(c + ARBITER_HALF_PX, W - 1) + 1]))
+
+    for r in np.flatnonzero(both):
+        if near(r, other[r]) > near(r, guide[r]):
+            out[r] = other[r]
+    return out
 
 
 def _prepared(frame, background, estimate: str, measured):

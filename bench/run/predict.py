@@ -403,17 +403,26 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
 def colour_guide(photo: "Photo", original, background_original=None, measured=None) -> np.ndarray:
     """``estimate="auto"``'s guide of a colour photograph, shape (H,), px (NaN: no stripe): the ``auto`` guide
     found on the pure laser-colour excess (:func:`bench.evaluate.pixels.select_channel` ``excess``: white light,
-    clipped or not, has none), and where that finds no stripe, the ``auto`` guide of the tracker's frame
-    (``measured``: its conditions). ``original`` and ``background_original``: the photograph and its laser-off
-    frame, turned as the frame (docs/predict.md, "The guide found on the laser's colour")."""
+    clipped or not, has none) and the ``auto`` guide of the tracker's frame (``measured``: its conditions), made one
+    by :func:`bench.evaluate.transplant.arbitrate`: the colour guide, the frame's where the colour finds no stripe,
+    and where the two part, the one with the more :func:`bench.evaluate.transplant.laser_evidence` (bright and of
+    the laser's colour: neither a white lamp nor a surface of the laser's hue). ``original`` and
+    ``background_original``: the photograph and its laser-off frame, turned as the frame (docs/predict.md, "The
+    guide found on the laser's colour" and "Brightness and colour together")."""
     from bench.evaluate import transplant as tp
-    from bench.evaluate.pixels import select_channel
+    from bench.evaluate.pixels import LASER_INDEX, select_channel
 
-    excess = select_channel(original, "excess", photo.laser)
-    bg = None if background_original is None else select_channel(background_original, "excess", photo.laser)
-    on_colour = tp.estimate_guide(excess, bg)
+    def parts(image):
+        if image is None:
+            return None, None
+        return (np.asarray(image, dtype=np.float64)[..., LASER_INDEX[photo.laser]],
+                select_channel(image, "excess", photo.laser))
+
+    laser, excess = parts(original)
+    laser_bg, excess_bg = parts(background_original)
+    on_colour = tp.estimate_guide(excess, excess_bg)
     own = tp.estimate_guide(photo.frame, photo.background, measured=measured)
-    return np.where(np.isfinite(on_colour), on_colour, own)
+    return tp.arbitrate(on_colour, own, tp.laser_evidence(laser, excess, laser_bg, excess_bg))
 
 
 def transplanted(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> tuple:

@@ -163,3 +163,34 @@ def test_a_guide_of_the_wrong_length_is_refused():
     with pytest.raises(ValueError,
                        match=r"`guide` must have one column per row of `frame`, shape \(20,\), got \(19,\)"):
         tp.stripe_extents(img, guide=np.zeros(19))
+
+
+def test_laser_evidence_needs_brightness_and_colour_and_subtracts_the_laser_off_frame():
+    red = np.full((4, 100), 100.0)
+    excess = np.zeros((4, 100))
+    red[:, 8] = 250.0  # white: bright, no colour
+    excess[:, 20] = 90.0  # the laser's hue, no brighter than its row
+    red[:, 31:34] = [180.0, 255.0, 180.0]
+    excess[:, 31:34] = [50.0, 0.0, 50.0]  # the stripe: a clipped core with a coloured fringe
+    ev = tp.laser_evidence(red, excess)
+    assert ev[:, 8].max() == 0.0 and ev[:, 20].max() == 0.0
+    assert np.all(np.argmax(ev, axis=1) == 32)
+    assert ev[0, 32] == pytest.approx(np.sqrt(155.0 * 50.0))
+    assert not tp.laser_evidence(red, excess, red, excess).any()  # the laser-off frame holds it all
+    with pytest.raises(ValueError, match=r"`laser_channel` and `excess` must be 2-D of one shape, got \(4, 100\) and"):
+        tp.laser_evidence(red, excess[:, :5])
+    with pytest.raises(ValueError, match=r"`excess_background` must have the shape of `laser_channel` \(4, 100\)"):
+        tp.laser_evidence(red, excess, None, excess[:2])
+
+
+def test_arbitrate_keeps_the_first_guide_unless_the_other_has_more_evidence_far_enough_away():
+    ev = np.zeros((4, 30))
+    ev[:, 20] = 3.0
+    ev[:, 5] = 3.0
+    guide = np.array([5.0, 5.0, 18.0, np.nan])
+    other = np.array([20.0, 8.0, 22.0, 20.0])
+    ev[0, 5] = 1.0  # row 0: the other guide has more evidence
+    # row 1: the guides lie within conditions.JUMP_PX: kept; row 2: a tie within ARBITER_HALF_PX: kept; row 3: filled
+    assert tp.arbitrate(guide, other, ev).tolist() == [20.0, 5.0, 18.0, 20.0]
+    with pytest.raises(ValueError, match=r"one entry per row of `evidence` \(4, 30\), got \(4,\) and \(3,\)"):
+        tp.arbitrate(guide, other[:3], ev)

@@ -217,3 +217,29 @@ def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
         assert len(made) >= pr.N_MOVED
         for _, truth, _, _, s in made[:pr.N_MOVED]:
             assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5)
+
+
+def test_auto_keeps_a_clipped_stripe_beside_a_surface_more_of_the_laser_s_hue():
+    """A red print more red than a stripe clipped nearly white (``ag_tape``'s case): the colour excess alone is
+    strongest on the print, the tracker's frame on the stripe; where the two guides part, ``auto`` keeps the one
+    that is both bright in the laser's channel and of its colour, so it moves the stripe, not the print
+    (docs/predict.md, "Brightness and colour together")."""
+    from pathlib import Path
+
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(7)
+    rgb = np.full((60, 192, 3), 150.0) + rng.normal(0, 2.0, (60, 192, 3))  # a grey wall
+    rgb[:, 30:41] = [140.0, 60.0, 40.0]  # the print: red excess 90, darker than the wall in red
+    rgb[:, 128:133] = [[255.0, 215.0, 215.0], [255.0, 235.0, 235.0], [255.0, 240.0, 240.0],
+                       [255.0, 235.0, 235.0], [255.0, 215.0, 215.0]]  # the stripe: clipped red, excess 15-40
+    rgb = np.clip(np.rint(rgb + rng.normal(0, 1.0, rgb.shape)), 0, 255).astype(np.uint8)
+    excess = select_channel(rgb, "excess", "red")
+    assert excess[:, 30:41].mean() > excess[:, 128:133].max() + 30  # the print is the most red
+    frame = select_channel(rgb, "auto", "red")
+    assert 28 <= np.nanmedian(tp.estimate_guide(excess)) <= 42  # the colour guide alone takes the print
+    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, rgb, "red"))
+    assert len(made) >= pr.N_MOVED
+    for _, truth, _, _, s in made[:pr.N_MOVED]:
+        assert np.nanmedian(truth) == pytest.approx(130.0 + s, abs=0.5)

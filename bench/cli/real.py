@@ -150,6 +150,11 @@ def _predict_and_compare(args, specs, out) -> None:
         v = cmp[k]
         print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}), "
               f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")
+    rel = res["doc"]["measured_reliability"]
+    if rel:
+        print("measured ranks' own repeatability (Spearman rho between random halves of the photographs; for all of "
+              "them, stepped up): " + "; ".join(f"{k} {rel[k]['split_half_rho']:.2f} ({rel[k]['full_set']:.2f})"
+                                                 for k in COMPARED))
     print("per rig (rows of its photographs pooled on both sides): Spearman rho / mean |predicted - measured|")
     print(f"{'rig':<34}{'photos':>7}{'hit rate':>17}{'F1':>17}")
     for g, v in rigs.items():

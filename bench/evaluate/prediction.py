@@ -6,17 +6,21 @@ correlation across trackers and the mean |predicted - measured|, for hit rate, F
 rate, pooled over all photographs (:func:`compare_with_real`) or within groups of them
 (:func:`compare_by_group`). Both sides pool the rows of the photographs compared, from their row-outcome
 counts; a prediction's false-report rate also counts its false-report frames' stripe-less rows
-(:func:`predicted_figures`). Pure functions on tables.
+(:func:`predicted_figures`). How far the measured ranks are themselves repeatable, the most a prediction's rank
+correlation can be expected to show, is :func:`rank_reliability`. Pure functions on tables.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc"]
+__all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc", "per_group_error",
+           "rank_reliability", "RELIABILITY_SPLITS"]
 
 #: The figures compared.
 COMPARED = ("hit_rate", "f1", "false_report_rate")
+#: :func:`rank_reliability`'s random halves of the photographs.
+RELIABILITY_SPLITS = 200
 
 
 def predicted_figures(counts: dict) -> dict:
@@ -131,6 +135,103 @@ def comparison_doc(result: dict) -> dict:
         v = result[f]
         doc[f] = {k: v[k] for k in ("spearman_rho", "spearman_p", "mean_abs_diff", "n", "table")}
     return doc
+
+
+def per_group_error(groups: dict) -> dict:
+    """Per figure (:data:`COMPARED`), the mean over the groups of :func:`compare_by_group`'s ``mean_abs_diff``
+    (groups whose figure has no tracker are left out; NaN when none has one): the error a user of one group (one
+    rig, one case) meets, where the pooled comparison lets errors of unlike groups cancel (docs/predict.md, "The
+    per-case objective").
+
+    Examples
+    --------
+    >>> g = {"a": {f: {"mean_abs_diff": 0.25} for f in COMPARED}, "b": {f: {"mean_abs_diff": 0.75} for f in COMPARED}}
+    >>> per_group_error(g)
+    {'hit_rate': 0.5, 'f1': 0.5, 'false_report_rate': 0.5}
+    """
+    out = {}
+    for f in COMPARED:
+        vals = [float(v[f]["mean_abs_diff"]) for v in groups.values() if np.isfinite(v[f]["mean_abs_diff"])]
+        out[f] = float(np.mean(vals)) if vals else float("nan")
+    return out
+
+
+def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS, seed: int = 0) -> dict:
+    """How repeatable the measured ranks of the trackers are: per figure (:data:`COMPARED`), Spearman's rho between
+    the figures measured on two random halves of the photographs ``names`` (rows pooled within each half), over
+    ``n_splits`` seeded splits.
+
+    Parameters
+    ----------
+    real_metrics : pandas.DataFrame
+        A real run's ``metrics`` (per-image rows with the row-outcome counts ``n_hit`` ...).
+    names : sequence of str
+        The photographs (at least 4).
+    n_splits : int
+        Random halves drawn (>= 1).
+    seed : int
+        Their seed.
+
+    Returns
+    -------
+    dict
+        Figure -> ``split_half_rho`` (the median over the splits; NaN where no split ranks), ``iqr`` ([25th, 75th]
+        percentile) and ``full_set`` (the Spearman-Brown step-up ``2 r / (1 + r)`` of the median: the reliability
+        of the ranks measured on all the photographs) and ``n_splits`` (the splits that ranked). Read as test-retest
+        reliability: a prediction of the trackers' true figures is expected to correlate with the measured ranks by
+        about ``sqrt(full_set)`` (one made from the same photographs shares their particulars and may do better on
+        them, not on other photographs; docs/predict.md, "How repeatable the measured ranks are").
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> rows = [{"experiment": f"p{i}", "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 0,
+    ...          "n_quiet": 0} for i in range(6) for t, h in (("a", 9), ("b", 5), ("c", 7))]
+    >>> rank_reliability(pd.DataFrame(rows), [f"p{i}" for i in range(6)], n_splits=20)["hit_rate"]["split_half_rho"]
+    1.0
+    """
+    import pandas as pd
+    from scipy.stats import rankdata
+
+    names = list(dict.fromkeys(str(n) for n in names))
+    if len(names) < 4:
+        raise ValueError(f"`names` must hold at least 4 photographs to split in halves, got {len(names)}")
+    if isinstance(n_splits, bool) or not isinstance(n_splits, (int, np.integer)) or n_splits < 1:
+        raise ValueError(f"`n_splits` must be an integer >= 1, got {n_splits!r}")
+    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+
+    sub = real_metrics[real_metrics["experiment"].astype(str).isin(set(names))]
+    missing = sorted(set(names) - set(sub["experiment"].astype(str)))
+    if missing:
+        raise ValueError(f"`names` must be photographs of `real_metrics`, got {', '.join(map(repr, missing[:3]))}"
+                         + (f" and {len(missing) - 3} more" if len(missing) > 3 else ""))
+    trackers = list(dict.fromkeys(sub["tracker"].astype(str)))
+    table = sub.assign(experiment=sub["experiment"].astype(str), tracker=sub["tracker"].astype(str))
+    table = table.groupby(["experiment", "tracker"])[list(COUNT_KEYS[:5])].sum()
+    counts = np.stack([table.reindex(pd.MultiIndex.from_product([[n], trackers]), fill_value=0).to_numpy()
+                       for n in names])  # (photographs, trackers, 5)
+    key = {"hit_rate": "recall", "f1": "f1", "false_report_rate": "false_report_rate"}
+    rng = np.random.default_rng(seed)
+    rhos: dict = {f: [] for f in COMPARED}
+    for _ in range(int(n_splits)):
+        order = rng.permutation(len(names))
+        halves = [[detection_figures(c) for c in counts[idx].sum(axis=0)] for idx in np.array_split(order, [len(names) // 2])]
+        for f in COMPARED:
+            x = np.array([d[key[f]] for d in halves[0]])
+            y = np.array([d[key[f]] for d in halves[1]])
+            ok = np.isfinite(x) & np.isfinite(y)
+            if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
+                rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))  # Spearman's rho
+    out = {}
+    for f in COMPARED:
+        if rhos[f]:
+            r = float(np.median(rhos[f]))
+            q = [float(v) for v in np.percentile(rhos[f], [25, 75])]
+            full = 2.0 * r / (1.0 + r) if r > -1.0 else float("nan")
+        else:
+            r, q, full = float("nan"), [float("nan")] * 2, float("nan")
+        out[f] = {"split_half_rho": r, "iqr": q, "full_set": full, "n_splits": len(rhos[f])}
+    return out
 
 
 def _pooled_figures(df, name_col: str, names) -> dict:

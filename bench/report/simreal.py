@@ -94,4 +94,17 @@ def predicted_html(doc: dict) -> str:
             + f"<p>All photographs: hit rate Spearman's rho / mean |predicted &minus; measured| "
               f"{' ; F1 '.join(agree(doc))}.</p>"
             + table(["rig", "photographs", "hit rate rho / mean |diff|", "F1 rho / mean |diff|"], rigs)
+            + _reliability_html(doc.get("measured_reliability"))
             + "</section>")
+
+
+def _reliability_html(rel) -> str:
+    """A sentence on how repeatable the measured ranks are (:func:`bench.evaluate.prediction.rank_reliability`)."""
+    if not rel:
+        return ""
+    cells = "; ".join(f"{esc(k.replace('_', ' '))} {fixed(v['split_half_rho'], '.2f')} "
+                      f"(all photographs: {fixed(v['full_set'], '.2f')})" for k, v in rel.items())
+    return ("<p>How repeatable the measured ranks are (Spearman's rho between the figures measured on random halves "
+            f"of the photographs, median; stepped up to all of them): {cells}. A prediction of the trackers' true "
+            "figures would correlate with these ranks by about the square root of the second figure; where it is 0 "
+            "or below, the measured ranks do not repeat from one half of the photographs to the other.</p>")

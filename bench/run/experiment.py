@@ -339,7 +339,10 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     p = result["predicted"]
     say(f"real set predicted beside measured: hit rate rho {p['hit_rate']['spearman_rho']:.2f}, mean |diff| "
         f"{p['hit_rate']['mean_abs_diff']:.3f}; F1 rho {p['f1']['spearman_rho']:.2f}, mean |diff| "
-        f"{p['f1']['mean_abs_diff']:.3f} ({len(p['photographs'])} photographs)", quiet)
+        f"{p['f1']['mean_abs_diff']:.3f} ({len(p['photographs'])} photographs)"
+        + ("" if not p.get("measured_reliability") else "; the measured ranks' own split-half rho: hit rate "
+           f"{p['measured_reliability']['hit_rate']['split_half_rho']:.2f}, F1 "
+           f"{p['measured_reliability']['f1']['split_half_rho']:.2f}"), quiet)
     return result
 
 

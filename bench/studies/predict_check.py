@@ -156,7 +156,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
     from bench.evaluate.outcomes import outcome_counts
-    from bench.evaluate.prediction import compare_by_group, comparison_doc
+    from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
     from bench.run.track import build_trackers
@@ -230,7 +230,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
-           "pooled": comparison_doc(pooled["all"]) if pooled else None}
+           "pooled": comparison_doc(pooled["all"]) if pooled else None,
+           "per_case": per_group_error(cases) if cases else None}
     atomic_write_text(outdir / "predict_check.json", json.dumps(doc, indent=1, default=float))
     atomic_write_text(outdir / "predicted.csv", predicted.to_csv(index=False))
     atomic_write_text(outdir / "measured.csv", measured.to_csv(index=False))
@@ -243,6 +244,10 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         means = (f"{np.mean([r['synthetic'] for r in h['table']]):>15.3f} / "
                  f"{np.mean([r['real'] for r in h['table']]):.3f}") if h["table"] else ""
         print(f"{k:<28}{len(v['photographs']):>7}{cells:>44}{means:>28}")
+    if cases:
+        err = doc["per_case"]
+        print(f"{'mean over the cases':<28}{'':>7}" + "".join(f"{'|diff|':>11} {err[f]:>7.3f}" for f in ("hit_rate", "f1"))
+              + f"   (false-report rate {err['false_report_rate']:.3f})")
     n_out = sum(1 for d in frames_doc if d["status"] != "matched")
     print(f"stripebench: predictcheck in {outdir} ({len(frames_doc)} frames, {n_out} out of range)")
     return 0

@@ -92,3 +92,20 @@ def test_predicted_beside_measured_is_escaped_and_names_what_was_left_out():
     assert EVIL not in html and "&lt;b&gt;x&lt;/b&gt;" in html
     cells = _cells(html)
     assert cells[1][:3] == ["a", "0.900", "0.800"] and "wide (visible)" in html and "someone/rig" in html
+    assert "How repeatable" not in html  # no reliability: fewer than 4 photographs
+
+
+def test_predicted_beside_measured_says_how_repeatable_the_measured_ranks_are():
+    import pandas as pd
+
+    from bench.evaluate.prediction import compare_with_real, comparison_doc, rank_reliability
+
+    names = [f"p{i}" for i in range(6)]
+    pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.8, 0.6, 0.7],
+                         "false_report_rate": [0.0, 0.1, 0.2]})
+    rows = pd.DataFrame([{"experiment": n, "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 1,
+                          "n_quiet": 9} for n in names for t, h in (("a", 9), ("b", 5), ("c", 7))])
+    doc = _saved({"photographs": names, "frames": "transplant", **comparison_doc(compare_with_real(pred, rows, names)),
+                  "rigs": {}, "measured_reliability": rank_reliability(rows, names, n_splits=10)})
+    html = predicted_html(doc)
+    assert "How repeatable the measured ranks are" in html and "hit rate 1.00 (all photographs: 1.00)" in html

@@ -41,6 +41,9 @@ def test_predicted_beside_measured_per_case_and_pooled(checked):
     for case in doc["cases"].values():
         for k in ("hit_rate", "f1"):
             assert case[k]["n"] == 2 and 0.0 <= case[k]["mean_abs_diff"] <= 1.0
+    for k in ("hit_rate", "f1", "false_report_rate"):  # the per-case error: the cases' own errors averaged
+        per = [c[k]["mean_abs_diff"] for c in doc["cases"].values() if np.isfinite(c[k]["mean_abs_diff"])]
+        assert doc["per_case"][k] == pytest.approx(np.mean(per)) if per else np.isnan(doc["per_case"][k])
     # the pooled figures are the pooled counts: recompute the measured hit rate of one tracker
     m = pd.read_csv(checked / "measured.csv")
     t = m[(m["tracker"] == "threshold") & m["experiment"].isin(matched)]

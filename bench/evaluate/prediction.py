@@ -14,13 +14,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc", "per_group_error",
-           "rank_reliability", "RELIABILITY_SPLITS"]
+__all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
+           "per_group_error", "rank_reliability", "RELIABILITY_SPLITS", "RELIABILITY_MIN_PHOTOS"]
 
 #: The figures compared.
 COMPARED = ("hit_rate", "f1", "false_report_rate")
 #: :func:`rank_reliability`'s random halves of the photographs.
 RELIABILITY_SPLITS = 200
+#: ... and the fewest photographs it splits (two per half).
+RELIABILITY_MIN_PHOTOS = 4
 
 
 def predicted_figures(counts: dict) -> dict:
@@ -166,7 +168,7 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     real_metrics : pandas.DataFrame
         A real run's ``metrics`` (per-image rows with the row-outcome counts ``n_hit`` ...).
     names : sequence of str
-        The photographs (at least 4).
+        The photographs (at least :data:`RELIABILITY_MIN_PHOTOS`).
     n_splits : int
         Random halves drawn (>= 1).
     seed : int
@@ -194,8 +196,9 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     from scipy.stats import rankdata
 
     names = list(dict.fromkeys(str(n) for n in names))
-    if len(names) < 4:
-        raise ValueError(f"`names` must hold at least 4 photographs to split in halves, got {len(names)}")
+    if len(names) < RELIABILITY_MIN_PHOTOS:
+        raise ValueError(f"`names` must hold at least {RELIABILITY_MIN_PHOTOS} photographs to split in halves, "
+                         f"got {len(names)}")
     if isinstance(n_splits, bool) or not isinstance(n_splits, (int, np.integer)) or n_splits < 1:
         raise ValueError(f"`n_splits` must be an integer >= 1, got {n_splits!r}")
     from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
@@ -215,7 +218,8 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     rhos: dict = {f: [] for f in COMPARED}
     for _ in range(int(n_splits)):
         order = rng.permutation(len(names))
-        halves = [[detection_figures(c) for c in counts[idx].sum(axis=0)] for idx in np.array_split(order, [len(names) // 2])]
+        halves = [[detection_figures(c) for c in counts[idx].sum(axis=0)]
+                  for idx in np.array_split(order, [len(names) // 2])]
         for f in COMPARED:
             x = np.array([d[key[f]] for d in halves[0]])
             y = np.array([d[key[f]] for d in halves[1]])

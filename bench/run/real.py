@@ -278,12 +278,14 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         ``hit_rate`` and ``f1`` pooled, ``rigs`` (a rig: the manifest's ``source_repo``; a photograph
         without one is a rig of its own) and ``per_photograph``, each as
         :func:`bench.evaluate.prediction.comparison_doc`, and ``measured_reliability``, how repeatable the measured
-        ranks are, :func:`bench.evaluate.prediction.rank_reliability`, None with fewer than 4 photographs); the page is the caller's
+        ranks are, :func:`bench.evaluate.prediction.rank_reliability`, None with fewer than
+        :data:`~bench.evaluate.prediction.RELIABILITY_MIN_PHOTOS` photographs); the page is the caller's
         (:func:`bench.report.predict.build_predict_report` of ``result``).
     """
     import json
 
-    from bench.evaluate.prediction import compare_by_group, compare_with_real, comparison_doc, rank_reliability
+    from bench.evaluate.prediction import (RELIABILITY_MIN_PHOTOS, compare_by_group, compare_with_real,
+                                          comparison_doc, rank_reliability)
     from bench.run.predict import DEFAULT_GRID, run_predict
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
@@ -302,6 +304,7 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
            "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
            **comparison_doc(cmp), "rigs": {g: comparison_doc(v) for g, v in rigs.items()},
            "per_photograph": {g: comparison_doc(v) for g, v in photos.items()},
-           "measured_reliability": rank_reliability(metrics, names, seed=seed) if len(names) >= 4 else None}
+           "measured_reliability": (rank_reliability(metrics, names, seed=seed)
+                                    if len(names) >= RELIABILITY_MIN_PHOTOS else None)}
     atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
     return {"result": result, "doc": doc}

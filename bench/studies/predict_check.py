@@ -246,8 +246,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         print(f"{k:<28}{len(v['photographs']):>7}{cells:>44}{means:>28}")
     if cases:
         err = doc["per_case"]
-        print(f"{'mean over the cases':<28}{'':>7}" + "".join(f"{'|diff|':>11} {err[f]:>7.3f}" for f in ("hit_rate", "f1"))
-              + f"   (false-report rate {err['false_report_rate']:.3f})")
+        cells = "".join(f"{'|diff|':>11} {err[f]:>7.3f}" for f in ("hit_rate", "f1"))
+        print(f"{'mean over the cases':<28}{'':>7}{cells}   (false-report rate {err['false_report_rate']:.3f})")
     n_out = sum(1 for d in frames_doc if d["status"] != "matched")
     print(f"stripebench: predictcheck in {outdir} ({len(frames_doc)} frames, {n_out} out of range)")
     return 0

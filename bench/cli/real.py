@@ -156,10 +156,12 @@ def _predict_and_compare(args, specs, out) -> None:
               "them, stepped up): " + "; ".join(f"{k} {rel[k]['split_half_rho']:.2f} ({rel[k]['full_set']:.2f})"
                                                  for k in COMPARED))
     print("per rig (rows of its photographs pooled on both sides): Spearman rho / mean |predicted - measured|")
-    print(f"{'rig':<34}{'photos':>7}{'hit rate':>17}{'F1':>17}")
+    print(f"{'rig':<34}{'photos':>7}{'hit rate':>17}{'F1':>17}   measured ranks repeat (hit rate, F1)")
     for g, v in rigs.items():
         cells = "".join(f"{v[k]['spearman_rho']:>9.2f} / {v[k]['mean_abs_diff']:.3f}" for k in ("hit_rate", "f1"))
-        print(f"{g:<34}{len(v['photographs']):>7}{cells}")
+        rr = res["doc"]["rigs"][g]["measured_reliability"]
+        rep = "" if not rr else f"   {rr['hit_rate']['split_half_rho']:.2f}, {rr['f1']['split_half_rho']:.2f}"
+        print(f"{g:<34}{len(v['photographs']):>7}{cells}{rep}")
     print(f"stripebench: prediction at {out / 'predict' / 'report.html'} (per photograph: compare.json)")
 
 

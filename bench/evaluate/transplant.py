@@ -29,7 +29,8 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
 3. **The stripe, moved:** the photograph minus that line over the extent (the stripe's own
    profile, clipping, colour and noise; with a laser-off photograph, minus its pixels) is added to
    the photograph ``shift_px`` columns away, and the result is clipped to the photograph's range (a
-   clipped pixel of the stripe stays clipped). A row whose moved extent would leave the frame or
+   pixel of the stripe clipped, or within :data:`CLIP_NOISE_K` of its channel's noise units of the top,
+   stays clipped). A row whose moved extent would leave the frame or
    meet its old extent is cleaned, not moved. The truth is the centre plus ``shift_px`` in the
    moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
    as the real set's references would be read.
@@ -62,10 +63,11 @@ import numpy as np
 from bench.evaluate import conditions as cond
 from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH
 
-__all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arbitrate", "capped_share", "cut_ends", "out_of_range", "shift_for",
-           "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX", "MAX_HALF_PX", "SIDE_PX",
-           "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES", "AUTO_WIDTH_PX", "AUTO_CAPPED",
-           "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS", "SUPPORT_MIN", "ARBITER_HALF_PX"]
+__all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arbitrate", "capped_share", "cut_ends",
+           "out_of_range", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
+           "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
+           "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
+           "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -107,6 +109,10 @@ GUIDE_HALF_PX = REFERENCE_HALF_WIDTH
 #: :func:`arbitrate`: where two guides of a row lie more than ``conditions.JUMP_PX`` apart, each is scored by the most
 #: laser evidence within this many px of it (a guide is a median of peaks, so the peak may lie a px or two off it).
 ARBITER_HALF_PX = 2
+#: A stripe pixel within this many of its channel's noise units (at least 1 DN) of the top of the range counts as
+#: clipped and stays at the top when moved: a JPEG's clipped core decodes to a few DN below the top, and the laser's
+#: true addition there is hidden (docs/predict.md, "A stripe clipped within its noise of the top").
+CLIP_NOISE_K = 2.0
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
 #: The false-report frames of a transplant (``bench.run.predict.transplant_frames``) cut this share of the stripe's
@@ -490,13 +496,14 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         bgp = bgp[..., None] if bgp.ndim == 2 else bgp
         if bgp.shape != planes.shape:
             raise ValueError(f"`background_original` must have shape {img.shape}, got {np.shape(background_original)}")
-    if background_original is None:  # the plate is a line plus noise: each channel's noise
-        noise = channel_noise(img) if noise_dn is None else np.broadcast_to(np.asarray(noise_dn, np.float64), (C,))
+    # each channel's noise: the clean plate's (without a laser-off photograph) and the clipping margin
+    noise = channel_noise(img) if noise_dn is None else np.broadcast_to(np.asarray(noise_dn, np.float64), (C,))
     rng = np.random.default_rng(seed)
     if np.issubdtype(img.dtype, np.integer):
         lo_v, hi_v = float(np.iinfo(img.dtype).min), float(np.iinfo(img.dtype).max)
     else:
         lo_v, hi_v = -np.inf, np.inf
+    clipped_at = hi_v - np.maximum(CLIP_NOISE_K * noise, 1.0)  # (C,): at or above it, a pixel counts as clipped
     out = planes.copy()
     truth = np.full(H, np.nan)
     s = int(shift_px)
@@ -513,7 +520,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         if not kept[r] or a + s - SIDE_PX < 0 or b + s + SIDE_PX > W - 1 or abs(s) < b - a + 1 + SIDE_PX:
             continue  # the moved extent would leave the frame or meet the old one: removed, not moved
         src = planes[r, a:b + 1]
-        out[r, a + s:b + s + 1] = np.where(src >= hi_v, hi_v, planes[r, a + s:b + s + 1] + (src - line))
+        out[r, a + s:b + s + 1] = np.where(src >= clipped_at[None, :], hi_v, planes[r, a + s:b + s + 1] + (src - line))
         if np.isfinite(ext.centre[r]):
             truth[r] = ext.centre[r] + s
     out = np.clip(out, lo_v, hi_v)

@@ -81,7 +81,13 @@ def predicted_html(doc: dict) -> str:
     def agree(d):
         return [f"{fixed(d[k]['spearman_rho'], '.2f')} / {fixed(d[k]['mean_abs_diff'])}" for k in ("hit_rate", "f1")]
 
-    rigs = [[esc(g), len(v["photographs"]), *agree(v)] for g, v in doc.get("rigs", {}).items()]
+    def repeat(v):
+        rr = v.get("measured_reliability")
+        if not rr:
+            return "–"
+        return f"{fixed(rr['hit_rate']['split_half_rho'], '.2f')} / {fixed(rr['f1']['split_half_rho'], '.2f')}"
+
+    rigs = [[esc(g), len(v["photographs"]), *agree(v), repeat(v)] for g, v in doc.get("rigs", {}).items()]
     left = doc.get("out_of_range") or {}
     named = ", ".join(f"{n} ({', '.join(m)})" for n, m in left.items())
     out = f" Left out (too few rows of the moved stripe seen): {esc(named)}." if left else ""
@@ -93,7 +99,8 @@ def predicted_html(doc: dict) -> str:
             + table(["tracker", "hit rate predicted", "measured", "F1 predicted", "measured"], body)
             + f"<p>All photographs: hit rate Spearman's rho / mean |predicted &minus; measured| "
               f"{' ; F1 '.join(agree(doc))}.</p>"
-            + table(["rig", "photographs", "hit rate rho / mean |diff|", "F1 rho / mean |diff|"], rigs)
+            + table(["rig", "photographs", "hit rate rho / mean |diff|", "F1 rho / mean |diff|",
+                     "measured ranks repeat (hit rate / F1)"], rigs)
             + _reliability_html(doc.get("measured_reliability"))
             + "</section>")
 

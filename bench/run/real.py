@@ -276,7 +276,7 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         ``result`` (``run_predict``'s, with ``comparison``, ``comparison_rigs`` and ``comparison_photos``
         added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
         ``hit_rate`` and ``f1`` pooled, ``rigs`` (a rig: the manifest's ``source_repo``; a photograph
-        without one is a rig of its own) and ``per_photograph``, each as
+        without one is a rig of its own; each also with its ``measured_reliability``) and ``per_photograph``, each as
         :func:`bench.evaluate.prediction.comparison_doc`, and ``measured_reliability``, how repeatable the measured
         ranks are, :func:`bench.evaluate.prediction.rank_reliability`, None with fewer than
         :data:`~bench.evaluate.prediction.RELIABILITY_MIN_PHOTOS` photographs); the page is the caller's
@@ -300,11 +300,15 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
     rigs = compare_by_group(result["predicted_photos"], metrics, {n: rig_of.get(n, n) for n in names})
     photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
     result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)
+
+    def reliability(group):
+        return rank_reliability(metrics, group, seed=seed) if len(group) >= RELIABILITY_MIN_PHOTOS else None
     doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
            "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
-           **comparison_doc(cmp), "rigs": {g: comparison_doc(v) for g, v in rigs.items()},
+           **comparison_doc(cmp),
+           "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"])}
+                    for g, v in rigs.items()},
            "per_photograph": {g: comparison_doc(v) for g, v in photos.items()},
-           "measured_reliability": (rank_reliability(metrics, names, seed=seed)
-                                    if len(names) >= RELIABILITY_MIN_PHOTOS else None)}
+           "measured_reliability": reliability(names)}
     atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
     return {"result": result, "doc": doc}

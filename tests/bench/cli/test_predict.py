@@ -122,6 +122,7 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
     assert set(doc["per_photograph"]) == {"board", "twin"} and doc["per_photograph"]["twin"]["hit_rate"]["n"] == 3
     assert "someone/rig" in printed
     assert doc["measured_reliability"] is None and "repeatability" not in printed  # two photographs: no halves to rank
+    assert doc["rigs"]["someone/rig"]["measured_reliability"] is None
     html = (out / "predict" / "report.html").read_text()
     assert "Predicted beside measured" in html and "Per rig" in html and "Per photograph" in html
 

@@ -76,6 +76,21 @@ def test_colour_photographs_move_all_channels_and_clip_to_the_dtype():
     assert (moved[:, 80, 0] == 255).mean() > 0.9 and np.all(np.isfinite(truth))
 
 
+def test_a_stripe_within_its_noise_of_the_top_stays_clipped_when_it_moves_onto_a_darker_surface():
+    """A JPEG's clipped core decodes a few DN below the top: moved onto a darker surface, it is not its observed
+    excess over a bright surface (the clipping hid the rest) but clipped, as it was (``CLIP_NOISE_K``)."""
+    rng = np.random.default_rng(2)
+    img = np.where(np.arange(W)[None, :] < 70, 230.0, 150.0) + rng.normal(0, 1.0, (H, W))  # bright left, dark right
+    img[:, 40] = 254.0  # the core, 254: within 2 noise units of 255
+    img[:, 39] = img[:, 41] = 245.0
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img)
+    assert np.all(ext.visible) and np.nanmedian(ext.centre) == pytest.approx(40.0, abs=0.1)
+    moved, _ = tp.transplant(img, ext, 60, seed=0)
+    assert np.all(moved[:, 100] == 255)  # the core stays at the top
+    assert np.all(moved[:, 99] < 175)  # its flank adds its own excess (about 15 DN) to the darker surface
+
+
 def test_rows_that_cannot_move_are_cleaned_and_have_no_truth():
     img = _frame(10.0)
     ext = tp.stripe_extents(img)

@@ -106,6 +106,14 @@ def test_predicted_beside_measured_says_how_repeatable_the_measured_ranks_are():
     rows = pd.DataFrame([{"experiment": n, "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h, "n_false": 1,
                           "n_quiet": 9} for n in names for t, h in (("a", 9), ("b", 5), ("c", 7))])
     doc = _saved({"photographs": names, "frames": "transplant", **comparison_doc(compare_with_real(pred, rows, names)),
-                  "rigs": {}, "measured_reliability": rank_reliability(rows, names, n_splits=10)})
+                  "rigs": {"someone/rig": {**comparison_doc({"photographs": names,
+                                                             **compare_with_real(pred, rows, names)}),
+                                           "measured_reliability": rank_reliability(rows, names, n_splits=10)},
+                           "small/rig": comparison_doc({"photographs": names[:2],
+                                                        **compare_with_real(pred, rows, names[:2])})},
+                  "measured_reliability": rank_reliability(rows, names, n_splits=10)})
     html = predicted_html(doc)
     assert "How repeatable the measured ranks are" in html and "hit rate 1.00 (all photographs: 1.00)" in html
+    cells = _cells(html)
+    rig_rows = {c[0]: c for c in cells if c and c[0] in ("someone/rig", "small/rig")}
+    assert rig_rows["someone/rig"][-1] == "1.00 / 1.00" and rig_rows["small/rig"][-1] == "–"

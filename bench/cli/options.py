@@ -119,7 +119,7 @@ def add_frames(parser, flag: str = "--frames") -> None:
 
 
 def add_estimate(parser, flag: str = "--estimate") -> None:
-    """``--estimate {auto,path,argmax,reference}``: how a transplant finds a photograph's stripe
+    """``--estimate {auto,path,argmax,reference,covered}``: how a transplant finds a photograph's stripe
     (:data:`bench.run.predict.ESTIMATES`)."""
     from bench.run.predict import ESTIMATES
 
@@ -127,8 +127,9 @@ def add_estimate(parser, flag: str = "--estimate") -> None:
                         help="how the transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
                              "or a nearly noiseless frame, else path, on a colour photograph found where the laser's "
                              "colour is; default), path (the most continuous bright path), argmax (each row's "
-                             "maximum, kept where its neighbours agree) or reference (a real set's references: what "
-                             "a perfect stripe estimate would predict, an ablation); docs/predict.md")
+                             "maximum, kept where its neighbours agree); two ablations on a real set: reference (its "
+                             "references: what a perfect stripe estimate would predict) or covered (auto, in the "
+                             "rows its references cover only); docs/predict.md")
 
 
 def plain(text: str) -> str:

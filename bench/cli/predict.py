@@ -54,14 +54,14 @@ def _add_predict(p) -> None:
 def _predict(args) -> int:
     """Measure, match, render, track: the predicted figures and their page."""
     from bench.config import parse_trackers
-    from bench.run.predict import DEFAULT_GRID, SMALL_GRID, run_predict
+    from bench.run.predict import ABLATIONS, DEFAULT_GRID, SMALL_GRID, run_predict
 
     specs = args.trackers if args.trackers is not None else parse_trackers(list(DEFAULT_TRACKERS))
     if not args.photos.is_dir():
         raise UsageError(f"PHOTOS must be a folder, got {str(args.photos)!r}")
-    if args.estimate == "reference" and args.downscale != 1:
-        raise UsageError(f"--estimate reference reads the references at the photographs' own size; got --downscale "
-                         f"{args.downscale}")
+    if args.estimate in ABLATIONS and args.downscale != 1:
+        raise UsageError(f"--estimate {args.estimate} reads the references at the photographs' own size; got "
+                         f"--downscale {args.downscale}")
     check_out_folder(args.out)
     out = Path(args.out)
     if out.is_dir() and any(out.iterdir()) and not (out / "predict.json").is_file() and not args.force:

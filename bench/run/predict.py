@@ -368,14 +368,18 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     original = rotate_image(photo.original, photo.rotate_deg)
     bg_original = (None if photo.background_original is None
                    else rotate_image(photo.background_original, photo.rotate_deg))
+    if estimate in ABLATIONS and photo.reference is None:
+        raise ValueError(f"{photo.name}: `estimate` {estimate!r} needs the photograph's reference (a real set's "
+                         "NAME_ref.csv, photographs at their own size)")
     if estimate == "reference":
-        if photo.reference is None:
-            raise ValueError(f"{photo.name}: `estimate` 'reference' needs the photograph's reference (a real set's "
-                             "NAME_ref.csv, photographs at their own size)")
         ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=photo.reference)
-    elif estimate == "auto" and photo.colour:  # the guide where the laser's colour is (docs/predict.md)
-        ext = tp.stripe_extents(photo.frame, photo.background, measured=measured,
-                                guide=colour_guide(photo, original, bg_original, measured))
+    elif estimate in ("auto", "covered"):
+        # on a colour photograph the guide where the laser's colour is (docs/predict.md)
+        guide = (colour_guide(photo, original, bg_original, measured) if photo.colour
+                 else tp.estimate_guide(photo.frame, photo.background, measured=measured))
+        if estimate == "covered":
+            guide = np.where(np.isfinite(photo.reference), guide, np.nan)
+        ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=guide)
     else:
         ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
     if not ext.visible.any():
@@ -523,8 +527,8 @@ class Photo:
     channel: str = "auto"
     background_original: np.ndarray | None = None
     reference: np.ndarray | None = None
-    """A real set's reference columns per row of ``frame`` (px, NaN: no stripe), read only for
-    ``estimate="reference"``; None otherwise."""
+    """A real set's reference columns per row of ``frame`` (px, NaN: no stripe), read only for the
+    ablations (:data:`ABLATIONS`); None otherwise."""
 
     @property
     def colour(self) -> bool:
@@ -587,9 +591,12 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
 FRAMES = ("transplant", "render")
 
 #: How a transplant finds each photograph's stripe (``--estimate``): the estimates of
-#: :data:`bench.evaluate.transplant.ESTIMATES` (``auto``, the default, first), or ``reference``, a labelled
-#: photograph's reference: the ablation that shows what a perfect stripe estimate would predict (docs/predict.md).
-ESTIMATES = (*_STRIPE_ESTIMATES, "reference")
+#: :data:`bench.evaluate.transplant.ESTIMATES` (``auto``, the default, first), or one of :data:`ABLATIONS`.
+#: The ablations read a labelled photograph's reference: ``reference`` takes the stripe from it, what a perfect
+#: stripe estimate would predict; ``covered`` takes ``auto``'s guide in the rows the reference covers and none
+#: elsewhere, the stripe where ``auto`` puts it but only in the rows a measurement scores (docs/predict.md).
+ABLATIONS = ("reference", "covered")
+ESTIMATES = (*_STRIPE_ESTIMATES, *ABLATIONS)
 
 #: The names the prediction's tables give :func:`bench.evaluate.outcomes.bootstrap_frames`' figures.
 PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
@@ -638,7 +645,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         raise ValueError(f"`frames` must be one of {', '.join(FRAMES)}, got {frames!r}")
     if estimate not in ESTIMATES:
         raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
-    with_references = frames == "transplant" and estimate == "reference"
+    with_references = frames == "transplant" and estimate in ABLATIONS
     say = (lambda m: print(m, file=sys.stderr, flush=True)) if say is None else say
 
     def warn(m):  # a photograph left out: said even when progress is not
@@ -649,7 +656,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     if not photos:
         raise real.ImageError(f"{str(folder)!r}: no readable photograph (PNG, JPEG, TIFF)")
     if with_references and any(ph.reference is None for ph in photos):
-        raise real.ImageError(f"{str(folder)!r}: --estimate reference needs a real set (a manifest and each "
+        raise real.ImageError(f"{str(folder)!r}: --estimate {estimate} needs a real set (a manifest and each "
                               "photograph's NAME_ref.csv); this folder has photographs without one")
     trackers = build_trackers(specs)
     out = Path(out_dir)

@@ -138,7 +138,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         stand as far above the noise as a phone's shrunk frames do. The grid is not shrunk.
     estimate : str
         How the transplant finds the stripe (:data:`bench.run.predict.ESTIMATES`; ``reference``: the render's
-        truth, what a perfect stripe estimate would predict).
+        truth, what a perfect stripe estimate would predict; ``covered``: ``auto`` in the rows where the truth's
+        stripe is, only).
     line_fwhm_mrad : float, optional
         Every case's laser line width (mrad) instead of its own.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional

@@ -179,3 +179,20 @@ def test_a_photo_too_wide_for_the_window_is_predicted_shrunk_and_nothing_in_rang
         photo = next(r for r in csv.DictReader(fh) if r["side"] == "photo")
     assert 8.0 < float(photo["width_px"]) < 11.0  # half the full-size FWHM
     assert '"downscale": 2' in (tmp_path / "half" / "predict.json").read_text()
+
+
+@pytest.mark.parametrize("estimate", ["covered"])
+def test_the_covered_ablation_needs_references_and_refuses_shrunk_photographs(photos, tmp_path, capsys, estimate):
+    import shutil
+
+    assert main(["predict", str(photos), "--out", str(tmp_path / "p1"), "--estimate", estimate,
+                 "--downscale", "2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"stripebench: error: --estimate {estimate} reads the references at the photographs' own size; "
+                   "got --downscale 2"]
+    loose = tmp_path / "loose"
+    loose.mkdir()
+    shutil.copy(photos / "board.png", loose / "board.png")
+    assert main(["predict", str(loose), "--out", str(tmp_path / "p2"), "--estimate", estimate, "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--estimate {estimate} needs a real set" in err[0]

@@ -190,7 +190,7 @@ def test_run_predict_with_the_reference_estimate_refuses_photographs_without_ref
     from bench.store.realset import ImageError
 
     iio.imwrite(tmp_path / "a.png", _two_stripes())
-    with pytest.raises(ValueError, match="`estimate` must be one of auto, path, argmax, reference, got 'oracle'"):
+    with pytest.raises(ValueError, match="`estimate` must be one of auto, path, argmax, reference, covered, got 'oracle'"):
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="oracle")
     with pytest.raises(ImageError, match="--estimate reference needs a real set"):
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="reference")
@@ -243,3 +243,25 @@ def test_auto_keeps_a_clipped_stripe_beside_a_surface_more_of_the_laser_s_hue():
     assert len(made) >= pr.N_MOVED
     for _, truth, _, _, s in made[:pr.N_MOVED]:
         assert np.nanmedian(truth) == pytest.approx(130.0 + s, abs=0.5)
+
+
+def test_the_covered_ablation_moves_auto_s_stripe_in_the_referenced_rows_only():
+    """``estimate="covered"``: the stripe where ``auto`` finds it (not where the reference says), in the rows the
+    reference covers; the other rows are not moved (docs/predict.md, the ablations)."""
+    from pathlib import Path
+
+    rng = np.random.default_rng(4)
+    x = np.arange(120.0)
+    frame = np.clip(np.rint(20 + 160 * np.exp(-0.5 * ((x - 50.0) / 1.3) ** 2) + rng.normal(0, 2, (80, 120))), 0, 255)
+    frame = frame.astype(np.uint8)
+    ref = np.full(80, 52.0)  # 2 px off the stripe: `covered` follows the frame, not the reference
+    ref[40:] = np.nan
+    photo = pr.Photo("p", Path("p.png"), frame, None, frame, reference=ref)
+    auto = pr.transplant_frames(photo)
+    covered = pr.transplant_frames(photo, estimate="covered")
+    for (_, t_auto, _, _, s_a), (_, t_cov, _, _, s_c) in zip(auto[:pr.N_MOVED], covered[:pr.N_MOVED]):
+        assert np.all(np.isnan(t_cov[40:])) and np.isfinite(t_auto[40:]).all()
+        assert s_a == s_c and np.allclose(t_cov[:40], t_auto[:40])
+        assert np.nanmedian(t_cov) == pytest.approx(50.0 + s_c, abs=0.2)
+    with pytest.raises(ValueError, match="`estimate` 'covered' needs the photograph's reference"):
+        pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, frame), estimate="covered")

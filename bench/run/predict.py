@@ -385,7 +385,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     if not ext.visible.any():
         return []
     shift = tp.shift_for(ext)
-    noise = tp.channel_noise(original) if bg_original is None else None
+    noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
     out = []
     for j, s in enumerate((shift, -shift)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,

@@ -96,6 +96,9 @@ def spread_options(parser) -> None:
                         help="read the runs already finished in --out (same machines) instead of running them again")
     parser.add_argument("--write", type=Path, metavar="DIR",
                         help="write DIR/ci.json and DIR/real.json from the reference runs with the derived tolerances")
+    parser.add_argument("--against", type=Path, metavar="FILE", action="append", default=[],
+                        help="a baseline another machine wrote for the one gate measured (same renderer; "
+                             "repeatable): its entries that move more than their metric's tolerance get their own")
 
 
 def translucency_profile_options(parser) -> None:

@@ -136,12 +136,14 @@ def baseline_from_run(run_dir) -> dict:
     return doc
 
 
-def write_baseline(run_dir, path, *, tolerances: dict | None = None, tolerance_source=None) -> dict:
+def write_baseline(run_dir, path, *, tolerances: dict | None = None, tolerance_source=None,
+                   entry_tolerances: dict | None = None) -> dict:
     """Write the run's metrics as the baseline at ``path`` (atomically).
 
-    ``tolerances`` (``{metric: {direction, abs, rel}}``) and ``tolerance_source`` replace the defaults;
-    without them, a valid baseline already at ``path`` whose tolerances were derived
-    (``tolerance_source`` not ``"defaults"``) keeps its tolerances and their source, so
+    ``tolerances`` (``{metric: {direction, abs, rel}}``), ``tolerance_source`` and ``entry_tolerances``
+    (``{entry: {metric: {abs, rel}}}``, wider tolerances of single entries, :func:`compare`) replace the
+    defaults; without them, a valid baseline already at ``path`` whose tolerances were derived
+    (``tolerance_source`` not ``"defaults"``) keeps its tolerances, entry tolerances and their source, so
     ``check --update`` does not undo :mod:`bench.studies.gate_spread`.
     """
     from bench.store.files import atomic_write_text
@@ -155,9 +157,12 @@ def write_baseline(run_dir, path, *, tolerances: dict | None = None, tolerance_s
         if old is not None and old.get("tolerance_source", "defaults") != "defaults" \
                 and set(old.get("tolerances") or {}) == set(doc["tolerances"]):
             tolerances, tolerance_source = old["tolerances"], old["tolerance_source"]
+            entry_tolerances = old.get("entry_tolerances")
     if tolerances is not None:
         doc["tolerances"] = tolerances
         doc["tolerance_source"] = tolerance_source if tolerance_source is not None else "given"
+    if entry_tolerances:
+        doc["entry_tolerances"] = entry_tolerances
     validate_baseline(doc, f"baseline for {str(path)!r}")
     atomic_write_text(path, json.dumps(doc, indent=1, sort_keys=True) + "\n")
     return doc
@@ -232,6 +237,21 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
             for k in ("abs", "rel"):
                 if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
                     raise InputError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
+    entry_tols = doc.get("entry_tolerances")
+    if entry_tols is not None:
+        if not isinstance(entry_tols, dict):
+            raise InputError(f"{where}: `entry_tolerances` must be an object, got {entry_tols!r:.60}")
+        for key, per in entry_tols.items():
+            if not isinstance(per, dict):
+                raise InputError(f"{where}: `entry_tolerances.{key}` must be an object of metrics, got {per!r:.60}")
+            for m, t in per.items():
+                if not isinstance(t, dict) or set(t) != {"abs", "rel"}:
+                    raise InputError(f"{where}: `entry_tolerances.{key}.{m}` must have exactly `abs` and `rel`, "
+                                     f"got {t!r:.80}")
+                for k in ("abs", "rel"):
+                    if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
+                        raise InputError(f"{where}: `entry_tolerances.{key}.{m}.{k}` must be a number >= 0, "
+                                         f"got {t[k]!r}")
     cfg = doc.get("config")
     if not isinstance(cfg, dict):  # without it the comparability check would pass anything
         raise InputError(f"{where}: `config` must be the object of the run it was made from (its comparability "
@@ -328,9 +348,21 @@ def _verdict(metric: str, base, now, tol: dict) -> str:
 
 
 def compare(baseline: dict, current: dict) -> list[Row]:
-    """Every (entry, metric) of both documents with its verdict."""
+    """Every (entry, metric) of both documents with its verdict: the metric's tolerance, or the entry's own
+    (``entry_tolerances``: an entry measured to move more between machines than its metric's tolerance allows,
+    :mod:`bench.studies.gate_spread`), in the metric's direction.
+
+    Examples
+    --------
+    >>> base = {"metrics": {"e/t/all": {"px_mae": 1.0}, "f/t/all": {"px_mae": 1.0}},
+    ...         "entry_tolerances": {"f/t/all": {"px_mae": {"abs": 0.5, "rel": 0.0}}}}
+    >>> now = {"metrics": {"e/t/all": {"px_mae": 1.3}, "f/t/all": {"px_mae": 1.3}}}
+    >>> [r.verdict for r in compare(base, now)]
+    ['REGRESSED', 'ok']
+    """
     tols = baseline.get("tolerances") or {m: {"direction": d, "abs": a, "rel": r}
                                           for m, (d, a, r) in TOLERANCES.items()}
+    entry_tols = baseline.get("entry_tolerances") or {}
     rows = []
     bm, cm = baseline["metrics"], current["metrics"]
     for key in sorted(set(bm) | set(cm)):
@@ -347,7 +379,8 @@ def compare(baseline: dict, current: dict) -> list[Row]:
                 rows.append(Row(key, metric, None, cm[key][metric], "NOT IN BASELINE"))
             else:
                 b, n = bm[key][metric], cm[key][metric]
-                rows.append(Row(key, metric, b, n, _verdict(metric, b, n, tols[metric])))
+                tol = {**tols[metric], **entry_tols.get(key, {}).get(metric, {})}
+                rows.append(Row(key, metric, b, n, _verdict(metric, b, n, tol)))
     return rows
 
 

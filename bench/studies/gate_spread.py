@@ -29,6 +29,13 @@ and no tolerance is tighter than today's. An entry whose value is NaN on some
 machines only cannot be covered by any tolerance (the gate fails a NaN flip):
 it is counted and makes the procedure exit 1.
 
+Another real machine cannot be emulated here (its CPU's own kernels, e.g. Embree's). ``--against FILE``
+brings one in: a committed baseline that machine wrote (same gate, same renderer string) is compared with
+this machine's reference run, entry by entry, and an entry whose difference times :data:`SAFETY` its
+metric's tolerance does not cover gets a tolerance of its own (:func:`derive_entry_tolerances`, the
+baseline's ``entry_tolerances``): the entries that a CPU moves are widened, every other entry keeps the
+metric's tolerance.
+
 Machines marked ``gated = False`` (Dr.Jit's native 16-wide code, the scalar
 variant) render differently by construction: ``stripebench check`` refuses to
 compare across renderers (:func:`bench.run.gate.renderer_difference`), so their
@@ -50,7 +57,7 @@ from typing import Mapping, Sequence
 from bench.run import gate
 
 __all__ = ["Machine", "MACHINES", "REFERENCE", "SAFETY", "GATES", "entry_ranges", "metric_spread",
-           "derive_tolerances", "measure", "study"]
+           "derive_tolerances", "derive_entry_tolerances", "measure", "study"]
 
 #: The factor between the measured spread and the tolerance.
 SAFETY = 2.0
@@ -237,6 +244,48 @@ def derive_tolerances(ranges: Mapping[tuple[str, str], dict], floors: Mapping[st
     return out
 
 
+def derive_entry_tolerances(ranges: Mapping[tuple[str, str], dict], tolerances: Mapping[str, dict],
+                            safety: float = SAFETY) -> dict[str, dict]:
+    """The tolerances of single entries whose measured spread, times ``safety``, their metric's tolerance does
+    not cover.
+
+    Parameters
+    ----------
+    ranges : mapping
+        :func:`entry_ranges` over documents of the same gate (this machine's reference run and another machine's
+        baseline).
+    tolerances : mapping
+        ``metric -> {"direction", "abs", "rel"}`` (:func:`derive_tolerances`).
+    safety : float
+        The factor on the measured spread, >= 1.
+
+    Returns
+    -------
+    dict
+        ``entry -> metric -> {"abs", "rel"}`` (the baseline's ``entry_tolerances``; empty when every entry is
+        covered): ``rel`` is the metric's, ``abs`` the least that covers ``safety * range`` at the entry's
+        smallest |value|, rounded up to two significant digits. NaN flips are left out (no tolerance covers them).
+
+    Examples
+    --------
+    >>> t = {"px_mae": {"direction": "lower", "abs": 0.05, "rel": 0.05}}
+    >>> r = {("a/t/all", "px_mae"): {"range": 0.01, "min_abs": 1.0, "nan_flip": False, "missing": []},
+    ...      ("b/t/all", "px_mae"): {"range": 0.2, "min_abs": 1.0, "nan_flip": False, "missing": []}}
+    >>> derive_entry_tolerances(r, t)
+    {'b/t/all': {'px_mae': {'abs': 0.35, 'rel': 0.05}}}
+    """
+    derive_tolerances({}, {}, safety)  # checks `safety`
+    out: dict[str, dict] = {}
+    for (e, m), r in sorted(ranges.items()):
+        t = tolerances.get(m)
+        if t is None or r["nan_flip"]:
+            continue
+        need = safety * r["range"]
+        if need > t["abs"] + t["rel"] * r["min_abs"]:
+            out.setdefault(e, {})[m] = {"abs": _ceil_sig(need - t["rel"] * r["min_abs"]), "rel": t["rel"]}
+    return out
+
+
 def _run_one(gate_name: str, machine: Machine, out: Path, argv_extra: Sequence[str], repo: Path) -> tuple[Path, float]:
     args, _ = GATES[gate_name]
     run_dir = out / f"{gate_name}-{machine.name}"
@@ -326,7 +375,7 @@ def _child(argv: Sequence[str]) -> int:
 
 
 def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m in MACHINES), safety: float = SAFETY,
-          reuse: bool = False, write=None) -> int:
+          reuse: bool = False, write=None, against=()) -> int:
     """Run the procedure (``stripebench spread``): measure every gate on every machine, print the table,
     write ``OUT/spread.json`` and, with ``write``, the baselines.
 
@@ -344,6 +393,9 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
         Read the runs already finished in ``out`` (same machines) instead of running them again.
     write : path, optional
         Write ``WRITE/ci.json`` and ``WRITE/real.json`` from the reference runs with the derived tolerances.
+    against : sequence of path
+        Baselines other machines wrote for the one gate measured (same renderer): their entries beyond the
+        tolerances get their own (:func:`derive_entry_tolerances`).
 
     Returns
     -------
@@ -367,6 +419,15 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
                              f"got {machines_text!r}")
         machines = [by_name[n] for n in names]
         derive_tolerances({}, {}, safety)  # validates --safety before minutes of runs
+        against = [Path(a) for a in against]
+        if against and len(gates) != 1:
+            raise ValueError(f"`--against` compares baselines of one gate: name it with `--gates`, got {gates_text!r}")
+        others = {}
+        for a in against:
+            try:
+                others[f"against {a}"] = gate.load_baseline(a)
+            except (OSError, ValueError) as exc:
+                raise ValueError(f"`--against` {str(a)!r}: {exc}") from None
         real_trackers = REAL_TRACKERS if "real" in gates else ""
         docs = measure(out, gates=gates, machines=machines, real_trackers=real_trackers, reuse=reuse,
                        log=lambda s: print(s, file=sys.stderr))
@@ -379,6 +440,19 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
         ranges = entry_ranges(gated)
         floors = gate.REAL_TOLERANCES if g == "real" else gate.TOLERANCES
         tols = derive_tolerances(ranges, floors, safety)
+        ref = docs[g][REFERENCE]
+        for name, doc in others.items():
+            why = gate.renderer_difference(doc, ref)
+            if why:
+                print(f"gate_spread: {name} cannot widen the {g} gate: {why}", file=sys.stderr)
+                return 2
+        against_ranges = entry_ranges({REFERENCE: ref, **others}) if others else {}
+        entry_tols = derive_entry_tolerances(against_ranges, tols, safety) if others else {}
+        if others:
+            pairs = sum(len(v) for v in entry_tols.values())
+            print(f"gate_spread: {g}: against {', '.join(n[len('against '):] for n in others)}: {pairs} (entry, metric) "
+                  f"pairs in {len(entry_tols)} entries move more than their metric's tolerance allows and get "
+                  "their own", file=sys.stderr)
         spread = metric_spread(ranges)
         flips = sorted({e for s in spread.values() for e in s["nan_flips"]})
         if flips:
@@ -392,16 +466,25 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
                   "machines": [m.name for m in machines if m.gated],
                   "spread": {m: {"max_range": s["max_range"], "entry": s["entry"], "differing": s["differing"]}
                              for m, s in spread.items()}}
+        if others:
+            source["against"] = [{"baseline": n[len("against "):], "git_revision": d.get("git_revision", ""),
+                                  "renderer": d.get("renderer", ""),
+                                  "spread": {m: {"max_range": s["max_range"], "entry": s["entry"],
+                                                 "differing": s["differing"]}
+                                             for m, s in metric_spread(against_ranges).items()}}
+                                 for n, d in others.items()]
         report[g] = {"tolerances": tols, "source": source,
                      "wall_s": {n: d["wall_s"] and round(d["wall_s"], 1) for n, d in docs[g].items()},
                      "informational": {m.name: metric_spread(entry_ranges(pair)) for m, pair in informational},
                      # the tolerances each ungated machine would need against the reference (not used)
                      "tolerances_if_gated": {m.name: derive_tolerances(entry_ranges(pair), floors, safety)
                                              for m, pair in informational},
-                     "renderers": {n: d.get("renderer", "") for n, d in docs[g].items()}}
+                     "renderers": {n: d.get("renderer", "") for n, d in docs[g].items()},
+                     "entry_tolerances": entry_tols}
         if write is not None and not flips:
             path = write / GATES[g][1]
-            doc = gate.write_baseline(out / f"{g}-{REFERENCE}", path, tolerances=tols, tolerance_source=source)
+            doc = gate.write_baseline(out / f"{g}-{REFERENCE}", path, tolerances=tols, tolerance_source=source,
+                                      entry_tolerances=entry_tols)
             print(f"gate_spread: wrote {path} ({len(doc['metrics'])} entries)", file=sys.stderr)
     (out / "spread.json").write_text(json.dumps(report, indent=1, sort_keys=True, default=str) + "\n")
     return status

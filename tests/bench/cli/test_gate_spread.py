@@ -219,3 +219,52 @@ def test_ci_runs_the_gates_as_the_procedure_measured_them():
     assert "export STRIPEBENCH_LLVM_TARGET" not in ci and "unset STRIPEBENCH_LLVM_TARGET" in ci
     assert gs.GATE_ENV == {"STRIPEBENCH_LLVM_TARGET": profile("ci").llvm_target} == {
         "STRIPEBENCH_LLVM_TARGET": "portable"}
+
+
+# -- another real machine: entry tolerances ------------------------------------------------
+
+def test_entry_tolerances_cover_only_the_entries_another_machine_moves():
+    tols = gs.derive_tolerances({}, gate.TOLERANCES)
+    here = _doc({"a/t/all": {"px_mae": 1.0, "hit_rate": 0.9}, "b/t/all": {"px_mae": 1.0, "hit_rate": 0.9}})
+    there = _doc({"a/t/all": {"px_mae": 1.01, "hit_rate": 0.9}, "b/t/all": {"px_mae": 1.4, "hit_rate": 0.87}})
+    entry = gs.derive_entry_tolerances(gs.entry_ranges({"here": here, "there": there}), tols)
+    assert set(entry) == {"b/t/all"} and set(entry["b/t/all"]) == {"px_mae", "hit_rate"}
+    base = {**here, "tolerances": tols, "entry_tolerances": entry}
+    assert not any(r.failed for r in gate.compare(base, there))  # the other machine passes
+    worse = _doc({"a/t/all": {"px_mae": 1.2, "hit_rate": 0.9}, "b/t/all": {"px_mae": 1.4, "hit_rate": 0.9}})
+    failed = [(r.key, r.metric) for r in gate.compare(base, worse) if r.failed]
+    assert failed == [("a/t/all", "px_mae")]  # an entry no machine moved keeps its metric's tolerance
+    with pytest.raises(ValueError, match="`safety` must be a number >= 1"):
+        gs.derive_entry_tolerances({}, tols, safety=0.5)
+
+
+@pytest.mark.parametrize("bad, message", [
+    ([1], "`entry_tolerances` must be an object"),
+    ({"e/t/all": {"px_mae": {"abs": 0.1}}}, "`entry_tolerances.e/t/all.px_mae` must have exactly `abs` and `rel`"),
+    ({"e/t/all": {"px_mae": {"abs": -1, "rel": 0}}}, "`entry_tolerances.e/t/all.px_mae.abs` must be a number >= 0"),
+])
+def test_bad_entry_tolerances_are_named(bad, message):
+    doc = {"format": 2, "metrics": {"e/t/all": {"px_mae": 1.0}}, "config": {}, "entry_tolerances": bad}
+    with pytest.raises(ValueError, match=message.replace(".", r"\.")):
+        gate.validate_baseline(doc)
+
+
+def test_against_needs_one_gate_and_a_readable_baseline(tmp_path, capsys):
+    assert gs.study(out=tmp_path, against=[tmp_path / "x.json"]) == 2
+    assert capsys.readouterr().err.strip() == ("gate_spread: `--against` compares baselines of one gate: name it "
+                                               "with `--gates`, got 'ci,real'")
+    assert main(["spread", "--out", str(tmp_path), "--gates", "ci", "--against", str(tmp_path / "x.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"gate_spread: `--against` '{tmp_path / 'x.json'}':")
+
+
+def test_update_keeps_entry_tolerances(gate_run, tmp_path):
+    out, _ = gate_run
+    p = tmp_path / "b.json"
+    tols = {m: {"direction": d, "abs": a, "rel": r} for m, (d, a, r) in gate.TOLERANCES.items()}
+    key = next(iter(gate.baseline_from_run(out)["metrics"]))
+    entry = {key: {"px_mae": {"abs": 0.5, "rel": 0.05}}}
+    gate.write_baseline(out, p, tolerances=tols, tolerance_source={"procedure": "stripebench spread"},
+                        entry_tolerances=entry)
+    assert main(["check", str(out), "--baseline", str(p), "--update"]) == 0
+    assert gate.load_baseline(p)["entry_tolerances"] == entry

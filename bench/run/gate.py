@@ -234,11 +234,9 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
             if t["direction"] not in ("lower", "higher"):
                 raise InputError(f"{where}: `tolerances.{m}.direction` must be 'lower' or 'higher', "
                                  f"got {t['direction']!r}")
-            for k in ("abs", "rel"):
-                if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
-                    raise InputError(f"{where}: `tolerances.{m}.{k}` must be a number >= 0, got {t[k]!r}")
+            _check_bounds(t, f"tolerances.{m}", where)
     entry_tols = doc.get("entry_tolerances")
-    if entry_tols is not None:
+    if entry_tols is not None:  # {entry: {metric: {abs, rel}}}, in the metric's direction
         if not isinstance(entry_tols, dict):
             raise InputError(f"{where}: `entry_tolerances` must be an object, got {entry_tols!r:.60}")
         for key, per in entry_tols.items():
@@ -248,16 +246,20 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
                 if not isinstance(t, dict) or set(t) != {"abs", "rel"}:
                     raise InputError(f"{where}: `entry_tolerances.{key}.{m}` must have exactly `abs` and `rel`, "
                                      f"got {t!r:.80}")
-                for k in ("abs", "rel"):
-                    if t[k] is None or not _number_or_none(t[k]) or t[k] < 0:
-                        raise InputError(f"{where}: `entry_tolerances.{key}.{m}.{k}` must be a number >= 0, "
-                                         f"got {t[k]!r}")
+                _check_bounds(t, f"entry_tolerances.{key}.{m}", where)
     cfg = doc.get("config")
     if not isinstance(cfg, dict):  # without it the comparability check would pass anything
         raise InputError(f"{where}: `config` must be the object of the run it was made from (its comparability "
                          f"is checked), got {cfg!r:.60}; regenerate the baseline with `stripebench check RUN "
                          "--baseline FILE --update`")
     return doc
+
+
+def _check_bounds(tol: dict, name: str, where: str) -> None:
+    """A tolerance's ``abs`` and ``rel``: numbers >= 0 (one line naming ``name`` otherwise)."""
+    for k in ("abs", "rel"):
+        if tol[k] is None or not _number_or_none(tol[k]) or tol[k] < 0:
+            raise InputError(f"{where}: `{name}.{k}` must be a number >= 0, got {tol[k]!r}")
 
 
 def load_baseline(path) -> dict:

@@ -44,7 +44,6 @@ WITHOUT_EXAMPLES = {
     "bench.run", "bench.run.export", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",
     "bench.run.sweep", "bench.store", "bench.store.figdata", "bench.store.provenance", "bench.studies",
     "bench.studies.estimators", "bench.studies.field_sheet", "bench.studies.perf", "bench.studies.perf.lit",
-    "bench.studies.predict_check",
     "bench.studies.perf.mis", "bench.studies.perf.scenes", "bench.studies.perf.shiny", "bench.studies.perf.sweep",
     "bench.studies.perf.trackers",
 }

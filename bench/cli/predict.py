@@ -13,7 +13,7 @@ from bench.cli.options import (add_estimate, add_force, add_frames, add_n_boot, 
                                add_trackers, arg_type)
 from bench.config.options import finite_float
 
-__all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options"]
+__all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options", "predict_score_options"]
 
 #: The trackers predicted by default: the field profile's.
 DEFAULT_TRACKERS = ("threshold", "centroid", "dp4", "dp8", "gauss3", "parabolic", "blais_rioux", "steger", "com_bg",
@@ -111,9 +111,16 @@ def predict_check_options(p) -> None:
     add_quiet(p)
 
 
+def predict_score_options(p) -> None:
+    """The options of ``stripebench predictscore`` (:func:`bench.studies.predict_check.score`)."""
+    p.add_argument("runs", type=Path, nargs="+", metavar="RUN", help="finished predictcheck output folders")
+
+
 COMMANDS = (
     Command("predict", "predict trackers' figures on a rig's photographs from frames with truth made for them",
             _add_predict, _predict, renders=True),
     study_command("predictcheck", "check predict where the truth is known: renders standing in for photographs",
                   predict_check_options, "bench.studies.predict_check:study", renders=True),
+    study_command("predictscore", "the declared objective over finished predictcheck runs: per-case and pooled "
+                  "scores, per family", predict_score_options, "bench.studies.predict_check:score"),
 )

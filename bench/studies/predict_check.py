@@ -34,7 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "Case", "family_scene", "shrink_frame", "case_frames", "study"]
+__all__ = ["DEFAULTS", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of", "objective",
+           "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -251,4 +252,94 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         print(f"{'mean over the cases':<28}{'':>7}{cells}   (false-report rate {err['false_report_rate']:.3f})")
     n_out = sum(1 for d in frames_doc if d["status"] != "matched")
     print(f"stripebench: predictcheck in {outdir} ({len(frames_doc)} frames, {n_out} out of range)")
+    return 0
+
+
+def family_of(doc: dict) -> str:
+    """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale`` and
+    ``--line-fwhm`` (docs/predict.md: the phone-like family is ``downscale 4, line 1.2 mrad``).
+
+    Examples
+    --------
+    >>> family_of({"downscale": 1, "line_fwhm_mrad": None}), family_of({"downscale": 4, "line_fwhm_mrad": 1.2})
+    ('native', 'downscale 4, line 1.2 mrad')
+    """
+    d, lw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad")
+    if d == 1 and lw is None:
+        return "native"
+    return f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
+
+
+def objective(docs: dict) -> dict:
+    """The declared objective of docs/predict.md over finished ``predictcheck`` runs (name -> its
+    ``predict_check.json``): per run, the *per-case score* (each case's mean |predicted - measured| of hit rate
+    and F1, averaged: :func:`bench.evaluate.prediction.per_group_error`), the per-case false-report |difference|
+    and the pooled score; then their means over the runs, and the per-case score's mean per family
+    (:func:`family_of`).
+
+    Examples
+    --------
+    >>> case = lambda h, f, r: {"hit_rate": {"mean_abs_diff": h}, "f1": {"mean_abs_diff": f},
+    ...                         "false_report_rate": {"mean_abs_diff": r}}
+    >>> doc = {"downscale": 1, "line_fwhm_mrad": None, "seed": 1, "cases": {"a": case(0.02, 0.04, 0.1),
+    ...        "b": case(0.06, 0.08, 0.3)}, "pooled": case(0.01, 0.03, 0.2)}
+    >>> o = objective({"r1": doc})
+    >>> round(o["per_case"], 6), round(o["false_report_per_case"], 6), round(o["pooled"], 6), o["families"]
+    (0.05, 0.2, 0.02, {'native': 0.05})
+    """
+    from bench.evaluate.prediction import per_group_error
+
+    if not docs:
+        raise ValueError("`docs` must hold at least one predictcheck run, got none")
+    runs = {}
+    for name, doc in docs.items():
+        if not doc.get("cases") or not doc.get("pooled"):
+            raise ValueError(f"{name}: a predictcheck run with no case predicted")
+        err = per_group_error(doc["cases"])
+        pooled = doc["pooled"]
+        runs[name] = {"family": family_of(doc), "seed": doc.get("seed"), "estimate": doc.get("estimate"),
+                      "per_case": 0.5 * (err["hit_rate"] + err["f1"]), "per_case_hit_rate": err["hit_rate"],
+                      "per_case_f1": err["f1"], "false_report_per_case": err["false_report_rate"],
+                      "pooled": 0.5 * (pooled["hit_rate"]["mean_abs_diff"] + pooled["f1"]["mean_abs_diff"]),
+                      "pooled_hit_rate": pooled["hit_rate"]["mean_abs_diff"], "pooled_f1": pooled["f1"]["mean_abs_diff"]}
+    def mean(k):  # over the runs that have the figure (no false-report rows: NaN)
+        vals = [r[k] for r in runs.values() if np.isfinite(r[k])]
+        return float(np.mean(vals)) if vals else float("nan")
+
+    families: dict = {}
+    for r in runs.values():
+        families.setdefault(r["family"], []).append(r["per_case"])
+    return {"runs": runs, **{k: mean(k) for k in ("per_case", "per_case_hit_rate", "per_case_f1", "false_report_per_case",
+                                                  "pooled", "pooled_hit_rate", "pooled_f1")},
+            "families": {f: float(np.mean(v)) for f, v in families.items()}}
+
+
+def score(*, runs) -> int:
+    """``stripebench predictscore RUN [RUN ...]``: :func:`objective` over finished ``predictcheck`` runs, printed
+    (the numbers docs/predict.md decides the prediction's procedure by). 0, or 2 with one line on stderr for a
+    folder that is not a finished run."""
+    docs = {}
+    for run in runs:
+        path = Path(run) / "predict_check.json"
+        try:
+            docs[str(run)] = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:
+            print(f"stripebench predictscore: {str(run)!r} is not a finished predictcheck run ({type(exc).__name__}: "
+                  f"{exc})", file=sys.stderr)
+            return 2
+    try:
+        o = objective(docs)
+    except ValueError as exc:
+        print(f"stripebench predictscore: {exc}", file=sys.stderr)
+        return 2
+    print(f"{'run':<44}{'family':<28}{'seed':>5}{'per case':>10}{'hit / F1':>16}{'false':>8}{'pooled':>9}")
+    for name, r in o["runs"].items():
+        print(f"{name[-43:]:<44}{r['family']:<28}{str(r['seed']):>5}{r['per_case']:>10.4f}"
+              f"{r['per_case_hit_rate']:>8.4f} {r['per_case_f1']:.4f}{r['false_report_per_case']:>8.4f}"
+              f"{r['pooled']:>9.4f}")
+    fam = ", ".join(f"{f} {v:.5f}" for f, v in o["families"].items())
+    print(f"per-case score {o['per_case']:.5f} ({fam}); false-report |diff| per case {o['false_report_per_case']:.5f}; "
+          f"pooled score {o['pooled']:.4f} ({len(o['runs'])} runs)")
+    print(f"mean |predicted - measured| per case: hit rate {o['per_case_hit_rate']:.4f}, F1 {o['per_case_f1']:.4f}; "
+          f"pooled: hit rate {o['pooled_hit_rate']:.4f}, F1 {o['pooled_f1']:.4f}")
     return 0

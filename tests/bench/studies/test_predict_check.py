@@ -104,3 +104,22 @@ def test_the_truth_as_the_stripe_estimate_moves_the_rendered_stripe_itself(tmp_p
     assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers", "threshold",
                  "--estimate", "reference", "--quiet"]) == 0
     assert json.loads((out / "predict_check.json").read_text())["estimate"] == "reference"
+
+
+def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tmp_path, capsys):
+    from bench.evaluate.prediction import per_group_error
+    from bench.studies.predict_check import objective
+
+    doc = json.loads((checked / "predict_check.json").read_text())
+    capsys.readouterr()
+    assert main(["predictscore", str(checked)]) == 0
+    printed = capsys.readouterr().out.strip().splitlines()
+    err = per_group_error(doc["cases"])
+    o = objective({"run": doc})
+    assert o["per_case"] == pytest.approx(0.5 * (err["hit_rate"] + err["f1"]))
+    assert o["families"] == {"native": pytest.approx(o["per_case"])}
+    assert printed[-2].startswith(f"per-case score {o['per_case']:.5f} (native {o['per_case']:.5f})")
+    assert printed[-2].endswith("(1 runs)") and printed[-1].startswith("mean |predicted - measured| per case: hit rate")
+    assert main(["predictscore", str(tmp_path)]) == 2  # not a run: one line
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "is not a finished predictcheck run" in lines[0]

@@ -301,7 +301,8 @@ def objective(docs: dict) -> dict:
                       "per_case": 0.5 * (err["hit_rate"] + err["f1"]), "per_case_hit_rate": err["hit_rate"],
                       "per_case_f1": err["f1"], "false_report_per_case": err["false_report_rate"],
                       "pooled": 0.5 * (pooled["hit_rate"]["mean_abs_diff"] + pooled["f1"]["mean_abs_diff"]),
-                      "pooled_hit_rate": pooled["hit_rate"]["mean_abs_diff"], "pooled_f1": pooled["f1"]["mean_abs_diff"]}
+                      "pooled_hit_rate": pooled["hit_rate"]["mean_abs_diff"],
+                      "pooled_f1": pooled["f1"]["mean_abs_diff"]}
     def mean(k):  # over the runs that have the figure (no false-report rows: NaN)
         vals = [r[k] for r in runs.values() if np.isfinite(r[k])]
         return float(np.mean(vals)) if vals else float("nan")
@@ -309,8 +310,9 @@ def objective(docs: dict) -> dict:
     families: dict = {}
     for r in runs.values():
         families.setdefault(r["family"], []).append(r["per_case"])
-    return {"runs": runs, **{k: mean(k) for k in ("per_case", "per_case_hit_rate", "per_case_f1", "false_report_per_case",
-                                                  "pooled", "pooled_hit_rate", "pooled_f1")},
+    keys = ("per_case", "per_case_hit_rate", "per_case_f1", "false_report_per_case", "pooled", "pooled_hit_rate",
+            "pooled_f1")
+    return {"runs": runs, **{k: mean(k) for k in keys},
             "families": {f: float(np.mean(v)) for f, v in families.items()}}
 
 

@@ -15,10 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
-           "per_group_error", "rank_reliability", "RELIABILITY_SPLITS", "RELIABILITY_MIN_PHOTOS"]
+           "per_group_error", "rank_reliability", "FIGURE_KEYS", "RELIABILITY_SPLITS", "RELIABILITY_MIN_PHOTOS"]
 
 #: The figures compared.
 COMPARED = ("hit_rate", "f1", "false_report_rate")
+#: Each compared figure's key in :func:`bench.evaluate.outcomes.detection_figures`.
+FIGURE_KEYS = {"hit_rate": "recall", "f1": "f1", "false_report_rate": "false_report_rate"}
 #: :func:`rank_reliability`'s random halves of the photographs.
 RELIABILITY_SPLITS = 200
 #: ... and the fewest photographs it splits (two per half).
@@ -213,7 +215,6 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     table = table.groupby(["experiment", "tracker"])[list(COUNT_KEYS[:5])].sum()
     counts = np.stack([table.reindex(pd.MultiIndex.from_product([[n], trackers]), fill_value=0).to_numpy()
                        for n in names])  # (photographs, trackers, 5)
-    key = {"hit_rate": "recall", "f1": "f1", "false_report_rate": "false_report_rate"}
     rng = np.random.default_rng(seed)
     rhos: dict = {f: [] for f in COMPARED}
     for _ in range(int(n_splits)):
@@ -221,8 +222,8 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
         halves = [[detection_figures(c) for c in counts[idx].sum(axis=0)]
                   for idx in np.array_split(order, [len(names) // 2])]
         for f in COMPARED:
-            x = np.array([d[key[f]] for d in halves[0]])
-            y = np.array([d[key[f]] for d in halves[1]])
+            x = np.array([d[FIGURE_KEYS[f]] for d in halves[0]])
+            y = np.array([d[FIGURE_KEYS[f]] for d in halves[1]])
             ok = np.isfinite(x) & np.isfinite(y)
             if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
                 rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))  # Spearman's rho
@@ -248,9 +249,8 @@ def _pooled_figures(df, name_col: str, names) -> dict:
     out: dict = {f: {} for f in COMPARED}
     for lab, rows in sub.groupby("tracker", sort=False):
         fig = predicted_figures({k: int(rows[k].sum()) for k in keys})
-        out["hit_rate"][str(lab)] = fig["recall"]
-        out["f1"][str(lab)] = fig["f1"]
-        out["false_report_rate"][str(lab)] = fig["false_report_rate"]
+        for f in COMPARED:
+            out[f][str(lab)] = fig[FIGURE_KEYS[f]]
     return out
 
 

@@ -303,6 +303,7 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
 
     def reliability(group):
         return rank_reliability(metrics, group, seed=seed) if len(group) >= RELIABILITY_MIN_PHOTOS else None
+
     doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
            "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
            **comparison_doc(cmp),

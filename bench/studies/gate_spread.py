@@ -201,6 +201,12 @@ def _ceil_sig(x: float, digits: int = 2) -> float:
     return float(round(math.ceil(x / scale - 1e-9) * scale, 12))
 
 
+def _abs_needed(r: dict, rel: float, safety: float) -> float:
+    """The least ``abs`` with ``abs + rel * |value| >= safety * range`` at an entry's smallest |value|
+    (:func:`entry_ranges`' ``r``)."""
+    return safety * r["range"] - rel * r["min_abs"]
+
+
 def derive_tolerances(ranges: Mapping[tuple[str, str], dict], floors: Mapping[str, tuple[str, float, float]],
                       safety: float = SAFETY) -> dict[str, dict]:
     """The gate's tolerances from the measured spread, floored at ``floors``.
@@ -238,8 +244,7 @@ def derive_tolerances(ranges: Mapping[tuple[str, str], dict], floors: Mapping[st
         raise ValueError(f"`safety` must be a number >= 1, got {safety!r}")
     out = {}
     for m, (direction, a, rel) in floors.items():
-        need = max((safety * r["range"] - rel * r["min_abs"] for (_, mm), r in ranges.items() if mm == m),
-                   default=0.0)
+        need = max((_abs_needed(r, rel, safety) for (_, mm), r in ranges.items() if mm == m), default=0.0)
         out[m] = {"direction": direction, "abs": max(a, _ceil_sig(need)), "rel": rel}
     return out
 
@@ -280,9 +285,9 @@ def derive_entry_tolerances(ranges: Mapping[tuple[str, str], dict], tolerances: 
         t = tolerances.get(m)
         if t is None or r["nan_flip"]:
             continue
-        need = safety * r["range"]
-        if need > t["abs"] + t["rel"] * r["min_abs"]:
-            out.setdefault(e, {})[m] = {"abs": _ceil_sig(need - t["rel"] * r["min_abs"]), "rel": t["rel"]}
+        need = _abs_needed(r, t["rel"], safety)
+        if need > t["abs"]:
+            out.setdefault(e, {})[m] = {"abs": _ceil_sig(need), "rel": t["rel"]}
     return out
 
 

@@ -303,6 +303,7 @@ def objective(docs: dict) -> dict:
                       "pooled": 0.5 * (pooled["hit_rate"]["mean_abs_diff"] + pooled["f1"]["mean_abs_diff"]),
                       "pooled_hit_rate": pooled["hit_rate"]["mean_abs_diff"],
                       "pooled_f1": pooled["f1"]["mean_abs_diff"]}
+
     def mean(k):  # over the runs that have the figure (no false-report rows: NaN)
         vals = [r[k] for r in runs.values() if np.isfinite(r[k])]
         return float(np.mean(vals)) if vals else float("nan")

@@ -106,6 +106,10 @@ def predict_check_options(p) -> None:
     p.add_argument("--line-fwhm", dest="line_fwhm_mrad", metavar="MRAD",
                    type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--line-fwhm"), default=None,
                    help="every case's laser line width in mrad instead of its own (narrower: thinner, brighter)")
+    p.add_argument("--laser-power", dest="laser_power_mw", metavar="MW",
+                   type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--laser-power"), default=None,
+                   help="every case's laser power in mW instead of its own (with a wide --line-fwhm: a wide, bright "
+                        "stripe, as a webcam's saturated one)")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)

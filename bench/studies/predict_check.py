@@ -39,7 +39,7 @@ __all__ = ["DEFAULTS", "Case", "family_scene", "shrink_frame", "case_frames", "s
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
-            "estimate": "auto", "line_fwhm_mrad": None}
+            "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None}
 
 
 @dataclass(frozen=True)
@@ -58,10 +58,11 @@ class Case:
 
 
 def family_scene(experiment, config, *, seed: int, width: int, height: int, downscale: int = 1,
-                 line_fwhm_mrad: float | None = None):
+                 line_fwhm_mrad: float | None = None, laser_power_mw: float | None = None):
     """The scene of one experiment of ``config`` for a render family: ``width`` x ``height`` px rendered
     ``downscale`` times larger (to be shrunk back by :func:`shrink_frame`), with ``line_fwhm_mrad`` in place
-    of the experiment's laser line width (narrower: a thinner, brighter stripe)."""
+    of the experiment's laser line width (narrower: a thinner, brighter stripe) and ``laser_power_mw`` in place of
+    its laser power (with a wide line, a wide stripe as bright as a narrow one: a webcam's saturated stripe)."""
     import scenes
 
     n = int(downscale)
@@ -69,6 +70,8 @@ def family_scene(experiment, config, *, seed: int, width: int, height: int, down
     overrides = dict(experiment.overrides)
     if line_fwhm_mrad is not None:
         overrides["line_fwhm_mrad"] = float(line_fwhm_mrad)
+    if laser_power_mw is not None:
+        overrides["laser_power_mw"] = float(laser_power_mw)
     return scenes.make(experiment.scene, material=experiment.material, seed=int(seed), **render, **overrides)
 
 
@@ -88,17 +91,17 @@ def shrink_frame(frame, downscale: int):
 
 
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
-                downscale: int = 1, line_fwhm_mrad: float | None = None) -> list:
+                downscale: int = 1, line_fwhm_mrad: float | None = None, laser_power_mw: float | None = None) -> list:
     """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
     ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
     ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`family_scene`, :func:`shrink_frame`);
-    ``line_fwhm_mrad`` replaces the laser line's width of every case."""
+    ``line_fwhm_mrad`` replaces the laser line's width of every case, ``laser_power_mw`` its laser power."""
     from bench.evaluate.pixels import select_channel
     from bench.run.camera_view import laser_colour
     from bench.run.plan import angles_for
 
     scene = family_scene(experiment, config, seed=seed, width=width, height=height, downscale=downscale,
-                         line_fwhm_mrad=line_fwhm_mrad)
+                         line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw)
     a = np.asarray(angles_for(experiment, scene), float)
     lo, hi = a[len(a) // 4], a[min(len(a) - 1, (3 * len(a)) // 4)]  # as bench.run.predict's matched renders
     out = []
@@ -115,8 +118,8 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
 
 def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
-          estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"], trackers=None,
-          quiet: bool = False) -> int:
+          estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
+          laser_power_mw=DEFAULTS["laser_power_mw"], trackers=None, quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -143,6 +146,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         stripe is, only).
     line_fwhm_mrad : float, optional
         Every case's laser line width (mrad) instead of its own.
+    laser_power_mw : float, optional
+        Every case's laser power (mW) instead of its own.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -176,7 +181,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     for e_i, exp in enumerate(config.experiments):
         for name, case, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
                                               n_angles=pr.N_ANGLES, downscale=downscale,
-                                              line_fwhm_mrad=line_fwhm_mrad):
+                                              line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw):
             img = case.image
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
@@ -230,6 +235,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     pooled = compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
+           "laser_power_mw": laser_power_mw,
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
            "pooled": comparison_doc(pooled["all"]) if pooled else None,
@@ -256,18 +262,21 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
 
 def family_of(doc: dict) -> str:
-    """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale`` and
-    ``--line-fwhm`` (docs/predict.md: the phone-like family is ``downscale 4, line 1.2 mrad``).
+    """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale``, ``--line-fwhm``
+    and ``--laser-power`` (docs/predict.md: the phone-like family is ``downscale 4, line 1.2 mrad``).
 
     Examples
     --------
     >>> family_of({"downscale": 1, "line_fwhm_mrad": None}), family_of({"downscale": 4, "line_fwhm_mrad": 1.2})
     ('native', 'downscale 4, line 1.2 mrad')
+    >>> family_of({"downscale": 1, "line_fwhm_mrad": 20.0, "laser_power_mw": 100.0})
+    'downscale 1, line 20 mrad, 100 mW'
     """
-    d, lw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad")
-    if d == 1 and lw is None:
+    d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
+    if d == 1 and lw is None and mw is None:
         return "native"
-    return f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
+    return (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
+            + ("" if mw is None else f", {float(mw):g} mW"))
 
 
 def objective(docs: dict) -> dict:

@@ -83,6 +83,23 @@ def test_a_narrower_line_for_every_case_makes_a_thinner_stripe():
     assert cond.measure(thin.image).width_px < 0.6 * cond.measure(wide.image).width_px
 
 
+def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
+    from bench.config import profile
+    from bench.studies.predict_check import case_frames
+
+    config = profile("quick")
+    exp = config.experiments[0]
+    frames = {mw: case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, laser_power_mw=mw)[0][1]
+              for mw in (0.5, 5.0)}
+    rows = np.isfinite(frames[5.0].truth_columns)
+    lift = {mw: float(np.median(f.image[rows].max(axis=1) - np.median(f.image[rows], axis=1)))
+            for mw, f in frames.items()}
+    assert lift[5.0] > 3.0 * lift[0.5] > 0.0
+    with pytest.raises(SystemExit) as exc:  # a power must be > 0
+        main(["predictcheck", "--out", "unused", "--laser-power", "0"])
+    assert exc.value.code == 2 and "--laser-power: must be a finite number > 0, got '0'" in capsys.readouterr().err
+
+
 def test_the_truth_as_the_stripe_estimate_moves_the_rendered_stripe_itself(tmp_path):
     """``--estimate reference`` on renders: each case's truth is the estimate (the ablation of docs/predict.md),
     so the moved stripe's truth is the render's own truth shifted, on every row the render has one."""

@@ -23,6 +23,7 @@ SIZES = (128, 256, 512)
 
 
 def _add_predict(p) -> None:
+    from bench.run.predict import DOWNSCALES
     from bench.store.realset import CHANNELS, LASERS, ROTATIONS
 
     p.add_argument("photos", type=Path, metavar="PHOTOS",
@@ -36,7 +37,7 @@ def _add_predict(p) -> None:
     p.add_argument("--laser", default="red", choices=LASERS, help="laser colour (default red)")
     p.add_argument("--rotate", type=int, default=0, choices=ROTATIONS,
                    help="turn the image counter-clockwise first (for horizontal stripes)")
-    p.add_argument("--downscale", type=int, default=1, choices=(1, 2, 4, 8),
+    p.add_argument("--downscale", type=int, default=1, choices=DOWNSCALES,
                    help="average each N x N block of pixels first, for trackers that run on shrunk frames (a phone's "
                         "full-size photograph: its stripe may be wider than the reference window); default 1")
     add_frames(p)

@@ -585,6 +585,26 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     return photos
 
 
+#: The shrink factors ``predict`` offers (``--downscale``): each N x N block of pixels averaged into one.
+DOWNSCALES = (1, 2, 4, 8)
+
+
+def downscale_for(width_px: float, downscale: int = 1) -> int | None:
+    """The least of :data:`DOWNSCALES` above ``downscale`` that brings a stripe ``width_px`` wide (FWHM, px,
+    measured on photographs already shrunk by ``downscale``) within the transplant's range
+    (:data:`bench.evaluate.transplant.MAX_WIDTH_PX`), or None when none does: the advice given with a photograph
+    left out for its width.
+
+    Examples
+    --------
+    >>> downscale_for(18.4), downscale_for(40.0), downscale_for(18.4, 2), downscale_for(400.0)
+    (2, 4, 4, None)
+    """
+    from bench.evaluate import transplant as tp
+
+    return next((n for n in DOWNSCALES if n > downscale and width_px * downscale / n <= tp.MAX_WIDTH_PX), None)
+
+
 #: Where a prediction's frames with truth come from (``--frames``): ``transplant``, the photograph with its own
 #: stripe moved (the default: it predicts renders far better than matched renders do, ``stripebench
 #: predictcheck``, docs/predict.md), or ``render``, renders matched to the photograph's conditions.
@@ -670,8 +690,13 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
             moved[ph.name] = made
             if bad:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), bad)
-                why = (f"width_px: its stripe is {conds[ph.name].width_px:.1f} px wide, wider than the reference "
-                       f"window's {tp.MAX_WIDTH_PX} px; shrink the photographs" if bad == ("width_px",) else
+                w = conds[ph.name].width_px
+                n = downscale_for(w, downscale) if bad == ("width_px",) else None
+                shrink = ("shrink the photographs" if n is None else
+                          f"shrink the photographs: by {n} (`predict --downscale {n}`) it is about "
+                          f"{w * downscale / n:.1f} px")
+                why = (f"width_px: its stripe is {w:.1f} px wide, wider than the reference window's "
+                       f"{tp.MAX_WIDTH_PX} px; {shrink}" if bad == ("width_px",) else
                        f"visible: the moved stripe is seen in fewer than {tp.MIN_ROWS} rows")
                 warn(f"stripebench predict: {ph.name}: out of range ({why}): left out")
                 continue

@@ -171,6 +171,7 @@ def test_a_photo_too_wide_for_the_window_is_predicted_shrunk_and_nothing_in_rang
                "--quiet"])  # a photograph left out is named even without progress
     err = capsys.readouterr().err
     assert rc == 2 and "big: out of range (width_px: its stripe is 18." in err
+    assert "shrink the photographs: by 2 (`predict --downscale 2`) it is about 9." in err  # the advice
     assert "none of the 1 photographs is in range, nothing predicted" in err.splitlines()[-1]
     rc = main(["predict", str(d), "--out", str(tmp_path / "half"), "--trackers", "threshold", "--n-boot", "50",
                "--downscale", "2"])

@@ -66,6 +66,7 @@ SOURCES = {
     "bb_dark": ("l1.jpg", 8, None),
     "bb_board": ("brightness_15cm_0.png", 1, None),
     "bb_hand": ("test_1.png", 1, None),
+    "jz_chair": ("test.jpg", 2, (2, 1012, 18, 1366)),  # the frame's black left band and top rows cut off
 }
 
 

@@ -126,6 +126,7 @@ def _real(args) -> int:
 
 def _predict_and_compare(args, specs, out) -> None:
     """``real --predict``: the prediction into ``RUN/predict``, then predicted beside measured."""
+    import math
     from dataclasses import replace
 
     from bench.report.predict import build_predict_report
@@ -152,16 +153,20 @@ def _predict_and_compare(args, specs, out) -> None:
               f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")
     rel = res["doc"]["measured_reliability"]
     if rel:
+        def whole(v):  # NaN: the halves do not agree, nothing to step up
+            return f"{v:.2f}" if math.isfinite(v) else "none"
+
         print("measured ranks' own repeatability (Spearman rho between random halves of the photographs; for all of "
-              "them, stepped up): " + "; ".join(f"{k} {rel[k]['split_half_rho']:.2f} ({rel[k]['full_set']:.2f})"
+              "them, stepped up): " + "; ".join(f"{k} {rel[k]['split_half_rho']:.2f} ({whole(rel[k]['full_set'])})"
                                                  for k in COMPARED))
     print("per rig (rows of its photographs pooled on both sides): Spearman rho / mean |predicted - measured|")
-    print(f"{'rig':<34}{'photos':>7}{'hit rate':>17}{'F1':>17}   measured ranks repeat (hit rate, F1)")
+    wide = max([34, *(len(str(g)) + 2 for g in rigs)])
+    print(f"{'rig':<{wide}}{'photos':>7}{'hit rate':>17}{'F1':>17}   measured ranks repeat (hit rate, F1)")
     for g, v in rigs.items():
         cells = "".join(f"{v[k]['spearman_rho']:>9.2f} / {v[k]['mean_abs_diff']:.3f}" for k in ("hit_rate", "f1"))
         rr = res["doc"]["rigs"][g]["measured_reliability"]
         rep = "" if not rr else f"   {rr['hit_rate']['split_half_rho']:.2f}, {rr['f1']['split_half_rho']:.2f}"
-        print(f"{g:<34}{len(v['photographs']):>7}{cells}{rep}")
+        print(f"{g:<{wide}}{len(v['photographs']):>7}{cells}{rep}")
     print(f"stripebench: prediction at {out / 'predict' / 'report.html'} (per photograph: compare.json)")
 
 

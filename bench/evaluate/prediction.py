@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
-           "per_group_error", "rank_reliability", "FIGURE_KEYS", "RELIABILITY_SPLITS", "RELIABILITY_MIN_PHOTOS"]
+           "per_group_error", "rank_reliability", "stepped_up", "FIGURE_KEYS", "RELIABILITY_SPLITS", "RELIABILITY_MIN_PHOTOS"]
 
 #: The figures compared.
 COMPARED = ("hit_rate", "f1", "false_report_rate")
@@ -160,6 +160,20 @@ def per_group_error(groups: dict) -> dict:
     return out
 
 
+def stepped_up(r: float) -> float:
+    """The Spearman-Brown step-up ``2 r / (1 + r)`` of a split-half correlation ``r``: the reliability of the whole
+    set. NaN for ``r <= 0``: halves that do not agree have no reliability to step up (the formula would give a
+    "reliability" beyond -1 as ``r`` falls below -1/3).
+
+    Examples
+    --------
+    >>> stepped_up(0.5), stepped_up(1.0), stepped_up(-0.34)
+    (0.6666666666666666, 1.0, nan)
+    """
+    r = float(r)
+    return 2.0 * r / (1.0 + r) if r > 0.0 else float("nan")
+
+
 def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS, seed: int = 0) -> dict:
     """How repeatable the measured ranks of the trackers are: per figure (:data:`COMPARED`), Spearman's rho between
     the figures measured on two random halves of the photographs ``names`` (rows pooled within each half), over
@@ -180,8 +194,8 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     -------
     dict
         Figure -> ``split_half_rho`` (the median over the splits; NaN where no split ranks), ``iqr`` ([25th, 75th]
-        percentile) and ``full_set`` (the Spearman-Brown step-up ``2 r / (1 + r)`` of the median: the reliability
-        of the ranks measured on all the photographs) and ``n_splits`` (the splits that ranked). Read as test-retest
+        percentile) and ``full_set`` (:func:`stepped_up`: the reliability of the ranks measured on all the
+        photographs; NaN where the halves do not agree) and ``n_splits`` (the splits that ranked). Read as test-retest
         reliability: a prediction of the trackers' true figures is expected to correlate with the measured ranks by
         about ``sqrt(full_set)`` (one made from the same photographs shares their particulars and may do better on
         them, not on other photographs; docs/predict.md, "How repeatable the measured ranks are").
@@ -232,7 +246,7 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
         if rhos[f]:
             r = float(np.median(rhos[f]))
             q = [float(v) for v in np.percentile(rhos[f], [25, 75])]
-            full = 2.0 * r / (1.0 + r) if r > -1.0 else float("nan")
+            full = stepped_up(r)
         else:
             r, q, full = float("nan"), [float("nan")] * 2, float("nan")
         out[f] = {"split_half_rho": r, "iqr": q, "full_set": full, "n_splits": len(rhos[f])}

@@ -113,5 +113,6 @@ def _reliability_html(rel) -> str:
                       f"(all photographs: {fixed(v['full_set'], '.2f')})" for k, v in rel.items())
     return ("<p>How repeatable the measured ranks are (Spearman's rho between the figures measured on random halves "
             f"of the photographs, median; stepped up to all of them): {cells}. A prediction of the trackers' true "
-            "figures would correlate with these ranks by about the square root of the second figure; where it is 0 "
-            "or below, the measured ranks do not repeat from one half of the photographs to the other.</p>")
+            "figures would correlate with these ranks by about the square root of the second figure; where the first "
+            "is 0 or below (the second then '–'), the measured ranks do not repeat from one half of the photographs "
+            "to the other.</p>")

@@ -90,7 +90,7 @@ def _predict(args) -> int:
 def predict_check_options(p) -> None:
     """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
     from bench.config import PROFILES
-    from bench.studies.predict_check import DEFAULTS
+    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS
 
     add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
     p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
@@ -111,6 +111,9 @@ def predict_check_options(p) -> None:
                    type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--laser-power"), default=None,
                    help="every case's laser power in mW instead of its own (with a wide --line-fwhm: a wide, bright "
                         "stripe, as a webcam's saturated one)")
+    p.add_argument("--channel", default=DEFAULTS["channel"], choices=CASE_CHANNELS,
+                   help="what the trackers see of a colour case: auto (the laser-colour blend; default) or laser "
+                        "(the laser's own channel, as a rig whose software reads one channel)")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)

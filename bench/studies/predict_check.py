@@ -34,22 +34,28 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of", "objective",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of", "objective",
            "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
-            "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None}
+            "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto"}
+
+#: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
+#: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
+#: as a rig whose software reads one channel does.
+CASE_CHANNELS = ("auto", "laser")
 
 
 @dataclass(frozen=True)
 class Case:
     """One case frame: the photograph (``rgb`` for a colour camera, else ``image`` itself), what a
-    tracker sees of it (``image``, the ``auto`` channel) and its per-row truth (px, NaN: no stripe)."""
+    tracker sees of it (``image``, its ``channel`` of ``rgb``) and its per-row truth (px, NaN: no stripe)."""
 
     image: np.ndarray
     rgb: np.ndarray | None
     truth_columns: np.ndarray
+    channel: str = "auto"
 
     @property
     def original(self) -> np.ndarray:
@@ -91,12 +97,17 @@ def shrink_frame(frame, downscale: int):
 
 
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
-                downscale: int = 1, line_fwhm_mrad: float | None = None, laser_power_mw: float | None = None) -> list:
+                downscale: int = 1, line_fwhm_mrad: float | None = None, laser_power_mw: float | None = None,
+                channel: str = "auto") -> list:
     """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
     ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
     ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`family_scene`, :func:`shrink_frame`);
-    ``line_fwhm_mrad`` replaces the laser line's width of every case, ``laser_power_mw`` its laser power."""
-    from bench.evaluate.pixels import select_channel
+    ``line_fwhm_mrad`` replaces the laser line's width of every case, ``laser_power_mw`` its laser power; ``channel``
+    (:data:`CASE_CHANNELS`) is what the trackers see of a colour case."""
+    from bench.evaluate.pixels import LASER_INDEX, select_channel
+
+    if channel not in CASE_CHANNELS:
+        raise ValueError(f"`channel` must be one of {', '.join(CASE_CHANNELS)}, got {channel!r}")
     from bench.run.camera_view import laser_colour
     from bench.run.plan import angles_for
 
@@ -109,7 +120,8 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
         f = shrink_frame(scene.render(float(ang)), downscale)
         if f.rgb is not None:
             laser = laser_colour(scene.params["laser_wavelength_nm"])
-            case = Case(select_channel(f.rgb, "auto", laser), f.rgb, f.truth_columns)
+            ch = "rgb"[LASER_INDEX[laser]] if channel == "laser" else channel
+            case = Case(select_channel(f.rgb, ch, laser), f.rgb, f.truth_columns, ch)
         else:
             case = Case(f.image, None, f.truth_columns)
         out.append((f"{experiment.key}@{i}", case, scene.params))
@@ -119,7 +131,8 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
 def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
-          laser_power_mw=DEFAULTS["laser_power_mw"], trackers=None, quiet: bool = False) -> int:
+          laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"], trackers=None,
+          quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -148,6 +161,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         Every case's laser line width (mrad) instead of its own.
     laser_power_mw : float, optional
         Every case's laser power (mW) instead of its own.
+    channel : str
+        What the trackers see of a colour case (:data:`CASE_CHANNELS`): ``auto`` or ``laser``.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -181,7 +196,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     for e_i, exp in enumerate(config.experiments):
         for name, case, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
                                               n_angles=pr.N_ANGLES, downscale=downscale,
-                                              line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw):
+                                              line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw,
+                                              channel=channel):
             img = case.image
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
@@ -189,7 +205,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             for lab, codes in pr.score_frame(tr, img, case.truth_columns).items():
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes)})
             if frames == "transplant":
-                photo = pr.Photo(name, Path(name), img, None, case.original, laser, reference=case.truth_columns)
+                photo = pr.Photo(name, Path(name), img, None, case.original, laser, channel=case.channel,
+                                 reference=case.truth_columns)
                 c = cond.measure(img, None)
                 made, bad = pr.transplanted(photo, seed=seed, estimate=estimate, measured=c)
                 bad = list(bad)
@@ -235,7 +252,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     pooled = compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
-           "laser_power_mw": laser_power_mw,
+           "laser_power_mw": laser_power_mw, "channel": channel,
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
            "pooled": comparison_doc(pooled["all"]) if pooled else None,
@@ -263,7 +280,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
 def family_of(doc: dict) -> str:
     """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale``, ``--line-fwhm``
-    and ``--laser-power`` (docs/predict.md: the phone-like family is ``downscale 4, line 1.2 mrad``).
+    ``--laser-power`` and ``--channel`` (docs/predict.md: the phone-like family is ``downscale 4, line 1.2 mrad``).
 
     Examples
     --------
@@ -271,12 +288,15 @@ def family_of(doc: dict) -> str:
     ('native', 'downscale 4, line 1.2 mrad')
     >>> family_of({"downscale": 1, "line_fwhm_mrad": 20.0, "laser_power_mw": 100.0})
     'downscale 1, line 20 mrad, 100 mW'
+    >>> family_of({"downscale": 1, "line_fwhm_mrad": None, "channel": "laser"})
+    'downscale 1, channel laser'
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
-    if d == 1 and lw is None and mw is None:
+    ch = doc.get("channel", "auto")
+    if d == 1 and lw is None and mw is None and ch == "auto":
         return "native"
     return (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
-            + ("" if mw is None else f", {float(mw):g} mW"))
+            + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}"))
 
 
 def objective(docs: dict) -> dict:

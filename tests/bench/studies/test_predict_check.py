@@ -83,6 +83,22 @@ def test_a_narrower_line_for_every_case_makes_a_thinner_stripe():
     assert cond.measure(thin.image).width_px < 0.6 * cond.measure(wide.image).width_px
 
 
+def test_the_laser_channel_gives_the_trackers_the_laser_s_own_channel_and_the_photo_says_so():
+    from bench.config import profile
+    from bench.evaluate.pixels import select_channel
+    from bench.studies.predict_check import case_frames
+
+    config = profile("field")
+    exp = next(e for e in config.experiments if e.key == "colour-no-filter")
+    auto = case_frames(exp, config, seed=1, width=64, height=60, n_angles=1)[0][1]
+    plain = case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, channel="laser")[0][1]
+    assert auto.channel == "auto" and plain.channel == "r"  # the case's laser is red
+    assert np.array_equal(plain.image, select_channel(plain.rgb, "r", "red"))
+    assert np.array_equal(auto.rgb, plain.rgb) and not np.array_equal(auto.image, plain.image)
+    with pytest.raises(ValueError, match="`channel` must be one of auto, laser, got 'r'"):
+        case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, channel="r")
+
+
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
     from bench.config import profile
     from bench.studies.predict_check import case_frames

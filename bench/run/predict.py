@@ -52,7 +52,7 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "transplanted", "colour_guide", "transplant_outcomes", "cut_counts",
+           "score_frame", "transplant_frames", "transplanted", "colour_guide", "COLOUR_GUIDED", "transplant_outcomes", "cut_counts",
            "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES",
            "ESTIMATES", "PREDICTED_NAMES"]
 
@@ -341,7 +341,8 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
 
 def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
-    how the stripe is found, :data:`ESTIMATES`: ``auto`` on a colour photograph follows :func:`colour_guide`,
+    how the stripe is found, :data:`ESTIMATES`: ``auto`` on a colour photograph whose trackers see the laser's
+    colour (:data:`COLOUR_GUIDED`) follows :func:`colour_guide`,
     ``reference`` follows ``photo.reference``, the ablation with a perfect estimate), and, where the stripe is long
     enough, two *false-report frames*: moved the same ways with its ends cut off
     (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
@@ -374,8 +375,9 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     if estimate == "reference":
         ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=photo.reference)
     elif estimate in ("auto", "covered"):
-        # on a colour photograph the guide where the laser's colour is (docs/predict.md)
-        guide = (colour_guide(photo, original, bg_original, measured) if photo.colour
+        # on a colour photograph whose trackers see the laser's colour, the guide where that colour is; on one
+        # whose trackers see a plain channel, that frame's own (docs/predict.md)
+        guide = (colour_guide(photo, original, bg_original, measured) if photo.colour and photo.channel in COLOUR_GUIDED
                  else tp.estimate_guide(photo.frame, photo.background, measured=measured))
         if estimate == "covered":
             guide = np.where(np.isfinite(photo.reference), guide, np.nan)
@@ -402,6 +404,14 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+
+
+#: The tracker frames of a colour photograph whose stripe ``estimate="auto"`` guides by the laser's colour
+#: (:func:`colour_guide`): those that are the laser's colour themselves (the blend, or the excess). A frame of a plain
+#: channel (``r``, ``g``, ``b``, ``gray``: a rig's software reading one, or a real set's photograph whose stripe's
+#: core is clipped white, where the colour is not the stripe's signature) is guided by its own brightness
+#: (docs/predict.md, "The colour guide only where the trackers see the laser's colour").
+COLOUR_GUIDED = ("auto", "excess")
 
 
 def colour_guide(photo: "Photo", original, background_original=None, measured=None) -> np.ndarray:

@@ -219,6 +219,28 @@ def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
             assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5)
 
 
+def test_auto_guides_a_plain_channel_photograph_by_its_own_frame():
+    """Where the trackers see a plain channel (a rig's software reading one, or a real set's photograph whose stripe's
+    core is clipped white), the guide is that frame's own: the colour guide serves the laser-colour blend only. The
+    scene of the test above, seen in the green channel: the white bar is its brightest line, and the bar is moved
+    (docs/predict.md, "The colour guide only where the trackers see the laser's colour")."""
+    from pathlib import Path
+
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(6)
+    rgb = np.array([30.0, 60.0, 30.0]) + rng.normal(0, 2.0, (60, 192, 3))
+    rgb[:, 34:37, :] = 255.0
+    rgb[..., 1] += 150.0 * np.exp(-0.5 * ((np.arange(192.0) - 130.0) / 1.2) ** 2)
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    for channel, column in (("auto", 130.0), ("g", 35.0)):
+        photo = pr.Photo("p", Path("p.png"), select_channel(rgb, channel, "green"), None, rgb, "green", channel=channel)
+        made = pr.transplant_frames(photo)
+        assert len(made) >= pr.N_MOVED
+        for _, truth, _, _, s in made[:pr.N_MOVED]:
+            assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5)
+
+
 def test_auto_keeps_a_clipped_stripe_beside_a_surface_more_of_the_laser_s_hue():
     """A red print more red than a stripe clipped nearly white (``ag_tape``'s case): the colour excess alone is
     strongest on the print, the tracker's frame on the stripe; where the two guides part, ``auto`` keeps the one

@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
-           "per_group_error", "rank_reliability", "stepped_up", "FIGURE_KEYS", "RELIABILITY_SPLITS", "RELIABILITY_MIN_PHOTOS"]
+           "per_group_error", "rank_reliability", "stepped_up", "FIGURE_KEYS", "RELIABILITY_SPLITS",
+           "RELIABILITY_MIN_PHOTOS"]
 
 #: The figures compared.
 COMPARED = ("hit_rate", "f1", "false_report_rate")

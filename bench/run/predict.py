@@ -52,9 +52,9 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "transplanted", "colour_guide", "COLOUR_GUIDED", "transplant_outcomes", "cut_counts",
-           "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict", "FRAMES",
-           "ESTIMATES", "PREDICTED_NAMES"]
+           "score_frame", "transplant_frames", "transplanted", "colour_guide", "COLOUR_GUIDED", "transplant_outcomes",
+           "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict",
+           "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}

@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of", "objective",
-           "score"]
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
+           "objective", "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,

@@ -34,17 +34,30 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "DISTRACTORS", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar",
+           "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
            "objective", "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
-            "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto"}
+            "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
+            "distractor": "none"}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
 #: as a rig whose software reads one channel does.
 CASE_CHANNELS = ("auto", "laser")
+
+#: What a case frame may carry besides its render (``--distractor``): ``none``, or ``white-bar``: a vertical white line
+#: beside the stripe in every row (a window's frame, a lamp's stem: bright in every channel, of no colour), added to
+#: the rendered photograph before the trackers' channel is taken (:func:`with_white_bar`). It is not rendered: a
+#: controlled distractor for the stripe estimate, which the renders otherwise lack (docs/predict.md).
+DISTRACTORS = ("none", "white-bar")
+#: The white bar: its distance from the stripe's median column (px; on the side with room), its Gaussian sigma (px)
+#: and its peak (DN added in every channel, clipped at the top of the range).
+BAR_OFFSET_PX = 20
+BAR_SIGMA_PX = 1.2
+BAR_PEAK_DN = 200.0
 
 
 @dataclass(frozen=True)
@@ -96,20 +109,50 @@ def shrink_frame(frame, downscale: int):
     return SimpleNamespace(**planes, truth_columns=downscale_columns(frame.truth.columns, n))
 
 
+def with_white_bar(photo, truth_columns):
+    """``photo`` (H, W) or (H, W, 3), integer DN, with :data:`DISTRACTORS`' white bar added: a vertical Gaussian line
+    of :data:`BAR_PEAK_DN` and :data:`BAR_SIGMA_PX`, :data:`BAR_OFFSET_PX` px right of the median of
+    ``truth_columns`` (px, NaN: no stripe), or left where the right has no room, in every channel and row, clipped at
+    the top of the dtype's range. Unchanged where ``truth_columns`` has no column.
+
+    Examples
+    --------
+    >>> img = np.zeros((4, 60), np.uint8)
+    >>> out = with_white_bar(img, np.full(4, 10.0))
+    >>> int(np.argmax(out[0])), int(out[0, 30]), out.dtype.name
+    (30, 200, 'uint8')
+    """
+    a = np.asarray(photo)
+    t = np.asarray(truth_columns, dtype=np.float64)
+    if not np.isfinite(t).any():
+        return a.copy()
+    W = a.shape[1]
+    c = float(np.nanmedian(t))
+    col = c + BAR_OFFSET_PX if c + BAR_OFFSET_PX + 3 * BAR_SIGMA_PX <= W - 1 else c - BAR_OFFSET_PX
+    bar = BAR_PEAK_DN * np.exp(-0.5 * ((np.arange(W) - col) / BAR_SIGMA_PX) ** 2)
+    bar = bar[None, :, None] if a.ndim == 3 else bar[None, :]
+    top = float(np.iinfo(a.dtype).max) if np.issubdtype(a.dtype, np.integer) else np.inf
+    out = np.clip(a.astype(np.float64) + bar, 0.0, top)
+    return np.rint(out).astype(a.dtype) if np.issubdtype(a.dtype, np.integer) else out.astype(a.dtype)
+
+
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
                 downscale: int = 1, line_fwhm_mrad: float | None = None, laser_power_mw: float | None = None,
-                channel: str = "auto") -> list:
+                channel: str = "auto", distractor: str = "none") -> list:
     """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
     ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
     ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`family_scene`, :func:`shrink_frame`);
     ``line_fwhm_mrad`` replaces the laser line's width of every case, ``laser_power_mw`` its laser power; ``channel``
-    (:data:`CASE_CHANNELS`) is what the trackers see of a colour case."""
+    (:data:`CASE_CHANNELS`) is what the trackers see of a colour case; ``distractor`` (:data:`DISTRACTORS`) what is
+    added to each frame's photograph (:func:`with_white_bar`)."""
     from bench.evaluate.pixels import LASER_INDEX, select_channel
+    from bench.run.camera_view import laser_colour
+    from bench.run.plan import angles_for
 
     if channel not in CASE_CHANNELS:
         raise ValueError(f"`channel` must be one of {', '.join(CASE_CHANNELS)}, got {channel!r}")
-    from bench.run.camera_view import laser_colour
-    from bench.run.plan import angles_for
+    if distractor not in DISTRACTORS:
+        raise ValueError(f"`distractor` must be one of {', '.join(DISTRACTORS)}, got {distractor!r}")
 
     scene = family_scene(experiment, config, seed=seed, width=width, height=height, downscale=downscale,
                          line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw)
@@ -118,6 +161,9 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
     out = []
     for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
         f = shrink_frame(scene.render(float(ang)), downscale)
+        if distractor == "white-bar":
+            f.rgb = None if f.rgb is None else with_white_bar(f.rgb, f.truth_columns)
+            f.image = f.image if f.rgb is not None else with_white_bar(f.image, f.truth_columns)
         if f.rgb is not None:
             laser = laser_colour(scene.params["laser_wavelength_nm"])
             ch = "rgb"[LASER_INDEX[laser]] if channel == "laser" else channel
@@ -131,8 +177,8 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
 def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed"], size: int = DEFAULTS["size"],
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
-          laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"], trackers=None,
-          quiet: bool = False) -> int:
+          laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"],
+          distractor=DEFAULTS["distractor"], trackers=None, quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -163,6 +209,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         Every case's laser power (mW) instead of its own.
     channel : str
         What the trackers see of a colour case (:data:`CASE_CHANNELS`): ``auto`` or ``laser``.
+    distractor : str
+        What each case frame carries besides its render (:data:`DISTRACTORS`): ``none`` or ``white-bar``.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -197,7 +245,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         for name, case, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
                                               n_angles=pr.N_ANGLES, downscale=downscale,
                                               line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw,
-                                              channel=channel):
+                                              channel=channel, distractor=distractor):
             img = case.image
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
@@ -252,7 +300,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     pooled = compare_by_group(predicted, measured, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
-           "laser_power_mw": laser_power_mw, "channel": channel,
+           "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor,
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc, "cases": {k: comparison_doc(v) for k, v in cases.items()},
            "pooled": comparison_doc(pooled["all"]) if pooled else None,
@@ -292,11 +340,12 @@ def family_of(doc: dict) -> str:
     'downscale 1, channel laser'
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
-    ch = doc.get("channel", "auto")
-    if d == 1 and lw is None and mw is None and ch == "auto":
+    ch, dis = doc.get("channel", "auto"), doc.get("distractor", "none")
+    if d == 1 and lw is None and mw is None and ch == "auto" and dis == "none":
         return "native"
     return (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
-            + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}"))
+            + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
+            + ("" if dis == "none" else f", {dis}"))
 
 
 def objective(docs: dict) -> dict:

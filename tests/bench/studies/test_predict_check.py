@@ -99,6 +99,25 @@ def test_the_laser_channel_gives_the_trackers_the_laser_s_own_channel_and_the_ph
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, channel="r")
 
 
+def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_truth():
+    from bench.config import profile
+    from bench.studies.predict_check import BAR_OFFSET_PX, case_frames, family_of
+
+    config = profile("field")
+    exp = next(e for e in config.experiments if e.key == "colour-no-filter")
+    plain = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1)[0][1]
+    barred = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, distractor="white-bar")[0][1]
+    assert np.array_equal(plain.truth_columns, barred.truth_columns, equal_nan=True)
+    added = barred.rgb.astype(float) - plain.rgb.astype(float)
+    col = int(np.argmax(added.mean(axis=(0, 2))))
+    assert abs(abs(col - np.nanmedian(plain.truth_columns)) - BAR_OFFSET_PX) <= 1  # beside the stripe
+    assert added[:, col].min() >= 0 and np.ptp(added[:, col].mean(axis=0)) < 30  # in every channel alike: white
+    assert barred.image[:, col].mean() > plain.image[:, col].mean() + 20  # and the trackers see it
+    assert family_of({"downscale": 1, "distractor": "white-bar"}) == "downscale 1, white-bar"
+    with pytest.raises(ValueError, match="`distractor` must be one of none, white-bar, got 'lamp'"):
+        case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, distractor="lamp")
+
+
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
     from bench.config import profile
     from bench.studies.predict_check import case_frames

@@ -67,7 +67,8 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "out_of_range", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
-           "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K"]
+           "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
+           "shifts_for"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -115,6 +116,13 @@ ARBITER_HALF_PX = 2
 CLIP_NOISE_K = 2.0
 #: Pixels either side of an extent whose median anchors the clean plate's line (px).
 SIDE_PX = 3
+#: :func:`shifts_for`: each direction's shift is sought among ``shift_for`` .. ``shift_for + RIVAL_SEARCH_PX`` px, so
+#: that the moved stripe lands on as few *rivals* as it can: pixels standing over their row's median by at least
+#: RIVAL_SHARE x the stripe's height in that row, outside its own extent (:func:`rival_mask`). A stripe moved onto a
+#: rival is found where the rival is, which the photograph's stripe, beside it, is not (docs/predict.md, "Shifts
+#: that do not land the stripe on a rival").
+RIVAL_SEARCH_PX = 16
+RIVAL_SHARE = 0.5
 #: The false-report frames of a transplant (``bench.run.predict.transplant_frames``) cut this share of the stripe's
 #: visible span (rows) off each end: cleaned, not moved, so those rows keep the photograph's clutter without a stripe
 #: and are scored as a real set's rows beyond the stripe's end are. Chosen on renders (docs/predict.md: 0.15, 0.25,
@@ -446,6 +454,68 @@ def shift_for(ext: Extents) -> int:
         return 12
     widths = (ext.hi - ext.lo + 1)[ext.visible]
     return int(max(12, math.ceil(np.percentile(widths, 90)) + 2 * SIDE_PX + 1))
+
+
+def rival_mask(frame, background, ext: Extents) -> np.ndarray:
+    """The frame's *rivals* to its stripe, shape (H, W) bool: in each row with a visible stripe, the pixels of the
+    working frame (``frame`` less ``background``, smoothed along the row as :func:`stripe_extents` smooths it) standing
+    over the row's median by at least :data:`RIVAL_SHARE` x the stripe's height there, outside the row's extent.
+
+    Examples
+    --------
+    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:, 45] += 150.0
+    >>> e = stripe_extents(img, guide=np.full(20, 20.0))
+    >>> m = rival_mask(img, None, e)
+    >>> np.flatnonzero(m[5]).tolist()  # the rival's smoothed peak; the stripe's own extent is not a rival
+    [45]
+    """
+    work = np.asarray(frame, dtype=np.float64)
+    if background is not None:
+        work = work - np.asarray(background, dtype=np.float64)
+    sm = work.copy()
+    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
+    lift = sm - np.median(work, axis=1)[:, None]
+    height = np.nan_to_num(np.asarray(ext.height if ext.height is not None else np.zeros(work.shape[0]), float))
+    out = ext.visible[:, None] & (lift >= RIVAL_SHARE * np.maximum(height, 0.0)[:, None]) & (height > 0)[:, None]
+    cols = np.arange(work.shape[1])[None, :]
+    out &= ~((cols >= ext.lo[:, None]) & (cols <= ext.hi[:, None]))
+    return out
+
+
+def shifts_for(ext: Extents, rivals) -> tuple[int, int]:
+    """The two moved frames' shifts (px), ``(right, left)`` (both > 0; the second frame moves by ``-left``): in each
+    direction the least of ``shift_for(ext)`` .. ``shift_for(ext) + RIVAL_SEARCH_PX`` whose moved extents (with
+    :data:`SIDE_PX` either side) meet ``rivals`` (:func:`rival_mask`, (H, W) bool) in the fewest visible rows; rows
+    moved out of the frame do not count.
+
+    Examples
+    --------
+    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:, 35] += 150.0  # a rival 15 px right
+    >>> e = stripe_extents(img, guide=np.full(20, 20.0))
+    >>> shift_for(e), shifts_for(e, rival_mask(img, None, e))  # to the right, past the rival
+    (12, (21, 12))
+    """
+    base = shift_for(ext)
+    rivals = np.asarray(rivals, bool)
+    H, W = rivals.shape
+    rows = np.flatnonzero(ext.visible)
+    if rows.size == 0:
+        return base, base
+    csum = np.concatenate([np.zeros((H, 1), int), np.cumsum(rivals, axis=1)], axis=1)
+    lo, hi = ext.lo[rows].astype(int), ext.hi[rows].astype(int)
+    out = []
+    for sign in (1, -1):
+        best = None
+        for s in range(base, base + RIVAL_SEARCH_PX + 1):
+            a = np.clip(lo + sign * s - SIDE_PX, 0, W)
+            b = np.clip(hi + sign * s + SIDE_PX + 1, 0, W)
+            met = int(np.sum((b > a) & (csum[rows, b] - csum[rows, a] > 0)))
+            if best is None or met < best[0]:
+                best = (met, s)
+            if met == 0:
+                break
+        out.append(best[1])
+    return out[0], out[1]
 
 
 def channel_noise(original) -> np.ndarray:

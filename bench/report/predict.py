@@ -146,7 +146,7 @@ def build_predict_report(result: dict) -> Path:
             img = result["frames"][ph.name][0][0]
             right = (png_img(_png(img), f"{ph.name} stripe moved") + f"<br><small>{esc(describe(m.conditions))}</small>"
                      f"<br><small>its own stripe moved by {m.point['shift_px']:+d} px (and by "
-                     f"{-m.point['shift_px']:+d} px); distance {m.distance:.2f}</small>")
+                     f"{m.point.get('shift_back_px', -m.point['shift_px']):+d} px); distance {m.distance:.2f}</small>")
         else:
             img = result["frames"][ph.name][0][0]
             p = m.point

@@ -386,17 +386,17 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
     if not ext.visible.any():
         return []
-    shift = tp.shift_for(ext)
+    right, left = tp.shifts_for(ext, tp.rival_mask(photo.frame, photo.background, ext))
     noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
     out = []
-    for j, s in enumerate((shift, -shift)):
+    for j, s in enumerate((right, -left)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
                                      noise_dn=noise)
         image = select_channel(moved, photo.channel, photo.laser)
         out.append((image, truth, tp.row_states(ext, truth, image), moved, s))
     keep = tp.cut_ends(ext)
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
-        for j, s in enumerate((shift, -shift)):
+        for j, s in enumerate((right, -left)):
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
                                          noise_dn=noise, keep=keep)
             image = select_channel(moved, photo.channel, photo.laser)
@@ -711,10 +711,11 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
                 warn(f"stripebench predict: {ph.name}: out of range ({why}): left out")
                 continue
             image, _, _, rgb, shift = made[0]
+            back = made[1][4]
             c = cond.measure(image, ph.background, rgb=rgb if ph.colour else None, laser=ph.laser)
-            matches[ph.name] = Match({"frames": "transplant", "shift_px": shift}, c,
+            matches[ph.name] = Match({"frames": "transplant", "shift_px": shift, "shift_back_px": back}, c,
                                      cond.distance(conds[ph.name], c), ())
-            say(f"stripebench predict: {ph.name}: its stripe moved by +-{shift} px "
+            say(f"stripebench predict: {ph.name}: its stripe moved by {shift:+d} and {back:+d} px "
                 f"(distance {matches[ph.name].distance:.2f})")
             continue
         key = (ph.colour, ph.laser, ph.background is not None)

@@ -270,7 +270,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                                       **outcome_counts(np.concatenate(per[lab][:pr.N_MOVED])),
                                       **pr.cut_counts(per[lab])})
                 groups[name] = exp.key
-                say(f"stripebench predictcheck: {name}: its stripe moved by +-{made[0][4]} px "
+                say(f"stripebench predictcheck: {name}: its stripe moved by {made[0][4]:+d} and {made[1][4]:+d} px "
                     f"[case {e_i + 1}/{len(config.experiments)}]")
                 continue
             if key not in tables:

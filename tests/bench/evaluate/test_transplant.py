@@ -209,3 +209,21 @@ def test_arbitrate_keeps_the_first_guide_unless_the_other_has_more_evidence_far_
     assert tp.arbitrate(guide, other, ev).tolist() == [20.0, 5.0, 18.0, 20.0]
     with pytest.raises(ValueError, match=r"one entry per row of `evidence` \(4, 30\), got \(4,\) and \(3,\)"):
         tp.arbitrate(guide, other[:3], ev)
+
+
+def test_a_moved_stripe_does_not_land_on_a_rival():
+    """A rival brighter than the stripe 15 px to its right: the shift to the right passes it (the moved stripe would
+    be found where the rival is, which the photograph's stripe is not), the shift to the left stays the least
+    (docs/predict.md, "Shifts that do not land the stripe on a rival")."""
+    img = _frame(60.0).astype(float)
+    c = int(round(float(np.nanmedian(tp.stripe_extents(img).centre))))
+    img[:, c + 14:c + 17] += 120.0  # the rival
+    img = np.clip(img, 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img, guide=np.full(img.shape[0], float(c)))
+    rivals = tp.rival_mask(img, None, ext)
+    assert rivals[:, c + 15].all() and not rivals[:, c - 3:c + 4].any()
+    right, left = tp.shifts_for(ext, rivals)
+    base = tp.shift_for(ext)
+    assert left == base and right > base
+    for r in np.flatnonzero(ext.visible):  # no moved extent (with its sides) meets the rival
+        assert not (ext.lo[r] + right - tp.SIDE_PX <= c + 15 <= ext.hi[r] + right + tp.SIDE_PX)

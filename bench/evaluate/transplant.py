@@ -118,11 +118,12 @@ CLIP_NOISE_K = 2.0
 SIDE_PX = 3
 #: :func:`shifts_for`: each direction's shift is sought among ``shift_for`` .. ``shift_for + RIVAL_SEARCH_PX`` px, so
 #: that the moved stripe lands on as few *rivals* as it can: pixels standing over their row's median by at least
-#: RIVAL_SHARE x the stripe's height in that row, outside its own extent (:func:`rival_mask`). A stripe moved onto a
+#: RIVAL_SHARE x the stripe's height in that row (1: as high as the stripe, what a tracker taking a row's brightest
+#: pixel takes instead of it), outside its own extent (:func:`rival_mask`). A stripe moved onto a
 #: rival is found where the rival is, which the photograph's stripe, beside it, is not (docs/predict.md, "Shifts
 #: that do not land the stripe on a rival").
 RIVAL_SEARCH_PX = 16
-RIVAL_SHARE = 0.5
+RIVAL_SHARE = 1.0
 #: The false-report frames of a transplant (``bench.run.predict.transplant_frames``) cut this share of the stripe's
 #: visible span (rows) off each end: cleaned, not moved, so those rows keep the photograph's clutter without a stripe
 #: and are scored as a real set's rows beyond the stripe's end are. Chosen on renders (docs/predict.md: 0.15, 0.25,
@@ -463,11 +464,11 @@ def rival_mask(frame, background, ext: Extents) -> np.ndarray:
 
     Examples
     --------
-    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:, 45] += 150.0
+    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:, 44:47] += 150.0
     >>> e = stripe_extents(img, guide=np.full(20, 20.0))
     >>> m = rival_mask(img, None, e)
-    >>> np.flatnonzero(m[5]).tolist()  # the rival's smoothed peak; the stripe's own extent is not a rival
-    [45]
+    >>> np.flatnonzero(m[5]).tolist()  # the rival, brighter than the stripe; the stripe's own extent is not one
+    [44, 45, 46]
     """
     work = np.asarray(frame, dtype=np.float64)
     if background is not None:
@@ -490,10 +491,10 @@ def shifts_for(ext: Extents, rivals) -> tuple[int, int]:
 
     Examples
     --------
-    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:, 35] += 150.0  # a rival 15 px right
+    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:, 34:37] += 150.0  # a rival 15 px right
     >>> e = stripe_extents(img, guide=np.full(20, 20.0))
     >>> shift_for(e), shifts_for(e, rival_mask(img, None, e))  # to the right, past the rival
-    (12, (21, 12))
+    (12, (22, 12))
     """
     base = shift_for(ext)
     rivals = np.asarray(rivals, bool)

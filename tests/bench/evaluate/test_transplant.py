@@ -217,7 +217,7 @@ def test_a_moved_stripe_does_not_land_on_a_rival():
     (docs/predict.md, "Shifts that do not land the stripe on a rival")."""
     img = _frame(60.0).astype(float)
     c = int(round(float(np.nanmedian(tp.stripe_extents(img).centre))))
-    img[:, c + 14:c + 17] += 120.0  # the rival
+    img[:, c + 14:c + 17] += 200.0  # the rival, brighter than the stripe
     img = np.clip(img, 0, 255).astype(np.uint8)
     ext = tp.stripe_extents(img, guide=np.full(img.shape[0], float(c)))
     rivals = tp.rival_mask(img, None, ext)

@@ -65,7 +65,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 __all__ = ["Conditions", "MEASURES", "MATCHED", "SCALES", "TRANSFORMS", "VISIBLE_K", "JUMP_PX", "BAND_PX", "TILE_PX",
-           "NOISE_FLOOR_DN", "NOISE_PERCENTILE", "measure", "normalised", "distance", "out_of_range", "describe"]
+           "NOISE_FLOOR_DN", "NOISE_PERCENTILE", "measure", "normalised", "distance", "out_of_range", "describe",
+           "row_smoothed"]
 
 #: A row's stripe is visible when its peak stands this many noise units above the row's median.
 VISIBLE_K = 6.0
@@ -178,6 +179,21 @@ def _fwhm(row: np.ndarray, c: int, base: float) -> float:
     return max(hi - lo, 0.0)
 
 
+def row_smoothed(work) -> np.ndarray:
+    """``work`` (H, W; DN) smoothed ``[1, 2, 1] / 4`` along each row, its first and last columns kept: the frame a
+    stripe's peak is read on here and in :mod:`bench.evaluate.transplant`.
+
+    Examples
+    --------
+    >>> row_smoothed(np.array([[0.0, 4.0, 0.0, 0.0]])).tolist()
+    [[0.0, 2.0, 1.0, 0.0]]
+    """
+    work = np.asarray(work, dtype=np.float64)
+    sm = work.copy()
+    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
+    return sm
+
+
 def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=None) -> Conditions:
     """The image conditions of one frame (module docstring).
 
@@ -218,8 +234,7 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
         if bg.shape != raw.shape:
             raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {bg.shape}")
         work = raw - bg
-    sm = work.copy()
-    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
+    sm = row_smoothed(work)
     cols = np.argmax(sm, axis=1)
     rows = np.arange(H)
     med = np.median(work, axis=1)

@@ -30,7 +30,8 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    profile, clipping, colour and noise; with a laser-off photograph, minus its pixels) is added to
    the photograph ``shift_px`` columns away, and the result is clipped to the photograph's range (a
    pixel of the stripe clipped, or within :data:`CLIP_NOISE_K` of its channel's noise units of the top,
-   stays clipped). A row whose moved extent would leave the frame or
+   stays clipped). The two moved frames' shifts (:func:`shifts_for`) keep the moved stripe off *rivals*, pixels as
+   high over their row as the stripe (:func:`rival_mask`). A row whose moved extent would leave the frame or
    meet its old extent is cleaned, not moved. The truth is the centre plus ``shift_px`` in the
    moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
    as the real set's references would be read.
@@ -347,8 +348,7 @@ def _prepared(frame, background, estimate: str, measured):
     if work.shape != raw.shape:
         raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
     measured = cond.measure(frame, background) if measured is None else measured
-    sm = work.copy()
-    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
+    sm = cond.row_smoothed(work)
     return work, sm, np.argmax(sm, axis=1), measured
 
 
@@ -473,9 +473,7 @@ def rival_mask(frame, background, ext: Extents) -> np.ndarray:
     work = np.asarray(frame, dtype=np.float64)
     if background is not None:
         work = work - np.asarray(background, dtype=np.float64)
-    sm = work.copy()
-    sm[:, 1:-1] = 0.25 * work[:, :-2] + 0.5 * work[:, 1:-1] + 0.25 * work[:, 2:]
-    lift = sm - np.median(work, axis=1)[:, None]
+    lift = cond.row_smoothed(work) - np.median(work, axis=1)[:, None]
     height = np.nan_to_num(np.asarray(ext.height if ext.height is not None else np.zeros(work.shape[0]), float))
     out = ext.visible[:, None] & (lift >= RIVAL_SHARE * np.maximum(height, 0.0)[:, None]) & (height > 0)[:, None]
     cols = np.arange(work.shape[1])[None, :]

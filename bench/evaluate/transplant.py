@@ -341,15 +341,21 @@ def _prepared(frame, background, estimate: str, measured):
     of it, and the frame's conditions."""
     if estimate not in ESTIMATES:
         raise ValueError(f"`estimate` must be one of {', '.join(ESTIMATES)}, got {estimate!r}")
+    work, sm = _working(frame, background)
+    measured = cond.measure(frame, background) if measured is None else measured
+    return work, sm, np.argmax(sm, axis=1), measured
+
+
+def _working(frame, background) -> tuple[np.ndarray, np.ndarray]:
+    """``(work, sm)``: the frame less its laser-off frame (float64, H x W, DN; both checked) and that smoothed along
+    each row (:func:`bench.evaluate.conditions.row_smoothed`), what the stripe and its rivals are read on."""
     raw = np.asarray(frame, dtype=np.float64)
     if raw.ndim != 2 or raw.shape[0] < 2 or raw.shape[1] < 8:
         raise ValueError(f"`frame` must be 2-D, at least 2x8, got shape {raw.shape}")
     work = raw if background is None else raw - np.asarray(background, dtype=np.float64)
     if work.shape != raw.shape:
         raise ValueError(f"`background` must have the shape of `frame` {raw.shape}, got {np.shape(background)}")
-    measured = cond.measure(frame, background) if measured is None else measured
-    sm = cond.row_smoothed(work)
-    return work, sm, np.argmax(sm, axis=1), measured
+    return work, cond.row_smoothed(work)
 
 
 def _estimated_guide(sm, med, first, noise: float, estimate: str, measured) -> np.ndarray:
@@ -470,10 +476,8 @@ def rival_mask(frame, background, ext: Extents) -> np.ndarray:
     >>> np.flatnonzero(m[5]).tolist()  # the rival, brighter than the stripe; the stripe's own extent is not one
     [44, 45, 46]
     """
-    work = np.asarray(frame, dtype=np.float64)
-    if background is not None:
-        work = work - np.asarray(background, dtype=np.float64)
-    lift = cond.row_smoothed(work) - np.median(work, axis=1)[:, None]
+    work, sm = _working(frame, background)
+    lift = sm - np.median(work, axis=1)[:, None]
     height = np.nan_to_num(np.asarray(ext.height if ext.height is not None else np.zeros(work.shape[0]), float))
     out = ext.visible[:, None] & (lift >= RIVAL_SHARE * np.maximum(height, 0.0)[:, None]) & (height > 0)[:, None]
     cols = np.arange(work.shape[1])[None, :]
@@ -484,8 +488,9 @@ def rival_mask(frame, background, ext: Extents) -> np.ndarray:
 def shifts_for(ext: Extents, rivals) -> tuple[int, int]:
     """The two moved frames' shifts (px), ``(right, left)`` (both > 0; the second frame moves by ``-left``): in each
     direction the least of ``shift_for(ext)`` .. ``shift_for(ext) + RIVAL_SEARCH_PX`` whose moved extents (with
-    :data:`SIDE_PX` either side) meet ``rivals`` (:func:`rival_mask`, (H, W) bool) in the fewest visible rows; rows
-    moved out of the frame do not count.
+    :data:`SIDE_PX` either side) meet ``rivals`` (:func:`rival_mask`, (H, W) bool) in the fewest visible rows; a row
+    whose moved extent falls wholly outside the frame does not count (one only partly outside, which
+    :func:`transplant` cleans rather than moves, is counted on its part inside: the rule as it was chosen).
 
     Examples
     --------

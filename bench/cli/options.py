@@ -126,10 +126,10 @@ def add_estimate(parser, flag: str = "--estimate") -> None:
     parser.add_argument(flag, default=ESTIMATES[0], choices=ESTIMATES,
                         help="how the transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
                              "or a nearly noiseless frame, else path; on a colour photograph seen in the laser-colour "
-                             "blend, found where the laser's colour is; default), path (the most continuous bright path), argmax (each row's "
-                             "maximum, kept where its neighbours agree); two ablations on a real set: reference (its "
-                             "references: what a perfect stripe estimate would predict) or covered (auto, in the "
-                             "rows its references cover only); docs/predict.md")
+                             "blend, found where the laser's colour is; default), path (the most continuous bright "
+                             "path), argmax (each row's maximum, kept where its neighbours agree); two ablations on a "
+                             "real set: reference (its references: what a perfect stripe estimate would predict) or "
+                             "covered (auto, in the rows its references cover only); docs/predict.md")
 
 
 def plain(text: str) -> str:

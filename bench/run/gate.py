@@ -214,15 +214,11 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
     if not (isinstance(src, str) or (isinstance(src, dict) and isinstance(src.get("procedure"), str))):
         raise InputError(f"{where}: `tolerance_source` must be a string or an object with a `procedure`, "
                          f"got {src!r:.60}")
-    metrics = doc["metrics"]
-    if not isinstance(metrics, dict):
-        raise InputError(f"{where}: `metrics` must be an object, got {metrics!r:.60}")
-    for key, entry in metrics.items():
-        if not isinstance(entry, dict):
-            raise InputError(f"{where}: `metrics.{key}` must be an object of metric values, got {entry!r:.60}")
-        for m, v in entry.items():
-            if not _number_or_none(v):
-                raise InputError(f"{where}: `metrics.{key}.{m}` must be a number or null, got {v!r:.60}")
+    def value(v, name):
+        if not _number_or_none(v):
+            raise InputError(f"{where}: `{name}` must be a number or null, got {v!r:.60}")
+
+    _per_entry(doc["metrics"], "metrics", "metric values", value, where)
     tols = doc.get("tolerances")
     if tols is not None:
         if not isinstance(tols, dict):
@@ -235,24 +231,31 @@ def validate_baseline(doc, where: str = "baseline") -> dict:
                 raise InputError(f"{where}: `tolerances.{m}.direction` must be 'lower' or 'higher', "
                                  f"got {t['direction']!r}")
             _check_bounds(t, f"tolerances.{m}", where)
-    entry_tols = doc.get("entry_tolerances")
-    if entry_tols is not None:  # {entry: {metric: {abs, rel}}}, in the metric's direction
-        if not isinstance(entry_tols, dict):
-            raise InputError(f"{where}: `entry_tolerances` must be an object, got {entry_tols!r:.60}")
-        for key, per in entry_tols.items():
-            if not isinstance(per, dict):
-                raise InputError(f"{where}: `entry_tolerances.{key}` must be an object of metrics, got {per!r:.60}")
-            for m, t in per.items():
-                if not isinstance(t, dict) or set(t) != {"abs", "rel"}:
-                    raise InputError(f"{where}: `entry_tolerances.{key}.{m}` must have exactly `abs` and `rel`, "
-                                     f"got {t!r:.80}")
-                _check_bounds(t, f"entry_tolerances.{key}.{m}", where)
+    def entry_tolerance(t, name):  # {abs, rel}, in the metric's direction
+        if not isinstance(t, dict) or set(t) != {"abs", "rel"}:
+            raise InputError(f"{where}: `{name}` must have exactly `abs` and `rel`, got {t!r:.80}")
+        _check_bounds(t, name, where)
+
+    if doc.get("entry_tolerances") is not None:
+        _per_entry(doc["entry_tolerances"], "entry_tolerances", "metrics", entry_tolerance, where)
     cfg = doc.get("config")
     if not isinstance(cfg, dict):  # without it the comparability check would pass anything
         raise InputError(f"{where}: `config` must be the object of the run it was made from (its comparability "
                          f"is checked), got {cfg!r:.60}; regenerate the baseline with `stripebench check RUN "
                          "--baseline FILE --update`")
     return doc
+
+
+def _per_entry(obj, name: str, what: str, check, where: str) -> None:
+    """``obj``, a baseline's ``{entry: {metric: leaf}}`` (``metrics``, ``entry_tolerances``), checked: objects at both
+    levels (one line naming ``name`` and the entry otherwise), each leaf by ``check(leaf, "name.entry.metric")``."""
+    if not isinstance(obj, dict):
+        raise InputError(f"{where}: `{name}` must be an object, got {obj!r:.60}")
+    for key, per in obj.items():
+        if not isinstance(per, dict):
+            raise InputError(f"{where}: `{name}.{key}` must be an object of {what}, got {per!r:.60}")
+        for m, leaf in per.items():
+            check(leaf, f"{name}.{key}.{m}")
 
 
 def _check_bounds(tol: dict, name: str, where: str) -> None:

@@ -430,7 +430,7 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
         others = {}
         for a in against:
             try:
-                others[f"against {a}"] = gate.load_baseline(a)
+                others[str(a)] = gate.load_baseline(a)
             except (OSError, ValueError) as exc:
                 raise ValueError(f"`--against` {str(a)!r}: {exc}") from None
         real_trackers = REAL_TRACKERS if "real" in gates else ""
@@ -449,13 +449,14 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
         for name, doc in others.items():
             why = gate.renderer_difference(doc, ref)
             if why:
-                print(f"gate_spread: {name} cannot widen the {g} gate: {why}", file=sys.stderr)
+                print(f"gate_spread: against {name} cannot widen the {g} gate: {why}", file=sys.stderr)
                 return 2
-        against_ranges = entry_ranges({REFERENCE: ref, **others}) if others else {}
+        named = {REFERENCE: ref, **{f"against {n}": d for n, d in others.items()}}  # apart from the machines' names
+        against_ranges = entry_ranges(named) if others else {}
         entry_tols = derive_entry_tolerances(against_ranges, tols, safety) if others else {}
         if others:
             pairs = sum(len(v) for v in entry_tols.values())
-            print(f"gate_spread: {g}: against {', '.join(n[len('against '):] for n in others)}: {pairs} (entry, metric) "
+            print(f"gate_spread: {g}: against {', '.join(others)}: {pairs} (entry, metric) "
                   f"pairs in {len(entry_tols)} entries move more than their metric's tolerance allows and get "
                   "their own", file=sys.stderr)
         spread = metric_spread(ranges)
@@ -472,7 +473,7 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
                   "spread": {m: {"max_range": s["max_range"], "entry": s["entry"], "differing": s["differing"]}
                              for m, s in spread.items()}}
         if others:
-            source["against"] = [{"baseline": n[len("against "):], "git_revision": d.get("git_revision", ""),
+            source["against"] = [{"baseline": n, "git_revision": d.get("git_revision", ""),
                                   "renderer": d.get("renderer", ""),
                                   "spread": {m: {"max_range": s["max_range"], "entry": s["entry"],
                                                  "differing": s["differing"]}

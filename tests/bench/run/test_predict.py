@@ -190,7 +190,8 @@ def test_run_predict_with_the_reference_estimate_refuses_photographs_without_ref
     from bench.store.realset import ImageError
 
     iio.imwrite(tmp_path / "a.png", _two_stripes())
-    with pytest.raises(ValueError, match="`estimate` must be one of auto, path, argmax, reference, covered, got 'oracle'"):
+    with pytest.raises(ValueError,
+                       match="`estimate` must be one of auto, path, argmax, reference, covered, got 'oracle'"):
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="oracle")
     with pytest.raises(ImageError, match="--estimate reference needs a real set"):
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="reference")

@@ -197,6 +197,16 @@ def test_run_predict_with_the_reference_estimate_refuses_photographs_without_ref
         pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="reference")
 
 
+def _white_bar_and_green_stripe() -> np.ndarray:
+    """A greenish wall (an excess above 0) with a clipped white bar at columns 34-36 (a window's frame) and a green
+    stripe at column 130, fainter than the bar in the tracker's frame: uint8 (60, 192, 3)."""
+    rng = np.random.default_rng(6)
+    rgb = np.array([30.0, 60.0, 30.0]) + rng.normal(0, 2.0, (60, 192, 3))
+    rgb[:, 34:37, :] = 255.0
+    rgb[..., 1] += 150.0 * np.exp(-0.5 * ((np.arange(192.0) - 130.0) / 1.2) ** 2)
+    return np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+
+
 def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
     """A clipped white bar (a window's frame) is brighter in the tracker's frame than the green stripe: on the colour
     photograph ``auto`` moves the stripe (its guide found on the colour excess, where white has none); on the same
@@ -205,12 +215,7 @@ def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
 
     from bench.evaluate.pixels import select_channel
 
-    rng = np.random.default_rng(6)
-    rgb = np.array([30.0, 60.0, 30.0]) + rng.normal(0, 2.0, (60, 192, 3))  # a greenish wall: an excess above 0
-    rgb[:, 34:37, :] = 255.0
-    x = np.arange(192.0)
-    rgb[..., 1] += 150.0 * np.exp(-0.5 * ((x - 130.0) / 1.2) ** 2)
-    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    rgb = _white_bar_and_green_stripe()
     frame = select_channel(rgb, "auto", "green")
     assert frame[:, 35].mean() > frame[:, 130].mean() + 50  # the bar is the brightest line the trackers see
     for original, column in ((rgb, 130.0), (frame, 35.0)):
@@ -229,11 +234,7 @@ def test_auto_guides_a_plain_channel_photograph_by_its_own_frame():
 
     from bench.evaluate.pixels import select_channel
 
-    rng = np.random.default_rng(6)
-    rgb = np.array([30.0, 60.0, 30.0]) + rng.normal(0, 2.0, (60, 192, 3))
-    rgb[:, 34:37, :] = 255.0
-    rgb[..., 1] += 150.0 * np.exp(-0.5 * ((np.arange(192.0) - 130.0) / 1.2) ** 2)
-    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    rgb = _white_bar_and_green_stripe()
     for channel, column in (("auto", 130.0), ("g", 35.0)):
         photo = pr.Photo("p", Path("p.png"), select_channel(rgb, channel, "green"), None, rgb, "green", channel=channel)
         made = pr.transplant_frames(photo)

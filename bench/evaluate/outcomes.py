@@ -46,8 +46,8 @@ import numpy as np
 
 
 __all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
-           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "REFERENCE_HALF_WIDTH",
-           "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "row_outcomes",
+           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "distant_states",
+           "REFERENCE_HALF_WIDTH", "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
            "COUNT_KEYS", "FIGURE_KEYS", "outcome_record"]
 
@@ -186,6 +186,39 @@ def fallback_states(reference, gap_rows: int = GAP_ROWS) -> np.ndarray:
     out = np.where(has, STRIPE, np.where(dist >= gap_rows, NO_STRIPE, UNSURE))
     return out.astype(np.int8)
 
+
+
+def distant_states(states, truth, gap_rows: int = GAP_ROWS) -> np.ndarray:
+    """``states`` with every :data:`NO_STRIPE` row nearer than ``gap_rows`` rows to a row of ``truth``
+    :data:`UNSURE`: the stripe-less rows a photograph's reference without explicit states scores
+    (:func:`fallback_states`). On a render they leave out the few rows where the stripe jumps at an occlusion,
+    which a photograph's reference leaves unscored (docs/predict.md, "Where the false reports are measured").
+
+    Parameters
+    ----------
+    states : array_like of int, shape (H,) or (F, H)
+        Row states (:data:`STATES`' values).
+    truth : array_like, the shape of ``states``, px
+        The true columns, NaN where there is no stripe.
+    gap_rows : int
+        The least distance, in rows, >= 1.
+
+    Returns
+    -------
+    numpy.ndarray of int8, the shape of ``states``
+
+    Examples
+    --------
+    >>> t = np.full(40, np.nan); t[10:20] = 5.0
+    >>> s = distant_states(truth_states(t), t, gap_rows=15)
+    >>> s[10:20].tolist() == [1] * 10, s[20:34].tolist() == [-1] * 14, s[34:].tolist(), s[:10].tolist() == [-1] * 10
+    (True, True, [0, 0, 0, 0, 0, 0], True)
+    """
+    st = np.asarray(states)
+    if np.shape(truth) != st.shape:
+        raise ValueError(f"`states` and `truth` must have one shape, got {st.shape} and {np.shape(truth)}")
+    near = (st == NO_STRIPE) & (fallback_states(truth, gap_rows) != NO_STRIPE)
+    return np.where(near, UNSURE, st).astype(np.int8)
 
 #: The real set's reference rule (docs/real.md, ``scripts/make_real_set.py``): a row gets a reference only
 #: where the frame's maximum within this many px of the stripe ...

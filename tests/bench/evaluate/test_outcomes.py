@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from bench.evaluate.outcomes import (FALSE, HIT, MISSED, NO_STRIPE, OUTCOMES, QUIET, STRIPE, UNKNOWN, UNSURE, WRONG,
-                                     average_precision, bootstrap_frames, detection_figures, fallback_states,
-                                     outcome_counts, pr_curve, row_outcomes, truth_states)
+                                     average_precision, bootstrap_frames, detection_figures, distant_states,
+                                     fallback_states, outcome_counts, pr_curve, row_outcomes, truth_states)
 
 
 def _frame():
@@ -48,6 +48,20 @@ def test_states_are_checked():
         row_outcomes([1.0], [np.nan], [1])
     with pytest.raises(ValueError, match="must have one shape"):
         row_outcomes([1.0, 2.0], [1.0])
+
+
+def test_distant_states_leave_out_the_stripe_less_rows_near_the_stripe_only():
+    t = np.full(60, np.nan)
+    t[20:30] = 7.0
+    states = truth_states(t)
+    states[25] = UNSURE  # a stripe row the reference rule does not see stays as it is
+    s = distant_states(states, t, gap_rows=15)
+    assert (s[20:25] == STRIPE).all() and s[25] == UNSURE and (s[26:30] == STRIPE).all()
+    assert (s[6:20] == UNSURE).all() and (s[30:44] == UNSURE).all()  # near: not scored
+    assert (s[:6] == NO_STRIPE).all() and (s[44:] == NO_STRIPE).all()  # far: as before
+    assert (distant_states(truth_states(np.full(8, np.nan)), np.full(8, np.nan)) == NO_STRIPE).all()
+    with pytest.raises(ValueError, match="`states` and `truth` must have one shape"):
+        distant_states(states, t[:10])
 
 
 def test_the_fallback_rule_and_the_explicit_third_state():

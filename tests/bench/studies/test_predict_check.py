@@ -27,8 +27,29 @@ def test_every_case_frame_is_measured_and_matched_or_named(checked):
     measured = pd.read_csv(checked / "measured.csv")
     assert sorted(set(measured["experiment"])) == sorted(names)  # every frame scored, matched or not
     # each measured frame's rows: 120, one outcome each
-    sums = measured[[c for c in measured.columns if c.startswith("n_")]].sum(axis=1)
+    sums = measured[[c for c in measured.columns if c.startswith("n_") and not c.endswith("_far")]].sum(axis=1)
     assert (sums == 120).all()
+    # the stripe-less rows a photograph's reference scores are some of them
+    for k in ("n_false", "n_quiet"):
+        assert (measured[f"{k}_far"] <= measured[k]).all()
+
+
+def test_false_reports_are_compared_again_on_the_rows_a_photograph_s_reference_scores(checked):
+    from bench.evaluate.prediction import compare_by_group, per_group_error
+    from bench.studies.predict_check import FAR
+
+    doc = json.loads((checked / "predict_check.json").read_text())
+    predicted, measured = pd.read_csv(checked / "predicted.csv"), pd.read_csv(checked / "measured.csv")
+    groups = {n: c for c, v in doc["cases"].items() for n in v["photographs"]}
+    distant = measured.assign(n_false=measured["n_false_far"], n_quiet=measured["n_quiet_far"])
+    far = compare_by_group(predicted, distant, groups)
+    for c, v in doc["cases"].items():  # the same prediction, against the far rows' measurement
+        assert v[FAR]["n"] == far[c]["false_report_rate"]["n"]
+        assert v[FAR]["mean_abs_diff"] == pytest.approx(far[c]["false_report_rate"]["mean_abs_diff"], nan_ok=True)
+        every = {r["tracker"]: r["synthetic"] for r in v["false_report_rate"]["table"]}
+        assert all(every[r["tracker"]] == pytest.approx(r["synthetic"]) for r in v[FAR]["table"])
+    want = per_group_error(far)["false_report_rate"]
+    assert doc["per_case"][FAR] == pytest.approx(want, nan_ok=True) and FAR in doc["pooled"]
 
 
 def test_predicted_beside_measured_per_case_and_pooled(checked):

@@ -101,7 +101,7 @@ def make_images(src: Path, names=None) -> None:
 
 def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
     """Reference columns (H,) of one frame from its guide (see the module docstring)."""
-    from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH, REFERENCE_MIN_CONTRAST, reference_noise
+    from bench.evaluate.outcomes import REFERENCE_HALF_WIDTH, REFERENCE_MIN_CONTRAST, reference_noise, window_centre
 
     H, W = frame.shape
     f = frame.astype(np.float64)
@@ -129,25 +129,9 @@ def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
             if hi - lo < 3:
                 continue
             win = f[r, lo:hi]
-            base = float(np.median(win))
-            j = int(np.argmax(win))
-            peak = float(win[j]) - base
-            if peak < k * noise:
+            if float(win.max()) - float(np.median(win)) < k * noise:
                 continue
-            if level is None:  # pixels above half the contrast within 3 px of the maximum
-                a, b = max(0, j - 3), min(win.size, j + 4)
-                w = win[a:b] - base
-                w = np.where(w >= 0.5 * peak, w, 0.0)
-            else:  # the run of pixels above `level` x the contrast around the maximum (a wide stripe)
-                above = win - base >= level * peak
-                a = j
-                while a > 0 and above[a - 1]:
-                    a -= 1
-                b = j + 1
-                while b < win.size and above[b]:
-                    b += 1
-                w = win[a:b] - base
-            ref[r] = lo + a + float(np.sum(w * np.arange(w.size)) / np.sum(w))
+            ref[r] = lo + window_centre(win, level)  # the rule's home: bench.evaluate.outcomes
     for e0, e1 in guide.get("exclude", []):
         ref[max(0, e0):e1 + 1] = np.nan
     return ref

@@ -90,7 +90,7 @@ def _predict(args) -> int:
 def predict_check_options(p) -> None:
     """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
     from bench.config import PROFILES
-    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS
+    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, TRUTHS
 
     add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
     p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
@@ -117,6 +117,10 @@ def predict_check_options(p) -> None:
     p.add_argument("--distractor", default=DEFAULTS["distractor"], choices=DISTRACTORS,
                    help="what each case frame carries besides its render: none (default) or white-bar (a vertical "
                         "white line beside the stripe, a window's frame or a lamp's stem, added to the photograph)")
+    p.add_argument("--truth", default=DEFAULTS["truth"], choices=TRUTHS,
+                   help="what the measured side scores against: render (the render's truth, the laser sheet's "
+                        "centre; default) or reference (the columns a photograph's reference would give: the "
+                        "intensity centre near it)")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)

@@ -47,7 +47,8 @@ import numpy as np
 
 __all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
            "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "distant_states",
-           "REFERENCE_HALF_WIDTH", "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "row_outcomes",
+           "REFERENCE_HALF_WIDTH", "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "window_centre",
+           "referenced_columns", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
            "COUNT_KEYS", "FIGURE_KEYS", "outcome_record"]
 
@@ -306,6 +307,82 @@ def referenced_states(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
             out[r] = UNSURE
     return out
 
+
+def window_centre(win, level: float | None = None) -> float:
+    """The real set's reference centre within one row's window (px from the window's first pixel; docs/real.md).
+
+    ``win`` holds the frame's pixels within the reference window of the guide; its maximum's excess over the
+    window's median is the *contrast*. The centre is the contrast-weighted centroid of the pixels at least half
+    that contrast up within 3 px of the maximum, or, with ``level``, of the run of pixels at least ``level`` x the
+    contrast up around the maximum (the middle of a wide saturated plateau). The caller has checked the contrast
+    (:data:`REFERENCE_MIN_CONTRAST`); this rule's one home (``scripts/make_real_set.py``, :func:`referenced_columns`).
+
+    Examples
+    --------
+    >>> window_centre(np.array([0.0, 0.0, 2.0, 4.0, 2.0, 0.0, 0.0]))
+    3.0
+    >>> window_centre(np.array([0.0, 9.0, 10.0, 10.0, 10.0, 9.0, 0.0]), level=0.95)  # the plateau's middle
+    3.0
+    """
+    win = np.asarray(win, dtype=np.float64)
+    base = float(np.median(win))
+    j = int(np.argmax(win))
+    peak = float(win[j]) - base
+    if level is None:  # pixels above half the contrast within 3 px of the maximum
+        a, b = max(0, j - 3), min(win.size, j + 4)
+        w = win[a:b] - base
+        w = np.where(w >= 0.5 * peak, w, 0.0)
+    else:  # the run of pixels above `level` x the contrast around the maximum (a wide stripe)
+        above = win - base >= level * peak
+        a = j
+        while a > 0 and above[a - 1]:
+            a -= 1
+        b = j + 1
+        while b < win.size and above[b]:
+            b += 1
+        w = win[a:b] - base
+    return a + float(np.sum(w * np.arange(w.size)) / np.sum(w))
+
+
+def referenced_columns(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
+                       min_contrast: float = REFERENCE_MIN_CONTRAST) -> np.ndarray:
+    """Exact truth's columns as the real set's references would give them: in each row that
+    :func:`referenced_states` calls :data:`STRIPE`, the reference centre (:func:`window_centre`) of the window of
+    ``half_width`` px about the true column; NaN in every other row. A photograph's reference is an intensity
+    centre, and a tracker is scored against it; scoring a render against these columns scores it as a photograph
+    is, where the stripe's intensity centre and the laser sheet's true centre part (a clipped stripe on a slanted
+    surface; docs/predict.md, "The renders' truth and a photograph's reference").
+
+    Parameters
+    ----------
+    frame : array_like, shape (H, W)
+        The tracker's frame (DN).
+    truth : array_like, shape (H,), px
+        The true columns, NaN where there is no stripe.
+    half_width, min_contrast
+        As :func:`referenced_states`'.
+
+    Returns
+    -------
+    numpy.ndarray, shape (H,), px
+
+    Examples
+    --------
+    >>> img = np.zeros((3, 20)); img[:, 9:12] = [2.0, 4.0, 2.0]   # a stripe centred on column 10
+    >>> img[2] = 0.0                                            # no stripe in the last row
+    >>> referenced_columns(img, [10.0, 12.0, 10.0], min_contrast=3.0).tolist()   # the truth 2 px off in row 1
+    [10.0, 10.0, nan]
+    """
+    f = np.asarray(frame, dtype=np.float64)
+    t = np.asarray(truth, dtype=np.float64)
+    states = referenced_states(f, t, half_width=half_width, min_contrast=min_contrast)
+    out = np.full(t.shape, np.nan)
+    W = f.shape[1]
+    for r in np.flatnonzero(states == STRIPE):
+        c = int(round(float(t[r])))
+        lo = max(0, c - half_width)
+        out[r] = lo + window_centre(f[r, lo:min(W, c + half_width + 1)])
+    return out
 
 def _states(truth, state) -> np.ndarray:
     if state is None:

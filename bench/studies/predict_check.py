@@ -34,19 +34,25 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
            "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
            "objective", "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
             "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
-            "distractor": "none"}
+            "distractor": "none", "truth": "render"}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
 #: as a rig whose software reads one channel does.
 CASE_CHANNELS = ("auto", "laser")
+
+#: What the measured side scores the case frames against (``--truth``): ``render``, the render's own truth (the laser
+#: sheet's centre), or ``reference``, the columns a photograph's reference would give it
+#: (:func:`bench.evaluate.outcomes.referenced_columns`: the intensity centre near the true column), as a photograph
+#: is scored (docs/predict.md, "The renders' truth and a photograph's reference"). The row states are the same.
+TRUTHS = ("render", "reference")
 
 #: What a case frame may carry besides its render (``--distractor``): ``none``, or ``white-bar``: a vertical white line
 #: beside the stripe in every row (a window's frame, a lamp's stem: bright in every channel, of no colour), added to
@@ -184,7 +190,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
           laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"],
-          distractor=DEFAULTS["distractor"], trackers=None, quiet: bool = False) -> int:
+          distractor=DEFAULTS["distractor"], truth=DEFAULTS["truth"], trackers=None, quiet: bool = False) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -217,6 +223,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         What the trackers see of a colour case (:data:`CASE_CHANNELS`): ``auto`` or ``laser``.
     distractor : str
         What each case frame carries besides its render (:data:`DISTRACTORS`): ``none`` or ``white-bar``.
+    truth : str
+        What the measured side scores against (:data:`TRUTHS`): ``render`` (the render's truth) or ``reference``
+        (the columns a photograph's reference would give). The prediction is the same either way.
     trackers : sequence of :class:`bench.config.TrackerSpec`, optional
         Default: the profile's trackers.
     quiet : bool
@@ -231,13 +240,15 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
-    from bench.evaluate.outcomes import UNKNOWN, distant_states, outcome_counts, referenced_states
+    from bench.evaluate.outcomes import UNKNOWN, distant_states, outcome_counts, referenced_columns, referenced_states
     from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
     from bench.run.track import build_trackers
     from bench.store.files import atomic_write_text
 
+    if truth not in TRUTHS:
+        raise ValueError(f"`truth` must be one of {', '.join(TRUTHS)}, got {truth!r}")
     say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     config = load_profile(profile)
     g = replace(pr.SMALL_GRID if grid == "small" else pr.DEFAULT_GRID, width=int(size), height=int(size) * 15 // 16)
@@ -258,7 +269,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             key = (colour, laser)
             states = referenced_states(img, case.truth_columns)
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
-            for lab, codes in pr.score_frame(tr, img, case.truth_columns, states=states).items():
+            scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
+            for lab, codes in pr.score_frame(tr, img, scored, states=states).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes),
                                   "n_false_far": far["n_false"], "n_quiet_far": far["n_quiet"]})
@@ -314,7 +326,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     far_pooled = compare_by_group(predicted, distant, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
-           "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor,
+           "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor, "truth": truth,
            "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc,
            "cases": {k: {**comparison_doc(v), FAR: comparison_doc(far[k])["false_report_rate"]}
@@ -346,7 +358,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
 def family_of(doc: dict) -> str:
     """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale``, ``--line-fwhm``
-    ``--laser-power`` and ``--channel`` (docs/predict.md: the phone-like family is ``downscale 4, line 1.2 mrad``).
+    ``--laser-power``, ``--channel``, ``--distractor`` and ``--truth`` (docs/predict.md: the phone-like family is
+    ``downscale 4, line 1.2 mrad``).
 
     Examples
     --------
@@ -356,14 +369,16 @@ def family_of(doc: dict) -> str:
     'downscale 1, line 20 mrad, 100 mW'
     >>> family_of({"downscale": 1, "line_fwhm_mrad": None, "channel": "laser"})
     'downscale 1, channel laser'
+    >>> family_of({"downscale": 4, "line_fwhm_mrad": 1.2, "truth": "reference"})
+    'downscale 4, line 1.2 mrad, truth reference'
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
-    ch, dis = doc.get("channel", "auto"), doc.get("distractor", "none")
-    if d == 1 and lw is None and mw is None and ch == "auto" and dis == "none":
+    ch, dis, tr = doc.get("channel", "auto"), doc.get("distractor", "none"), doc.get("truth", "render")
+    if d == 1 and lw is None and mw is None and ch == "auto" and dis == "none" and tr == "render":
         return "native"
     return (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
             + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
-            + ("" if dis == "none" else f", {dis}"))
+            + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
 
 
 def objective(docs: dict) -> dict:
@@ -433,9 +448,10 @@ def score(*, runs) -> int:
     except ValueError as exc:
         print(f"stripebench predictscore: {exc}", file=sys.stderr)
         return 2
-    print(f"{'run':<44}{'family':<28}{'seed':>5}{'per case':>10}{'hit / F1':>16}{'false':>8}{'far':>8}{'pooled':>9}")
+    fw = max(28, 2 + max(len(r["family"]) for r in o["runs"].values()))
+    print(f"{'run':<44}{'family':<{fw}}{'seed':>5}{'per case':>10}{'hit / F1':>16}{'false':>8}{'far':>8}{'pooled':>9}")
     for name, r in o["runs"].items():
-        print(f"{name[-43:]:<44}{r['family']:<28}{str(r['seed']):>5}{r['per_case']:>10.4f}"
+        print(f"{name[-43:]:<44}{r['family']:<{fw}}{str(r['seed']):>5}{r['per_case']:>10.4f}"
               f"{r['per_case_hit_rate']:>8.4f} {r['per_case_f1']:.4f}{r['false_report_per_case']:>8.4f}"
               f"{r['false_report_far_per_case']:>8.4f}{r['pooled']:>9.4f}")
     fam = ", ".join(f"{f} {v:.5f}" for f, v in o["families"].items())

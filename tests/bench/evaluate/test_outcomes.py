@@ -7,7 +7,8 @@ import pytest
 
 from bench.evaluate.outcomes import (FALSE, HIT, MISSED, NO_STRIPE, OUTCOMES, QUIET, STRIPE, UNKNOWN, UNSURE, WRONG,
                                      average_precision, bootstrap_frames, detection_figures, distant_states,
-                                     fallback_states, outcome_counts, pr_curve, row_outcomes, truth_states)
+                                     fallback_states, outcome_counts, pr_curve, referenced_columns, referenced_states,
+                                     row_outcomes, truth_states, window_centre)
 
 
 def _frame():
@@ -228,3 +229,17 @@ def test_referenced_states_refuse_bad_input(kwargs, msg):
     with pytest.raises(ValueError) as exc:
         referenced_states(**kwargs)
     assert msg in str(exc.value)
+
+
+def test_referenced_columns_are_the_intensity_centre_where_the_reference_rule_sees_the_stripe():
+    rng = np.random.default_rng(3)
+    img = rng.normal(20.0, 1.0, (5, 40))
+    x = np.arange(40)
+    for r, c in enumerate((10.0, 14.3, 20.0, 25.6, 30.0)):
+        img[r] += 60.0 * np.exp(-0.5 * ((x - c) / 1.2) ** 2)
+    img[4] = rng.normal(20.0, 1.0, 40)  # no stripe to be seen in the last row
+    truth = np.array([12.0, 14.3, 17.0, 25.6, 30.0])  # 2 and 3 px off in rows 0 and 2
+    cols = referenced_columns(img, truth)
+    assert np.allclose(cols[:4], [10.0, 14.3, 20.0, 25.6], atol=0.3)  # the stripe's centre, not the truth's
+    assert np.isnan(cols[4]) and referenced_states(img, truth)[4] == UNSURE
+    assert window_centre(np.array([0.0, 1.0, 9.0, 10.0, 10.0, 9.0, 1.0]), level=0.8) == pytest.approx(3.5)

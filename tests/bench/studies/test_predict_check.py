@@ -196,3 +196,37 @@ def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tm
     assert main(["predictscore", str(tmp_path)]) == 2  # not a run: one line
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and "is not a finished predictcheck run" in lines[0]
+
+
+def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_reference_columns(tmp_path):
+    """``--truth reference``: the measured side is scored against the columns a photograph's reference would give
+    (:func:`bench.evaluate.outcomes.referenced_columns`), with the same row states; the prediction is unchanged."""
+    from bench.config import parse_trackers_arg
+    from bench.config import profile as load_profile
+    from bench.evaluate.outcomes import outcome_counts, referenced_columns, referenced_states
+    from bench.run import predict as pr
+    from bench.run.track import build_trackers
+    from bench.studies.predict_check import case_frames, family_of, study
+
+    runs = {}
+    for truth in ("render", "reference"):
+        out = tmp_path / truth
+        assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                     "threshold", "--truth", truth, "--quiet"]) == 0
+        runs[truth] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
+                       pd.read_csv(out / "predicted.csv"))
+    doc, measured, predicted = runs["reference"]
+    assert doc["truth"] == "reference" and family_of(doc) == "downscale 1, truth reference"
+    pd.testing.assert_frame_equal(predicted, runs["render"][2])  # the prediction does not depend on it
+    config = load_profile("quick")
+    tr = build_trackers(parse_trackers_arg("threshold"))
+    name, case, _ = next(iter(case_frames(config.experiments[0], config, seed=1, width=128, height=120,
+                                          n_angles=pr.N_ANGLES)))
+    states = referenced_states(case.image, case.truth_columns)
+    cols = referenced_columns(case.image, case.truth_columns)
+    assert np.array_equal(np.isfinite(cols), states == 1)  # a column exactly where the rule sees the stripe
+    want = outcome_counts(pr.score_frame(tr, case.image, cols, states=states)["threshold"])
+    got = measured[(measured["experiment"] == name) & (measured["tracker"] == "threshold")].iloc[0]
+    assert {k: int(got[k]) for k in want} == want
+    with pytest.raises(ValueError, match="`truth` must be one of render, reference"):
+        study(out=tmp_path / "bad", truth="photo")

@@ -129,6 +129,9 @@ def predict_check_options(p) -> None:
 def predict_score_options(p) -> None:
     """The options of ``stripebench predictscore`` (:func:`bench.studies.predict_check.score`)."""
     p.add_argument("runs", type=Path, nargs="+", metavar="RUN", help="finished predictcheck output folders")
+    p.add_argument("--against", type=Path, nargs="+", metavar="RUN", default=None,
+                   help="runs of another version of the procedure, one of each RUN's family and seed: print each "
+                        "family's paired difference, its mean and its spread over the seeds")
 
 
 COMMANDS = (

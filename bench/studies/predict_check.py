@@ -36,7 +36,7 @@ import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
            "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
-           "objective", "score"]
+           "objective", "paired", "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -430,21 +430,75 @@ def objective(docs: dict) -> dict:
             "families": {f: float(np.mean(v)) for f, v in families.items()}}
 
 
-def score(*, runs) -> int:
-    """``stripebench predictscore RUN [RUN ...]``: :func:`objective` over finished ``predictcheck`` runs, printed
-    (the numbers docs/predict.md decides the prediction's procedure by). 0, or 2 with one line on stderr for a
-    folder that is not a finished run."""
+def paired(docs: dict, against: dict) -> dict:
+    """Each run of ``docs`` beside the run of ``against`` of its family and seed (name -> ``predict_check.json``):
+    the differences (this minus that) of :func:`objective`'s per-run figures, per pair, and per family their mean,
+    least and greatest over the seeds, so that a choice between two versions of the procedure sees how far its
+    difference moves from seed to seed (docs/predict.md, "Paired differences").
+
+    Raises
+    ------
+    ValueError
+        A run with no partner of its family and seed in the other set, or two runs of one family and seed in one set.
+
+    Examples
+    --------
+    >>> case = lambda h: {"hit_rate": {"mean_abs_diff": h}, "f1": {"mean_abs_diff": h},
+    ...                   "false_report_rate": {"mean_abs_diff": 0.1}}
+    >>> doc = lambda seed, h: {"downscale": 1, "line_fwhm_mrad": None, "seed": seed, "cases": {"a": case(h)},
+    ...                        "pooled": case(h)}
+    >>> p = paired({"n1": doc(1, 0.03), "n2": doc(2, 0.05)}, {"o1": doc(1, 0.02), "o2": doc(2, 0.02)})
+    >>> [round(v, 3) for v in p["families"]["native"]["per_case"]], round(p["per_case"], 3)
+    ([0.02, 0.01, 0.03], 0.02)
+    """
+    def keyed(group, which):
+        out = {}
+        for name, r in objective(group)["runs"].items():
+            k = (r["family"], r["seed"])
+            if k in out:
+                raise ValueError(f"{which}: two runs of family {k[0]!r} and seed {k[1]}: {out[k][0]} and {name}")
+            out[k] = (name, r)
+        return out
+
+    mine, theirs = keyed(docs, "the runs"), keyed(against, "--against")
+    if set(mine) != set(theirs):
+        k = sorted(set(mine) ^ set(theirs), key=str)[0]
+        where = "--against has" if k in mine else "the RUNs have"
+        raise ValueError(f"{where} no run of family {k[0]!r} and seed {k[1]} to pair with")
+    keys = ("per_case", "false_report_per_case", "false_report_far_per_case")
+    pairs = {k: {f: mine[k][1][f] - theirs[k][1][f] for f in keys} | {"runs": (mine[k][0], theirs[k][0])}
+             for k in sorted(mine, key=str)}
+    def spread(vals):  # mean, least, greatest of the finite ones (a run without the figure: NaN)
+        v = [x for x in vals if np.isfinite(x)]
+        return (float(np.mean(v)), float(min(v)), float(max(v))) if v else (float("nan"),) * 3
+
+    families: dict = {}
+    for (fam, _), d in pairs.items():
+        families.setdefault(fam, []).append(d)
+    fam_out = {fam: {f: spread([d[f] for d in ds]) for f in keys} | {"n": len(ds)} for fam, ds in families.items()}
+    return {"pairs": pairs, "families": fam_out, **{f: spread([d[f] for d in pairs.values()])[0] for f in keys}}
+
+
+def _read_runs(runs) -> dict:
     docs = {}
     for run in runs:
         path = Path(run) / "predict_check.json"
         try:
             docs[str(run)] = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError) as exc:
-            print(f"stripebench predictscore: {str(run)!r} is not a finished predictcheck run ({type(exc).__name__}: "
-                  f"{exc})", file=sys.stderr)
-            return 2
+            raise ValueError(f"{str(run)!r} is not a finished predictcheck run ({type(exc).__name__}: {exc})") from None
+    return docs
+
+
+def score(*, runs, against=None) -> int:
+    """``stripebench predictscore RUN [RUN ...] [--against RUN ...]``: :func:`objective` over finished
+    ``predictcheck`` runs, printed (the numbers docs/predict.md decides the prediction's procedure by); with
+    ``against``, each run's difference from its partner of the same family and seed (:func:`paired`). 0, or 2
+    with one line on stderr for a folder that is not a finished run or a run without a partner."""
     try:
+        docs = _read_runs(runs)
         o = objective(docs)
+        pair = paired(docs, _read_runs(against)) if against else None
     except ValueError as exc:
         print(f"stripebench predictscore: {exc}", file=sys.stderr)
         return 2
@@ -460,4 +514,14 @@ def score(*, runs) -> int:
           f"pooled score {o['pooled']:.4f} ({len(o['runs'])} runs)")
     print(f"mean |predicted - measured| per case: hit rate {o['per_case_hit_rate']:.4f}, F1 {o['per_case_f1']:.4f}; "
           f"pooled: hit rate {o['pooled_hit_rate']:.4f}, F1 {o['pooled_f1']:.4f}")
+    if pair is not None:
+        print(f"paired with --against (these minus those, per family: mean [least, greatest] over "
+              f"{len(pair['pairs'])} pairs):")
+        print(f"{'family':<{fw}}{'pairs':>6}{'per case':>30}{'false-report |diff|':>30}{'far':>30}")
+        for fam, d in pair["families"].items():
+            cells = "".join(f"{d[k][0]:>+12.5f} [{d[k][1]:+.5f}, {d[k][2]:+.5f}]".rjust(30)
+                            for k in ("per_case", "false_report_per_case", "false_report_far_per_case"))
+            print(f"{fam:<{fw}}{d['n']:>6}{cells}")
+        print(f"per-case score {pair['per_case']:+.5f}; false-report |diff| per case {pair['false_report_per_case']:+.5f} "
+              f"(far {pair['false_report_far_per_case']:+.5f})")
     return 0

@@ -230,3 +230,33 @@ def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_ref
     assert {k: int(got[k]) for k in want} == want
     with pytest.raises(ValueError, match="`truth` must be one of render, reference"):
         study(out=tmp_path / "bad", truth="photo")
+
+
+def test_predictscore_against_prints_each_family_s_paired_difference(checked, tmp_path, capsys):
+    """``--against``: each run beside the other version's run of its family and seed; a copy whose cases are all
+    0.01 further off differs by exactly that, and a run without a partner is one line and status 2."""
+    from bench.studies.predict_check import objective, paired
+
+    doc = json.loads((checked / "predict_check.json").read_text())
+    worse = json.loads(json.dumps(doc))
+    for case in worse["cases"].values():
+        for k in ("hit_rate", "f1"):
+            case[k]["mean_abs_diff"] += 0.01
+    other = tmp_path / "worse"
+    other.mkdir()
+    (other / "predict_check.json").write_text(json.dumps(worse))
+    p = paired({"worse": worse}, {"base": doc})
+    assert p["per_case"] == pytest.approx(0.01) and p["families"]["native"]["n"] == 1
+    assert p["per_case"] == pytest.approx(objective({"w": worse})["per_case"] - objective({"b": doc})["per_case"])
+    capsys.readouterr()
+    assert main(["predictscore", str(other), "--against", str(checked)]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    assert out[-1].startswith("per-case score +0.01000;") and "paired with --against" in out[-4]
+    seed2 = dict(doc, seed=2)
+    (tmp_path / "s2").mkdir()
+    (tmp_path / "s2" / "predict_check.json").write_text(json.dumps(seed2))
+    assert main(["predictscore", str(tmp_path / "s2"), "--against", str(checked)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "the RUNs have no run of family 'native' and seed 1 to pair with" in err[0]
+    assert main(["predictscore", str(checked), "--against", str(tmp_path / "s2")]) == 2
+    assert "--against has no run of family 'native' and seed 1" in capsys.readouterr().err

@@ -188,7 +188,6 @@ def fallback_states(reference, gap_rows: int = GAP_ROWS) -> np.ndarray:
     return out.astype(np.int8)
 
 
-
 def distant_states(states, truth, gap_rows: int = GAP_ROWS) -> np.ndarray:
     """``states`` with every :data:`NO_STRIPE` row nearer than ``gap_rows`` rows to a row of ``truth``
     :data:`UNSURE`: the stripe-less rows a photograph's reference without explicit states scores
@@ -202,15 +201,15 @@ def distant_states(states, truth, gap_rows: int = GAP_ROWS) -> np.ndarray:
     truth : array_like, the shape of ``states``, px
         The true columns, NaN where there is no stripe.
     gap_rows : int
-        The least distance, in rows, >= 1.
+        As :func:`fallback_states`'.
 
     Returns
     -------
-    numpy.ndarray of int8, the shape of ``states``
+    numpy.ndarray of int8, the shape of ``states``: :data:`UNSURE` in the near stripe-less rows, else ``states``
 
     Examples
     --------
-    >>> t = np.full(40, np.nan); t[10:20] = 5.0
+    >>> t = np.where((np.arange(40) >= 10) & (np.arange(40) < 20), 5.0, np.nan)
     >>> s = distant_states(truth_states(t), t, gap_rows=15)
     >>> s[10:20].tolist() == [1] * 10, s[20:34].tolist() == [-1] * 14, s[34:].tolist(), s[:10].tolist() == [-1] * 10
     (True, True, [0, 0, 0, 0, 0, 0], True)
@@ -355,12 +354,8 @@ def referenced_columns(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
 
     Parameters
     ----------
-    frame : array_like, shape (H, W)
-        The tracker's frame (DN).
-    truth : array_like, shape (H,), px
-        The true columns, NaN where there is no stripe.
-    half_width, min_contrast
-        As :func:`referenced_states`'.
+    frame, truth, half_width, min_contrast
+        As :func:`referenced_states`': the tracker's frame (H, W) in DN, the true columns (H,) in px.
 
     Returns
     -------

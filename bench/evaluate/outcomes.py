@@ -220,6 +220,7 @@ def distant_states(states, truth, gap_rows: int = GAP_ROWS) -> np.ndarray:
     near = (st == NO_STRIPE) & (fallback_states(truth, gap_rows) != NO_STRIPE)
     return np.where(near, UNSURE, st).astype(np.int8)
 
+
 #: The real set's reference rule (docs/real.md, ``scripts/make_real_set.py``): a row gets a reference only
 #: where the frame's maximum within this many px of the stripe ...
 REFERENCE_HALF_WIDTH = 6
@@ -378,6 +379,7 @@ def referenced_columns(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
         lo = max(0, c - half_width)
         out[r] = lo + window_centre(f[r, lo:min(W, c + half_width + 1)])
     return out
+
 
 def _states(truth, state) -> np.ndarray:
     if state is None:

@@ -460,7 +460,7 @@ def paired(docs: dict, against: dict) -> dict:
             out[k] = (name, r)
         return out
 
-    mine, theirs = keyed(docs, "the runs"), keyed(against, "--against")
+    mine, theirs = keyed(docs, "the RUNs"), keyed(against, "--against")
     if set(mine) != set(theirs):
         k = sorted(set(mine) ^ set(theirs), key=str)[0]
         where = "--against has" if k in mine else "the RUNs have"
@@ -468,6 +468,7 @@ def paired(docs: dict, against: dict) -> dict:
     keys = ("per_case", "false_report_per_case", "false_report_far_per_case")
     pairs = {k: {f: mine[k][1][f] - theirs[k][1][f] for f in keys} | {"runs": (mine[k][0], theirs[k][0])}
              for k in sorted(mine, key=str)}
+
     def spread(vals):  # mean, least, greatest of the finite ones (a run without the figure: NaN)
         v = [x for x in vals if np.isfinite(x)]
         return (float(np.mean(v)), float(min(v)), float(max(v))) if v else (float("nan"),) * 3

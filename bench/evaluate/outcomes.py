@@ -285,6 +285,18 @@ def referenced_states(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
     >>> referenced_states(img, [20.0, 20.0, 20.0, np.nan]).tolist()
     [1, -1, -1, 0]
     """
+    seen = np.zeros(np.shape(truth), bool)
+    seen[[r for r, _, _ in _reference_windows(frame, truth, half_width, min_contrast)]] = True
+    out = truth_states(truth)
+    out[(out == STRIPE) & ~seen] = UNSURE
+    return out
+
+
+def _reference_windows(frame, truth, half_width: int, min_contrast: float) -> list:
+    """``[(row, lo, window pixels), ...]``: the rows whose true column the real set's reference rule sees (the window
+    of ``half_width`` px about it, at least 3 px, whose maximum stands ``min_contrast`` x :func:`reference_noise`
+    over its median), each with its window's first column; the one pass :func:`referenced_states` and
+    :func:`referenced_columns` read (arguments checked here)."""
     f = np.asarray(frame, dtype=np.float64)
     t = np.asarray(truth, dtype=np.float64)
     if f.ndim != 2 or t.shape != (f.shape[0],):
@@ -293,19 +305,18 @@ def referenced_states(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
         raise ValueError(f"`half_width` must be an integer >= 1, got {half_width!r}")
     if not (isinstance(min_contrast, (int, float, np.floating)) and min_contrast > 0):
         raise ValueError(f"`min_contrast` must be a number > 0, got {min_contrast!r}")
-    H, W = f.shape
+    W = f.shape[1]
     level = float(min_contrast) * reference_noise(f)
-    out = truth_states(t)
-    for r in np.flatnonzero(out == STRIPE):
+    seen = []
+    for r in np.flatnonzero(np.isfinite(t)):
         c = int(round(float(t[r])))
         lo, hi = max(0, c - half_width), min(W, c + half_width + 1)
         if hi - lo < 3:
-            out[r] = UNSURE
             continue
         win = f[r, lo:hi]
-        if float(win.max()) - float(np.median(win)) < level:
-            out[r] = UNSURE
-    return out
+        if float(win.max()) - float(np.median(win)) >= level:
+            seen.append((int(r), lo, win))
+    return seen
 
 
 def window_centre(win, level: float | None = None) -> float:
@@ -369,15 +380,9 @@ def referenced_columns(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
     >>> referenced_columns(img, [10.0, 12.0, 10.0], min_contrast=3.0).tolist()   # the truth 2 px off in row 1
     [10.0, 10.0, nan]
     """
-    f = np.asarray(frame, dtype=np.float64)
-    t = np.asarray(truth, dtype=np.float64)
-    states = referenced_states(f, t, half_width=half_width, min_contrast=min_contrast)
-    out = np.full(t.shape, np.nan)
-    W = f.shape[1]
-    for r in np.flatnonzero(states == STRIPE):
-        c = int(round(float(t[r])))
-        lo = max(0, c - half_width)
-        out[r] = lo + window_centre(f[r, lo:min(W, c + half_width + 1)])
+    out = np.full(np.shape(truth), np.nan)
+    for r, lo, win in _reference_windows(frame, truth, half_width, min_contrast):
+        out[r] = lo + window_centre(win)
     return out
 
 

@@ -415,7 +415,8 @@ def objective(docs: dict) -> dict:
                       else float("nan"),
                       "pooled": 0.5 * (pooled["hit_rate"]["mean_abs_diff"] + pooled["f1"]["mean_abs_diff"]),
                       "pooled_hit_rate": pooled["hit_rate"]["mean_abs_diff"],
-                      "pooled_f1": pooled["f1"]["mean_abs_diff"]}
+                      "pooled_f1": pooled["f1"]["mean_abs_diff"],
+                      "pooled_false_report": pooled["false_report_rate"]["mean_abs_diff"]}
 
     def mean(k):  # over the runs that have the figure (no false-report rows: NaN)
         vals = [r[k] for r in runs.values() if np.isfinite(r[k])]
@@ -425,7 +426,7 @@ def objective(docs: dict) -> dict:
     for r in runs.values():
         families.setdefault(r["family"], []).append(r["per_case"])
     keys = ("per_case", "per_case_hit_rate", "per_case_f1", "false_report_per_case", "false_report_far_per_case",
-            "pooled", "pooled_hit_rate", "pooled_f1")
+            "pooled", "pooled_hit_rate", "pooled_f1", "pooled_false_report")
     return {"runs": runs, **{k: mean(k) for k in keys},
             "families": {f: float(np.mean(v)) for f, v in families.items()}}
 
@@ -465,7 +466,7 @@ def paired(docs: dict, against: dict) -> dict:
         k = sorted(set(mine) ^ set(theirs), key=str)[0]
         where = "--against has" if k in mine else "the RUNs have"
         raise ValueError(f"{where} no run of family {k[0]!r} and seed {k[1]} to pair with")
-    keys = ("per_case", "false_report_per_case", "false_report_far_per_case")
+    keys = ("per_case", "false_report_per_case", "false_report_far_per_case", "pooled", "pooled_false_report")
     pairs = {k: {f: mine[k][1][f] - theirs[k][1][f] for f in keys} | {"runs": (mine[k][0], theirs[k][0])}
              for k in sorted(mine, key=str)}
 
@@ -518,11 +519,14 @@ def score(*, runs, against=None) -> int:
     if pair is not None:
         print(f"paired with --against (these minus those, per family: mean [least, greatest] over "
               f"{len(pair['pairs'])} pairs):")
-        print(f"{'family':<{fw}}{'pairs':>6}{'per case':>30}{'false-report |diff|':>30}{'far':>30}")
+        print(f"{'family':<{fw}}{'pairs':>6}{'per case':>30}{'false-report |diff|':>30}{'far':>30}{'pooled':>30}"
+              f"{'pooled false-report':>30}")
         for fam, d in pair["families"].items():
             cells = "".join(f"{d[k][0]:>+12.5f} [{d[k][1]:+.5f}, {d[k][2]:+.5f}]".rjust(30)
-                            for k in ("per_case", "false_report_per_case", "false_report_far_per_case"))
+                            for k in ("per_case", "false_report_per_case", "false_report_far_per_case", "pooled",
+                                      "pooled_false_report"))
             print(f"{fam:<{fw}}{d['n']:>6}{cells}")
         print(f"per-case score {pair['per_case']:+.5f}; false-report |diff| per case {pair['false_report_per_case']:+.5f} "
-              f"(far {pair['false_report_far_per_case']:+.5f})")
+              f"(far {pair['false_report_far_per_case']:+.5f}); pooled score {pair['pooled']:+.5f}, pooled "
+              f"false-report |diff| {pair['pooled_false_report']:+.5f}")
     return 0

@@ -242,16 +242,19 @@ def test_predictscore_against_prints_each_family_s_paired_difference(checked, tm
     for case in worse["cases"].values():
         for k in ("hit_rate", "f1"):
             case[k]["mean_abs_diff"] += 0.01
+    worse["pooled"]["hit_rate"]["mean_abs_diff"] += 0.02  # the pooled score is the mean of hit rate's and F1's
     other = tmp_path / "worse"
     other.mkdir()
     (other / "predict_check.json").write_text(json.dumps(worse))
     p = paired({"worse": worse}, {"base": doc})
     assert p["per_case"] == pytest.approx(0.01) and p["families"]["native"]["n"] == 1
     assert p["per_case"] == pytest.approx(objective({"w": worse})["per_case"] - objective({"b": doc})["per_case"])
+    assert p["pooled"] == pytest.approx(0.01)
     capsys.readouterr()
     assert main(["predictscore", str(other), "--against", str(checked)]) == 0
     out = capsys.readouterr().out.strip().splitlines()
     assert out[-1].startswith("per-case score +0.01000;") and "paired with --against" in out[-4]
+    assert "pooled score +0.01000" in out[-1]
     seed2 = dict(doc, seed=2)
     (tmp_path / "s2").mkdir()
     (tmp_path / "s2" / "predict_check.json").write_text(json.dumps(seed2))

@@ -475,7 +475,7 @@ def detection_figures(counts) -> dict[str, float]:
     ----------
     counts : dict or array_like
         :func:`outcome_counts` (a dict with the ``n_*`` keys, or the 6 counts in
-        :data:`OUTCOMES` order); weighted counts (non-negative reals) are figures of a weighted pool.
+        :data:`OUTCOMES` order).
 
     Examples
     --------
@@ -484,9 +484,9 @@ def detection_figures(counts) -> dict[str, float]:
     (0.7272727272727273, 0.8, 0.7619, 0.2)
     """
     if isinstance(counts, dict):
-        h, w, m, f, q = (float(counts.get(k, 0)) for k in COUNT_KEYS[:5])
+        h, w, m, f, q = (int(counts.get(k, 0)) for k in COUNT_KEYS[:5])
     else:
-        h, w, m, f, q = (float(v) for v in np.asarray(counts)[:5])
+        h, w, m, f, q = (int(v) for v in np.asarray(counts)[:5])
     return {"precision": _div(h, h + w + f), "recall": _div(h, h + w + m),
             "f1": _div(2 * h, 2 * h + 2 * w + f + m), "false_report_rate": _div(f, f + q)}
 
@@ -637,8 +637,7 @@ def average_precision(scores, codes) -> dict:
             "n_reports": n_rep}
 
 
-def bootstrap_frames(codes, scores=None, *, weights=None, n_boot: int = 1000, seed: int = 0,
-                     level: float = 0.95) -> dict:
+def bootstrap_frames(codes, scores=None, *, n_boot: int = 1000, seed: int = 0, level: float = 0.95) -> dict:
     """Detection figures and AP of a set of frames, with percentile bootstrap intervals over frames.
 
     Frames (or photographs) are resampled with replacement (``numpy.random.default_rng(seed)``);
@@ -650,10 +649,6 @@ def bootstrap_frames(codes, scores=None, *, weights=None, n_boot: int = 1000, se
         :func:`row_outcomes` of each frame (frames may differ in height).
     scores : like ``codes``, optional
         The per-row scores; without them AP is not computed.
-    weights : array_like (F,), optional
-        Each frame's rows count this much in every pool (non-negative reals; default 1): the figures of a
-        weighted pool (a prediction's photographs weighed by their own stripe,
-        :func:`bench.evaluate.prediction.pooling_scale`). The counts returned stay unweighted. Not with ``scores``.
     n_boot : int
         Resamples, >= 1.
     seed : int
@@ -674,8 +669,6 @@ def bootstrap_frames(codes, scores=None, *, weights=None, n_boot: int = 1000, se
     >>> r = bootstrap_frames(fr, n_boot=200, seed=1)
     >>> r["recall"], r["false_report_rate"], r["n_frames"], r["recall_lo"] <= r["recall"] <= r["recall_hi"]
     (0.75, 0.5, 2, True)
-    >>> bootstrap_frames(fr, weights=[3.0, 1.0], n_boot=200, seed=1)["recall"]  # the first frame's rows count 3 times
-    0.875
     """
     if isinstance(n_boot, bool) or not isinstance(n_boot, (int, np.integer)) or n_boot < 1:
         raise ValueError(f"`n_boot` must be an integer >= 1, got {n_boot!r}")
@@ -688,14 +681,6 @@ def bootstrap_frames(codes, scores=None, *, weights=None, n_boot: int = 1000, se
     total = counts.sum(axis=0)
     out: dict = {k: int(v) for k, v in zip(COUNT_KEYS, total)}
     out["n_frames"] = F
-    if weights is not None:
-        w_f = np.asarray(weights, dtype=np.float64)
-        if w_f.shape != (F,) or not np.all(np.isfinite(w_f)) or np.any(w_f < 0):
-            raise ValueError(f"`weights` must be {F} finite non-negative numbers (one per frame), got {weights!r}")
-        if scores is not None:
-            raise ValueError("`weights` and `scores` cannot be given together (AP is not weighted)")
-        counts = counts * w_f[:, None]
-        total = counts.sum(axis=0)
     fig = detection_figures(total)
     keys = list(FIGURE_KEYS)
     if scores is not None:
@@ -716,14 +701,14 @@ def bootstrap_frames(codes, scores=None, *, weights=None, n_boot: int = 1000, se
         return out
     rng = np.random.default_rng(seed)
     draws = rng.integers(0, F, size=(n_boot, F))
-    drawn = np.stack([np.bincount(d, minlength=F) for d in draws])  # (n_boot, F) times each frame is drawn
-    boot_counts = drawn @ counts  # (n_boot, 6)
+    weights = np.stack([np.bincount(d, minlength=F) for d in draws])  # (n_boot, F) times each frame is drawn
+    boot_counts = weights @ counts  # (n_boot, 6)
     h, w, m, f, q = (boot_counts[:, k].astype(np.float64) for k in range(5))
     with np.errstate(invalid="ignore", divide="ignore"):
         boots = {"precision": h / (h + w + f), "recall": h / (h + w + m), "f1": 2 * h / (2 * h + 2 * w + f + m),
                  "false_report_rate": f / (f + q)}
     if scores is not None:
-        boots["ap"] = _bootstrap_ap(frames, svals, drawn)
+        boots["ap"] = _bootstrap_ap(frames, svals, weights)
     for k in keys:
         b = boots[k][np.isfinite(boots[k])]
         lo, hi = (np.quantile(b, [a, 1 - a]) if b.size and math.isfinite(out[k]) else (np.nan, np.nan))

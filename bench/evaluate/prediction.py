@@ -6,8 +6,7 @@ correlation across trackers and the mean |predicted - measured|, for hit rate, F
 rate, pooled over all photographs (:func:`compare_with_real`) or within groups of them
 (:func:`compare_by_group`). Both sides pool the rows of the photographs compared, from their row-outcome
 counts; a prediction's false-report rate also counts its false-report frames' stripe-less rows
-(:func:`predicted_figures`), and a prediction weighs each photograph by its own stripe's rows, not by the rows its
-moved frames happen to score (:func:`pooling_scale`), as the measurement weighs it by its referenced rows. How far the measured ranks are themselves repeatable, the most a prediction's rank
+(:func:`predicted_figures`). How far the measured ranks are themselves repeatable, the most a prediction's rank
 correlation can be expected to show, is :func:`rank_reliability`. Pure functions on tables.
 """
 
@@ -15,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["COMPARED", "STRIPE_ROWS", "pooling_scale", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
+__all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
            "per_group_error", "rank_reliability", "stepped_up", "FIGURE_KEYS", "RELIABILITY_SPLITS",
            "RELIABILITY_MIN_PHOTOS"]
 
@@ -29,45 +28,11 @@ RELIABILITY_SPLITS = 200
 RELIABILITY_MIN_PHOTOS = 4
 
 
-#: The column of a prediction's per-photograph table that weighs the photograph when photographs are pooled: the rows
-#: where its stripe estimate sees the stripe in the photograph itself (:func:`bench.run.predict.transplanted`).
-STRIPE_ROWS = "n_stripe_rows"
-
-
-def pooling_scale(counts) -> float:
-    """What a predicted photograph's row-outcome counts are multiplied by when photographs are pooled:
-    ``n_stripe_rows / (n_hit + n_wrong + n_missed)``, its own stripe's rows over the stripe rows its moved frames
-    score, so that a pool weighs each photograph by its own stripe whatever its shifts made of it (the measurement
-    weighs it by its referenced rows; docs/predict.md, "Each photograph weighed by its own stripe"). 1 where there
-    is no :data:`STRIPE_ROWS` (matched renders, ``--frames render``) or no scored stripe row. A photograph's own
-    figures are ratios of its counts and do not change.
-
-    Parameters
-    ----------
-    counts : dict or pandas.Series
-        The photograph's ``n_hit`` ... (:func:`bench.evaluate.outcomes.outcome_counts`), with :data:`STRIPE_ROWS`.
-
-    Examples
-    --------
-    >>> pooling_scale({"n_hit": 30, "n_wrong": 2, "n_missed": 8, "n_stripe_rows": 20})
-    0.5
-    >>> pooling_scale({"n_hit": 30, "n_wrong": 2, "n_missed": 8})
-    1.0
-    """
-    rows = float(counts.get(STRIPE_ROWS, float("nan")))
-    scored = float(counts.get("n_hit", 0)) + float(counts.get("n_wrong", 0)) + float(counts.get("n_missed", 0))
-    if not np.isfinite(rows) or scored <= 0:
-        return 1.0
-    if rows < 0:
-        raise ValueError(f"`{STRIPE_ROWS}` must be >= 0, got {rows!r}")
-    return rows / scored
-
-
 def predicted_figures(counts: dict) -> dict:
     """A prediction's figures from its row-outcome counts: :func:`bench.evaluate.outcomes.detection_figures` of
     the moved frames' counts (``n_hit`` ...), with the false-report rate also counting the false-report frames'
     stripe-less rows (``n_false_cut``, ``n_quiet_cut``, when given: :func:`bench.run.predict.cut_counts`), which
-    only that figure reads (docs/predict.md). The counts may be weighted (a pool's, :func:`pooling_scale`).
+    only that figure reads (docs/predict.md).
 
     Examples
     --------
@@ -78,9 +43,9 @@ def predicted_figures(counts: dict) -> dict:
     """
     from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
 
-    moved = {k: float(counts[k]) for k in COUNT_KEYS if k in counts}
+    moved = {k: int(counts[k]) for k in COUNT_KEYS if k in counts}
     fig = detection_figures(moved)
-    cut_false, cut_quiet = float(counts.get("n_false_cut", 0)), float(counts.get("n_quiet_cut", 0))
+    cut_false, cut_quiet = int(counts.get("n_false_cut", 0)), int(counts.get("n_quiet_cut", 0))
     if cut_false or cut_quiet:
         fig["false_report_rate"] = detection_figures(
             {**moved, "n_false": moved.get("n_false", 0) + cut_false,
@@ -291,19 +256,14 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
 
 def _pooled_figures(df, name_col: str, names) -> dict:
     """Figure -> tracker -> value from the row-outcome counts of ``df``'s rows of ``names``, pooled
-    (:func:`predicted_figures`: a prediction's false-report frames count where ``df`` has them, and each of its
-    photographs by its own stripe's rows where ``df`` has :data:`STRIPE_ROWS`: :func:`pooling_scale`)."""
+    (:func:`predicted_figures`: a prediction's false-report frames count where ``df`` has them)."""
     from bench.evaluate.outcomes import COUNT_KEYS
 
     sub = df[df[name_col].isin(set(names))]
     keys = [k for k in (*COUNT_KEYS, "n_false_cut", "n_quiet_cut") if k in sub.columns]
     out: dict = {f: {} for f in COMPARED}
     for lab, rows in sub.groupby("tracker", sort=False):
-        if STRIPE_ROWS in rows.columns:
-            scale = np.array([pooling_scale(r) for _, r in rows.iterrows()])
-            fig = predicted_figures({k: float(np.dot(rows[k].to_numpy(dtype=np.float64), scale)) for k in keys})
-        else:
-            fig = predicted_figures({k: int(rows[k].sum()) for k in keys})
+        fig = predicted_figures({k: int(rows[k].sum()) for k in keys})
         for f in COMPARED:
             out[f][str(lab)] = fig[FIGURE_KEYS[f]]
     return out

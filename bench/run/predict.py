@@ -339,37 +339,7 @@ def score_frame(trackers: dict, image, truth_columns, background=None, states=No
     return out
 
 
-def stripe_estimate(photo: "Photo", *, estimate: str = "auto", measured=None):
-    """The photograph's stripe as the transplant finds it (:class:`bench.evaluate.transplant.Extents`; ``estimate``:
-    how, :data:`ESTIMATES`: ``auto`` on a colour photograph whose trackers see the laser's colour
-    (:data:`COLOUR_GUIDED`) follows :func:`colour_guide`, ``reference`` follows ``photo.reference``, the ablation with
-    a perfect estimate; ``measured``: the frame's conditions, when the caller has them)."""
-    from bench.evaluate import transplant as tp
-    from bench.evaluate.pixels import rotate_image
-
-    if estimate in ABLATIONS and photo.reference is None:
-        raise ValueError(f"{photo.name}: `estimate` {estimate!r} needs the photograph's reference (a real set's "
-                         "NAME_ref.csv, photographs at their own size)")
-    if estimate == "reference":
-        return tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=photo.reference)
-    if estimate in ("auto", "covered"):
-        # on a colour photograph whose trackers see the laser's colour, the guide where that colour is; on one
-        # whose trackers see a plain channel, that frame's own (docs/predict.md)
-        if photo.colour and photo.channel in COLOUR_GUIDED:
-            original = rotate_image(photo.original, photo.rotate_deg)
-            bg_original = (None if photo.background_original is None
-                           else rotate_image(photo.background_original, photo.rotate_deg))
-            guide = colour_guide(photo, original, bg_original, measured)
-        else:
-            guide = tp.estimate_guide(photo.frame, photo.background, measured=measured)
-        if estimate == "covered":
-            guide = np.where(np.isfinite(photo.reference), guide, np.nan)
-        return tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=guide)
-    return tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
-
-
-def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None,
-                      extents=None) -> list:
+def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> list:
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
     how the stripe is found, :data:`ESTIMATES`: ``auto`` on a colour photograph whose trackers see the laser's
     colour (:data:`COLOUR_GUIDED`) follows :func:`colour_guide`,
@@ -378,8 +348,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
     stripe rows are ``UNSURE``): the hit rate is read from the first two frames alone, the false-report
     rate from the stripe-less rows of all four (docs/predict.md). ``measured``: the frame's conditions, when
-    the caller has them (:func:`bench.evaluate.transplant.stripe_extents`); ``extents``: the stripe, when the caller
-    has found it (:func:`stripe_estimate`; ``estimate`` is then not read). A frame out of the transplant's
+    the caller has them (:func:`bench.evaluate.transplant.stripe_extents`). A frame out of the transplant's
     range (:func:`bench.evaluate.transplant.out_of_range`) is the caller's to leave out, with its reason.
 
     Returns
@@ -397,10 +366,24 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     from bench.evaluate.outcomes import STRIPE, UNSURE
     from bench.evaluate.pixels import rotate_image, select_channel
 
-    ext = stripe_estimate(photo, estimate=estimate, measured=measured) if extents is None else extents
     original = rotate_image(photo.original, photo.rotate_deg)
     bg_original = (None if photo.background_original is None
                    else rotate_image(photo.background_original, photo.rotate_deg))
+    if estimate in ABLATIONS and photo.reference is None:
+        raise ValueError(f"{photo.name}: `estimate` {estimate!r} needs the photograph's reference (a real set's "
+                         "NAME_ref.csv, photographs at their own size)")
+    if estimate == "reference":
+        ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=photo.reference)
+    elif estimate in ("auto", "covered"):
+        # on a colour photograph whose trackers see the laser's colour, the guide where that colour is; on one
+        # whose trackers see a plain channel, that frame's own (docs/predict.md)
+        guide = (colour_guide(photo, original, bg_original, measured) if photo.colour and photo.channel in COLOUR_GUIDED
+                 else tp.estimate_guide(photo.frame, photo.background, measured=measured))
+        if estimate == "covered":
+            guide = np.where(np.isfinite(photo.reference), guide, np.nan)
+        ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=guide)
+    else:
+        ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
     if not ext.visible.any():
         return []
     right, left = tp.shifts_for(ext, tp.rival_mask(photo.frame, photo.background, ext))
@@ -457,22 +440,18 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
 
 
 def transplanted(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> tuple:
-    """:func:`transplant_frames` of a photograph in the transplant's range, else why not: ``(frames, (),
-    n_stripe_rows)``, or ``([], ("width_px",), 0)`` for a stripe wider than the reference window
-    (:func:`bench.evaluate.transplant.out_of_range`, not moved at all) or ``([], ("visible",), 0)`` for a moved
-    stripe seen in too few rows. ``n_stripe_rows``: the rows where the stripe estimate sees the stripe in the
-    photograph itself (:func:`stripe_estimate`, ``visible``), its weight when photographs are pooled
-    (:func:`bench.evaluate.prediction.pooling_scale`). ``measured``: the photograph's conditions (measured here when
-    None)."""
+    """:func:`transplant_frames` of a photograph in the transplant's range, else why not: ``(frames, ())``, or
+    ``([], ("width_px",))`` for a stripe wider than the reference window
+    (:func:`bench.evaluate.transplant.out_of_range`, not moved at all) or ``([], ("visible",))`` for a moved
+    stripe seen in too few rows. ``measured``: the photograph's conditions (measured here when None)."""
     from bench.evaluate import transplant as tp
 
     measured = cond.measure(photo.frame, photo.background) if measured is None else measured
     bad = tp.out_of_range(measured)
     if bad:
-        return [], bad, 0
-    ext = stripe_estimate(photo, estimate=estimate, measured=measured)
-    made = transplant_frames(photo, seed=seed, measured=measured, extents=ext)
-    return (made, (), int(np.sum(ext.visible))) if made else ([], ("visible",), 0)
+        return [], bad
+    made = transplant_frames(photo, seed=seed, estimate=estimate, measured=measured)
+    return (made, ()) if made else ([], ("visible",))
 
 
 #: The first N_MOVED frames of :func:`transplant_frames` are the moved frames (hit rate and F1 are read from them); any
@@ -675,9 +654,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     out of range), ``predicted.csv`` (per tracker: ``hit_rate``, ``false_report_rate``, ``f1``
     with 95 % bootstrap intervals over the matched photographs, ``n_photos``, ``n_frames``),
     ``predicted_photos.csv`` (per matched photograph and tracker: the three figures on its renders'
-    rows, the row-outcome counts ``n_hit`` ... and, with transplants, ``n_stripe_rows``, the rows where its stripe
-    estimate sees the stripe, which weigh it when photographs are pooled:
-    :func:`bench.evaluate.prediction.pooling_scale`) and ``predict.json`` (the settings) into ``out_dir``;
+    rows and the row-outcome counts ``n_hit`` ...) and ``predict.json`` (the settings) into ``out_dir``;
     returns what the report needs (:func:`bench.report.predict.build_predict_report`).
 
     Raises
@@ -689,7 +666,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
 
     from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, outcome_counts
-    from bench.evaluate.prediction import STRIPE_ROWS, pooling_scale, predicted_figures
+    from bench.evaluate.prediction import predicted_figures
     from bench.run.track import build_trackers
     from bench.store import realset as real
     from bench.store.files import atomic_write_text
@@ -714,12 +691,12 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     trackers = build_trackers(specs)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    tables, memos, matches, conds, moved, stripe_rows = {}, {}, {}, {}, {}, {}
+    tables, memos, matches, conds, moved = {}, {}, {}, {}, {}
     for ph in photos:
         if frames == "transplant":
             conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
                                               laser=ph.laser)
-            made, bad, stripe_rows[ph.name] = transplanted(ph, seed=seed, estimate=estimate, measured=conds[ph.name])
+            made, bad = transplanted(ph, seed=seed, estimate=estimate, measured=conds[ph.name])
             moved[ph.name] = made
             if bad:
                 matches[ph.name] = Match({"frames": "transplant"}, None, float("nan"), bad)
@@ -785,13 +762,10 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         every = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]
         extra = n_main is not None and any(len(per_photo[ph.name][lab]) > n_main for ph in matched)
         rec = {"tracker": lab, "n_photos": len(matched), "n_frames": sum(len(sheet[ph.name]) for ph in matched)}
-        # each photograph weighs its own stripe's rows, not what its moved frames score (docs/predict.md)
-        weights = ([pooling_scale({**outcome_counts(c), STRIPE_ROWS: stripe_rows[ph.name]})
-                    for ph, c in zip(matched, codes)] if frames == "transplant" else None)
         if codes:
-            b = bootstrap_frames(codes, weights=weights, n_boot=n_boot, seed=seed + j)
+            b = bootstrap_frames(codes, n_boot=n_boot, seed=seed + j)
             # the false-report rate from every frame: a second bootstrap only where there are more frames
-            b_all = bootstrap_frames(every, weights=weights, n_boot=n_boot, seed=seed + j) if extra else b
+            b_all = bootstrap_frames(every, n_boot=n_boot, seed=seed + j) if extra else b
             for k, name in PREDICTED_NAMES.items():
                 src = b_all if k == "false_report_rate" else b
                 rec[name], rec[f"{name}_lo"], rec[f"{name}_hi"] = src[k], src[f"{k}_lo"], src[f"{k}_hi"]
@@ -808,10 +782,9 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
                                                                                        "n_quiet_cut": 0}
             fig = predicted_figures({**counts, **cut})
             photo_rows.append({"name": ph.name, "tracker": lab, **{n: fig[k] for k, n in PREDICTED_NAMES.items()},
-                               **counts, **cut, STRIPE_ROWS: stripe_rows.get(ph.name, np.nan)})
+                               **counts, **cut})
     per_photo_table = pd.DataFrame.from_records(
-        photo_rows, columns=["name", "tracker", *PREDICTED_NAMES.values(), *COUNT_KEYS, "n_false_cut", "n_quiet_cut",
-                             STRIPE_ROWS])
+        photo_rows, columns=["name", "tracker", *PREDICTED_NAMES.values(), *COUNT_KEYS, "n_false_cut", "n_quiet_cut"])
     crow = []
     for ph in photos:
         m = matches[ph.name]

@@ -17,8 +17,7 @@ as most photographs come.
 - **Predicted:** the procedure (``frames``) predicts the same figures from the frame alone: with
   ``transplant``, from the frame with its own stripe moved both ways (as ``stripebench predict``
   does with a photograph; the seed seeds the clean plate's noise); with ``render``, from its grid,
-  matching each frame on its own. Pooled over frames, each transplanted frame weighs the rows where its stripe
-  estimate sees the stripe (:func:`bench.evaluate.prediction.pooling_scale`), as on photographs.
+  matching each frame on its own.
 
 The two are compared per case and pooled over every case, with Spearman's rho and the mean
 |difference| for hit rate and F1 (:func:`bench.evaluate.prediction.compare_by_group`), as
@@ -242,7 +241,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
     from bench.evaluate.outcomes import UNKNOWN, distant_states, outcome_counts, referenced_columns, referenced_states
-    from bench.evaluate.prediction import STRIPE_ROWS, compare_by_group, comparison_doc, per_group_error
+    from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
     from bench.run.track import build_trackers
@@ -279,7 +278,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser, channel=case.channel,
                                  reference=case.truth_columns)
                 c = cond.measure(img, None)
-                made, bad, stripe_rows = pr.transplanted(photo, seed=seed, estimate=estimate, measured=c)
+                made, bad = pr.transplanted(photo, seed=seed, estimate=estimate, measured=c)
                 bad = list(bad)
                 frames_doc.append({"name": name, "case": exp.key, "status": "out of range" if bad else "matched",
                                    "out_of_range": bad, "shift_px": made[0][4] if made else None,
@@ -291,7 +290,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 for lab in tr:
                     pred_rows.append({"name": name, "tracker": lab,
                                       **outcome_counts(np.concatenate(per[lab][:pr.N_MOVED])),
-                                      **pr.cut_counts(per[lab]), STRIPE_ROWS: stripe_rows})
+                                      **pr.cut_counts(per[lab])})
                 groups[name] = exp.key
                 say(f"stripebench predictcheck: {name}: its stripe moved by {made[0][4]:+d} and {made[1][4]:+d} px "
                     f"[case {e_i + 1}/{len(config.experiments)}]")

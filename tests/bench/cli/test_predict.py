@@ -85,53 +85,6 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     assert "its stripe moved" in html and "wider than the reference window" in html and html.count("<img") == 3
 
 
-def test_predict_pools_each_photograph_by_its_own_stripe_rows(photos, tmp_path, capsys, monkeypatch):
-    """A photograph and its top half, whose trackers are made to miss every other stripe row, and whose own stripe is
-    made to count three times its rows: the pooled figures are the per-photograph ones weighted by ``n_stripe_rows``
-    (the rows where each one's stripe is seen in it), not by the rows its moved frames score."""
-    from bench.evaluate.outcomes import HIT, MISSED
-    from bench.evaluate.prediction import STRIPE_ROWS
-
-    d = tmp_path / "two"
-    d.mkdir()
-    board = iio.imread(photos / "board.png")
-    iio.imwrite(d / "board.png", board)
-    iio.imwrite(d / "half.png", board[:60])
-    score, moved = pr.score_frame, pr.transplanted
-
-    def harder(trackers, image, truth, background=None, states=None):
-        out = score(trackers, image, truth, background, states)
-        if np.shape(image)[0] == 60:
-            for lab, c in out.items():
-                c = c.copy()
-                c[np.flatnonzero(c == HIT)[::2]] = MISSED
-                out[lab] = c
-        return out
-
-    def heavier(photo, **kw):
-        made, bad, rows = moved(photo, **kw)
-        return made, bad, 3 * rows if photo.name == "half" else rows
-
-    monkeypatch.setattr(pr, "score_frame", harder)
-    monkeypatch.setattr(pr, "transplanted", heavier)
-    out = tmp_path / "pooled"
-    assert main(["predict", str(d), "--out", str(out), "--trackers", "threshold,dp8", "--n-boot", "50"]) == 0
-    capsys.readouterr()
-    with open(out / "predicted_photos.csv", newline="") as fh:
-        per = list(csv.DictReader(fh))
-    with open(out / "predicted.csv", newline="") as fh:
-        pooled = {r["tracker"]: r for r in csv.DictReader(fh)}
-    for lab in ("threshold", "dp8"):
-        mine = {r["name"]: r for r in per if r["tracker"] == lab}
-        assert float(mine["half"]["hit_rate"]) < 0.6 < 0.9 < float(mine["board"]["hit_rate"])
-        w = {n: int(r[STRIPE_ROWS]) for n, r in mine.items()}
-        want = sum(w[n] * float(r["hit_rate"]) for n, r in mine.items()) / sum(w.values())
-        scored = {n: sum(int(r[k]) for k in ("n_hit", "n_wrong", "n_missed")) for n, r in mine.items()}
-        by_moved = sum(int(r["n_hit"]) for r in mine.values()) / sum(scored.values())
-        assert float(pooled[lab]["hit_rate"]) == pytest.approx(want, abs=1e-5)
-        assert abs(want - by_moved) > 0.05  # the test tells the two pools apart
-
-
 def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
     out = tmp_path / "busy"
     out.mkdir()

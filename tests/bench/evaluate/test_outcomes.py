@@ -168,21 +168,6 @@ def test_bootstrap_over_frames():
         bootstrap_frames(frames, n_boot=0)
     with pytest.raises(ValueError, match="one array per frame"):
         bootstrap_frames(frames, scores[:2])
-    # weights: unit weights change nothing; a frame weighed 3 counts as three copies of it, in the figures and in
-    # every resample; the counts returned stay the frames' own
-    plain = bootstrap_frames(frames, n_boot=400, seed=3)
-    assert bootstrap_frames(frames, weights=[1.0, 1.0, 1.0], n_boot=400, seed=3) == plain
-    w = bootstrap_frames(frames, weights=[3.0, 1.0, 1.0], n_boot=400, seed=3)
-    copies = bootstrap_frames([frames[0]] * 3 + frames[1:], n_boot=400, seed=3)
-    for k in ("precision", "recall", "f1", "false_report_rate"):
-        assert w[k] == pytest.approx(copies[k]), k
-        assert w[f"{k}_lo"] <= w[k] <= w[f"{k}_hi"], k
-    assert w["n_hit"] == plain["n_hit"] and w["n_frames"] == 3
-    for bad in ([1.0, 1.0], [1.0, -1.0, 1.0], [1.0, np.nan, 1.0]):
-        with pytest.raises(ValueError, match="`weights` must be 3 finite non-negative numbers"):
-            bootstrap_frames(frames, weights=bad)
-    with pytest.raises(ValueError, match="`weights` and `scores` cannot be given together"):
-        bootstrap_frames(frames, scores, weights=[1.0, 1.0, 1.0])
 
 
 def test_bootstrap_ap_matches_the_ap_of_each_resample():

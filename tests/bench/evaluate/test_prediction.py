@@ -32,34 +32,6 @@ def test_without_false_report_frames_the_figures_are_the_counts_own():
     assert f["false_report_rate"] == pytest.approx(0.1) and f["recall"] == pytest.approx(0.8)
 
 
-def test_pooled_predicted_photographs_weigh_their_own_stripe_rows_not_their_moved_frames():
-    """Two photographs predicted exactly (0.9 and 0.1 of their stripe rows hit), whose moved frames score 100 stripe
-    rows each, though one's stripe has 10 rows and the other's 90: pooled by their own stripe rows, the prediction is
-    the measured pool (18 of 100); pooled by the moved frames' rows it would be 0.5."""
-    from bench.evaluate.prediction import STRIPE_ROWS, pooling_scale
-
-    def pred(name, hits, rows):
-        return {"name": name, "tracker": "a", "n_hit": hits, "n_wrong": 0, "n_missed": 100 - hits, "n_false": 5,
-                "n_quiet": 45, "n_unknown": 0, STRIPE_ROWS: rows}
-
-    def meas(name, hits, rows):
-        return {"experiment": name, "tracker": "a", "n_hit": hits, "n_wrong": 0, "n_missed": rows - hits,
-                "n_false": 1, "n_quiet": 9, "n_unknown": 0}
-
-    p = pd.DataFrame([pred("x", 90, 10), pred("y", 10, 90)])
-    m = pd.DataFrame([meas("x", 9, 10), meas("y", 9, 90)])
-    r = compare_by_group(p, m, {"x": "rig", "y": "rig"})["rig"]["hit_rate"]["table"][0]
-    assert r["real"] == pytest.approx(0.18) and r["synthetic"] == pytest.approx(0.18)
-    unweighted = compare_by_group(p.drop(columns=[STRIPE_ROWS]), m, {"x": "rig", "y": "rig"})
-    assert unweighted["rig"]["hit_rate"]["table"][0]["synthetic"] == pytest.approx(0.5)
-    # each photograph alone: its own figures, whatever its weight
-    alone = compare_by_group(p, m, {"x": "x", "y": "y"})
-    assert alone["x"]["hit_rate"]["table"][0]["synthetic"] == pytest.approx(0.9)
-    assert pooling_scale(pred("x", 90, 10)) == pytest.approx(0.1)
-    with pytest.raises(ValueError, match="`n_stripe_rows` must be >= 0, got -1.0"):
-        pooling_scale(pred("x", 90, -1))
-
-
 def _ranked(names, hits_of):
     """Real-run rows: tracker ``t`` hits ``hits_of(name, t)`` of 10 stripe rows in photograph ``name``."""
     return pd.DataFrame([{"experiment": n, "tracker": t, "n_hit": hits_of(n, t), "n_wrong": 0,

@@ -120,27 +120,6 @@ def test_transplant_frames_need_enough_rows_of_the_moved_stripe_seen():
     assert pr.transplant_frames(photo(4)) == []
 
 
-def test_transplanted_gives_the_rows_its_stripe_estimate_sees_as_the_photograph_s_weight():
-    """``transplanted``'s third value is the number of rows where the stripe estimate sees the stripe in the photograph
-    itself (what weighs it when photographs are pooled), the same estimate the frames were moved by; 0 when the
-    photograph is out of range."""
-    from pathlib import Path
-
-    rng = np.random.default_rng(4)
-    x = np.arange(128.0)
-    img = 30.0 + rng.normal(0, 2.0, (120, 128))
-    img[:100] += 150.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)  # a stripe in the top 100 rows
-    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-    photo = pr.Photo("p", Path("p.png"), img, None, img)
-    made, bad, rows = pr.transplanted(photo)
-    ext = pr.stripe_estimate(photo)
-    assert bad == () and made and rows == int(np.sum(ext.visible)) and 95 <= rows <= 100
-    again = pr.transplant_frames(photo, extents=ext)
-    assert all(np.array_equal(a[0], b[0]) and a[4] == b[4] for a, b in zip(made, again))
-    dark = np.full((120, 128), 20, np.uint8)
-    assert pr.transplanted(pr.Photo("d", Path("d.png"), dark, None, dark))[1:] == (("visible",), 0)
-
-
 def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off():
     """Frames 3 and 4 move the stripe only between the cut ends (bench.evaluate.transplant.cut_ends) and score no
     stripe row: the cut rows, cleaned and left without a stripe, are stripe-less rows where 15 or more from it."""

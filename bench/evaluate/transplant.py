@@ -691,7 +691,7 @@ def _line(row, a: int, b: int) -> np.ndarray:
 def dim_rows(ext: Extents) -> np.ndarray:
     """The visible rows of ``ext`` whose stripe stands under :data:`DIM_SHARE` of the median height (``ext.height``,
     the peak over the reference window's median) of its visible rows, shape (H,) bool: rows a reference leaves out as
-    unclear; none without heights.
+    unclear. None without heights.
 
     Examples
     --------

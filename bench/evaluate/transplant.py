@@ -34,8 +34,7 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    high over their row as the stripe (:func:`rival_mask`). A row whose moved extent would leave the frame or
    meet its old extent is cleaned, not moved. The truth is the centre plus ``shift_px`` in the
    moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
-   as the real set's references would be read, leaving unscored the rows where the stripe stands far
-   lower than its typical height (:func:`dim_rows`), as a reference leaves unclear rows out.
+   as the real set's references would be read.
 
 The moved stripe keeps the photograph's stripe (width, contrast, saturation, colour, speckle) and
 its surroundings keep everything else; what changes is where the stripe crosses them. Pure
@@ -70,7 +69,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
-           "shifts_for", "DIM_SHARE", "dim_rows"]
+           "shifts_for"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -133,11 +132,6 @@ RIVAL_SHARE = 1.0
 END_CUT = 0.15
 #: ... and only where at least this many rows of the span stay moved.
 END_CUT_MIN_ROWS = 40
-#: :func:`dim_rows`: a visible row of the stripe estimate standing under this share of the median height of its visible
-#: rows is one a reference would leave out as unclear (a reflection in line with the stripe, a glow): its moved row is
-#: not scored (:func:`row_states`). From the renders' transplanted rows without a stripe, 28-30 % of which stand under
-#: 0.2 of the median, against 1.5 % of those with one (docs/predict.md, "Rows far dimmer than the stripe").
-DIM_SHARE = 0.2
 #: A stripe wider (FWHM, px; ``conditions.measure``'s ``width_px``) than the reference window cannot be read by the
 #: reference rule (the window's median is then the stripe itself, and its "centre" is wherever its brightest pixel
 #: is): such a photograph is out of range (``width_px``). A phone's full-size frame is one; shrunk, it may not be.
@@ -688,38 +682,12 @@ def _line(row, a: int, b: int) -> np.ndarray:
     return ml[None, :] + t[:, None] * (mr - ml)[None, :]
 
 
-def dim_rows(ext: Extents) -> np.ndarray:
-    """The visible rows of ``ext`` whose stripe stands under :data:`DIM_SHARE` of the median height (``ext.height``,
-    the peak over the reference window's median) of its visible rows, shape (H,) bool: rows a reference leaves out as
-    unclear. None without heights.
-
-    Examples
-    --------
-    >>> vis = np.ones(6, bool)
-    >>> e = Extents(np.zeros(6), vis, np.zeros(6), np.zeros(6), np.zeros(6), 1.0,
-    ...             height=np.array([50.0, 48.0, 52.0, 9.0, 11.0, 50.0]))
-    >>> dim_rows(e).tolist()
-    [False, False, False, True, False, False]
-    """
-    out = np.zeros(np.shape(ext.visible), bool)
-    if ext.height is None or not np.any(ext.visible):
-        return out
-    h = np.asarray(ext.height, dtype=np.float64)
-    typical = np.nanmedian(h[ext.visible])
-    if not np.isfinite(typical) or typical <= 0:
-        return out
-    with np.errstate(invalid="ignore"):
-        out = ext.visible & (h < DIM_SHARE * typical)
-    return out
-
-
 def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
-    reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`) and the
-    stripe there is not far dimmer than its typical height (:func:`dim_rows`), else ``UNSURE``; a row the stripe
-    crosses without a moved centre is ``UNSURE``; every other row is
+    reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`),
+    else ``UNSURE``; a row the stripe crosses without a moved centre is ``UNSURE``; every other row is
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
     With ``keep`` (:func:`transplant`'s), the rows it leaves out hold no stripe and count as rows without one.
@@ -745,5 +713,4 @@ def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     moved = np.isfinite(t)
     if moved.any():
         states[moved] = referenced_states(image, t)[moved]
-        states[moved & dim_rows(ext)] = UNSURE  # as a reference leaves an unclear row out
     return states.astype(np.int8)

@@ -384,8 +384,8 @@ def family_of(doc: dict) -> str:
 def objective(docs: dict) -> dict:
     """The declared objective of docs/predict.md over finished ``predictcheck`` runs (name -> its
     ``predict_check.json``): per run, the *per-case score* (each case's mean |predicted - measured| of hit rate
-    and F1, averaged: :func:`bench.evaluate.prediction.per_group_error`), the per-case false-report |difference|
-    and the pooled score; then their means over the runs, and the per-case score's mean per family
+    and F1, averaged: :func:`bench.evaluate.prediction.per_group_error`), the per-case false-report |difference|,
+    the pooled score and the pooled false-report |difference|; then their means over the runs, and the per-case score's mean per family
     (:func:`family_of`).
 
     Examples

@@ -36,7 +36,7 @@ import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
            "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
-           "objective", "paired", "score"]
+           "objective", "PAIRED", "paired", "score"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -385,8 +385,8 @@ def objective(docs: dict) -> dict:
     """The declared objective of docs/predict.md over finished ``predictcheck`` runs (name -> its
     ``predict_check.json``): per run, the *per-case score* (each case's mean |predicted - measured| of hit rate
     and F1, averaged: :func:`bench.evaluate.prediction.per_group_error`), the per-case false-report |difference|,
-    the pooled score and the pooled false-report |difference|; then their means over the runs, and the per-case score's mean per family
-    (:func:`family_of`).
+    the pooled score and the pooled false-report |difference|; then their means over the runs, and the per-case
+    score's mean per family (:func:`family_of`).
 
     Examples
     --------
@@ -431,6 +431,11 @@ def objective(docs: dict) -> dict:
             "families": {f: float(np.mean(v)) for f, v in families.items()}}
 
 
+#: :func:`paired`'s figures (:func:`objective`'s per-run keys), each with its column's header in ``predictscore``.
+PAIRED = {"per_case": "per case", "false_report_per_case": "false-report |diff|", "false_report_far_per_case": "far",
+          "pooled": "pooled", "pooled_false_report": "pooled false-report"}
+
+
 def paired(docs: dict, against: dict) -> dict:
     """Each run of ``docs`` beside the run of ``against`` of its family and seed (name -> ``predict_check.json``):
     the differences (this minus that) of :func:`objective`'s per-run figures, per pair, and per family their mean,
@@ -466,7 +471,7 @@ def paired(docs: dict, against: dict) -> dict:
         k = sorted(set(mine) ^ set(theirs), key=str)[0]
         where = "--against has" if k in mine else "the RUNs have"
         raise ValueError(f"{where} no run of family {k[0]!r} and seed {k[1]} to pair with")
-    keys = ("per_case", "false_report_per_case", "false_report_far_per_case", "pooled", "pooled_false_report")
+    keys = tuple(PAIRED)
     pairs = {k: {f: mine[k][1][f] - theirs[k][1][f] for f in keys} | {"runs": (mine[k][0], theirs[k][0])}
              for k in sorted(mine, key=str)}
 
@@ -519,14 +524,11 @@ def score(*, runs, against=None) -> int:
     if pair is not None:
         print(f"paired with --against (these minus those, per family: mean [least, greatest] over "
               f"{len(pair['pairs'])} pairs):")
-        print(f"{'family':<{fw}}{'pairs':>6}{'per case':>30}{'false-report |diff|':>30}{'far':>30}{'pooled':>30}"
-              f"{'pooled false-report':>30}")
+        print(f"{'family':<{fw}}{'pairs':>6}" + "".join(f"{h:>30}" for h in PAIRED.values()))
         for fam, d in pair["families"].items():
-            cells = "".join(f"{d[k][0]:>+12.5f} [{d[k][1]:+.5f}, {d[k][2]:+.5f}]".rjust(30)
-                            for k in ("per_case", "false_report_per_case", "false_report_far_per_case", "pooled",
-                                      "pooled_false_report"))
+            cells = "".join(f"{d[k][0]:>+12.5f} [{d[k][1]:+.5f}, {d[k][2]:+.5f}]".rjust(30) for k in PAIRED)
             print(f"{fam:<{fw}}{d['n']:>6}{cells}")
-        print(f"per-case score {pair['per_case']:+.5f}; false-report |diff| per case {pair['false_report_per_case']:+.5f} "
-              f"(far {pair['false_report_far_per_case']:+.5f}); pooled score {pair['pooled']:+.5f}, pooled "
+        print(f"per-case score {pair['per_case']:+.5f}; false-report |diff| per case "
+              f"{pair['false_report_per_case']:+.5f} (far {pair['false_report_far_per_case']:+.5f}); pooled score {pair['pooled']:+.5f}, pooled "
               f"false-report |diff| {pair['pooled_false_report']:+.5f}")
     return 0

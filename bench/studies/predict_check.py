@@ -359,7 +359,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 def family_of(doc: dict) -> str:
     """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale``, ``--line-fwhm``
     ``--laser-power``, ``--channel``, ``--distractor`` and ``--truth`` (docs/predict.md: the phone-like family is
-    ``downscale 4, line 1.2 mrad``).
+    ``downscale 4, line 1.2 mrad``), after its ``--profile`` where that is not ``field`` (the cases' own profile).
 
     Examples
     --------
@@ -371,14 +371,20 @@ def family_of(doc: dict) -> str:
     'downscale 1, channel laser'
     >>> family_of({"downscale": 4, "line_fwhm_mrad": 1.2, "truth": "reference"})
     'downscale 4, line 1.2 mrad, truth reference'
+    >>> family_of({"profile": "marble", "downscale": 1, "line_fwhm_mrad": None}), family_of(
+    ...     {"profile": "marble", "downscale": 1, "line_fwhm_mrad": None, "laser_power_mw": 15.0})
+    ('marble: native', 'marble: downscale 1, 15 mW')
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
     ch, dis, tr = doc.get("channel", "auto"), doc.get("distractor", "none"), doc.get("truth", "render")
+    profile = doc.get("profile", "field")
     if d == 1 and lw is None and mw is None and ch == "auto" and dis == "none" and tr == "render":
-        return "native"
-    return (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
-            + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
-            + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
+        family = "native"
+    else:
+        family = (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
+                  + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
+                  + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
+    return family if profile == "field" else f"{profile}: {family}"
 
 
 def objective(docs: dict) -> dict:

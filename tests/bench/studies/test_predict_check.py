@@ -190,8 +190,8 @@ def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tm
     err = per_group_error(doc["cases"])
     o = objective({"run": doc})
     assert o["per_case"] == pytest.approx(0.5 * (err["hit_rate"] + err["f1"]))
-    assert o["families"] == {"native": pytest.approx(o["per_case"])}
-    assert printed[-2].startswith(f"per-case score {o['per_case']:.5f} (native {o['per_case']:.5f})")
+    assert o["families"] == {"quick: native": pytest.approx(o["per_case"])}
+    assert printed[-2].startswith(f"per-case score {o['per_case']:.5f} (quick: native {o['per_case']:.5f})")
     assert printed[-2].endswith("(1 runs)") and printed[-1].startswith("mean |predicted - measured| per case: hit rate")
     assert main(["predictscore", str(tmp_path)]) == 2  # not a run: one line
     lines = capsys.readouterr().err.strip().splitlines()
@@ -216,7 +216,7 @@ def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_ref
         runs[truth] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
                        pd.read_csv(out / "predicted.csv"))
     doc, measured, predicted = runs["reference"]
-    assert doc["truth"] == "reference" and family_of(doc) == "downscale 1, truth reference"
+    assert doc["truth"] == "reference" and family_of(doc) == "quick: downscale 1, truth reference"
     pd.testing.assert_frame_equal(predicted, runs["render"][2])  # the prediction does not depend on it
     config = load_profile("quick")
     tr = build_trackers(parse_trackers_arg("threshold"))
@@ -247,7 +247,7 @@ def test_predictscore_against_prints_each_family_s_paired_difference(checked, tm
     other.mkdir()
     (other / "predict_check.json").write_text(json.dumps(worse))
     p = paired({"worse": worse}, {"base": doc})
-    assert p["per_case"] == pytest.approx(0.01) and p["families"]["native"]["n"] == 1
+    assert p["per_case"] == pytest.approx(0.01) and p["families"]["quick: native"]["n"] == 1
     assert p["per_case"] == pytest.approx(objective({"w": worse})["per_case"] - objective({"b": doc})["per_case"])
     assert p["pooled"] == pytest.approx(0.01)
     capsys.readouterr()
@@ -260,6 +260,6 @@ def test_predictscore_against_prints_each_family_s_paired_difference(checked, tm
     (tmp_path / "s2" / "predict_check.json").write_text(json.dumps(seed2))
     assert main(["predictscore", str(tmp_path / "s2"), "--against", str(checked)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "the RUNs have no run of family 'native' and seed 1 to pair with" in err[0]
+    assert len(err) == 1 and "the RUNs have no run of family 'quick: native' and seed 1 to pair with" in err[0]
     assert main(["predictscore", str(checked), "--against", str(tmp_path / "s2")]) == 2
-    assert "--against has no run of family 'native' and seed 1" in capsys.readouterr().err
+    assert "--against has no run of family 'quick: native' and seed 1" in capsys.readouterr().err

@@ -90,7 +90,7 @@ def _predict(args) -> int:
 def predict_check_options(p) -> None:
     """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
     from bench.config import PROFILES
-    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, TRUTHS
+    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, TRUTHS
 
     add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
     p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
@@ -121,6 +121,11 @@ def predict_check_options(p) -> None:
                    help="what the measured side scores against: render (the render's truth, the laser sheet's "
                         "centre; default) or reference (the columns a photograph's reference would give: the "
                         "intensity centre near it)")
+    p.add_argument("--family", default=DEFAULTS["family"], choices=tuple(FAMILIES),
+                   help="a named render family, which sets its own options: native, phone (--downscale 4 "
+                        "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "
+                        "(--distractor white-bar), marble (--profile marble), marble-15mw and marble-60mw (and "
+                        "--laser-power 15 or 60); an option it sets, given otherwise, is an error")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)

@@ -36,12 +36,12 @@ import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
            "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
-           "objective", "PAIRED", "paired", "score"]
+           "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
             "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
-            "distractor": "none", "truth": "render"}
+            "distractor": "none", "truth": "render", "family": None}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
@@ -53,6 +53,49 @@ CASE_CHANNELS = ("auto", "laser")
 #: (:func:`bench.evaluate.outcomes.referenced_columns`: the intensity centre near the true column), as a photograph
 #: is scored (docs/predict.md, "The renders' truth and a photograph's reference"). The row states are the same.
 TRUTHS = ("render", "reference")
+
+#: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
+#: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
+#: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
+#: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"). :func:`family_of` names a run's
+#: family by its options, whichever way they were given.
+FAMILIES = {
+    "native": {},
+    "phone": {"downscale": 4, "line_fwhm_mrad": 1.2},
+    "third": {"downscale": 2, "line_fwhm_mrad": 1.2},
+    "plain": {"channel": "laser"},
+    "white-bar": {"distractor": "white-bar"},
+    "marble": {"profile": "marble"},
+    "marble-15mw": {"profile": "marble", "laser_power_mw": 15.0},
+    "marble-60mw": {"profile": "marble", "laser_power_mw": 60.0},
+}
+
+
+def family_options(family: str, given: dict) -> dict:
+    """``given`` (option -> value, as :func:`study` takes them) with the named render family's options
+    (:data:`FAMILIES`) set.
+
+    Raises
+    ------
+    bench.errors.ConfigError
+        An unknown ``family``, or an option given at other than its default that the family sets otherwise.
+
+    Examples
+    --------
+    >>> family_options("phone", {"downscale": 1, "line_fwhm_mrad": None, "seed": 3})
+    {'downscale': 4, 'line_fwhm_mrad': 1.2, 'seed': 3}
+    >>> family_options("plain", {"channel": "auto"})
+    {'channel': 'laser'}
+    """
+    from bench.errors import ConfigError
+
+    if family not in FAMILIES:
+        raise ConfigError(f"`family` must be one of {', '.join(FAMILIES)}, got {family!r}")
+    for k, v in FAMILIES[family].items():
+        if k in given and given[k] != DEFAULTS[k] and given[k] != v:
+            raise ConfigError(f"family {family!r} sets `{k}` to {v!r}, but {given[k]!r} was given")
+    return {**given, **FAMILIES[family]}
+
 
 #: What a case frame may carry besides its render (``--distractor``): ``none``, or ``white-bar``: a vertical white line
 #: beside the stripe in every row (a window's frame, a lamp's stem: bright in every channel, of no colour), added to
@@ -190,7 +233,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
           laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"],
-          distractor=DEFAULTS["distractor"], truth=DEFAULTS["truth"], trackers=None, quiet: bool = False) -> int:
+          distractor=DEFAULTS["distractor"], truth=DEFAULTS["truth"], trackers=None, quiet: bool = False,
+          family: str | None = DEFAULTS["family"]) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -230,6 +274,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         Default: the profile's trackers.
     quiet : bool
         No progress on stderr.
+    family : str, optional
+        A named render family (:data:`FAMILIES`): sets the options it names (:func:`family_options`).
 
     Returns
     -------
@@ -249,6 +295,11 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     if truth not in TRUTHS:
         raise ValueError(f"`truth` must be one of {', '.join(TRUTHS)}, got {truth!r}")
+    if family is not None:
+        opts = family_options(family, {"profile": profile, "downscale": downscale, "line_fwhm_mrad": line_fwhm_mrad,
+                                       "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor})
+        profile, downscale, line_fwhm_mrad = opts["profile"], opts["downscale"], opts["line_fwhm_mrad"]
+        laser_power_mw, channel, distractor = opts["laser_power_mw"], opts["channel"], opts["distractor"]
     say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     config = load_profile(profile)
     g = replace(pr.SMALL_GRID if grid == "small" else pr.DEFAULT_GRID, width=int(size), height=int(size) * 15 // 16)

@@ -198,6 +198,41 @@ def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tm
     assert len(lines) == 1 and "is not a finished predictcheck run" in lines[0]
 
 
+def test_a_named_family_sets_its_options_and_a_conflicting_option_is_one_line(tmp_path, capsys):
+    """``--family NAME`` sets the family's options (recorded as if given one by one); an option the family sets,
+    given otherwise, is one line and status 2."""
+    from bench.studies.predict_check import family_of
+
+    out = tmp_path / "plain"
+    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers", "threshold",
+                 "--family", "plain", "--quiet"]) == 0
+    doc = json.loads((out / "predict_check.json").read_text())
+    assert doc["channel"] == "laser" and family_of(doc) == "quick: downscale 1, channel laser"
+    capsys.readouterr()
+    for extra in (["--family", "phone", "--downscale", "2"], ["--family", "marble", "--profile", "quick"]):
+        assert main(["predictcheck", "--out", str(tmp_path / "bad"), "--size", "128", *extra, "--quiet"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"family {extra[1]!r} sets" in err[0]
+    assert not (tmp_path / "bad" / "predict_check.json").exists()
+
+
+def test_every_named_family_is_options_the_command_accepts():
+    import inspect
+
+    from bench.config import PROFILES
+    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, family_options, study
+
+    assert set(FAMILIES) >= {"native", "phone", "third", "plain", "white-bar", "marble"}
+    params = inspect.signature(study).parameters
+    for name in FAMILIES:
+        opts = family_options(name, {k: DEFAULTS[k] for k in FAMILIES[name]})
+        assert set(opts) <= set(params)
+        assert opts.get("profile", "field") in PROFILES and opts.get("downscale", 1) in (1, 2, 4)
+        assert opts.get("channel", "auto") in CASE_CHANNELS and opts.get("distractor", "none") in DISTRACTORS
+    with pytest.raises(ValueError, match="`family` must be one of"):
+        family_options("daylight", {})
+
+
 def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_reference_columns(tmp_path):
     """``--truth reference``: the measured side is scored against the columns a photograph's reference would give
     (:func:`bench.evaluate.outcomes.referenced_columns`), with the same row states; the prediction is unchanged."""

@@ -11,7 +11,7 @@ from pathlib import Path
 from bench.cli.common import Command, UsageError, check_out_folder, study_command
 from bench.cli.options import (add_estimate, add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed,
                                add_trackers, arg_type)
-from bench.config.options import finite_float
+from bench.config.options import finite_float, int_in_range
 
 __all__ = ["COMMANDS", "DEFAULT_TRACKERS", "SIZES", "predict_check_options", "predict_score_options"]
 
@@ -137,6 +137,10 @@ def predict_score_options(p) -> None:
     p.add_argument("--against", type=Path, nargs="+", metavar="RUN", default=None,
                    help="runs of another version of the procedure, one of each RUN's family and seed: print each "
                         "family's paired difference, its mean and its spread over the seeds")
+    p.add_argument("--min-rows", dest="min_rows", metavar="N", default=0,
+                   type=arg_type(lambda n, v: int_in_range(n, v, 0), "--min-rows"),
+                   help="leave out of the per-case figures the cases measured on fewer than N stripe rows (their hit "
+                        "rate is mostly noise); the pooled figures keep them (default 0: none left out)")
 
 
 COMMANDS = (

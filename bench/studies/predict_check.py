@@ -438,12 +438,15 @@ def family_of(doc: dict) -> str:
     return family if profile == "field" else f"{profile}: {family}"
 
 
-def objective(docs: dict) -> dict:
+def objective(docs: dict, min_rows: int = 0) -> dict:
     """The declared objective of docs/predict.md over finished ``predictcheck`` runs (name -> its
     ``predict_check.json``): per run, the *per-case score* (each case's mean |predicted - measured| of hit rate
     and F1, averaged: :func:`bench.evaluate.prediction.per_group_error`), the per-case false-report |difference|,
     the pooled score and the pooled false-report |difference|; then their means over the runs, and the per-case
-    score's mean per family (:func:`family_of`).
+    score's mean per family (:func:`family_of`). With ``min_rows`` > 0 the per-case figures leave out the cases
+    whose frames hold fewer measured stripe rows (a document's ``_case_rows``, case -> rows, which
+    :func:`_read_runs` adds from its ``measured.csv``): a hit rate on 15 rows is mostly its own noise (docs/predict.md,
+    "Ties on the path"); the pooled figures keep every case, and each run says how many it left out (``n_left_out``).
 
     Examples
     --------
@@ -454,22 +457,39 @@ def objective(docs: dict) -> dict:
     >>> o = objective({"r1": doc})
     >>> round(o["per_case"], 6), round(o["false_report_per_case"], 6), round(o["pooled"], 6), o["families"]
     (0.05, 0.2, 0.02, {'native': 0.05})
+    >>> o = objective({"r1": {**doc, "_case_rows": {"a": 600, "b": 15}}}, min_rows=100)
+    >>> round(o["per_case"], 6), o["runs"]["r1"]["n_left_out"], round(o["pooled"], 6)
+    (0.03, 1, 0.02)
     """
     from bench.evaluate.prediction import per_group_error
 
     if not docs:
         raise ValueError("`docs` must hold at least one predictcheck run, got none")
+    if isinstance(min_rows, bool) or not isinstance(min_rows, (int, np.integer)) or min_rows < 0:
+        raise ValueError(f"`min_rows` must be an integer >= 0, got {min_rows!r}")
     runs = {}
     for name, doc in docs.items():
         if not doc.get("cases") or not doc.get("pooled"):
             raise ValueError(f"{name}: a predictcheck run with no case predicted")
-        err = per_group_error(doc["cases"])
+        cases = doc["cases"]
+        if min_rows:
+            if "_case_rows" not in doc:
+                raise ValueError(f"{name}: leaving out cases by their rows needs the run's measured.csv")
+            cases = {k: v for k, v in cases.items() if doc["_case_rows"].get(k, 0) >= min_rows}
+            if not cases:
+                raise ValueError(f"{name}: no case measured on {min_rows} stripe rows or more")
+            far_vals = [float(v[FAR]["mean_abs_diff"]) for v in cases.values()
+                        if FAR in v and np.isfinite(v[FAR]["mean_abs_diff"])]
+            far = float(np.mean(far_vals)) if far_vals else float("nan")
+        else:
+            far = float(doc["per_case"].get(FAR, np.nan)) if doc.get("per_case") else float("nan")
+        err = per_group_error(cases)
         pooled = doc["pooled"]
         runs[name] = {"family": family_of(doc), "seed": doc.get("seed"), "estimate": doc.get("estimate"),
+                      "n_left_out": len(doc["cases"]) - len(cases),
                       "per_case": 0.5 * (err["hit_rate"] + err["f1"]), "per_case_hit_rate": err["hit_rate"],
                       "per_case_f1": err["f1"], "false_report_per_case": err["false_report_rate"],
-                      "false_report_far_per_case": float(doc["per_case"].get(FAR, np.nan)) if doc.get("per_case")
-                      else float("nan"),
+                      "false_report_far_per_case": far,
                       "pooled": 0.5 * (pooled["hit_rate"]["mean_abs_diff"] + pooled["f1"]["mean_abs_diff"]),
                       "pooled_hit_rate": pooled["hit_rate"]["mean_abs_diff"],
                       "pooled_f1": pooled["f1"]["mean_abs_diff"],
@@ -493,11 +513,11 @@ PAIRED = {"per_case": "per case", "false_report_per_case": "false-report |diff|"
           "pooled": "pooled", "pooled_false_report": "pooled false-report"}
 
 
-def paired(docs: dict, against: dict) -> dict:
+def paired(docs: dict, against: dict, min_rows: int = 0) -> dict:
     """Each run of ``docs`` beside the run of ``against`` of its family and seed (name -> ``predict_check.json``):
-    the differences (this minus that) of :func:`objective`'s per-run figures, per pair, and per family their mean,
-    least and greatest over the seeds, so that a choice between two versions of the procedure sees how far its
-    difference moves from seed to seed (docs/predict.md, "Paired differences").
+    the differences (this minus that) of :func:`objective`'s per-run figures (with ``min_rows``), per pair, and per
+    family their mean, least and greatest over the seeds, so that a choice between two versions of the procedure
+    sees how far its difference moves from seed to seed (docs/predict.md, "Paired differences").
 
     Raises
     ------
@@ -516,7 +536,7 @@ def paired(docs: dict, against: dict) -> dict:
     """
     def keyed(group, which):
         out = {}
-        for name, r in objective(group)["runs"].items():
+        for name, r in objective(group, min_rows)["runs"].items():
             k = (r["family"], r["seed"])
             if k in out:
                 raise ValueError(f"{which}: two runs of family {k[0]!r} and seed {k[1]}: {out[k][0]} and {name}")
@@ -543,26 +563,38 @@ def paired(docs: dict, against: dict) -> dict:
     return {"pairs": pairs, "families": fam_out, **{f: spread([d[f] for d in pairs.values()])[0] for f in keys}}
 
 
-def _read_runs(runs) -> dict:
+def _read_runs(runs, rows: bool = False) -> dict:
+    """Run folder -> its ``predict_check.json``; with ``rows``, each with ``_case_rows`` (case -> the measured stripe
+    rows of its frames, from ``measured.csv``: hit, wrong and missed rows of its first tracker, the same for every
+    tracker since the row states are the frame's)."""
+    import pandas as pd
+
     docs = {}
     for run in runs:
         path = Path(run) / "predict_check.json"
         try:
-            docs[str(run)] = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:
+            doc = json.loads(path.read_text(encoding="utf-8"))
+            if rows:
+                m = pd.read_csv(Path(run) / "measured.csv")
+                m = m[m["tracker"] == m["tracker"].iloc[0]]
+                n = (m["n_hit"] + m["n_wrong"] + m["n_missed"]).groupby(m["experiment"].str.rsplit("@", n=1).str[0])
+                doc["_case_rows"] = {str(k): int(v) for k, v in n.sum().items()}
+        except (OSError, ValueError, KeyError, IndexError) as exc:
             raise ValueError(f"{str(run)!r} is not a finished predictcheck run ({type(exc).__name__}: {exc})") from None
+        docs[str(run)] = doc
     return docs
 
 
-def score(*, runs, against=None) -> int:
-    """``stripebench predictscore RUN [RUN ...] [--against RUN ...]``: :func:`objective` over finished
+def score(*, runs, against=None, min_rows: int = 0) -> int:
+    """``stripebench predictscore RUN [RUN ...] [--against RUN ...] [--min-rows N]``: :func:`objective` over finished
     ``predictcheck`` runs, printed (the numbers docs/predict.md decides the prediction's procedure by); with
-    ``against``, each run's difference from its partner of the same family and seed (:func:`paired`). 0, or 2
-    with one line on stderr for a folder that is not a finished run or a run without a partner."""
+    ``against``, each run's difference from its partner of the same family and seed (:func:`paired`); with
+    ``min_rows``, the per-case figures without the cases measured on fewer stripe rows. 0, or 2 with one line on
+    stderr for a folder that is not a finished run or a run without a partner."""
     try:
-        docs = _read_runs(runs)
-        o = objective(docs)
-        pair = paired(docs, _read_runs(against)) if against else None
+        docs = _read_runs(runs, rows=bool(min_rows))
+        o = objective(docs, min_rows)
+        pair = paired(docs, _read_runs(against, rows=bool(min_rows)), min_rows) if against else None
     except ValueError as exc:
         print(f"stripebench predictscore: {exc}", file=sys.stderr)
         return 2
@@ -578,6 +610,11 @@ def score(*, runs, against=None) -> int:
           f"pooled score {o['pooled']:.4f} ({len(o['runs'])} runs)")
     print(f"mean |predicted - measured| per case: hit rate {o['per_case_hit_rate']:.4f}, F1 {o['per_case_f1']:.4f}; "
           f"pooled: hit rate {o['pooled_hit_rate']:.4f}, F1 {o['pooled_f1']:.4f}")
+    if min_rows:
+        left = sum(r["n_left_out"] for r in o["runs"].values())
+        total = sum(len(d["cases"]) for d in docs.values())
+        print(f"per-case figures without the cases measured on fewer than {min_rows} stripe rows: {left} of {total} "
+              "left out (the pooled figures keep them)")
     if pair is not None:
         print(f"paired with --against (these minus those, per family: mean [least, greatest] over "
               f"{len(pair['pairs'])} pairs):")

@@ -198,6 +198,34 @@ def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tm
     assert len(lines) == 1 and "is not a finished predictcheck run" in lines[0]
 
 
+def test_predictscore_min_rows_leaves_out_the_cases_measured_on_few_rows(checked, capsys):
+    """``--min-rows N``: the per-case figures without the cases whose frames hold fewer than N measured stripe rows
+    (counted from ``measured.csv``); the pooled figures keep them; no case left is one line and status 2."""
+    from bench.studies.predict_check import _read_runs, objective
+
+    m = pd.read_csv(checked / "measured.csv")
+    m = m[m["tracker"] == "threshold"]
+    rows = (m["n_hit"] + m["n_wrong"] + m["n_missed"]).groupby(m["experiment"].str.rsplit("@", n=1).str[0]).sum()
+    doc = _read_runs([checked], rows=True)[str(checked)]
+    assert doc["_case_rows"] == {k: int(v) for k, v in rows.items()}
+    cut = sorted(doc["_case_rows"].get(k, 0) for k in doc["cases"])[len(doc["cases"]) // 2]  # keeps half or more
+    kept = {k: v for k, v in doc["cases"].items() if doc["_case_rows"].get(k, 0) >= cut}
+    o, full = objective({"r": doc}, cut), objective({"r": doc})
+    assert o["runs"]["r"]["n_left_out"] == len(doc["cases"]) - len(kept) and o["pooled"] == full["pooled"]
+    assert o["per_case"] == pytest.approx(objective({"r": {**doc, "cases": kept}})["per_case"])
+    capsys.readouterr()
+    assert main(["predictscore", str(checked), "--min-rows", str(cut)]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    assert line.startswith(f"per-case figures without the cases measured on fewer than {cut} stripe rows: "
+                           f"{len(doc['cases']) - len(kept)} of {len(doc['cases'])} left out")
+    assert main(["predictscore", str(checked), "--min-rows", str(int(rows.max()) + 1)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no case measured on" in err[0]
+    with pytest.raises(SystemExit) as bad:
+        main(["predictscore", str(checked), "--min-rows", "-1"])
+    assert bad.value.code == 2 and "--min-rows: must be an integer >= 0" in capsys.readouterr().err
+
+
 def test_a_named_family_sets_its_options_and_a_conflicting_option_is_one_line(tmp_path, capsys):
     """``--family NAME`` sets the family's options (recorded as if given one by one); an option the family sets,
     given otherwise, is one line and status 2."""

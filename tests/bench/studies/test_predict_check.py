@@ -212,7 +212,9 @@ def test_predictscore_min_rows_leaves_out_the_cases_measured_on_few_rows(checked
     kept = {k: v for k, v in doc["cases"].items() if doc["_case_rows"].get(k, 0) >= cut}
     o, full = objective({"r": doc}, cut), objective({"r": doc})
     assert o["runs"]["r"]["n_left_out"] == len(doc["cases"]) - len(kept) and o["pooled"] == full["pooled"]
-    assert o["per_case"] == pytest.approx(objective({"r": {**doc, "cases": kept}})["per_case"])
+    only_kept = objective({"r": {**doc, "cases": kept}})
+    assert o["per_case"] == pytest.approx(only_kept["per_case"])
+    assert o["false_report_far_per_case"] == pytest.approx(only_kept["false_report_far_per_case"], nan_ok=True)
     capsys.readouterr()
     assert main(["predictscore", str(checked), "--min-rows", str(cut)]) == 0
     line = capsys.readouterr().out.strip().splitlines()[-1]

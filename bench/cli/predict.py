@@ -90,7 +90,7 @@ def _predict(args) -> int:
 def predict_check_options(p) -> None:
     """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
     from bench.config import PROFILES
-    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, TRUTHS
+    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, ROWS, TRUTHS
 
     add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
     p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
@@ -121,6 +121,10 @@ def predict_check_options(p) -> None:
                    help="what the measured side scores against: render (the render's truth, the laser sheet's "
                         "centre; default) or reference (the columns a photograph's reference would give: the "
                         "intensity centre near it)")
+    p.add_argument("--rows", default=DEFAULTS["rows"], choices=ROWS,
+                   help="which stripe rows the measured side scores: seen (every row where the reference rule sees "
+                        "the true stripe; default) or clear (less those where it stands under a fifth of its typical "
+                        "height, which a photograph's reference leaves out as unclear)")
     p.add_argument("--family", default=DEFAULTS["family"], choices=tuple(FAMILIES),
                    help="a named render family, which sets its own options: native, phone (--downscale 4 "
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "

@@ -69,7 +69,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
-           "shifts_for"]
+           "shifts_for", "DIM_SHARE", "dim_rows"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -132,6 +132,12 @@ RIVAL_SHARE = 1.0
 END_CUT = 0.15
 #: ... and only where at least this many rows of the span stay moved.
 END_CUT_MIN_ROWS = 40
+#: :func:`dim_rows`: a visible row of a stripe standing under this share of the median height of its visible rows is
+#: one a photograph's reference leaves out as unclear (a reflection in line with the stripe, a glow, a faint stretch).
+#: Measured on the shipped set's labels (docs/predict.md, "Which rows a reference scores"): 3 % of the rows the
+#: references score stand so low, 44 % of those they leave out, and 64 % of the rows standing so low are left out.
+#: 0.2 is the eighth session's (docs/predict.md, "Rows far dimmer than the stripe").
+DIM_SHARE = 0.2
 #: A stripe wider (FWHM, px; ``conditions.measure``'s ``width_px``) than the reference window cannot be read by the
 #: reference rule (the window's median is then the stripe itself, and its "centre" is wherever its brightest pixel
 #: is): such a photograph is out of range (``width_px``). A phone's full-size frame is one; shrunk, it may not be.
@@ -680,6 +686,30 @@ def _line(row, a: int, b: int) -> np.ndarray:
     ml, mr = _few_median(left), _few_median(right)
     t = (np.arange(a, b + 1) - (a - 1)) / float(b - a + 2)
     return ml[None, :] + t[:, None] * (mr - ml)[None, :]
+
+
+def dim_rows(ext: Extents) -> np.ndarray:
+    """The visible rows of ``ext`` whose stripe stands under :data:`DIM_SHARE` of the median height (``ext.height``,
+    the peak over the reference window's median) of its visible rows, shape (H,) bool: the rows a photograph's
+    reference leaves out as unclear (docs/predict.md, "Which rows a reference scores"); none without heights.
+
+    Examples
+    --------
+    >>> vis = np.ones(6, bool)
+    >>> e = Extents(np.zeros(6), vis, np.zeros(6), np.zeros(6), np.zeros(6), 1.0,
+    ...             height=np.array([50.0, 48.0, 52.0, 9.0, 11.0, 50.0]))
+    >>> dim_rows(e).tolist()
+    [False, False, False, True, False, False]
+    """
+    out = np.zeros(np.shape(ext.visible), bool)
+    if ext.height is None or not np.any(ext.visible):
+        return out
+    h = np.asarray(ext.height, dtype=np.float64)
+    typical = np.nanmedian(h[ext.visible])
+    if not np.isfinite(typical) or typical <= 0:
+        return out
+    with np.errstate(invalid="ignore"):
+        return ext.visible & (h < DIM_SHARE * typical)
 
 
 def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:

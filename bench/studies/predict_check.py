@@ -34,14 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
            "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
            "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
             "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
-            "distractor": "none", "truth": "render", "family": None}
+            "distractor": "none", "truth": "render", "rows": "seen", "family": None}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
@@ -53,6 +53,13 @@ CASE_CHANNELS = ("auto", "laser")
 #: (:func:`bench.evaluate.outcomes.referenced_columns`: the intensity centre near the true column), as a photograph
 #: is scored (docs/predict.md, "The renders' truth and a photograph's reference"). The row states are the same.
 TRUTHS = ("render", "reference")
+
+#: Which stripe rows the measured side scores (``--rows``): ``seen``, every row where the reference rule sees the true
+#: stripe (:func:`bench.evaluate.outcomes.referenced_states`), or ``clear``, those less the rows where the true stripe
+#: stands far under its typical height (:func:`bench.evaluate.transplant.dim_rows` along the true columns), which a
+#: photograph's reference leaves out as unclear (docs/predict.md, "Which rows a reference scores": measured on the
+#: shipped set's labels). Those rows are then not scored (``UNSURE``).
+ROWS = ("seen", "clear")
 
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
 #: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
@@ -234,7 +241,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
           laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"],
           distractor=DEFAULTS["distractor"], truth=DEFAULTS["truth"], trackers=None, quiet: bool = False,
-          family: str | None = DEFAULTS["family"]) -> int:
+          family: str | None = DEFAULTS["family"], rows: str = DEFAULTS["rows"]) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -276,6 +283,10 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         No progress on stderr.
     family : str, optional
         A named render family (:data:`FAMILIES`): sets the options it names (:func:`family_options`).
+    rows : str
+        Which stripe rows the measured side scores (:data:`ROWS`): ``seen`` (every row where the reference rule sees
+        the true stripe) or ``clear`` (less those a photograph's reference leaves out as unclear). The prediction is
+        the same either way.
 
     Returns
     -------
@@ -286,7 +297,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
-    from bench.evaluate.outcomes import UNKNOWN, distant_states, outcome_counts, referenced_columns, referenced_states
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import (STRIPE, UNKNOWN, UNSURE, distant_states, outcome_counts, referenced_columns,
+                                         referenced_states)
     from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
@@ -295,6 +308,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
     if truth not in TRUTHS:
         raise ValueError(f"`truth` must be one of {', '.join(TRUTHS)}, got {truth!r}")
+    if rows not in ROWS:
+        raise ValueError(f"`rows` must be one of {', '.join(ROWS)}, got {rows!r}")
     if family is not None:
         opts = family_options(family, {"profile": profile, "downscale": downscale, "line_fwhm_mrad": line_fwhm_mrad,
                                        "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor})
@@ -320,6 +335,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             key = (colour, laser)
             states = referenced_states(img, case.truth_columns)
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
+            if rows == "clear":  # less the rows a photograph's reference leaves out as unclear
+                along = tp.stripe_extents(img, None, guide=case.truth_columns)
+                states = np.where((states == STRIPE) & tp.dim_rows(along), UNSURE, states).astype(np.int8)
             scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))
@@ -378,7 +396,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
            "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor, "truth": truth,
-           "grid": g.to_value() if frames == "render" else None,
+           "rows": rows, "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc,
            "cases": {k: {**comparison_doc(v), FAR: comparison_doc(far[k])["false_report_rate"]}
                      for k, v in cases.items()},
@@ -409,7 +427,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
 def family_of(doc: dict) -> str:
     """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale``, ``--line-fwhm``
-    ``--laser-power``, ``--channel``, ``--distractor`` and ``--truth`` (docs/predict.md: the phone-like family is
+    ``--laser-power``, ``--channel``, ``--distractor``, ``--truth`` and ``--rows`` (docs/predict.md: the phone-like family is
     ``downscale 4, line 1.2 mrad``), after its ``--profile`` where that is not ``field`` (the cases' own profile).
 
     Examples
@@ -425,6 +443,8 @@ def family_of(doc: dict) -> str:
     >>> family_of({"profile": "marble", "downscale": 1, "line_fwhm_mrad": None}), family_of(
     ...     {"profile": "marble", "downscale": 1, "line_fwhm_mrad": None, "laser_power_mw": 15.0})
     ('marble: native', 'marble: downscale 1, 15 mW')
+    >>> family_of({"downscale": 1, "line_fwhm_mrad": None, "rows": "clear"})
+    'native, rows clear'
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
     ch, dis, tr = doc.get("channel", "auto"), doc.get("distractor", "none"), doc.get("truth", "render")
@@ -435,6 +455,8 @@ def family_of(doc: dict) -> str:
         family = (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
                   + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
                   + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
+    if doc.get("rows", "seen") != "seen":
+        family += f", rows {doc['rows']}"
     return family if profile == "field" else f"{profile}: {family}"
 
 

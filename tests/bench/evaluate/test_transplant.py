@@ -227,3 +227,19 @@ def test_a_moved_stripe_does_not_land_on_a_rival():
     assert left == base and right > base
     for r in np.flatnonzero(ext.visible):  # no moved extent (with its sides) meets the rival
         assert not (ext.lo[r] + right - tp.SIDE_PX <= c + 15 <= ext.hi[r] + right + tp.SIDE_PX)
+
+
+def test_dim_rows_are_the_stripe_s_rows_standing_under_a_fifth_of_its_typical_height():
+    """:func:`dim_rows` along a known stripe: 100 DN over the background in most rows, 15 DN (visible, but under
+    :data:`DIM_SHARE` of the median) in rows 10-14, 40 DN (over it) in rows 20-24."""
+    rng = np.random.default_rng(3)
+    img = rng.normal(30.0, 1.0, (40, 60))
+    height = np.full(40, 100.0)
+    height[10:15], height[20:25] = 15.0, 40.0
+    img[:, 30] += height
+    ext = tp.stripe_extents(img, guide=np.full(40, 30.0))
+    assert ext.visible.all()
+    want = np.zeros(40, bool)
+    want[10:15] = True
+    assert np.array_equal(tp.dim_rows(ext), want)
+    assert not tp.dim_rows(tp.Extents(ext.peak, ext.visible, ext.lo, ext.hi, ext.centre, ext.noise_dn)).any()

@@ -297,6 +297,52 @@ def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_ref
         study(out=tmp_path / "bad", truth="photo")
 
 
+def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tmp_path, monkeypatch):
+    """``--rows clear``: the measured side scores the rows where the reference rule sees the true stripe less those
+    where it stands under a fifth of its typical height (:func:`bench.evaluate.transplant.dim_rows` along the truth),
+    as a photograph's reference leaves them out; the prediction is unchanged. The quick profile's stripes stand
+    evenly, so the share is raised here to 0.8 to give the rule rows to leave out."""
+    from bench.config import parse_trackers_arg
+    from bench.config import profile as load_profile
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE, UNSURE, outcome_counts, referenced_states
+    from bench.run import predict as pr
+    from bench.run.track import build_trackers
+    from bench.studies.predict_check import case_frames, family_of, study
+
+    monkeypatch.setattr(tp, "DIM_SHARE", 0.8)
+    runs = {}
+    for rows in ("seen", "clear"):
+        out = tmp_path / rows
+        assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                     "threshold", "--rows", rows, "--quiet"]) == 0
+        runs[rows] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
+                      pd.read_csv(out / "predicted.csv"))
+    doc, measured, predicted = runs["clear"]
+    assert doc["rows"] == "clear" and family_of(doc) == "quick: native, rows clear"
+    assert family_of(runs["seen"][0]) == "quick: native"
+    pd.testing.assert_frame_equal(predicted, runs["seen"][2])  # the prediction does not depend on it
+    config = load_profile("quick")
+    tr = build_trackers(parse_trackers_arg("threshold"))
+    n_dim, names = 0, []
+    for name, case, _ in case_frames(config.experiments[0], config, seed=1, width=128, height=120,
+                                     n_angles=pr.N_ANGLES):
+        seen = referenced_states(case.image, case.truth_columns)
+        dim = tp.dim_rows(tp.stripe_extents(case.image, guide=case.truth_columns)) & (seen == STRIPE)
+        n_dim += int(dim.sum())
+        for rows, states in (("seen", seen), ("clear", np.where(dim, UNSURE, seen))):
+            want = outcome_counts(pr.score_frame(tr, case.image, case.truth_columns, states=states)["threshold"])
+            m = runs[rows][1]
+            got = m[(m["experiment"] == name) & (m["tracker"] == "threshold")].iloc[0]
+            assert {k: int(got[k]) for k in want} == want
+        names.append(name)
+    stripe_rows = {r: int(m[m["experiment"].isin(names)].eval("n_hit + n_wrong + n_missed").sum())
+                   for r, (_, m, _) in runs.items()}
+    assert n_dim > 0 and stripe_rows["clear"] == stripe_rows["seen"] - n_dim  # threshold: one outcome per row
+    with pytest.raises(ValueError, match="`rows` must be one of seen, clear"):
+        study(out=tmp_path / "bad", rows="all")
+
+
 def test_predictscore_against_prints_each_family_s_paired_difference(checked, tmp_path, capsys):
     """``--against``: each run beside the other version's run of its family and seed; a copy whose cases are all
     0.01 further off differs by exactly that, and a run without a partner is one line and status 2."""

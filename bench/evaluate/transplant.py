@@ -34,7 +34,8 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    high over their row as the stripe (:func:`rival_mask`). A row whose moved extent would leave the frame or
    meet its old extent is cleaned, not moved. The truth is the centre plus ``shift_px`` in the
    moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
-   as the real set's references would be read.
+   as the real set's references would be read, leaving unscored the rows where the stripe stands far
+   lower than its typical height (:func:`dim_rows`), as a reference leaves unclear rows out.
 
 The moved stripe keeps the photograph's stripe (width, contrast, saturation, colour, speckle) and
 its surroundings keep everything else; what changes is where the stripe crosses them. Pure
@@ -716,8 +717,9 @@ def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
-    reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`),
-    else ``UNSURE``; a row the stripe crosses without a moved centre is ``UNSURE``; every other row is
+    reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`) and the
+    stripe there is not far dimmer than its typical height (:func:`dim_rows`), else ``UNSURE``; a row the stripe
+    crosses without a moved centre is ``UNSURE``; every other row is
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
     With ``keep`` (:func:`transplant`'s), the rows it leaves out hold no stripe and count as rows without one.
@@ -743,4 +745,5 @@ def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     moved = np.isfinite(t)
     if moved.any():
         states[moved] = referenced_states(image, t)[moved]
+        states[moved & dim_rows(ext)] = UNSURE  # as a reference leaves an unclear row out
     return states.astype(np.int8)

@@ -113,6 +113,23 @@ def test_row_states_read_the_moved_stripe_like_a_reference():
     assert (st[last + 15:] == NO_STRIPE).all() and (st[40:last + 15] == UNSURE).all()
 
 
+def test_rows_far_dimmer_than_the_stripe_are_not_scored():
+    """A stripe 150 DN high whose rows 30-39 stand 20 DN (10 noise units: seen by the reference rule, but under
+    DIM_SHARE of the stripe's typical height): moved, those rows are UNSURE, as a reference leaves unclear rows out; the
+    rest are stripe rows. A stripe 40 DN high there (over DIM_SHARE) is scored throughout."""
+    for amp, dim in ((20.0, True), (40.0, False)):
+        img = _frame(60.0).astype(float)
+        x = np.arange(W, dtype=float)
+        img[30:40] -= (150.0 - amp) * np.exp(-0.5 * ((x - 60.0) / 1.5) ** 2)
+        img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+        ext = tp.stripe_extents(img)
+        assert ext.visible.all() and tp.dim_rows(ext)[30:40].all() == dim and not tp.dim_rows(ext)[:30].any()
+        moved, truth = tp.transplant(img, ext, 30, seed=0)
+        st = tp.row_states(ext, truth, moved)
+        assert (st[30:40] == (UNSURE if dim else STRIPE)).all()
+        assert (st[:30] == STRIPE).all() and (st[40:] == STRIPE).all()
+
+
 def test_shift_clears_the_extent_and_bad_input_is_refused():
     ext = tp.stripe_extents(_frame(60.0, sigma=4.0))
     s = tp.shift_for(ext)

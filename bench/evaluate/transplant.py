@@ -70,7 +70,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
-           "shifts_for", "DIM_SHARE", "dim_rows"]
+           "shifts_for", "DIM_SHARE", "dim_rows", "tie_break", "PATH_TIE", "TIE_SIGMA_PX"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -90,6 +90,13 @@ GUIDE_ROWS = 7
 #: docs/predict.md.)
 PATH_CAP = 2.0 * cond.VISIBLE_K
 PATH_JUMP = 2.0
+#: Where paths tie on their capped scores (a stripe, or its halo, wider than the cap's reach: every column of it scores
+#: 1), the path takes the brighter one instead of the leftmost: each pixel adds its height over the row's median,
+#: smoothed along the row by a Gaussian of TIE_SIGMA_PX (so that a clipped plateau's middle stands highest) and
+#: divided by the frame's largest such value, times PATH_TIE / H. All the rows together add at most PATH_TIE of one
+#: clear row, so only near-ties turn on it (docs/predict.md, "Ties on the path").
+PATH_TIE = 0.1
+TIE_SIGMA_PX = 2.0
 #: A row of the path guides only with at least SUPPORT_MIN rows (itself included) within SUPPORT_ROWS rows where
 #: the path stands VISIBLE_K noise units over the row's median: a stripe is a run, a stray bright pixel is not.
 SUPPORT_ROWS = 3
@@ -374,13 +381,36 @@ def _estimated_guide(sm, med, first, noise: float, estimate: str, measured) -> n
     rows = np.arange(sm.shape[0])
     window = np.ones(2 * SUPPORT_ROWS + 1, int)
     if estimate == "path":
-        path = _path(np.clip((sm - med[:, None]) / (PATH_CAP * noise), 0.0, 1.0))
+        lift = sm - med[:, None]
+        path = _path(np.clip(lift / (PATH_CAP * noise), 0.0, 1.0) + tie_break(lift))
         on = sm[rows, path] - med >= cond.VISIBLE_K * noise
         return _guide(path, on & (np.convolve(on.astype(int), window, mode="same") >= SUPPORT_MIN))
     strong = sm[rows, first] - med >= cond.VISIBLE_K * noise
     near = np.abs(first - np.nan_to_num(_guide(first, strong), nan=-1e9)) <= cond.JUMP_PX
     kept = strong & near
     return _guide(first, kept & (np.convolve(kept.astype(int), window, mode="same") >= SUPPORT_MIN))
+
+
+def tie_break(lift) -> np.ndarray:
+    """The path's tie-breaker (:data:`PATH_TIE`), shape (H, W): ``lift`` (H, W; DN over each row's median), clipped at
+    0, smoothed along each row by a Gaussian of :data:`TIE_SIGMA_PX`, divided by its largest value and times
+    ``PATH_TIE / H``; zeros where nothing stands over its row.
+
+    Examples
+    --------
+    A clipped plateau five columns wide: its middle column gets the most.
+
+    >>> lift = np.zeros((2, 12)); lift[:, 3:8] = 200.0
+    >>> t = tie_break(lift)
+    >>> int(np.argmax(t[0])), round(float(t.sum(axis=0).max()), 3)
+    (5, 0.1)
+    """
+    from scipy.ndimage import gaussian_filter1d
+
+    lift = np.clip(np.asarray(lift, dtype=np.float64), 0.0, None)
+    mean = gaussian_filter1d(lift, TIE_SIGMA_PX, axis=1, mode="nearest")
+    top = float(mean.max()) if mean.size else 0.0
+    return mean * (PATH_TIE / (mean.shape[0] * top)) if top > 0 else np.zeros_like(mean)
 
 
 def capped_share(smoothed, row_median, noise_dn: float) -> float:

@@ -260,3 +260,24 @@ def test_dim_rows_are_the_stripe_s_rows_standing_under_a_fifth_of_its_typical_he
     want[10:15] = True
     assert np.array_equal(tp.dim_rows(ext), want)
     assert not tp.dim_rows(tp.Extents(ext.peak, ext.visible, ext.lo, ext.hi, ext.centre, ext.noise_dn)).any()
+
+
+def test_the_path_follows_a_curved_stripe_s_core_within_a_glow_that_caps_its_score():
+    """A stripe inside a wide glow (light scattered under a translucent surface), both far over the path's cap: every
+    column of the glow ties, and the path keeps to the stripe's core (``PATH_TIE``), not to the glow's left edge."""
+    rng = np.random.default_rng(4)
+    x = np.arange(W, dtype=float)[None, :]
+    centre = 80.0 + 8.0 * np.sin(np.arange(H) / H * np.pi)[:, None]  # curved: a straight path inside the glow is cheaper
+    img = (20.0 + 60.0 * np.exp(-0.5 * ((x - centre) / 8.0) ** 2) + 150.0 * np.exp(-0.5 * ((x - centre) / 1.5) ** 2)
+           + rng.normal(0, 1.0, (H, W)))
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img, estimate="path")
+    assert ext.visible.all()
+    assert np.max(np.abs(ext.centre - centre[:, 0])) < 0.5
+
+
+def test_the_tie_break_adds_less_than_a_tenth_of_one_clear_row_over_the_whole_frame():
+    lift = np.random.default_rng(0).uniform(0, 300, (H, W))
+    t = tp.tie_break(lift)
+    assert t.min() >= 0.0 and t.sum(axis=0).max() <= tp.PATH_TIE + 1e-12
+    assert not tp.tie_break(np.zeros((H, W))).any()

@@ -122,9 +122,9 @@ def predict_check_options(p) -> None:
                         "centre; default) or reference (the columns a photograph's reference would give: the "
                         "intensity centre near it)")
     p.add_argument("--rows", default=DEFAULTS["rows"], choices=ROWS,
-                   help="which stripe rows the measured side scores: seen (every row where the reference rule sees "
-                        "the true stripe; default) or clear (less those where it stands under a fifth of its typical "
-                        "height, which a photograph's reference leaves out as unclear)")
+                   help="which stripe rows the measured side scores: clear (every row where the reference rule sees "
+                        "the true stripe, less those where it stands under a fifth of its typical height, which a "
+                        "photograph's reference leaves out as unclear; default) or seen (all of them, as before)")
     p.add_argument("--family", default=DEFAULTS["family"], choices=tuple(FAMILIES),
                    help="a named render family, which sets its own options: native, phone (--downscale 4 "
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "

@@ -34,14 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX", "BAR_PEAK_DN",
-           "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX",
+           "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
            "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
             "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
-            "distractor": "none", "truth": "render", "rows": "seen", "family": None}
+            "distractor": "none", "truth": "render", "rows": "clear", "family": None}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
@@ -55,10 +55,11 @@ CASE_CHANNELS = ("auto", "laser")
 TRUTHS = ("render", "reference")
 
 #: Which stripe rows the measured side scores (``--rows``): ``seen``, every row where the reference rule sees the true
-#: stripe (:func:`bench.evaluate.outcomes.referenced_states`), or ``clear``, those less the rows where the true stripe
-#: stands far under its typical height (:func:`bench.evaluate.transplant.dim_rows` along the true columns), which a
-#: photograph's reference leaves out as unclear (docs/predict.md, "Which rows a reference scores": measured on the
-#: shipped set's labels). Those rows are then not scored (``UNSURE``).
+#: stripe (:func:`bench.evaluate.outcomes.referenced_states`; every run before the tenth session's), or ``clear`` (the
+#: default since then), those less the rows where the true stripe stands far under its typical height
+#: (:func:`bench.evaluate.transplant.dim_rows` along the true columns), which a photograph's reference leaves out as
+#: unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those rows are then
+#: not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
 ROWS = ("seen", "clear")
 
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
@@ -284,9 +285,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     family : str, optional
         A named render family (:data:`FAMILIES`): sets the options it names (:func:`family_options`).
     rows : str
-        Which stripe rows the measured side scores (:data:`ROWS`): ``seen`` (every row where the reference rule sees
-        the true stripe) or ``clear`` (less those a photograph's reference leaves out as unclear). The prediction is
-        the same either way.
+        Which stripe rows the measured side scores (:data:`ROWS`): ``clear`` (the default: every row where the
+        reference rule sees the true stripe, less those a photograph's reference leaves out as unclear) or ``seen``
+        (all of them, as before the tenth session). The prediction is the same either way.
 
     Returns
     -------
@@ -427,24 +428,29 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
 
 def family_of(doc: dict) -> str:
     """The render family of a ``predict_check.json`` document: ``native``, or its ``--downscale``, ``--line-fwhm``
-    ``--laser-power``, ``--channel``, ``--distractor``, ``--truth`` and ``--rows`` (docs/predict.md: the phone-like family is
-    ``downscale 4, line 1.2 mrad``), after its ``--profile`` where that is not ``field`` (the cases' own profile).
+    ``--laser-power``, ``--channel``, ``--distractor``, ``--truth`` and ``--rows`` (docs/predict.md: the phone-like
+    family is ``downscale 4, line 1.2 mrad``), after its ``--profile`` where that is not ``field`` (the cases' own
+    profile).
 
     Examples
     --------
-    >>> family_of({"downscale": 1, "line_fwhm_mrad": None}), family_of({"downscale": 4, "line_fwhm_mrad": 1.2})
+    >>> now = {"downscale": 1, "line_fwhm_mrad": None, "rows": "clear"}
+    >>> family_of(now), family_of({**now, "downscale": 4, "line_fwhm_mrad": 1.2})
     ('native', 'downscale 4, line 1.2 mrad')
-    >>> family_of({"downscale": 1, "line_fwhm_mrad": 20.0, "laser_power_mw": 100.0})
+    >>> family_of({**now, "line_fwhm_mrad": 20.0, "laser_power_mw": 100.0})
     'downscale 1, line 20 mrad, 100 mW'
-    >>> family_of({"downscale": 1, "line_fwhm_mrad": None, "channel": "laser"})
+    >>> family_of({**now, "channel": "laser"})
     'downscale 1, channel laser'
-    >>> family_of({"downscale": 4, "line_fwhm_mrad": 1.2, "truth": "reference"})
+    >>> family_of({**now, "downscale": 4, "line_fwhm_mrad": 1.2, "truth": "reference"})
     'downscale 4, line 1.2 mrad, truth reference'
-    >>> family_of({"profile": "marble", "downscale": 1, "line_fwhm_mrad": None}), family_of(
-    ...     {"profile": "marble", "downscale": 1, "line_fwhm_mrad": None, "laser_power_mw": 15.0})
+    >>> family_of({**now, "profile": "marble"}), family_of({**now, "profile": "marble", "laser_power_mw": 15.0})
     ('marble: native', 'marble: downscale 1, 15 mW')
-    >>> family_of({"downscale": 1, "line_fwhm_mrad": None, "rows": "clear"})
-    'native, rows clear'
+
+    A run scored on every row where the rule sees the stripe (``--rows seen``; every run from before the tenth
+    session, whose document has no ``rows``):
+
+    >>> family_of({**now, "rows": "seen"}), family_of({"downscale": 1, "line_fwhm_mrad": None})
+    ('native, rows seen', 'native, rows seen')
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
     ch, dis, tr = doc.get("channel", "auto"), doc.get("distractor", "none"), doc.get("truth", "render")
@@ -455,8 +461,8 @@ def family_of(doc: dict) -> str:
         family = (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
                   + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
                   + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
-    if doc.get("rows", "seen") != "seen":
-        family += f", rows {doc['rows']}"
+    if doc.get("rows", "seen") != DEFAULTS["rows"]:  # a run from before the tenth session has no key: ``seen``
+        family += f", rows {doc.get('rows', 'seen')}"
     return family if profile == "field" else f"{profile}: {family}"
 
 
@@ -474,8 +480,8 @@ def objective(docs: dict, min_rows: int = 0) -> dict:
     --------
     >>> case = lambda h, f, r: {"hit_rate": {"mean_abs_diff": h}, "f1": {"mean_abs_diff": f},
     ...                         "false_report_rate": {"mean_abs_diff": r}}
-    >>> doc = {"downscale": 1, "line_fwhm_mrad": None, "seed": 1, "cases": {"a": case(0.02, 0.04, 0.1),
-    ...        "b": case(0.06, 0.08, 0.3)}, "pooled": case(0.01, 0.03, 0.2)}
+    >>> doc = {"downscale": 1, "line_fwhm_mrad": None, "rows": "clear", "seed": 1,
+    ...        "cases": {"a": case(0.02, 0.04, 0.1), "b": case(0.06, 0.08, 0.3)}, "pooled": case(0.01, 0.03, 0.2)}
     >>> o = objective({"r1": doc})
     >>> round(o["per_case"], 6), round(o["false_report_per_case"], 6), round(o["pooled"], 6), o["families"]
     (0.05, 0.2, 0.02, {'native': 0.05})
@@ -550,8 +556,8 @@ def paired(docs: dict, against: dict, min_rows: int = 0) -> dict:
     --------
     >>> case = lambda h: {"hit_rate": {"mean_abs_diff": h}, "f1": {"mean_abs_diff": h},
     ...                   "false_report_rate": {"mean_abs_diff": 0.1}}
-    >>> doc = lambda seed, h: {"downscale": 1, "line_fwhm_mrad": None, "seed": seed, "cases": {"a": case(h)},
-    ...                        "pooled": case(h)}
+    >>> doc = lambda seed, h: {"downscale": 1, "line_fwhm_mrad": None, "rows": "clear", "seed": seed,
+    ...                        "cases": {"a": case(h)}, "pooled": case(h)}
     >>> p = paired({"n1": doc(1, 0.03), "n2": doc(2, 0.05)}, {"o1": doc(1, 0.02), "o2": doc(2, 0.02)})
     >>> [round(v, 3) for v in p["families"]["native"]["per_case"]], round(p["per_case"], 3)
     ([0.02, 0.01, 0.03], 0.02)

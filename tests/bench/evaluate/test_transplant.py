@@ -267,7 +267,8 @@ def test_the_path_follows_a_curved_stripe_s_core_within_a_glow_that_caps_its_sco
     column of the glow ties, and the path keeps to the stripe's core (``PATH_TIE``), not to the glow's left edge."""
     rng = np.random.default_rng(4)
     x = np.arange(W, dtype=float)[None, :]
-    centre = 80.0 + 8.0 * np.sin(np.arange(H) / H * np.pi)[:, None]  # curved: a straight path inside the glow is cheaper
+    # curved: a straight path inside the glow is cheaper
+    centre = 80.0 + 8.0 * np.sin(np.arange(H) / H * np.pi)[:, None]
     img = (20.0 + 60.0 * np.exp(-0.5 * ((x - centre) / 8.0) ** 2) + 150.0 * np.exp(-0.5 * ((x - centre) / 1.5) ** 2)
            + rng.normal(0, 1.0, (H, W)))
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)

@@ -8,7 +8,8 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    :func:`bench.evaluate.conditions.measure` smooths it, and the most continuous bright *path*
    through it (:data:`PATH_CAP`, :data:`PATH_JUMP`: a dynamic programme over rows, heights capped at
    ``PATH_CAP`` noise units, so that a rival
-   brighter than the stripe in a few rows does not pull the estimate off it). Path rows standing
+   brighter than the stripe in a few rows does not pull the estimate off it; ties broken by brightness,
+   :func:`tie_break`). Path rows standing
    :data:`bench.evaluate.conditions.VISIBLE_K` noise units over the row's median, with
    :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS`, are *strong*. A row's *guide* is the
    median path column of the strong rows within :data:`GUIDE_ROWS` rows; its stripe

@@ -263,6 +263,19 @@ def test_every_named_family_is_options_the_command_accepts():
         family_options("daylight", {})
 
 
+def _quick_runs(tmp_path, option: str, values) -> dict:
+    """value -> (``predict_check.json``, ``measured.csv``, ``predicted.csv``) of a small ``quick`` profile run
+    (``threshold`` only) with ``option`` at each of ``values``."""
+    runs = {}
+    for v in values:
+        out = tmp_path / v
+        assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                     "threshold", option, v, "--quiet"]) == 0
+        runs[v] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
+                   pd.read_csv(out / "predicted.csv"))
+    return runs
+
+
 def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_reference_columns(tmp_path):
     """``--truth reference``: the measured side is scored against the columns a photograph's reference would give
     (:func:`bench.evaluate.outcomes.referenced_columns`), with the same row states; the prediction is unchanged."""
@@ -273,13 +286,7 @@ def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_ref
     from bench.run.track import build_trackers
     from bench.studies.predict_check import case_frames, family_of, study
 
-    runs = {}
-    for truth in ("render", "reference"):
-        out = tmp_path / truth
-        assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
-                     "threshold", "--truth", truth, "--quiet"]) == 0
-        runs[truth] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
-                       pd.read_csv(out / "predicted.csv"))
+    runs = _quick_runs(tmp_path, "--truth", ("render", "reference"))
     doc, measured, predicted = runs["reference"]
     assert doc["truth"] == "reference" and family_of(doc) == "quick: downscale 1, truth reference"
     pd.testing.assert_frame_equal(predicted, runs["render"][2])  # the prediction does not depend on it
@@ -311,13 +318,7 @@ def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tm
     from bench.studies.predict_check import case_frames, family_of, study
 
     monkeypatch.setattr(tp, "DIM_SHARE", 0.8)
-    runs = {}
-    for rows in ("seen", "clear"):
-        out = tmp_path / rows
-        assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
-                     "threshold", "--rows", rows, "--quiet"]) == 0
-        runs[rows] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
-                      pd.read_csv(out / "predicted.csv"))
+    runs = _quick_runs(tmp_path, "--rows", ("seen", "clear"))
     doc, measured, predicted = runs["clear"]
     assert doc["rows"] == "clear" and family_of(doc) == "quick: native"
     assert family_of(runs["seen"][0]) == "quick: native, rows seen"

@@ -71,7 +71,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
-           "shifts_for", "DIM_SHARE", "dim_rows", "tie_break", "PATH_TIE", "TIE_SIGMA_PX"]
+           "shifts_for", "DIM_SHARE", "dim_rows", "clipped_peaks", "tie_break", "PATH_TIE", "TIE_SIGMA_PX"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -720,10 +720,12 @@ def _line(row, a: int, b: int) -> np.ndarray:
     return ml[None, :] + t[:, None] * (mr - ml)[None, :]
 
 
-def dim_rows(ext: Extents) -> np.ndarray:
+def dim_rows(ext: Extents, clipped=None) -> np.ndarray:
     """The visible rows of ``ext`` whose stripe stands under :data:`DIM_SHARE` of the median height (``ext.height``,
     the peak over the reference window's median) of its visible rows, shape (H,) bool: the rows a photograph's
     reference leaves out as unclear (docs/predict.md, "Which rows a reference scores"); none without heights.
+    ``clipped`` (H,) bool, optional: rows whose peak is clipped (:func:`clipped_peaks`), which are never dim: a
+    clipped core stands low over its window's median only where a glow as bright fills the window.
 
     Examples
     --------
@@ -732,6 +734,8 @@ def dim_rows(ext: Extents) -> np.ndarray:
     ...             height=np.array([50.0, 48.0, 52.0, 9.0, 11.0, 50.0]))
     >>> dim_rows(e).tolist()
     [False, False, False, True, False, False]
+    >>> dim_rows(e, clipped=np.array([0, 0, 0, 1, 0, 0], bool)).tolist()
+    [False, False, False, False, False, False]
     """
     out = np.zeros(np.shape(ext.visible), bool)
     if ext.height is None or not np.any(ext.visible):
@@ -741,7 +745,47 @@ def dim_rows(ext: Extents) -> np.ndarray:
     if not np.isfinite(typical) or typical <= 0:
         return out
     with np.errstate(invalid="ignore"):
-        return ext.visible & (h < DIM_SHARE * typical)
+        out = ext.visible & (h < DIM_SHARE * typical)
+    if clipped is not None:
+        clipped = np.asarray(clipped, bool)
+        if clipped.shape != out.shape:
+            raise ValueError(f"`clipped` must have one entry per row, shape {out.shape}, got {clipped.shape}")
+        out &= ~clipped
+    return out
+
+
+def clipped_peaks(original, ext: Extents, noise_dn=None) -> np.ndarray:
+    """The rows whose stripe peak (``ext.peak``) is clipped in ``original``, shape (H,) bool: a channel there stands
+    within :data:`CLIP_NOISE_K` of its noise units (at least 1 DN) of the top of an integer image's range, as
+    :func:`transplant` keeps a clipped pixel clipped; none for a float image (no known top).
+
+    Parameters
+    ----------
+    original : array_like, shape (H, W) or (H, W, C)
+        The photograph (DN), turned as the frame ``ext`` was read from.
+    ext : Extents
+        Its stripe.
+    noise_dn : array_like, shape (C,), optional
+        Each channel's noise (DN); :func:`channel_noise` when None.
+
+    Examples
+    --------
+    >>> img = np.full((3, 8), 40, np.uint8); img[:, 4] = [255, 200, 254]
+    >>> e = Extents(np.full(3, 4), np.ones(3, bool), np.zeros(3), np.zeros(3), np.zeros(3), 1.0)
+    >>> clipped_peaks(img, e, noise_dn=[1.0]).tolist()
+    [True, False, True]
+    """
+    img = np.asarray(original)
+    planes = img[..., None] if img.ndim == 2 else img
+    H, W = planes.shape[:2]
+    if np.shape(ext.peak) != (H,):
+        raise ValueError(f"`original` must have the frame's {np.shape(ext.peak)[0]} rows, got shape {img.shape}")
+    if not np.issubdtype(img.dtype, np.integer):
+        return np.zeros(H, bool)
+    noise = channel_noise(img) if noise_dn is None else np.asarray(noise_dn, np.float64)
+    top = float(np.iinfo(img.dtype).max) - np.maximum(CLIP_NOISE_K * noise, 1.0)
+    cols = np.clip(np.asarray(ext.peak, dtype=np.int64), 0, W - 1)
+    return np.any(planes[np.arange(H), cols, :].astype(np.float64) >= top, axis=-1)
 
 
 def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:

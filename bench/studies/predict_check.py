@@ -56,8 +56,9 @@ TRUTHS = ("render", "reference")
 
 #: Which stripe rows the measured side scores (``--rows``): ``seen``, every row where the reference rule sees the true
 #: stripe (:func:`bench.evaluate.outcomes.referenced_states`; every run before the tenth session's), or ``clear`` (the
-#: default since then), those less the rows where the true stripe stands far under its typical height
-#: (:func:`bench.evaluate.transplant.dim_rows` along the true columns), which a photograph's reference leaves out as
+#: default since then), those less the rows where the true stripe stands far under its typical height and its peak is
+#: not clipped (:func:`bench.evaluate.transplant.dim_rows` along the true columns, with
+#: :func:`~bench.evaluate.transplant.clipped_peaks`), which a photograph's reference leaves out as
 #: unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those rows are then
 #: not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
 ROWS = ("seen", "clear")
@@ -338,7 +339,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
             if rows == "clear":  # less the rows a photograph's reference leaves out as unclear
                 along = tp.stripe_extents(img, None, guide=case.truth_columns)
-                states = np.where((states == STRIPE) & tp.dim_rows(along), UNSURE, states).astype(np.int8)
+                dim = tp.dim_rows(along, clipped=tp.clipped_peaks(case.original, along))
+                states = np.where((states == STRIPE) & dim, UNSURE, states).astype(np.int8)
             scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))

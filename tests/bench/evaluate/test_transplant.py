@@ -282,3 +282,22 @@ def test_the_tie_break_adds_less_than_a_tenth_of_one_clear_row_over_the_whole_fr
     t = tp.tie_break(lift)
     assert t.min() >= 0.0 and t.sum(axis=0).max() <= tp.PATH_TIE + 1e-12
     assert not tp.tie_break(np.zeros((H, W))).any()
+
+
+def test_a_clipped_peak_is_not_dim_however_low_it_stands_over_its_window():
+    """A clipped core (255 DN) in a glow that fills the reference window (230 DN) stands 25 DN over the window's
+    median, under DIM_SHARE of a clear stripe's 150: :func:`clipped_peaks` finds its rows, and with them
+    :func:`dim_rows` does not count them dim; a faint unclipped stretch still is."""
+    img = _frame(60.0).astype(float)
+    x = np.arange(W, dtype=float)
+    img[10:20] = 20.0 + 210.0 * np.exp(-0.5 * ((x - 60.0) / 12.0) ** 2) + 60.0 * np.exp(-0.5 * ((x - 60.0) / 1.5) ** 2)
+    img[30:40] -= 130.0 * np.exp(-0.5 * ((x - 60.0) / 1.5) ** 2)  # a faint stretch, 20 DN high
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img, guide=np.full(H, 60.0))
+    clipped = tp.clipped_peaks(img, ext)
+    assert clipped[10:20].all() and not clipped[:10].any() and not clipped[20:].any()
+    assert tp.dim_rows(ext)[10:20].all() and tp.dim_rows(ext)[30:40].all()
+    assert not tp.dim_rows(ext, clipped=clipped)[10:20].any() and tp.dim_rows(ext, clipped=clipped)[30:40].all()
+    assert not tp.clipped_peaks(img.astype(float), ext).any()  # a float image has no known top
+    with pytest.raises(ValueError, match="`clipped` must have one entry per row"):
+        tp.dim_rows(ext, clipped=np.zeros(H + 1, bool))

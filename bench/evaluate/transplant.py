@@ -788,12 +788,13 @@ def clipped_peaks(original, ext: Extents, noise_dn=None) -> np.ndarray:
     return np.any(planes[np.arange(H), cols, :].astype(np.float64) >= top, axis=-1)
 
 
-def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
+def row_states(ext: Extents, truth, image, keep=None, clipped=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
     reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`) and the
-    stripe there is not far dimmer than its typical height (:func:`dim_rows`), else ``UNSURE``; a row the stripe
+    stripe there is not far dimmer than its typical height (:func:`dim_rows`; ``clipped``, the rows whose peak is
+    clipped in the photograph, :func:`clipped_peaks`, never are), else ``UNSURE``; a row the stripe
     crosses without a moved centre is ``UNSURE``; every other row is
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
@@ -820,5 +821,5 @@ def row_states(ext: Extents, truth, image, keep=None) -> np.ndarray:
     moved = np.isfinite(t)
     if moved.any():
         states[moved] = referenced_states(image, t)[moved]
-        states[moved & dim_rows(ext)] = UNSURE  # as a reference leaves an unclear row out
+        states[moved & dim_rows(ext, clipped)] = UNSURE  # as a reference leaves an unclear row out
     return states.astype(np.int8)

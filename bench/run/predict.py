@@ -388,19 +388,20 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         return []
     right, left = tp.shifts_for(ext, tp.rival_mask(photo.frame, photo.background, ext))
     noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
+    clipped = tp.clipped_peaks(original, ext, noise)  # never dim rows (row_states)
     out = []
     for j, s in enumerate((right, -left)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
                                      noise_dn=noise)
         image = select_channel(moved, photo.channel, photo.laser)
-        out.append((image, truth, tp.row_states(ext, truth, image), moved, s))
+        out.append((image, truth, tp.row_states(ext, truth, image, clipped=clipped), moved, s))
     keep = tp.cut_ends(ext)
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
         for j, s in enumerate((right, -left)):
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
                                          noise_dn=noise, keep=keep)
             image = select_channel(moved, photo.channel, photo.laser)
-            states = tp.row_states(ext, truth, image, keep)
+            states = tp.row_states(ext, truth, image, keep, clipped)
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []

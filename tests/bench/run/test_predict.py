@@ -289,3 +289,28 @@ def test_the_covered_ablation_moves_auto_s_stripe_in_the_referenced_rows_only():
         assert np.nanmedian(t_cov) == pytest.approx(50.0 + s_c, abs=0.2)
     with pytest.raises(ValueError, match="`estimate` 'covered' needs the photograph's reference"):
         pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, frame), estimate="covered")
+
+
+def test_moved_rows_of_a_clipped_core_in_a_glow_are_scored_and_a_faint_stretch_is_not():
+    """A stripe 150 DN high whose rows 40-59 are a clipped core in a glow as wide as the reference window (its peak
+    stands some 20 DN over the window's median, under DIM_SHARE of 150) and rows 100-109 a faint stretch (20 DN): in
+    the moved frames the clipped rows are stripe rows, as a reference scores a bright stripe, and the faint ones are
+    not scored (docs/predict.md, "A clipped core is not dim")."""
+    from pathlib import Path
+
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE, UNSURE
+
+    rng = np.random.default_rng(5)
+    x = np.arange(120.0)
+    amp = np.full((160, 1), 150.0)
+    amp[100:110] = 20.0
+    img = 30.0 + rng.normal(0, 2.0, (160, 120)) + amp * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
+    img[40:60] = (30.0 + rng.normal(0, 2.0, (20, 120)) + 210.0 * np.exp(-0.5 * ((x - 50.0) / 12.0) ** 2)
+                  + 80.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2))
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img)
+    assert ext.visible[40:60].all() and tp.dim_rows(ext)[40:60].all()  # dim by height alone
+    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
+    for _, truth, states, _, _ in made[:pr.N_MOVED]:
+        assert (states[40:60] == STRIPE).all() and (states[100:110] == UNSURE).all()

@@ -71,7 +71,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
-           "shifts_for", "DIM_SHARE", "dim_rows", "clipped_peaks", "tie_break", "PATH_TIE", "TIE_SIGMA_PX"]
+           "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "tie_break", "PATH_TIE", "TIE_SIGMA_PX"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -141,6 +141,10 @@ RIVAL_SHARE = 1.0
 END_CUT = 0.15
 #: ... and only where at least this many rows of the span stay moved.
 END_CUT_MIN_ROWS = 40
+#: :func:`arbitrate`: where the laser's colour shows no stripe, the frame's own guide is kept only where the laser
+#: evidence near it is at least this share of its typical value along the colour's guide (docs/predict.md, "The
+#: frame's own guide where the colour shows no stripe"); a fifth, as :data:`DIM_SHARE`.
+EVIDENCE_SHARE = 0.2
 #: :func:`dim_rows`: a visible row of a stripe standing under this share of the median height of its visible rows is
 #: one a photograph's reference leaves out as unclear (a reflection in line with the stripe, a glow, a faint stretch).
 #: Measured on the shipped set's labels (docs/predict.md, "Which rows a reference scores"): 3 % of the rows the
@@ -322,13 +326,22 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
 def arbitrate(guide, other, evidence) -> np.ndarray:
     """Two guides made one, shape (H,), px: ``guide``, and ``other`` where ``guide`` has no stripe; where both do
     and lie more than ``conditions.JUMP_PX`` apart, the one with the more ``evidence`` (H, W; e.g.
-    :func:`laser_evidence`) within :data:`ARBITER_HALF_PX` px of it (``guide`` on a tie).
+    :func:`laser_evidence`) within :data:`ARBITER_HALF_PX` px of it (``guide`` on a tie). Where ``guide`` has no
+    stripe, ``other`` is kept only with at least :data:`EVIDENCE_SHARE` of the median evidence near ``guide`` in its
+    rows (a white lamp's or window's edge, which the frame's own guide may follow where the colour shows no stripe,
+    has none); with no such rows, as it is.
 
     Examples
     --------
     >>> ev = np.zeros((3, 20)); ev[:, 12] = 5.0
     >>> arbitrate(np.array([3.0, 3.0, np.nan]), np.array([3.0, 12.0, 12.0]), ev).tolist()
     [3.0, 12.0, 12.0]
+
+    Where the colour finds no stripe, the frame's own guide on something of no colour is dropped:
+
+    >>> ev = np.zeros((3, 20)); ev[:, 3] = 5.0
+    >>> arbitrate(np.array([3.0, 3.0, np.nan]), np.array([3.0, 3.0, 12.0]), ev).tolist()
+    [3.0, 3.0, nan]
     """
     guide = np.asarray(guide, dtype=np.float64)
     other = np.asarray(other, dtype=np.float64)
@@ -347,6 +360,12 @@ def arbitrate(guide, other, evidence) -> np.ndarray:
     for r in np.flatnonzero(both):
         if near(r, other[r]) > near(r, guide[r]):
             out[r] = other[r]
+    own = np.isfinite(guide)
+    if own.any():
+        typical = float(np.median([near(r, guide[r]) for r in np.flatnonzero(own)]))
+        for r in np.flatnonzero(~own & np.isfinite(other)):
+            if near(r, other[r]) < EVIDENCE_SHARE * typical:
+                out[r] = np.nan
     return out
 
 

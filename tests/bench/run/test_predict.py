@@ -314,3 +314,29 @@ def test_moved_rows_of_a_clipped_core_in_a_glow_are_scored_and_a_faint_stretch_i
     made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
     for _, truth, states, _, _ in made[:pr.N_MOVED]:
         assert (states[40:60] == STRIPE).all() and (states[100:110] == UNSURE).all()
+
+
+def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dropped():
+    """A red stripe in rows 0-99 and none in rows 100-159, and a white bar (bright in every channel, of no colour)
+    down the whole frame: the colour guide has the stripe in rows 0-99 and nothing below; the frame's own guide takes
+    the bar below. The guide keeps the stripe and drops the bar's rows, whose laser evidence is under
+    EVIDENCE_SHARE of the stripe's (docs/predict.md, "The frame's own guide where the colour shows no stripe")."""
+    from pathlib import Path
+
+    from bench.evaluate import conditions as cnd
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(8)
+    x = np.arange(160.0)
+    rgb = np.full((160, 160, 3), 60.0) + rng.normal(0, 2.0, (160, 160, 3))
+    rgb[:100, :, 0] += 150.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)  # the stripe, red
+    rgb += (230.0 * np.exp(-0.5 * ((x - 110.0) / 1.2) ** 2))[None, :, None]  # the bar, white and clipped
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    frame = select_channel(rgb, "auto", "red")
+    own = tp.estimate_guide(frame)
+    assert np.nanmedian(np.abs(own[110:150] - 110.0)) <= 1  # the frame's own guide takes the bar below
+    photo = pr.Photo("p", Path("p.png"), frame, None, rgb, "red")
+    guide = pr.colour_guide(photo, rgb, None, cnd.measure(frame))
+    assert np.nanmax(np.abs(guide[5:95] - 50.0)) <= 1  # the stripe kept
+    assert np.isnan(guide[110:150]).all()  # the bar's rows dropped

@@ -1,0 +1,71 @@
+"""Which rows a real set's references leave out, measured on its labels alone (no tracker runs).
+
+For each photograph the transplant can take (``stripebench predict``'s stripe estimate, ``auto``), the estimate's
+visible rows are split by whether the reference gives the row a column, and each row's height (the peak over the
+reference window's median, :class:`bench.evaluate.transplant.Extents`) is compared with the median height of the
+visible rows: a row under :data:`bench.evaluate.transplant.DIM_SHARE` of it is *dim*; its peak is *clipped* where
+:func:`bench.evaluate.transplant.clipped_peaks` says so. Printed per rig (the manifest's ``source_repo``) and for
+all: the rows the references score and the share of them dim, the rows they leave out and the share dim, and the
+share of dim rows left out, once counting every dim row and once only those whose peak is not clipped (the
+``--rows clear`` convention of ``stripebench predictcheck``). Used for docs/predict.md ("Which rows a reference
+scores", "A clipped core is not dim"):
+
+    python scripts/reference_rows.py bench/data/real
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("dataset", type=Path, help="a real set's folder (manifest.csv, NAME_ref.csv)")
+    args = ap.parse_args(argv)
+
+    from bench.evaluate import conditions as cond
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.pixels import rotate_image
+    from bench.run import predict as pr
+    from bench.store.realset import read_reference_states
+
+    root = args.dataset
+    with open(root / "manifest.csv", newline="") as f:
+        rig_of = {row["name"]: row.get("source_repo", "") for row in csv.DictReader(f)}
+    counts = defaultdict(lambda: np.zeros(6, int))  # scored, scored dim, scored dim unclipped, left out, ...
+    for p in pr.collect_photos(root, references=True):
+        c = cond.measure(p.frame, p.background)
+        if tp.out_of_range(c):
+            print(f"{p.name}: out of range, left out", file=sys.stderr)
+            continue
+        original = rotate_image(p.original, p.rotate_deg)
+        bg = None if p.background_original is None else rotate_image(p.background_original, p.rotate_deg)
+        guide = (pr.colour_guide(p, original, bg, c) if p.colour and p.channel in pr.COLOUR_GUIDED
+                 else tp.estimate_guide(p.frame, p.background, measured=c))
+        ext = tp.stripe_extents(p.frame, p.background, measured=c, guide=guide)
+        cols, _, _ = read_reference_states(root / f"{p.name}_ref.csv", p.frame.shape)
+        dim = tp.dim_rows(ext)
+        dim_unclipped = tp.dim_rows(ext, clipped=tp.clipped_peaks(original, ext))
+        scored, vis = np.isfinite(cols), ext.visible
+        row = [np.sum(vis & s & d) for s in (scored, ~scored) for d in (np.ones_like(vis), dim, dim_unclipped)]
+        for key in (rig_of.get(p.name, "?"), "all"):
+            counts[key] += row
+    def share(a, b) -> str:
+        return f"{a / b:.1%}" if b else "-"
+
+    print(f"{'rig':<40}{'scored':>8}{'dim':>7}{'unclip':>8}{'left out':>10}{'dim':>7}{'unclip':>8}"
+          f"{'dim left out':>14}{'unclip':>8}")
+    for key, (n_s, d_s, u_s, n_o, d_o, u_o) in counts.items():
+        print(f"{key:<40}{n_s:>8}{share(d_s, n_s):>7}{share(u_s, n_s):>8}{n_o:>10}{share(d_o, n_o):>7}"
+              f"{share(u_o, n_o):>8}{share(d_o, d_s + d_o):>14}{share(u_o, u_s + u_o):>8}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -148,8 +148,9 @@ END_CUT_MIN_ROWS = 40
 EVIDENCE_SHARE = 0.2
 #: :func:`dim_rows`: a visible row of a stripe standing under this share of the median height of its visible rows is
 #: one a photograph's reference leaves out as unclear (a reflection in line with the stripe, a glow, a faint stretch).
-#: Measured on the shipped set's labels (docs/predict.md, "Which rows a reference scores"): 3 % of the rows the
-#: references score stand so low, 44 % of those they leave out, and 64 % of the rows standing so low are left out.
+#: Measured on the shipped set's labels (``scripts/reference_rows.py``; docs/predict.md, "Which rows a reference
+#: scores"): 3 % of the rows the references score stand so low, 44 % of those they leave out, and 64 % of the rows
+#: standing so low are left out; not counting rows whose peak is clipped (:func:`clipped_peaks`), 1.5 %, 41 % and 78 %.
 #: 0.2 is the eighth session's (docs/predict.md, "Rows far dimmer than the stripe").
 DIM_SHARE = 0.2
 #: A stripe wider (FWHM, px; ``conditions.measure``'s ``width_px``) than the reference window cannot be read by the

@@ -31,7 +31,6 @@ def main(argv=None) -> int:
 
     from bench.evaluate import conditions as cond
     from bench.evaluate import transplant as tp
-    from bench.evaluate.pixels import rotate_image
     from bench.run import predict as pr
     from bench.store.realset import read_reference_states
 
@@ -44,18 +43,15 @@ def main(argv=None) -> int:
         if tp.out_of_range(c):
             print(f"{p.name}: out of range, left out", file=sys.stderr)
             continue
-        original = rotate_image(p.original, p.rotate_deg)
-        bg = None if p.background_original is None else rotate_image(p.background_original, p.rotate_deg)
-        guide = (pr.colour_guide(p, original, bg, c) if p.colour and p.channel in pr.COLOUR_GUIDED
-                 else tp.estimate_guide(p.frame, p.background, measured=c))
-        ext = tp.stripe_extents(p.frame, p.background, measured=c, guide=guide)
+        ext, original, _ = pr.photo_extents(p, measured=c)
         cols, _, _ = read_reference_states(root / f"{p.name}_ref.csv", p.frame.shape)
         dim = tp.dim_rows(ext)
-        dim_unclipped = tp.dim_rows(ext, clipped=tp.clipped_peaks(original, ext))
+        dim_unclipped = tp.unclear_rows(ext, original)
         scored, vis = np.isfinite(cols), ext.visible
         row = [np.sum(vis & s & d) for s in (scored, ~scored) for d in (np.ones_like(vis), dim, dim_unclipped)]
         for key in (rig_of.get(p.name, "?"), "all"):
             counts[key] += row
+
     def share(a, b) -> str:
         return f"{a / b:.1%}" if b else "-"
 

@@ -71,8 +71,8 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
-           "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "tie_break", "PATH_TIE",
-           "TIE_SIGMA_PX"]
+           "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "unclear_rows", "tie_break",
+           "PATH_TIE", "TIE_SIGMA_PX"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -809,13 +809,34 @@ def clipped_peaks(original, ext: Extents, noise_dn=None) -> np.ndarray:
     return np.any(planes[np.arange(H), cols, :].astype(np.float64) >= top, axis=-1)
 
 
-def row_states(ext: Extents, truth, image, keep=None, clipped=None) -> np.ndarray:
+def unclear_rows(ext: Extents, original=None, noise_dn=None) -> np.ndarray:
+    """The rows of ``ext`` a photograph's reference leaves out as unclear, shape (H,) bool: its :func:`dim_rows`,
+    less those whose peak is clipped in ``original`` (:func:`clipped_peaks`, with ``noise_dn``) when it is given.
+    The one home of the convention, read on a transplant's estimate (:func:`row_states`) and on a render's truth
+    (``stripebench predictcheck --rows clear``; docs/predict.md, "Which rows a reference scores").
+
+    Examples
+    --------
+    A clipped core standing low in a glow (row 0), a faint stretch (row 1), a clear stripe:
+
+    >>> img = np.full((5, 8), 40, np.uint8); img[:, 4] = [255, 60, 200, 200, 200]
+    >>> e = Extents(np.full(5, 4), np.ones(5, bool), np.zeros(5), np.zeros(5), np.zeros(5), 1.0,
+    ...             height=np.array([10.0, 20.0, 150.0, 160.0, 155.0]))
+    >>> unclear_rows(e).tolist()
+    [True, True, False, False, False]
+    >>> unclear_rows(e, img, noise_dn=[1.0]).tolist()
+    [False, True, False, False, False]
+    """
+    return dim_rows(ext, None if original is None else clipped_peaks(original, ext, noise_dn))
+
+
+def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
     reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`) and the
-    stripe there is not far dimmer than its typical height (:func:`dim_rows`; ``clipped``, the rows whose peak is
-    clipped in the photograph, :func:`clipped_peaks`, never are), else ``UNSURE``; a row the stripe
+    row is not one a reference leaves out as unclear (``unclear``, shape (H,) bool: :func:`unclear_rows` of ``ext``
+    and its photograph; without it, :func:`dim_rows` of ``ext``), else ``UNSURE``; a row the stripe
     crosses without a moved centre is ``UNSURE``; every other row is
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
@@ -833,6 +854,9 @@ def row_states(ext: Extents, truth, image, keep=None, clipped=None) -> np.ndarra
     from bench.evaluate.outcomes import STRIPE, UNSURE, fallback_states, referenced_states
 
     t = np.asarray(truth, dtype=np.float64)
+    unclear = dim_rows(ext) if unclear is None else np.asarray(unclear, bool)
+    if unclear.shape != t.shape:
+        raise ValueError(f"`unclear` must have one entry per row, shape {t.shape}, got {unclear.shape}")
     lo, _ = _span_extents(ext, np.shape(image)[1])
     crossed = (lo >= 0) | np.isfinite(ext.centre)
     if keep is not None:
@@ -842,5 +866,5 @@ def row_states(ext: Extents, truth, image, keep=None, clipped=None) -> np.ndarra
     moved = np.isfinite(t)
     if moved.any():
         states[moved] = referenced_states(image, t)[moved]
-        states[moved & dim_rows(ext, clipped)] = UNSURE  # as a reference leaves an unclear row out
+        states[moved & unclear] = UNSURE  # as a reference leaves an unclear row out
     return states.astype(np.int8)

@@ -52,8 +52,8 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
-           "score_frame", "transplant_frames", "transplanted", "colour_guide", "COLOUR_GUIDED", "transplant_outcomes",
-           "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict",
+           "score_frame", "transplant_frames", "photo_extents", "transplanted", "colour_guide", "COLOUR_GUIDED",
+           "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict",
            "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
@@ -364,7 +364,46 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     """
     from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import STRIPE, UNSURE
-    from bench.evaluate.pixels import rotate_image, select_channel
+    from bench.evaluate.pixels import select_channel
+
+    ext, original, bg_original = photo_extents(photo, estimate=estimate, measured=measured)
+    if not ext.visible.any():
+        return []
+    right, left = tp.shifts_for(ext, tp.rival_mask(photo.frame, photo.background, ext))
+    noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
+    unclear = tp.unclear_rows(ext, original, noise)  # the moved rows a reference would leave out (row_states)
+    out = []
+    for j, s in enumerate((right, -left)):
+        moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
+                                     noise_dn=noise)
+        image = select_channel(moved, photo.channel, photo.laser)
+        out.append((image, truth, tp.row_states(ext, truth, image, unclear=unclear), moved, s))
+    keep = tp.cut_ends(ext)
+    if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
+        for j, s in enumerate((right, -left)):
+            moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
+                                         noise_dn=noise, keep=keep)
+            image = select_channel(moved, photo.channel, photo.laser)
+            states = tp.row_states(ext, truth, image, keep, unclear)
+            states[states == STRIPE] = UNSURE
+            out.append((image, truth, states, moved, s))
+    return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+
+
+def photo_extents(photo: "Photo", *, estimate: str = "auto", measured=None) -> tuple:
+    """A photograph's stripe as :func:`transplant_frames` finds it (``estimate``, :data:`ESTIMATES`: ``auto`` on a
+    colour photograph whose trackers see the laser's colour, :data:`COLOUR_GUIDED`, follows :func:`colour_guide`, on
+    another the frame's own guide; ``reference`` and ``covered`` need ``photo.reference``). ``measured``: the frame's
+    conditions, when the caller has them.
+
+    Returns
+    -------
+    tuple
+        ``(ext, original, background_original)``: the :class:`bench.evaluate.transplant.Extents` and the photograph
+        and its laser-off frame (None without) turned as the frame.
+    """
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.pixels import rotate_image
 
     original = rotate_image(photo.original, photo.rotate_deg)
     bg_original = (None if photo.background_original is None
@@ -384,27 +423,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         ext = tp.stripe_extents(photo.frame, photo.background, measured=measured, guide=guide)
     else:
         ext = tp.stripe_extents(photo.frame, photo.background, estimate=estimate, measured=measured)
-    if not ext.visible.any():
-        return []
-    right, left = tp.shifts_for(ext, tp.rival_mask(photo.frame, photo.background, ext))
-    noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
-    clipped = tp.clipped_peaks(original, ext, noise)  # never dim rows (row_states)
-    out = []
-    for j, s in enumerate((right, -left)):
-        moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
-                                     noise_dn=noise)
-        image = select_channel(moved, photo.channel, photo.laser)
-        out.append((image, truth, tp.row_states(ext, truth, image, clipped=clipped), moved, s))
-    keep = tp.cut_ends(ext)
-    if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
-        for j, s in enumerate((right, -left)):
-            moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
-                                         noise_dn=noise, keep=keep)
-            image = select_channel(moved, photo.channel, photo.laser)
-            states = tp.row_states(ext, truth, image, keep, clipped)
-            states[states == STRIPE] = UNSURE
-            out.append((image, truth, states, moved, s))
-    return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+    return ext, original, bg_original
 
 
 #: The tracker frames of a colour photograph whose stripe ``estimate="auto"`` guides by the laser's colour

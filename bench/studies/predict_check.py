@@ -57,10 +57,9 @@ TRUTHS = ("render", "reference")
 #: Which stripe rows the measured side scores (``--rows``): ``seen``, every row where the reference rule sees the true
 #: stripe (:func:`bench.evaluate.outcomes.referenced_states`; every run before the tenth session's), or ``clear`` (the
 #: default since then), those less the rows where the true stripe stands far under its typical height and its peak is
-#: not clipped (:func:`bench.evaluate.transplant.dim_rows` along the true columns, with
-#: :func:`~bench.evaluate.transplant.clipped_peaks`), which a photograph's reference leaves out as
-#: unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those rows are then
-#: not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
+#: not clipped (:func:`bench.evaluate.transplant.unclear_rows` along the true columns), which a photograph's reference
+#: leaves out as unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those
+#: rows are then not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
 ROWS = ("seen", "clear")
 
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
@@ -337,10 +336,11 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             key = (colour, laser)
             states = referenced_states(img, case.truth_columns)
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
+            plain = cond.measure(img, None) if rows == "clear" or frames == "transplant" else None
             if rows == "clear":  # less the rows a photograph's reference leaves out as unclear
-                along = tp.stripe_extents(img, None, guide=case.truth_columns)
-                dim = tp.dim_rows(along, clipped=tp.clipped_peaks(case.original, along))
-                states = np.where((states == STRIPE) & dim, UNSURE, states).astype(np.int8)
+                unclear = tp.unclear_rows(tp.stripe_extents(img, None, measured=plain, guide=case.truth_columns),
+                                          case.original)
+                states = np.where((states == STRIPE) & unclear, UNSURE, states).astype(np.int8)
             scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))
@@ -349,12 +349,11 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             if frames == "transplant":
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser, channel=case.channel,
                                  reference=case.truth_columns)
-                c = cond.measure(img, None)
-                made, bad = pr.transplanted(photo, seed=seed, estimate=estimate, measured=c)
+                made, bad = pr.transplanted(photo, seed=seed, estimate=estimate, measured=plain)
                 bad = list(bad)
                 frames_doc.append({"name": name, "case": exp.key, "status": "out of range" if bad else "matched",
                                    "out_of_range": bad, "shift_px": made[0][4] if made else None,
-                                   "width_px": c.width_px, "contrast": c.contrast})
+                                   "width_px": plain.width_px, "contrast": plain.contrast})
                 if bad:
                     say(f"stripebench predictcheck: {name}: out of range ({', '.join(bad)})")
                     continue

@@ -301,3 +301,8 @@ def test_a_clipped_peak_is_not_dim_however_low_it_stands_over_its_window():
     assert not tp.clipped_peaks(img.astype(float), ext).any()  # a float image has no known top
     with pytest.raises(ValueError, match="`clipped` must have one entry per row"):
         tp.dim_rows(ext, clipped=np.zeros(H + 1, bool))
+    # the convention's one home: dim, less the clipped peaks; the row states read it as given
+    assert np.array_equal(tp.unclear_rows(ext, img), tp.dim_rows(ext, clipped=clipped))
+    assert np.array_equal(tp.unclear_rows(ext), tp.dim_rows(ext))
+    with pytest.raises(ValueError, match="`unclear` must have one entry per row"):
+        tp.row_states(ext, np.full(H, np.nan), img, unclear=np.zeros(H + 1, bool))

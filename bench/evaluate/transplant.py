@@ -72,10 +72,16 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
            "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "unclear_rows", "tie_break",
-           "PATH_TIE", "TIE_SIGMA_PX"]
+           "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
+#: An extent that falls under ``EDGE_K`` reaches on across the dip to a second hump standing at least this share of the
+#: stripe's height over the window's median, where one lies within the reference window (:data:`GUIDE_HALF_PX`) of the
+#: peak: a core clipped white in every channel has no laser colour, so in a laser-colour frame (the blend) the stripe is
+#: two humps either side of it, and moving one leaves the other in place (docs/predict.md, "A stripe split by its white
+#: core"). A half, as the centre's rule reads the stripe over half its peak.
+DIP_SHARE = 0.5
 #: The extent is widened by this many px each side (the stripe's tails below ``EDGE_K``).
 PAD_PX = 2
 #: The most an extent reaches either side of the peak (px): a bloom or a lit surface beyond is left in place.
@@ -252,15 +258,28 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
         if height < cond.VISIBLE_K * noise:
             continue
         visible[r] = True
-        edge = base + EDGE_K * noise
-        a = c
-        while a > 0 and c - a < MAX_HALF_PX and row[a - 1] > edge:
-            a -= 1
-        b = c
-        while b < W - 1 and b - c < MAX_HALF_PX and row[b + 1] > edge:
-            b += 1
+        edge, hump = base + EDGE_K * noise, base + DIP_SHARE * height
+        a, b = _reach(row, c, -1, edge, hump), _reach(row, c, 1, edge, hump)
         lo[r], hi[r] = max(a - PAD_PX, c - MAX_HALF_PX, 0), min(b + PAD_PX, c + MAX_HALF_PX, W - 1)
     return Extents(peak=peak, visible=visible, lo=lo, hi=hi, centre=centre, noise_dn=float(noise), height=heights)
+
+
+def _reach(row, c: int, step: int, edge: float, hump: float) -> int:
+    """The last column of a stripe's run from its peak ``c`` along ``row`` (H,; DN) in direction ``step`` (+1 or -1):
+    it goes on while the row stands over ``edge`` (DN), at most :data:`MAX_HALF_PX` from ``c``, and across a dip to a
+    pixel standing at least ``hump`` (DN) within :data:`GUIDE_HALF_PX` of ``c`` (:data:`DIP_SHARE`)."""
+    W, k = row.shape[0], c
+    while True:
+        nxt = k + step
+        if not 0 <= nxt < W or abs(nxt - c) > MAX_HALF_PX:
+            return k
+        if row[nxt] > edge:
+            k = nxt
+            continue
+        ahead = [j for j in range(nxt + step, c + step * (GUIDE_HALF_PX + 1), step) if 0 <= j < W and row[j] >= hump]
+        if not ahead:
+            return k
+        k = ahead[0]
 
 
 def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=None) -> np.ndarray:

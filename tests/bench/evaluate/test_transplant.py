@@ -306,3 +306,18 @@ def test_a_clipped_peak_is_not_dim_however_low_it_stands_over_its_window():
     assert np.array_equal(tp.unclear_rows(ext), tp.dim_rows(ext))
     with pytest.raises(ValueError, match="`unclear` must have one entry per row"):
         tp.row_states(ext, np.full(H, np.nan), img, unclear=np.zeros(H + 1, bool))
+
+
+def test_a_stripe_split_by_its_white_core_moves_whole():
+    # a laser-colour frame of a stripe whose core is clipped white: two humps either side of a dip to the background
+    rng = np.random.default_rng(3)
+    img = 20.0 + rng.normal(0, 1.5, (H, W))
+    img[:, 57:65] += [40.0, 190.0, 230.0, 0.0, 0.0, 220.0, 150.0, 20.0]
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img)
+    assert ext.visible.all()
+    assert np.all(ext.lo <= 57) and np.all(ext.hi >= 64)  # both humps, across the dip
+    moved, _ = tp.transplant(img, ext, 30, seed=1)
+    m = moved.astype(float)
+    assert np.abs(m[:, 55:67].mean() - 20.0) < 1.5  # neither hump is left in place
+    assert np.all(m[:, 88:92].max(axis=1) > 180.0) and np.all(m[:, 92:94].max(axis=1) > 180.0)

@@ -17,7 +17,8 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    ``VISIBLE_K`` noise units over the window's median (the real set's reference rule, with the
    guide read from the frame instead of drawn by hand, docs/real.md; a stripe much wider than the
    window is not visible by this rule, as it is not to the references'). Its *extent* is the run of
-   columns around the peak above that level by :data:`EDGE_K` noise units, widened by
+   columns around the peak above that level by :data:`EDGE_K` noise units (and on across a dip to a
+   second hump of at least :data:`DIP_SHARE` of the peak's height within the window), widened by
    :data:`PAD_PX` px each side and at most :data:`MAX_HALF_PX` px each side of the peak; its
    *centre* is the centroid of the pixels' excess over half the peak's contrast within 3 px of the
    peak (biased by under 0.1 px on a sampled Gaussian).
@@ -78,9 +79,10 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
 EDGE_K = 2.0
 #: An extent that falls under ``EDGE_K`` reaches on across the dip to a second hump standing at least this share of the
 #: stripe's height over the window's median, where one lies within the reference window (:data:`GUIDE_HALF_PX`) of the
-#: peak: a core clipped white in every channel has no laser colour, so in a laser-colour frame (the blend) the stripe is
-#: two humps either side of it, and moving one leaves the other in place (docs/predict.md, "A stripe split by its white
-#: core"). A half, as the centre's rule reads the stripe over half its peak.
+#: peak: a stripe split in two humps (by a core clipped white in every channel, which has no laser colour in the
+#: laser-colour blend, or by a darker line along its middle) would otherwise be moved one hump at a time, leaving the
+#: other in place (docs/predict.md, "A stripe split by its white core"). A half, as the centre's rule reads the stripe
+#: over half its peak.
 DIP_SHARE = 0.5
 #: The extent is widened by this many px each side (the stripe's tails below ``EDGE_K``).
 PAD_PX = 2

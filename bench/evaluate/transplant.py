@@ -300,12 +300,13 @@ def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=N
 
 
 def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None) -> np.ndarray:
-    """How much each pixel looks like the laser, shape (H, W), DN: the geometric mean of two lifts over their row's
-    median, each clipped at 0: the laser's own channel (bright), and the laser-colour excess
+    """How much each pixel looks like the laser, shape (H, W), DN: the lesser of two lifts over their row's median,
+    each clipped at 0: the laser's own channel (bright), and the laser-colour excess
     (:func:`bench.evaluate.pixels.select_channel` ``excess``) at its most within :data:`GUIDE_HALF_PX` px along the
     row (coloured: a stripe's core clipped white in every channel takes its fringe's colour). White light (a lamp,
     a window) is bright without colour; a surface of the laser's hue is coloured without being brighter than its
-    row; the stripe is both.
+    row; the stripe is both. The lesser, not a mean: a white bar far brighter than the stripe, with a few DN of
+    colour at its edge, must not outweigh the stripe (docs/predict.md, "Brightness and colour, both").
 
     Parameters
     ----------
@@ -324,8 +325,17 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     >>> excess[:, 30] = 80.0
     >>> red[:, 60:63] = [200.0, 255.0, 200.0]; excess[:, 60:63] = [40.0, 0.0, 40.0]
     >>> ev = laser_evidence(red, excess)
-    >>> int(np.argmax(ev[0])), float(ev[0, 5]), float(ev[0, 30])
-    (61, 0.0, 0.0)
+    >>> ev[0, 60:63].tolist(), float(ev[0, 5]), float(ev[0, 30])
+    ([40.0, 40.0, 40.0], 0.0, 0.0)
+
+    A white bar far brighter than a faint stripe, with a little colour at its edge: the stripe has the more evidence.
+
+    >>> red = np.full((1, 60), 20.0); excess = np.zeros((1, 60))
+    >>> red[0, 10] = 42.0; excess[0, 10] = 22.0
+    >>> red[0, 40] = 255.0; excess[0, 43] = 3.0
+    >>> ev = laser_evidence(red, excess)
+    >>> float(ev[0, 10]), float(ev[0, 40])
+    (22.0, 3.0)
     """
     lc = np.asarray(laser_channel, dtype=np.float64)
     ex = np.asarray(excess, dtype=np.float64)
@@ -343,7 +353,7 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     ex = maximum_filter1d(ex, 2 * GUIDE_HALF_PX + 1, axis=1, mode="nearest")
     bright = np.clip(lc - np.median(lc, axis=1, keepdims=True), 0.0, None)
     coloured = np.clip(ex - np.median(ex, axis=1, keepdims=True), 0.0, None)
-    return np.sqrt(bright * coloured)
+    return np.minimum(bright, coloured)
 
 
 def arbitrate(guide, other, evidence) -> np.ndarray:

@@ -267,7 +267,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
 
 
 def _reach(row, c: int, step: int, edge: float, hump: float) -> int:
-    """The last column of a stripe's run from its peak ``c`` along ``row`` (H,; DN) in direction ``step`` (+1 or -1):
+    """The last column of a stripe's run from its peak ``c`` along ``row`` (W,; DN) in direction ``step`` (+1 or -1):
     it goes on while the row stands over ``edge`` (DN), at most :data:`MAX_HALF_PX` from ``c``, and across a dip to a
     pixel standing at least ``hump`` (DN) within :data:`GUIDE_HALF_PX` of ``c`` (:data:`DIP_SHARE`)."""
     W, k = row.shape[0], c

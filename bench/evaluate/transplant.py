@@ -73,7 +73,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
            "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "unclear_rows", "tie_break",
-           "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE"]
+           "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -570,17 +570,48 @@ def rival_mask(frame, background, ext: Extents) -> np.ndarray:
     lift = sm - np.median(work, axis=1)[:, None]
     height = np.nan_to_num(np.asarray(ext.height if ext.height is not None else np.zeros(work.shape[0]), float))
     out = ext.visible[:, None] & (lift >= RIVAL_SHARE * np.maximum(height, 0.0)[:, None]) & (height > 0)[:, None]
-    cols = np.arange(work.shape[1])[None, :]
-    out &= ~((cols >= ext.lo[:, None]) & (cols <= ext.hi[:, None]))
+    W = work.shape[1]
+    for r in np.flatnonzero(ext.visible):  # the extent, and what stands as high next to it: the stripe's own glow
+        a, b = int(ext.lo[r]), int(ext.hi[r])
+        while a > 0 and out[r, a - 1]:
+            a -= 1
+        while b < W - 1 and out[r, b + 1]:
+            b += 1
+        out[r, a:b + 1] = False
+    return out
+
+
+def landed_rows(ext: Extents, rivals, shift_px: int) -> np.ndarray:
+    """The visible rows of ``ext`` whose extent, moved by ``shift_px`` (px, signed) and widened by :data:`SIDE_PX`
+    either side, meets ``rivals`` (:func:`rival_mask`, (H, W) bool), shape (H,) bool: where the moved stripe lands on
+    a rival, which the photograph's stripe, beside it, does not (a row whose moved extent falls wholly outside the
+    frame does not count; one only partly outside is counted on its part inside).
+
+    Examples
+    --------
+    >>> img = np.full((20, 80), 10.0); img[:, 20] += 100.0; img[:10, 34:37] += 150.0  # a rival 15 px right, rows 0-9
+    >>> e = stripe_extents(img, guide=np.full(20, 20.0))
+    >>> r = rival_mask(img, None, e)
+    >>> int(landed_rows(e, r, 12).sum()), int(landed_rows(e, r, 22).sum())
+    (10, 0)
+    """
+    rivals = np.asarray(rivals, bool)
+    H, W = rivals.shape
+    out = np.zeros(H, bool)
+    rows = np.flatnonzero(ext.visible)
+    if rows.size == 0:
+        return out
+    csum = np.concatenate([np.zeros((H, 1), int), np.cumsum(rivals, axis=1)], axis=1)
+    a = np.clip(ext.lo[rows].astype(int) + shift_px - SIDE_PX, 0, W)
+    b = np.clip(ext.hi[rows].astype(int) + shift_px + SIDE_PX + 1, 0, W)
+    out[rows] = (b > a) & (csum[rows, b] - csum[rows, a] > 0)
     return out
 
 
 def shifts_for(ext: Extents, rivals) -> tuple[int, int]:
     """The two moved frames' shifts (px), ``(right, left)`` (both > 0; the second frame moves by ``-left``): in each
-    direction the least of ``shift_for(ext)`` .. ``shift_for(ext) + RIVAL_SEARCH_PX`` whose moved extents (with
-    :data:`SIDE_PX` either side) meet ``rivals`` (:func:`rival_mask`, (H, W) bool) in the fewest visible rows; a row
-    whose moved extent falls wholly outside the frame does not count (one only partly outside, which
-    :func:`transplant` cleans rather than moves, is counted on its part inside: the rule as it was chosen).
+    direction the least of ``shift_for(ext)`` .. ``shift_for(ext) + RIVAL_SEARCH_PX`` whose moved extents meet
+    ``rivals`` (:func:`rival_mask`, (H, W) bool) in the fewest visible rows (:func:`landed_rows`).
 
     Examples
     --------
@@ -590,20 +621,13 @@ def shifts_for(ext: Extents, rivals) -> tuple[int, int]:
     (12, (22, 12))
     """
     base = shift_for(ext)
-    rivals = np.asarray(rivals, bool)
-    H, W = rivals.shape
-    rows = np.flatnonzero(ext.visible)
-    if rows.size == 0:
+    if not ext.visible.any():
         return base, base
-    csum = np.concatenate([np.zeros((H, 1), int), np.cumsum(rivals, axis=1)], axis=1)
-    lo, hi = ext.lo[rows].astype(int), ext.hi[rows].astype(int)
     out = []
     for sign in (1, -1):
         best = None
         for s in range(base, base + RIVAL_SEARCH_PX + 1):
-            a = np.clip(lo + sign * s - SIDE_PX, 0, W)
-            b = np.clip(hi + sign * s + SIDE_PX + 1, 0, W)
-            met = int(np.sum((b > a) & (csum[rows, b] - csum[rows, a] > 0)))
+            met = int(landed_rows(ext, rivals, sign * s).sum())
             if best is None or met < best[0]:
                 best = (met, s)
             if met == 0:

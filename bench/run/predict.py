@@ -369,7 +369,8 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     ext, original, bg_original = photo_extents(photo, estimate=estimate, measured=measured)
     if not ext.visible.any():
         return []
-    right, left = tp.shifts_for(ext, tp.rival_mask(photo.frame, photo.background, ext))
+    rivals = tp.rival_mask(photo.frame, photo.background, ext)
+    right, left = tp.shifts_for(ext, rivals)
     noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
     unclear = tp.unclear_rows(ext, original, noise)  # the moved rows a reference would leave out (row_states)
     out = []
@@ -377,14 +378,16 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
                                      noise_dn=noise)
         image = select_channel(moved, photo.channel, photo.laser)
-        out.append((image, truth, tp.row_states(ext, truth, image, unclear=unclear), moved, s))
+        # rows where the moved stripe lands on a rival are not scored: the photograph's stripe stands beside it
+        landed = tp.landed_rows(ext, rivals, s)
+        out.append((image, truth, tp.row_states(ext, truth, image, unclear=unclear | landed), moved, s))
     keep = tp.cut_ends(ext)
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
         for j, s in enumerate((right, -left)):
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
                                          noise_dn=noise, keep=keep)
             image = select_channel(moved, photo.channel, photo.laser)
-            states = tp.row_states(ext, truth, image, keep, unclear)
+            states = tp.row_states(ext, truth, image, keep, unclear | tp.landed_rows(ext, rivals, s))
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []

@@ -337,3 +337,19 @@ def test_a_white_bar_with_a_little_colour_does_not_outweigh_a_faint_stripe():
     # where the two guides part, the stripe's is kept
     assert np.all(tp.arbitrate(np.full(30, 20.0), np.full(30, 50.0), ev) == 20.0)
     assert np.all(tp.arbitrate(np.full(30, 50.0), np.full(30, 20.0), ev) == 20.0)
+
+
+def test_a_rival_is_something_else_than_the_stripe_s_own_glow():
+    # rows 0-19: a stripe in a glow as high as it is over its window; rows 20-39: the stripe and a separate bright bar
+    rng = np.random.default_rng(7)
+    x = np.arange(W, dtype=float)
+    img = 20.0 + rng.normal(0, 1.0, (40, W))
+    img[:20] += 120.0 * np.exp(-0.5 * ((x - 60.0) / 10.0) ** 2) + 60.0 * np.exp(-0.5 * ((x - 60.0) / 1.2) ** 2)
+    img[20:] += 100.0 * np.exp(-0.5 * ((x - 60.0) / 1.2) ** 2) + 150.0 * np.exp(-0.5 * ((x - 100.0) / 1.5) ** 2)
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img, guide=np.full(40, 60.0))
+    r = tp.rival_mask(img, None, ext)
+    assert not r[:20].any()  # the glow runs on from the stripe's extent: its own light, not a rival
+    assert r[20:, 98:103].any(axis=1).all() and not r[20:, :90].any()  # the bar, apart from it, is one
+    landed = tp.landed_rows(ext, r, 40)
+    assert landed[20:].all() and not landed[:20].any() and not tp.landed_rows(ext, r, -40).any()

@@ -340,3 +340,23 @@ def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dr
     guide = pr.colour_guide(photo, rgb, None, cnd.measure(frame))
     assert np.nanmax(np.abs(guide[5:95] - 50.0)) <= 1  # the stripe kept
     assert np.isnan(guide[110:150]).all()  # the bar's rows dropped
+
+
+def test_rows_where_a_moved_stripe_lands_on_a_rival_are_not_scored():
+    """A stripe with a bright block 12-60 px right of it in rows 30-49: every shift to the right lands the stripe on the
+    block there, where the photograph's stripe stands beside it, so those rows of the frame moved right are not scored;
+    the frame moved left scores them (docs/predict.md, "Where a moved stripe lands on a rival")."""
+    from pathlib import Path
+
+    from bench.evaluate.outcomes import STRIPE, UNSURE
+
+    rng = np.random.default_rng(11)
+    x = np.arange(160.0)
+    img = 30.0 + rng.normal(0, 2.0, (120, 160)) + 120.0 * np.exp(-0.5 * ((x - 60.0) / 2.5) ** 2)
+    img[30:50, 75:121] += 140.0  # as high over the row as the stripe: a rival; the estimate keeps to the stripe
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
+    (_, _, right, _, s_right), (_, _, left, _, s_left) = made[:pr.N_MOVED]
+    assert s_right > 0 > s_left
+    assert (right[30:50] == UNSURE).all() and (right[60:100] == STRIPE).all()
+    assert (left[30:50] == STRIPE).all()

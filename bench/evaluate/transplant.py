@@ -138,9 +138,10 @@ SIDE_PX = 3
 #: :func:`shifts_for`: each direction's shift is sought among ``shift_for`` .. ``shift_for + RIVAL_SEARCH_PX`` px, so
 #: that the moved stripe lands on as few *rivals* as it can: pixels standing over their row's median by at least
 #: RIVAL_SHARE x the stripe's height in that row (1: as high as the stripe, what a tracker taking a row's brightest
-#: pixel takes instead of it), outside its own extent (:func:`rival_mask`). A stripe moved onto a
+#: pixel takes instead of it), outside its own extent and its own glow (:func:`rival_mask`). A stripe moved onto a
 #: rival is found where the rival is, which the photograph's stripe, beside it, is not (docs/predict.md, "Shifts
-#: that do not land the stripe on a rival").
+#: that do not land the stripe on a rival"); the rows where it still lands on one are not scored
+#: (:func:`landed_rows`; "Where a moved stripe lands on a rival").
 RIVAL_SEARCH_PX = 16
 RIVAL_SHARE = 1.0
 #: The false-report frames of a transplant (``bench.run.predict.transplant_frames``) cut this share of the stripe's
@@ -556,7 +557,10 @@ def shift_for(ext: Extents) -> int:
 def rival_mask(frame, background, ext: Extents) -> np.ndarray:
     """The frame's *rivals* to its stripe, shape (H, W) bool: in each row with a visible stripe, the pixels of the
     working frame (``frame`` less ``background``, smoothed along the row as :func:`stripe_extents` smooths it) standing
-    over the row's median by at least :data:`RIVAL_SHARE` x the stripe's height there, outside the row's extent.
+    over the row's median by at least :data:`RIVAL_SHARE` x the stripe's height there, outside the row's extent and
+    outside the run of such pixels that continues it either side (the stripe's own glow or bloom, which moves with it
+    in the photograph's light, is not something else beside it; docs/predict.md, "Where a moved stripe lands on a
+    rival").
 
     Examples
     --------

@@ -894,8 +894,9 @@ def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarra
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
     reference rule sees the moved stripe in ``image`` (:func:`~bench.evaluate.outcomes.referenced_states`) and the
-    row is not one a reference leaves out as unclear (``unclear``, shape (H,) bool: :func:`unclear_rows` of ``ext``
-    and its photograph; without it, :func:`dim_rows` of ``ext``), else ``UNSURE``; a row the stripe
+    row is not one left out (``unclear``, shape (H,) bool: :func:`unclear_rows` of ``ext`` and its photograph, which a
+    reference leaves out, and ``bench.run.predict.transplant_frames`` adds :func:`landed_rows`; without it,
+    :func:`dim_rows` of ``ext``), else ``UNSURE``; a row the stripe
     crosses without a moved centre is ``UNSURE``; every other row is
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).

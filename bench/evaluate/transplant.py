@@ -599,13 +599,22 @@ def landed_rows(ext: Extents, rivals, shift_px: int) -> np.ndarray:
     >>> int(landed_rows(e, r, 12).sum()), int(landed_rows(e, r, 22).sum())
     (10, 0)
     """
+    return _landed(ext, _row_cumsum(rivals), shift_px)
+
+
+def _row_cumsum(rivals) -> np.ndarray:
+    """Each row's running count of ``rivals`` (H, W) bool, shape (H, W + 1), a leading 0: what :func:`_landed` reads."""
     rivals = np.asarray(rivals, bool)
-    H, W = rivals.shape
+    return np.concatenate([np.zeros((rivals.shape[0], 1), int), np.cumsum(rivals, axis=1)], axis=1)
+
+
+def _landed(ext: Extents, csum, shift_px: int) -> np.ndarray:
+    """:func:`landed_rows` from the rivals' running counts ``csum`` (:func:`_row_cumsum`), read once per frame."""
+    H, W = csum.shape[0], csum.shape[1] - 1
     out = np.zeros(H, bool)
     rows = np.flatnonzero(ext.visible)
     if rows.size == 0:
         return out
-    csum = np.concatenate([np.zeros((H, 1), int), np.cumsum(rivals, axis=1)], axis=1)
     a = np.clip(ext.lo[rows].astype(int) + shift_px - SIDE_PX, 0, W)
     b = np.clip(ext.hi[rows].astype(int) + shift_px + SIDE_PX + 1, 0, W)
     out[rows] = (b > a) & (csum[rows, b] - csum[rows, a] > 0)
@@ -627,11 +636,12 @@ def shifts_for(ext: Extents, rivals) -> tuple[int, int]:
     base = shift_for(ext)
     if not ext.visible.any():
         return base, base
+    csum = _row_cumsum(rivals)  # once, for every shift tried
     out = []
     for sign in (1, -1):
         best = None
         for s in range(base, base + RIVAL_SEARCH_PX + 1):
-            met = int(landed_rows(ext, rivals, sign * s).sum())
+            met = int(_landed(ext, csum, sign * s).sum())
             if best is None or met < best[0]:
                 best = (met, s)
             if met == 0:

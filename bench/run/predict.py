@@ -53,8 +53,8 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
            "score_frame", "transplant_frames", "photo_extents", "transplanted", "colour_guide", "COLOUR_GUIDED",
-           "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos", "run_predict",
-           "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for"]
+           "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos",
+           "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
@@ -387,7 +387,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
                                          noise_dn=noise, keep=keep)
             image = select_channel(moved, photo.channel, photo.laser)
-            states = tp.row_states(ext, truth, image, keep, unclear | tp.landed_rows(ext, rivals, s))
+            states = tp.row_states(ext, truth, image, keep, unclear)
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []

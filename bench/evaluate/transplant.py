@@ -360,10 +360,12 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
 def arbitrate(guide, other, evidence) -> np.ndarray:
     """Two guides made one, shape (H,), px: ``guide``, and ``other`` where ``guide`` has no stripe; where both do
     and lie more than ``conditions.JUMP_PX`` apart, the one with the more ``evidence`` (H, W; e.g.
-    :func:`laser_evidence`) within :data:`ARBITER_HALF_PX` px of it (``guide`` on a tie). Where ``guide`` has no
-    stripe, ``other`` is kept only with at least :data:`EVIDENCE_SHARE` of the median evidence near ``guide`` in its
-    rows (a white lamp's or window's edge, which the frame's own guide may follow where the colour shows no stripe,
-    has none); with no such rows, as it is.
+    :func:`laser_evidence`) within :data:`ARBITER_HALF_PX` px of it (``guide`` on a tie), unless neither has
+    :data:`EVIDENCE_SHARE` of the median evidence near ``guide`` in its rows: then neither (NaN; where the stripe turns
+    white, the colour's guide may wander onto something else, docs/predict.md, "Where two guides part and neither
+    looks like the laser"). Where ``guide`` has no stripe, ``other`` is kept only with that share (a white lamp's or
+    window's edge, which the frame's own guide may follow where the colour shows no stripe, has none); with no such
+    rows, as it is.
 
     Examples
     --------
@@ -376,6 +378,12 @@ def arbitrate(guide, other, evidence) -> np.ndarray:
     >>> ev = np.zeros((3, 20)); ev[:, 3] = 5.0
     >>> arbitrate(np.array([3.0, 3.0, np.nan]), np.array([3.0, 3.0, 12.0]), ev).tolist()
     [3.0, 3.0, nan]
+
+    Where the two part and neither has evidence, neither is kept:
+
+    >>> ev = np.zeros((5, 20)); ev[:, 3] = 5.0
+    >>> arbitrate(np.array([3.0, 3.0, 3.0, 12.0, 12.0]), np.array([3.0, 3.0, 3.0, 3.0, 18.0]), ev).tolist()
+    [3.0, 3.0, 3.0, 3.0, nan]
     """
     guide = np.asarray(guide, dtype=np.float64)
     other = np.asarray(other, dtype=np.float64)
@@ -391,15 +399,17 @@ def arbitrate(guide, other, evidence) -> np.ndarray:
         c = int(round(g))
         return float(np.max(evidence[r, max(c - ARBITER_HALF_PX, 0):min(c + ARBITER_HALF_PX, W - 1) + 1]))
 
-    for r in np.flatnonzero(both):
-        if near(r, other[r]) > near(r, guide[r]):
-            out[r] = other[r]
     own = np.isfinite(guide)
-    if own.any():
-        typical = float(np.median([near(r, guide[r]) for r in np.flatnonzero(own)]))
-        for r in np.flatnonzero(~own & np.isfinite(other)):
-            if near(r, other[r]) < EVIDENCE_SHARE * typical:
-                out[r] = np.nan
+    least = EVIDENCE_SHARE * float(np.median([near(r, guide[r]) for r in np.flatnonzero(own)])) if own.any() else 0.0
+    for r in np.flatnonzero(both):
+        eg, eo = near(r, guide[r]), near(r, other[r])
+        if eo > eg:
+            out[r] = other[r]
+        if max(eg, eo) < least:  # the two part and neither looks like the laser: neither guides the row
+            out[r] = np.nan
+    for r in np.flatnonzero(~own & np.isfinite(other)):
+        if near(r, other[r]) < least:
+            out[r] = np.nan
     return out
 
 

@@ -342,6 +342,41 @@ def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dr
     assert np.isnan(guide[110:150]).all()  # the bar's rows dropped
 
 
+def test_where_the_stripe_turns_white_the_colour_s_guide_does_not_wander_onto_a_red_print():
+    """A red stripe down the frame that turns white on a white patch in rows 60-99 (clipped in every channel, of no
+    colour), and a thin red print line, coloured but no brighter than its row, at column 120 in those rows: the colour's
+    guide takes the print there, the frame's own guide the white stripe. Neither has laser evidence (bright *and* of
+    the laser's colour) there, so neither guides those rows; the white stretch, between visible rows, still moves with
+    the stripe and is not scored (docs/predict.md, "Where two guides part and neither looks like the laser")."""
+    from pathlib import Path
+
+    from bench.evaluate import conditions as cnd
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(12)
+    x = np.arange(160.0)
+    rgb = np.full((160, 160, 3), 60.0) + rng.normal(0, 2.0, (160, 160, 3))
+    line = np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
+    rgb[:, :, 0] += 150.0 * line  # the stripe, red
+    rgb[60:100, :, :] += 130.0  # the white patch ...
+    rgb[60:100, :, 1:] += (150.0 * line)[:, None]  # ... where the stripe is white, clipped in every channel
+    rgb[60:100, 119:122, 1:] -= 40.0  # the red print: coloured, no brighter than its row in the red channel
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    frame = select_channel(rgb, "auto", "red")
+    excess = select_channel(rgb, "excess", "red")
+    assert np.nanmedian(np.abs(tp.estimate_guide(excess)[65:95] - 120.0)) <= 1  # the colour's guide takes the print
+    assert np.nanmedian(np.abs(tp.estimate_guide(frame)[65:95] - 50.0)) <= 1  # the frame's own, the white stripe
+    photo = pr.Photo("p", Path("p.png"), frame, None, rgb, "red")
+    guide = pr.colour_guide(photo, rgb, None, cnd.measure(frame))
+    assert np.nanmax(np.abs(guide[np.r_[5:55, 105:155]] - 50.0)) <= 1  # the red stripe kept
+    assert np.isnan(guide[65:95]).all()  # neither the print nor the white stretch guides
+    for image, truth, states, _, shift in pr.transplant_frames(photo)[:pr.N_MOVED]:
+        assert not (states[65:95] == STRIPE).any()  # not scored ...
+        assert image[65:95, 50].max() < image[65:95, 50 + shift].min()  # ... but moved with the stripe
+
+
 def test_rows_where_a_moved_stripe_lands_on_a_rival_are_not_scored():
     """A stripe with a bright block 12-60 px right of it in rows 30-49: every shift to the right lands the stripe on the
     block there, where the photograph's stripe stands beside it, so those rows of the frame moved right are not scored;

@@ -153,7 +153,8 @@ END_CUT = 0.15
 END_CUT_MIN_ROWS = 40
 #: :func:`arbitrate`: where the laser's colour shows no stripe, the frame's own guide is kept only where the laser
 #: evidence near it is at least this share of its typical value along the colour's guide (docs/predict.md, "The
-#: frame's own guide where the colour shows no stripe"); a fifth, as :data:`DIM_SHARE`.
+#: frame's own guide where the colour shows no stripe"), and where the two guides part, neither is kept unless one has
+#: that share (twelfth session: "Where two guides part and neither looks like the laser"); a fifth, as :data:`DIM_SHARE`.
 EVIDENCE_SHARE = 0.2
 #: :func:`dim_rows`: a visible row of a stripe standing under this share of the median height of its visible rows is
 #: one a photograph's reference leaves out as unclear (a reflection in line with the stripe, a glow, a faint stretch).

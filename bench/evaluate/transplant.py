@@ -743,6 +743,25 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
     return (out[..., 0] if img.ndim == 2 else out), truth
 
 
+def in_place_truth(ext: Extents) -> np.ndarray:
+    """The estimated stripe's centre in the rows :func:`transplant` would clean or move, from the first visible row
+    to the last, shape (H,), px (NaN elsewhere): the truth of the photograph itself as a frame of the prediction, read with :func:`row_states`
+    (docs/predict.md, "The photograph in place").
+
+    Examples
+    --------
+    >>> vis = np.r_[False, True, True, False]
+    >>> e = Extents(np.full(4, 5), vis, np.full(4, 3), np.full(4, 7), np.array([np.nan, 5.2, 5.4, 6.0]), 1.0)
+    >>> in_place_truth(e).tolist()
+    [nan, 5.2, 5.4, nan]
+    """
+    vis = np.flatnonzero(ext.visible)
+    span = np.zeros(ext.visible.shape[0], bool)
+    if vis.size:
+        span[vis[0]:vis[-1] + 1] = True
+    return np.where(span & np.isfinite(ext.centre), ext.centre, np.nan)
+
+
 def cut_ends(ext: Extents, share: float = END_CUT, min_rows: int = END_CUT_MIN_ROWS):
     """The rows whose stripe a false-report frame moves: the visible span without ``share`` of it at each end.
 

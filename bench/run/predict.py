@@ -53,7 +53,7 @@ from bench.evaluate.transplant import ESTIMATES as _STRIPE_ESTIMATES
 __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match", "photo_conditions",
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
            "score_frame", "transplant_frames", "photo_extents", "transplanted", "colour_guide", "COLOUR_GUIDED",
-           "transplant_outcomes", "cut_counts", "N_MOVED", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos",
+           "transplant_outcomes", "cut_counts", "N_MOVED", "N_FULL", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos",
            "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
@@ -343,18 +343,21 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     """The photograph with its own stripe moved, both ways (:mod:`bench.evaluate.transplant`; ``estimate``:
     how the stripe is found, :data:`ESTIMATES`: ``auto`` on a colour photograph whose trackers see the laser's
     colour (:data:`COLOUR_GUIDED`) follows :func:`colour_guide`,
-    ``reference`` follows ``photo.reference``, the ablation with a perfect estimate), and, where the stripe is long
-    enough, two *false-report frames*: moved the same ways with its ends cut off
-    (:func:`bench.evaluate.transplant.cut_ends`), in which only the stripe-less rows are scored (their
-    stripe rows are ``UNSURE``): the hit rate is read from the first two frames alone, the false-report
-    rate from the stripe-less rows of all four (docs/predict.md). ``measured``: the frame's conditions, when
+    ``reference`` follows ``photo.reference``, the ablation with a perfect estimate); the photograph itself, its
+    stripe where the estimate puts it (:func:`bench.evaluate.transplant.in_place_truth`: its own glow, rivals and
+    surroundings, which a moved frame does not carry whole); and, where the stripe is long enough, two
+    *false-report frames*: moved the same ways with its ends cut off (:func:`bench.evaluate.transplant.cut_ends`),
+    in which only the stripe-less rows are scored (their stripe rows are ``UNSURE``): the hit rate is read from
+    the first three frames alone (:data:`N_FULL`), the false-report rate from the stripe-less rows of all five
+    (docs/predict.md). ``measured``: the frame's conditions, when
     the caller has them (:func:`bench.evaluate.transplant.stripe_extents`). A frame out of the transplant's
     range (:func:`bench.evaluate.transplant.out_of_range`) is the caller's to leave out, with its reason.
 
     Returns
     -------
     list
-        ``[(image, truth, states, moved, shift_px), ...]`` (two or four): the tracker's frame of the moved
+        ``[(image, truth, states, moved, shift_px), ...]`` (three or five; the photograph in place third, with
+        ``shift_px`` 0): the tracker's frame of the moved
         photograph (:func:`bench.evaluate.pixels.select_channel` with the photograph's channel and
         laser), the moved stripe's columns (px, NaN where not moved), its row states
         (:func:`bench.evaluate.transplant.row_states`), the moved photograph (turned as the frame) and
@@ -381,6 +384,10 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         # rows where the moved stripe lands on a rival are not scored: the photograph's stripe stands beside it
         landed = tp.landed_rows(ext, rivals, s)
         out.append((image, truth, tp.row_states(ext, truth, image, unclear=unclear | landed), moved, s))
+    # the photograph itself, its stripe where the estimate puts it: its own glow, rivals and surroundings, which no
+    # moved frame carries whole (docs/predict.md, "The photograph in place")
+    truth = tp.in_place_truth(ext)
+    out.append((photo.frame, truth, tp.row_states(ext, truth, photo.frame, unclear=unclear), original, 0))
     keep = tp.cut_ends(ext)
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
         for j, s in enumerate((right, -left)):
@@ -390,7 +397,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
             states = tp.row_states(ext, truth, image, keep, unclear)
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
-    return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out) >= tp.MIN_ROWS else []
+    return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out[:N_MOVED]) >= tp.MIN_ROWS else []
 
 
 def photo_extents(photo: "Photo", *, estimate: str = "auto", measured=None) -> tuple:
@@ -477,25 +484,27 @@ def transplanted(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measu
     return (made, ()) if made else ([], ("visible",))
 
 
-#: The first N_MOVED frames of :func:`transplant_frames` are the moved frames (hit rate and F1 are read from them); any
-#: after them are false-report frames (only their stripe-less rows are scored, and only the false-report rate reads
-#: them: they would change F1's mix of stripe and stripe-less rows, which is the photograph's in the moved frames).
+#: The first N_MOVED frames of :func:`transplant_frames` are the moved frames; the next is the photograph in place. Hit
+#: rate and F1 are read from those N_FULL; any after them are false-report frames (only their stripe-less rows are
+#: scored, and only the false-report rate reads them: they would change F1's mix of stripe and stripe-less rows, which
+#: is the photograph's in the first N_FULL).
 N_MOVED = 2
+N_FULL = N_MOVED + 1
 
 
 def cut_counts(per_frame: list) -> dict:
     """``n_false_cut`` and ``n_quiet_cut``: the false-report frames' stripe-less rows among one tracker's outcome
-    arrays of one photograph (:func:`transplant_outcomes`; frames after :data:`N_MOVED`).
+    arrays of one photograph (:func:`transplant_outcomes`; frames after :data:`N_FULL`).
 
     Examples
     --------
     >>> from bench.evaluate.outcomes import FALSE, HIT, QUIET
-    >>> cut_counts([np.array([HIT]), np.array([HIT]), np.array([FALSE, QUIET, QUIET])])
+    >>> cut_counts([np.array([HIT]), np.array([HIT]), np.array([HIT]), np.array([FALSE, QUIET, QUIET])])
     {'n_false_cut': 1, 'n_quiet_cut': 2}
     """
     from bench.evaluate.outcomes import outcome_counts
 
-    extra = [np.ravel(c) for c in per_frame[N_MOVED:]]
+    extra = [np.ravel(c) for c in per_frame[N_FULL:]]
     counts = outcome_counts(np.concatenate(extra)) if extra else {"n_false": 0, "n_quiet": 0}
     return {"n_false_cut": int(counts["n_false"]), "n_quiet_cut": int(counts["n_quiet"])}
 
@@ -779,7 +788,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         sheet[ph.name] = res["_frames"][ph.name]
         say(f"stripebench predict: rendered and tracked {i + 1}/{len(matched)} ({ph.name})")
     rows = []
-    n_main = N_MOVED if frames == "transplant" else None  # the false-report frames feed the false-report rate only
+    n_main = N_FULL if frames == "transplant" else None  # the false-report frames feed the false-report rate only
     for j, lab in enumerate(trackers):
         codes = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab][:n_main]]) for ph in matched]
         every = [np.concatenate([c.ravel() for c in per_photo[ph.name][lab]]) for ph in matched]

@@ -360,7 +360,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 per = pr.transplant_outcomes(tr, made)
                 for lab in tr:
                     pred_rows.append({"name": name, "tracker": lab,
-                                      **outcome_counts(np.concatenate(per[lab][:pr.N_MOVED])),
+                                      **outcome_counts(np.concatenate(per[lab][:pr.N_FULL])),
                                       **pr.cut_counts(per[lab])})
                 groups[name] = exp.key
                 say(f"stripebench predictcheck: {name}: its stripe moved by {made[0][4]:+d} and {made[1][4]:+d} px "

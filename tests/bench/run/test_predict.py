@@ -98,7 +98,8 @@ def test_score_frame_scores_stripe_rows_it_sees_and_stripe_less_rows():
 
 
 def test_transplant_frames_need_enough_rows_of_the_moved_stripe_seen():
-    """A clear stripe over 40 rows gives two moved frames; the same stripe in 4 rows gives none (out of range)."""
+    """A clear stripe over 40 rows gives two moved frames and the photograph in place; the same stripe in 4 rows gives
+    none (out of range)."""
     from pathlib import Path
 
     from bench.evaluate import transplant as tp
@@ -114,14 +115,14 @@ def test_transplant_frames_need_enough_rows_of_the_moved_stripe_seen():
 
     made = pr.transplant_frames(photo(40))
     shift = made[0][4]
-    assert len(made) == 2 and {s for *_, s in made} == {shift, -shift} and shift >= 12
+    assert len(made) == pr.N_FULL == 3 and [s for *_, s in made] == [shift, -shift, 0] and shift >= 12
     for image, truth, states, moved, s in made:
         assert np.nanmedian(truth) == pytest.approx(40.0 + s, abs=0.3) and (states == 1).sum() >= tp.MIN_ROWS
     assert pr.transplant_frames(photo(4)) == []
 
 
 def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off():
-    """Frames 3 and 4 move the stripe only between the cut ends (bench.evaluate.transplant.cut_ends) and score no
+    """Frames 4 and 5 move the stripe only between the cut ends (bench.evaluate.transplant.cut_ends) and score no
     stripe row: the cut rows, cleaned and left without a stripe, are stripe-less rows where 15 or more from it."""
     from pathlib import Path
 
@@ -133,15 +134,37 @@ def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off(
     img = 30.0 + rng.normal(0, 2.0, (160, 96)) + 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
     made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    assert len(made) == 4 and [m[4] for m in made[2:]] == [m[4] for m in made[:2]]
+    assert len(made) == 5 and [m[4] for m in made[pr.N_FULL:]] == [m[4] for m in made[:pr.N_MOVED]]
     keep = tp.cut_ends(tp.stripe_extents(img))
     assert keep is not None and 100 <= keep.sum() <= 120
-    for image, truth, states, moved, s in made[2:]:
+    for image, truth, states, moved, s in made[pr.N_FULL:]:
         assert not (states == STRIPE).any() and (states == NO_STRIPE).sum() >= 2 * 5
         assert np.isnan(truth[~keep]).all() and np.isfinite(truth[keep]).mean() > 0.9
         cut = np.flatnonzero(~keep)
         assert moved[cut].max() < 60  # neither the old stripe nor a moved one in the cut rows
-    assert (made[0][2] == STRIPE).sum() >= 150  # the first two frames score the whole stripe
+    assert all((m[2] == STRIPE).sum() >= 150 for m in made[:pr.N_FULL])  # the first three score the whole stripe
+
+
+def test_the_photograph_in_place_is_scored_against_the_estimate_with_its_own_surroundings():
+    """The third frame is the photograph itself, untouched (its glow, rivals and surroundings where they are), its
+    truth the estimated centre read by the reference rule, and its outcomes count towards the hit rate
+    (docs/predict.md, "The photograph in place")."""
+    from pathlib import Path
+
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE
+
+    rng = np.random.default_rng(6)
+    x = np.arange(128.0)
+    img = 30.0 + rng.normal(0, 2.0, (100, 128)) + 150.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    photo = pr.Photo("p", Path("p.png"), img, None, img)
+    made = pr.transplant_frames(photo)
+    image, truth, states, moved, shift = made[pr.N_MOVED]
+    assert shift == 0 and image is photo.frame and moved is img
+    ext = tp.stripe_extents(img)
+    assert np.array_equal(truth, tp.in_place_truth(ext), equal_nan=True)
+    assert np.nanmax(np.abs(truth - 50.0)) < 0.3 and (states == STRIPE).sum() >= 90
 
 
 def test_collect_photos_refuses_a_bad_downscale(tmp_path):
@@ -391,7 +414,8 @@ def test_rows_where_a_moved_stripe_lands_on_a_rival_are_not_scored():
     img[30:50, 75:121] += 140.0  # as high over the row as the stripe: a rival; the estimate keeps to the stripe
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
     made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    (_, _, right, _, s_right), (_, _, left, _, s_left) = made[:pr.N_MOVED]
-    assert s_right > 0 > s_left
+    (_, _, right, _, s_right), (_, _, left, _, s_left), (_, _, here, _, s_here) = made[:pr.N_FULL]
+    assert s_right > 0 > s_left and s_here == 0
+    assert (here[30:50] == STRIPE).all()  # in place the stripe is where it stands beside the block
     assert (right[30:50] == UNSURE).all() and (right[60:100] == STRIPE).all()
     assert (left[30:50] == STRIPE).all()

@@ -64,13 +64,13 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     assert "blurred: out of range (width_px: its stripe is 2" in err and "board: its stripe moved by" in err
     with open(out / "predicted.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    # two moved frames and two false-report frames (the stripe's ends cut off)
-    assert [(r["tracker"], r["n_photos"], r["n_frames"]) for r in rows] == [("threshold", "1", "4"), ("dp8", "1", "4")]
+    # two moved frames, the photograph in place and two false-report frames (the stripe's ends cut off)
+    assert [(r["tracker"], r["n_photos"], r["n_frames"]) for r in rows] == [("threshold", "1", "5"), ("dp8", "1", "5")]
     with open(out / "predicted_photos.csv", newline="") as fh:
         per = list(csv.DictReader(fh))
     for r in per:  # a clean board: both trackers find the moved stripe on (nearly) every row the rule sees
         counts = {k: int(r[k]) for k in ("n_hit", "n_wrong", "n_missed", "n_false", "n_quiet", "n_unknown")}
-        assert sum(counts.values()) == 2 * 120 and counts["n_hit"] >= 100 and float(r["hit_rate"]) > 0.9
+        assert sum(counts.values()) == pr.N_FULL * 120 and counts["n_hit"] >= 100 and float(r["hit_rate"]) > 0.9
         # the false-report frames' stripe-less rows (the cut ends, 15 or more rows from the moved stripe) feed the
         # false-report rate alone
         cut = int(r["n_false_cut"]) + int(r["n_quiet_cut"])

@@ -30,7 +30,7 @@ RELIABILITY_MIN_PHOTOS = 4
 
 def predicted_figures(counts: dict) -> dict:
     """A prediction's figures from its row-outcome counts: :func:`bench.evaluate.outcomes.detection_figures` of
-    the moved frames' counts (``n_hit`` ...), with the false-report rate also counting the false-report frames'
+    the moved frames' and the photograph's in place counts (``n_hit`` ...), with the false-report rate also counting the false-report frames'
     stripe-less rows (``n_false_cut``, ``n_quiet_cut``, when given: :func:`bench.run.predict.cut_counts`), which
     only that figure reads (docs/predict.md).
 

@@ -38,6 +38,9 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
    as the real set's references would be read, leaving unscored the rows where the stripe stands far
    lower than its typical height (:func:`dim_rows`), as a reference leaves unclear rows out.
+4. **The photograph in place:** the photograph itself is a frame too, its truth the estimated centre in the rows
+   from the first visible one to the last (:func:`in_place_truth`), read by :func:`row_states` as a moved
+   frame's: its glow, rivals and surroundings stay where they are, as no moved frame carries them.
 
 The moved stripe keeps the photograph's stripe (width, contrast, saturation, colour, speckle) and
 its surroundings keep everything else; what changes is where the stripe crosses them. Pure
@@ -89,7 +92,7 @@ PAD_PX = 2
 #: The most an extent reaches either side of the peak (px): a bloom or a lit surface beyond is left in place.
 MAX_HALF_PX = 30
 #: A photograph is predicted from its transplants only when the moved stripe is seen (the reference rule) in at
-#: least this many rows of its two frames together.
+#: least this many rows of its two moved frames together.
 MIN_ROWS = 10
 #: The guide of a row is the median path column of the strong path rows within this many rows either side.
 GUIDE_ROWS = 7

@@ -94,7 +94,7 @@ def build_predict_report(result: dict) -> Path:
     n_in = sum(1 for m in result["matches"].values() if not m.out_of_range)
     n_all = len(result["matches"])
     transplant = result["settings"].get("frames") == "transplant"
-    how = ("with their own stripe moved (two frames each)" if transplant else
+    how = ("with their own stripe moved (two frames each) and in place" if transplant else
            f"matched to renders ({esc(result['settings']['n_angles'])} mirror angles each)")
     parts = [f"<h1>Predicted: {esc(result['settings']['folder'])}</h1>",
              f"<p>{n_in} of {n_all} photographs {how}; figures pooled over their rows, 95 % bootstrap "

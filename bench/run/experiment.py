@@ -332,7 +332,7 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
                      for n, g in rmet[rmet["experiment"] != "mean"].groupby("experiment")}
         image_class = {im.name: im.meta.get("condition", "") for im in real.load_dataset(dataset)}
         result["by_class"] = simreal.sim_to_real_by_class(synthetic_by_class, per_image, image_class)
-    # the same trackers' figures predicted for these photographs (each with its own stripe moved) beside the
+    # the same trackers' figures predicted for these photographs (each with its own stripe moved, and in place) beside the
     # measured ones, row for row: unlike the means above, both sides are the same photographs
     result["predicted"] = predict_real(dataset, rdir, specs, n_boot=min(config.n_boot, 1000), seed=config.seed,
                                        say=lambda m: None)["doc"]

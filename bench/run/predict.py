@@ -3,8 +3,8 @@
 Two sources of such frames (:data:`FRAMES`, ``stripebench predict --frames``):
 
 - ``transplant`` (the default): each photograph with its own stripe moved to a known place, both
-  ways (:func:`transplant_frames`, :mod:`bench.evaluate.transplant`); the photograph's clutter,
-  rivals and camera stay, and the truth is where the stripe was put.
+  ways, and itself in place (:func:`transplant_frames`, :mod:`bench.evaluate.transplant`); the photograph's
+  clutter, rivals and camera stay, and the truth is where the stripe was put (in place: where the estimate finds it).
 - ``render``: renders matched to the photograph's conditions, below.
 
 The default was chosen on renders (``stripebench predictcheck``: frames with known truth predicted
@@ -362,7 +362,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         laser), the moved stripe's columns (px, NaN where not moved), its row states
         (:func:`bench.evaluate.transplant.row_states`), the moved photograph (turned as the frame) and
         the shift; empty when the moved stripe is seen (by the reference rule) in fewer than
-        :data:`bench.evaluate.transplant.MIN_ROWS` rows of the two frames together: too few to
+        :data:`bench.evaluate.transplant.MIN_ROWS` rows of the two moved frames together: too few to
         predict from (no visible stripe, or one much wider than the reference window).
     """
     from bench.evaluate import transplant as tp
@@ -670,7 +670,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
                 n_angles: int = N_ANGLES, n_boot: int = 1000, seed: int = 0, say=None, err=None) -> dict:
     """``stripebench predict``: measure the photographs, make frames with truth for them, score the trackers.
 
-    ``frames`` (:data:`FRAMES`): ``transplant``, each photograph with its own stripe moved both ways
+    ``frames`` (:data:`FRAMES`): ``transplant``, each photograph with its own stripe moved both ways, and in place
     (:func:`transplant_frames`; ``seed`` seeds the clean plate's noise, ``estimate`` finds the stripe,
     :data:`ESTIMATES`: ``reference`` takes each photograph's reference, a real set's at ``downscale`` 1 only);
     ``render``, renders of

@@ -147,9 +147,12 @@ def _predict_and_compare(args, specs, out) -> None:
     for r in cmp["hit_rate"]["table"]:
         g = f1.get(r["tracker"], {"synthetic": float("nan"), "real": float("nan")})
         print(f"{r['tracker']:<16}{r['synthetic']:>14.3f}{r['real']:>10.3f}{g['synthetic']:>9.3f}{g['real']:>10.3f}")
+    span = res["doc"]["rank_interval"]
     for k in COMPARED:
         v = cmp[k]
-        print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}), "
+        within = "" if not span else (f"; 95 % of resampled photograph sets {span[k]['interval'][0]:.2f} to "
+                                      f"{span[k]['interval'][1]:.2f}")
+        print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}{within}), "
               f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")
     rel = res["doc"]["measured_reliability"]
     if rel:

@@ -7,7 +7,8 @@ rate, pooled over all photographs (:func:`compare_with_real`) or within groups o
 (:func:`compare_by_group`). Both sides pool the rows of the photographs compared, from their row-outcome
 counts; a prediction's false-report rate also counts its false-report frames' stripe-less rows
 (:func:`predicted_figures`). How far the measured ranks are themselves repeatable, the most a prediction's rank
-correlation can be expected to show, is :func:`rank_reliability`. Pure functions on tables.
+correlation can be expected to show, is :func:`rank_reliability`; how far the rank correlation itself rests on which
+photographs were taken, :func:`rank_interval`. Pure functions on tables.
 """
 
 from __future__ import annotations
@@ -15,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["COMPARED", "predicted_figures", "compare_with_real", "compare_by_group", "comparison_doc",
-           "per_group_error", "rank_reliability", "stepped_up", "FIGURE_KEYS", "RELIABILITY_SPLITS",
-           "RELIABILITY_MIN_PHOTOS"]
+           "per_group_error", "rank_reliability", "rank_interval", "stepped_up", "FIGURE_KEYS", "RELIABILITY_SPLITS",
+           "RELIABILITY_MIN_PHOTOS", "INTERVAL_DRAWS"]
 
 #: The figures compared.
 COMPARED = ("hit_rate", "f1", "false_report_rate")
@@ -24,8 +25,10 @@ COMPARED = ("hit_rate", "f1", "false_report_rate")
 FIGURE_KEYS = {"hit_rate": "recall", "f1": "f1", "false_report_rate": "false_report_rate"}
 #: :func:`rank_reliability`'s random halves of the photographs.
 RELIABILITY_SPLITS = 200
-#: ... and the fewest photographs it splits (two per half).
+#: ... and the fewest photographs it splits (two per half); :func:`rank_interval` resamples as few.
 RELIABILITY_MIN_PHOTOS = 4
+#: :func:`rank_interval`'s resamples of the photographs.
+INTERVAL_DRAWS = 1000
 
 
 def predicted_figures(counts: dict) -> dict:
@@ -252,6 +255,99 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
             r, q, full = float("nan"), [float("nan")] * 2, float("nan")
         out[f] = {"split_half_rho": r, "iqr": q, "full_set": full, "n_splits": len(rhos[f])}
     return out
+
+
+def rank_interval(predicted_photos, real_metrics, names, *, n_draws: int = INTERVAL_DRAWS, seed: int = 0,
+                  level: float = 0.95) -> dict:
+    """How far the rank correlation of predicted and measured figures rests on which photographs were taken: per
+    figure (:data:`COMPARED`), the central ``level`` interval of Spearman's rho between the trackers' predicted and
+    measured figures, both sides pooled over the same bootstrap resample of the photographs ``names`` (drawn with
+    replacement, ``n_draws`` seeded draws; a photograph drawn twice counts its rows twice).
+
+    Parameters
+    ----------
+    predicted_photos : pandas.DataFrame
+        :func:`bench.run.predict.run_predict`'s ``predicted_photos`` (``name``, ``tracker``, the counts ``n_hit`` ...,
+        and ``n_false_cut``, ``n_quiet_cut`` where it has them).
+    real_metrics : pandas.DataFrame
+        A real run's ``metrics`` (per-image rows with the row-outcome counts).
+    names : sequence of str
+        The photographs (at least :data:`RELIABILITY_MIN_PHOTOS`), each on both sides.
+    n_draws : int
+        Resamples (>= 1).
+    seed : int
+        Their seed.
+    level : float
+        The interval's coverage, in (0, 1).
+
+    Returns
+    -------
+    dict
+        Figure -> ``interval`` ([low, high]), ``median`` (NaN where no resample ranks) and ``n_draws`` (the resamples
+        whose figures rank on both sides: at least 3 trackers with a figure, not all equal).
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> def rec(name, t, h):
+    ...     return {"name": name, "experiment": name, "tracker": t, "n_hit": h, "n_wrong": 0,
+    ...             "n_missed": 10 - h, "n_false": 0, "n_quiet": 0}
+    >>> pred = pd.DataFrame([rec(f"p{i}", t, h) for i in range(4) for t, h in (("a", 9), ("b", 5), ("c", 7))])
+    >>> real = pd.DataFrame([rec(f"p{i}", t, h + i % 2) for i in range(4) for t, h in (("a", 8), ("b", 4), ("c", 6))])
+    >>> rank_interval(pred, real, ["p0", "p1", "p2", "p3"], n_draws=50)["hit_rate"]
+    {'interval': [1.0, 1.0], 'median': 1.0, 'n_draws': 50}
+    """
+    from scipy.stats import rankdata
+
+    names = list(dict.fromkeys(str(n) for n in names))
+    if len(names) < RELIABILITY_MIN_PHOTOS:
+        raise ValueError(f"`names` must hold at least {RELIABILITY_MIN_PHOTOS} photographs to resample, "
+                         f"got {len(names)}")
+    if isinstance(n_draws, bool) or not isinstance(n_draws, (int, np.integer)) or n_draws < 1:
+        raise ValueError(f"`n_draws` must be an integer >= 1, got {n_draws!r}")
+    if not 0.0 < float(level) < 1.0:
+        raise ValueError(f"`level` must lie in (0, 1), got {level!r}")
+    pred_keys, pred = _count_stack(predicted_photos, "name", names)
+    real_keys, real = _count_stack(real_metrics, "experiment", names)
+    trackers = [t for t in pred if t in real]
+    P = np.stack([pred[t] for t in trackers], axis=1)  # (photographs, trackers, counts)
+    R = np.stack([real[t] for t in trackers], axis=1)
+    rng = np.random.default_rng(seed)
+    rhos: dict = {f: [] for f in COMPARED}
+    for _ in range(int(n_draws)):
+        idx = rng.integers(0, len(names), len(names))
+        sides = [[predicted_figures(dict(zip(keys, (int(v) for v in row)))) for row in stack[idx].sum(axis=0)]
+                 for keys, stack in ((pred_keys, P), (real_keys, R))]
+        for f in COMPARED:
+            x = np.array([d[FIGURE_KEYS[f]] for d in sides[0]])
+            y = np.array([d[FIGURE_KEYS[f]] for d in sides[1]])
+            ok = np.isfinite(x) & np.isfinite(y)
+            if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
+                rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))  # Spearman's rho
+    tail = 50.0 * (1.0 - float(level))
+    return {f: {"interval": ([float(v) for v in np.percentile(rhos[f], [tail, 100.0 - tail])] if rhos[f]
+                             else [float("nan")] * 2),
+                "median": float(np.median(rhos[f])) if rhos[f] else float("nan"), "n_draws": len(rhos[f])}
+            for f in COMPARED}
+
+
+def _count_stack(df, name_col: str, names) -> tuple:
+    """``(keys, {tracker: counts})``: the row-outcome count columns of ``df`` (:data:`COUNT_KEYS` and a prediction's
+    ``n_false_cut``, ``n_quiet_cut``) and per tracker an integer array (photographs ``names``, keys), 0 where a
+    photograph has no row; a name missing from ``df`` is refused."""
+    import pandas as pd
+
+    from bench.evaluate.outcomes import COUNT_KEYS
+
+    sub = df.assign(**{name_col: df[name_col].astype(str), "tracker": df["tracker"].astype(str)})
+    missing = sorted(set(names) - set(sub[name_col]))
+    if missing:
+        raise ValueError(f"`names` must be photographs of both tables, got {', '.join(map(repr, missing[:3]))}"
+                         + (f" and {len(missing) - 3} more" if len(missing) > 3 else ""))
+    keys = [k for k in (*COUNT_KEYS[:5], "n_false_cut", "n_quiet_cut") if k in sub.columns]
+    table = sub[sub[name_col].isin(set(names))].groupby([name_col, "tracker"])[keys].sum()
+    return keys, {t: table.reindex(pd.MultiIndex.from_product([names, [t]]), fill_value=0).to_numpy(dtype=np.int64)
+                  for t in dict.fromkeys(sub["tracker"])}
 
 
 def _pooled_figures(df, name_col: str, names) -> dict:

@@ -87,7 +87,14 @@ def predicted_html(doc: dict) -> str:
             return "–"
         return f"{fixed(rr['hit_rate']['split_half_rho'], '.2f')} / {fixed(rr['f1']['split_half_rho'], '.2f')}"
 
-    rigs = [[esc(g), len(v["photographs"]), *agree(v), repeat(v)] for g, v in doc.get("rigs", {}).items()]
+    def span(v):
+        ri = v.get("rank_interval")
+        if not ri:
+            return "–"
+        return " / ".join(f"{fixed(ri[k]['interval'][0], '.2f')} to {fixed(ri[k]['interval'][1], '.2f')}"
+                          for k in ("hit_rate", "f1"))
+
+    rigs = [[esc(g), len(v["photographs"]), *agree(v), span(v), repeat(v)] for g, v in doc.get("rigs", {}).items()]
     left = doc.get("out_of_range") or {}
     named = ", ".join(f"{n} ({', '.join(m)})" for n, m in left.items())
     out = f" Left out (too few rows of the moved stripe seen): {esc(named)}." if left else ""
@@ -98,9 +105,12 @@ def predicted_html(doc: dict) -> str:
             f"means above, both sides are the same photographs.{out}</p>"
             + table(["tracker", "hit rate predicted", "measured", "F1 predicted", "measured"], body)
             + f"<p>All photographs: hit rate Spearman's rho / mean |predicted &minus; measured| "
-              f"{' ; F1 '.join(agree(doc))}.</p>"
+              f"{' ; F1 '.join(agree(doc))}"
+              + ("" if not doc.get("rank_interval") else
+                 f"; the rho over 95 % of the photograph sets resampled with replacement (hit rate / F1): {span(doc)}")
+            + ".</p>"
             + table(["rig", "photographs", "hit rate rho / mean |diff|", "F1 rho / mean |diff|",
-                     "measured ranks repeat (hit rate / F1)"], rigs)
+                     "rho, 95 % of resampled sets (hit rate / F1)", "measured ranks repeat (hit rate / F1)"], rigs)
             + _reliability_html(doc.get("measured_reliability"))
             + "</section>")
 

@@ -277,15 +277,17 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
         ``hit_rate`` and ``f1`` pooled, ``rigs`` (a rig: the manifest's ``source_repo``; a photograph
         without one is a rig of its own; each also with its ``measured_reliability``) and ``per_photograph``, each as
-        :func:`bench.evaluate.prediction.comparison_doc`, and ``measured_reliability``, how repeatable the measured
-        ranks are, :func:`bench.evaluate.prediction.rank_reliability`, None with fewer than
-        :data:`~bench.evaluate.prediction.RELIABILITY_MIN_PHOTOS` photographs); the page is the caller's
+        :func:`bench.evaluate.prediction.comparison_doc`, ``measured_reliability``, how repeatable the measured
+        ranks are, :func:`bench.evaluate.prediction.rank_reliability`, and ``rank_interval``, how far the rank
+        correlation rests on which photographs were taken, :func:`bench.evaluate.prediction.rank_interval`, each
+        None with fewer than :data:`~bench.evaluate.prediction.RELIABILITY_MIN_PHOTOS` photographs; the rigs have
+        both too); the page is the caller's
         (:func:`bench.report.predict.build_predict_report` of ``result``).
     """
     import json
 
     from bench.evaluate.prediction import (RELIABILITY_MIN_PHOTOS, compare_by_group, compare_with_real,
-                                          comparison_doc, rank_reliability)
+                                          comparison_doc, rank_interval, rank_reliability)
     from bench.run.predict import DEFAULT_GRID, run_predict
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
@@ -304,12 +306,16 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
     def reliability(group):
         return rank_reliability(metrics, group, seed=seed) if len(group) >= RELIABILITY_MIN_PHOTOS else None
 
+    def interval(group):
+        return (rank_interval(result["predicted_photos"], metrics, group, seed=seed)
+                if len(group) >= RELIABILITY_MIN_PHOTOS else None)
+
     doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
            "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
            **comparison_doc(cmp),
-           "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"])}
-                    for g, v in rigs.items()},
+           "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"]),
+                        "rank_interval": interval(v["photographs"])} for g, v in rigs.items()},
            "per_photograph": {g: comparison_doc(v) for g, v in photos.items()},
-           "measured_reliability": reliability(names)}
+           "measured_reliability": reliability(names), "rank_interval": interval(names)}
     atomic_write_text(out / "predict" / "compare.json", json.dumps(doc, indent=1, default=float))
     return {"result": result, "doc": doc}

@@ -123,8 +123,44 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
     assert "someone/rig" in printed
     assert doc["measured_reliability"] is None and "repeatability" not in printed  # two photographs: no halves to rank
     assert doc["rigs"]["someone/rig"]["measured_reliability"] is None
+    assert doc["rank_interval"] is None and "resampled" not in printed  # nor sets to resample
     html = (out / "predict" / "report.html").read_text()
     assert "Predicted beside measured" in html and "Per rig" in html and "Per photograph" in html
+
+
+def test_real_predict_with_four_photographs_says_how_far_its_rank_correlation_rests_on_which_were_taken(
+        photos, tmp_path, capsys):
+    """With at least four photographs, `real --predict` prints each figure's rho over resampled photograph sets and
+    writes it, pooled and per rig, beside the measured ranks' repeatability."""
+    import json
+    import shutil
+
+    ds = tmp_path / "set"
+    ds.mkdir()
+    rng = np.random.default_rng(2)
+    x = np.arange(128.0)
+    names = ("b0", "b1", "b2", "b3")
+    for i, n in enumerate(names):  # a stripe at column 50 and, in some rows, a brighter bar beside it
+        img = 30.0 + rng.normal(0, 3.0, (120, 128)) + (60.0 + 10 * i) * np.exp(-0.5 * ((x - 50.0) / 1.3) ** 2)
+        img[20 + 10 * i:50 + 10 * i, 88:91] += 120.0
+        iio.imwrite(ds / f"{n}.png", np.clip(img, 0, 255).round().astype(np.uint8))
+        (ds / f"{n}_ref.csv").write_text("row,col\n" + "".join(f"{r},50\n" for r in range(120)))
+    (ds / "manifest.csv").write_text("name,has_background,laser_colour,source_repo\n"
+                                     + "".join(f"{n},0,red,someone/rig\n" for n in names))
+    out = tmp_path / "run"
+    assert main(["real", str(ds), "--out", str(out), "--trackers", "threshold,dp8,steger,dp_gap", "--n-boot", "100",
+                 "--quiet", "--predict"]) == 0
+    printed = capsys.readouterr().out
+    doc = json.loads((out / "predict" / "compare.json").read_text())
+    assert set(doc["rank_interval"]) == {"hit_rate", "f1", "false_report_rate"}
+    for k, v in doc["rank_interval"].items():
+        assert len(v["interval"]) == 2 and 0 <= v["n_draws"] <= 1000
+        if v["n_draws"]:
+            lo, hi = v["interval"]
+            assert -1.0 <= lo <= hi <= 1.0 and f"{k}: Spearman rho" in printed
+            assert f"95 % of resampled photograph sets {lo:.2f} to {hi:.2f}" in printed
+    assert any(v["n_draws"] for v in doc["rank_interval"].values())
+    assert doc["rigs"]["someone/rig"]["rank_interval"] == doc["rank_interval"]  # one rig: the same photographs
 
 
 def test_real_predict_with_the_reference_estimate_and_its_refusals(photos, tmp_path, capsys):

@@ -70,3 +70,48 @@ def test_rank_reliability_refuses_too_few_or_unknown_photographs():
         rank_reliability(df, ["p0", "p1", "p2", "mean"])
     with pytest.raises(ValueError, match="`n_splits` must be an integer >= 1, got 0"):
         rank_reliability(df, ["p0", "p1", "p2", "p3"], n_splits=0)
+
+
+def _both(names, pred_hits, real_hits):
+    """A prediction's per-photograph rows and a real run's, tracker ``t`` hitting ``*_hits(name, t)`` of 10 rows."""
+    def rows(hits):
+        return [{"name": n, "experiment": n, "tracker": t, "n_hit": hits(n, t), "n_wrong": 0,
+                 "n_missed": 10 - hits(n, t), "n_false": 1, "n_quiet": 9} for n in names for t in ("a", "b", "c", "d")]
+    return pd.DataFrame(rows(pred_hits)), pd.DataFrame(rows(real_hits))
+
+
+def test_rank_interval_is_narrow_where_every_photograph_ranks_alike_and_wide_where_one_photograph_decides():
+    """Twelve photographs on which predicted and measured ranks agree: every resample ranks alike (1.0 to 1.0). Where
+    the measured ranks are all but tied and one photograph orders them, the interval spans whether it is drawn."""
+    from bench.evaluate.prediction import rank_interval
+
+    names = [f"p{i}" for i in range(12)]
+    order = {"a": 9, "b": 7, "c": 5, "d": 3}
+    pred, real = _both(names, lambda n, t: order[t], lambda n, t: order[t] - 1)
+    alike = rank_interval(pred, real, names, n_draws=200)
+    assert alike["hit_rate"] == {"interval": [1.0, 1.0], "median": 1.0, "n_draws": 200}
+    # measured: every tracker hits 5 of 10, but on p0 (weight 1 of 12) they order as predicted, on p1 reversed
+    pred, real = _both(names, lambda n, t: order[t],
+                       lambda n, t: order[t] if n == "p0" else 12 - order[t] if n == "p1" else 5)
+    split = rank_interval(pred, real, names, n_draws=400)
+    lo, hi = split["hit_rate"]["interval"]
+    assert lo <= -0.9 and hi >= 0.9
+    assert repr(rank_interval(pred, real, names, n_draws=400)) == repr(split)  # seeded
+    assert rank_interval(pred, real, names, n_draws=400, seed=1) != split
+
+
+def test_rank_interval_refuses_too_few_or_unknown_photographs_and_a_bad_level():
+    from bench.evaluate.prediction import rank_interval
+
+    names = ["p0", "p1", "p2", "p3"]
+    pred, real = _both(names, lambda n, t: 5, lambda n, t: 5)
+    with pytest.raises(ValueError, match="`names` must hold at least 4 photographs to resample, got 3"):
+        rank_interval(pred, real, names[:3])
+    with pytest.raises(ValueError, match="`names` must be photographs of both tables, got 'mean'"):
+        rank_interval(pred, real, [*names[:3], "mean"])
+    with pytest.raises(ValueError, match="`n_draws` must be an integer >= 1, got 0"):
+        rank_interval(pred, real, names, n_draws=0)
+    with pytest.raises(ValueError, match=r"`level` must lie in \(0, 1\), got 1.5"):
+        rank_interval(pred, real, names, level=1.5)
+    tied = rank_interval(pred, real, names, n_draws=10)  # every tracker alike: nothing ranks
+    assert tied["hit_rate"]["n_draws"] == 0 and all(v != v for v in tied["hit_rate"]["interval"])

@@ -98,7 +98,7 @@ def test_predicted_beside_measured_is_escaped_and_names_what_was_left_out():
 def test_predicted_beside_measured_says_how_repeatable_the_measured_ranks_are():
     import pandas as pd
 
-    from bench.evaluate.prediction import compare_with_real, comparison_doc, rank_reliability
+    from bench.evaluate.prediction import compare_with_real, comparison_doc, rank_interval, rank_reliability
 
     names = [f"p{i}" for i in range(6)]
     pred = pd.DataFrame({"tracker": ["a", "b", "c"], "hit_rate": [0.9, 0.5, 0.7], "f1": [0.8, 0.6, 0.7],
@@ -108,7 +108,9 @@ def test_predicted_beside_measured_says_how_repeatable_the_measured_ranks_are():
     doc = _saved({"photographs": names, "frames": "transplant", **comparison_doc(compare_with_real(pred, rows, names)),
                   "rigs": {"someone/rig": {**comparison_doc({"photographs": names,
                                                              **compare_with_real(pred, rows, names)}),
-                                           "measured_reliability": rank_reliability(rows, names, n_splits=10)},
+                                           "measured_reliability": rank_reliability(rows, names, n_splits=10),
+                                           "rank_interval": rank_interval(rows.assign(name=rows["experiment"]), rows,
+                                                                          names, n_draws=10)},
                            "small/rig": comparison_doc({"photographs": names[:2],
                                                         **compare_with_real(pred, rows, names[:2])})},
                   "measured_reliability": rank_reliability(rows, names, n_splits=10)})
@@ -117,3 +119,4 @@ def test_predicted_beside_measured_says_how_repeatable_the_measured_ranks_are():
     cells = _cells(html)
     rig_rows = {c[0]: c for c in cells if c and c[0] in ("someone/rig", "small/rig")}
     assert rig_rows["someone/rig"][-1] == "1.00 / 1.00" and rig_rows["small/rig"][-1] == "–"
+    assert rig_rows["someone/rig"][-2] == "1.00 to 1.00 / 1.00 to 1.00" and rig_rows["small/rig"][-2] == "–"

@@ -7,8 +7,11 @@ visible rows: a row under :data:`bench.evaluate.transplant.DIM_SHARE` of it is *
 :func:`bench.evaluate.transplant.clipped_peaks` says so. Printed per rig (the manifest's ``source_repo``) and for
 all: the rows the references score and the share of them dim, the rows they leave out and the share dim, and the
 share of dim rows left out, once counting every dim row and once only those whose peak is not clipped (the
-``--rows clear`` convention of ``stripebench predictcheck``). Used for docs/predict.md ("Which rows a reference
-scores", "A clipped core is not dim"):
+``--rows clear`` convention of ``stripebench predictcheck``). A second table does the same for the estimate's rows
+between its first and last visible one that it does not call visible but guides (a height, under 6 of the frame's
+noise units), each dim or not by the same median (:func:`bench.evaluate.transplant.dim_rows` with ``guided``). Used
+for docs/predict.md ("Which rows a reference scores", "A clipped core is not dim", "Faint rows the extent does not
+call visible"):
 
     python scripts/reference_rows.py bench/data/real
 """
@@ -38,6 +41,7 @@ def main(argv=None) -> int:
     with open(root / "manifest.csv", newline="") as f:
         rig_of = {row["name"]: row.get("source_repo", "") for row in csv.DictReader(f)}
     counts = defaultdict(lambda: np.zeros(6, int))  # scored, scored dim, scored dim unclipped, left out, ...
+    faint = defaultdict(lambda: np.zeros(4, int))  # invisible guided rows: scored, scored dim, left out, left out dim
     for p in pr.collect_photos(root, references=True):
         c = cond.measure(p.frame, p.background)
         if tp.out_of_range(c):
@@ -49,8 +53,15 @@ def main(argv=None) -> int:
         dim_unclipped = tp.unclear_rows(ext, original)
         scored, vis = np.isfinite(cols), ext.visible
         row = [np.sum(vis & s & d) for s in (scored, ~scored) for d in (np.ones_like(vis), dim, dim_unclipped)]
+        span = np.zeros_like(vis)
+        if vis.any():
+            span[np.flatnonzero(vis)[0]:np.flatnonzero(vis)[-1] + 1] = True
+        guided = span & ~vis & np.isfinite(ext.height)
+        gdim = guided & tp.dim_rows(ext, guided=True)
         for key in (rig_of.get(p.name, "?"), "all"):
             counts[key] += row
+            faint[key] += [np.sum(guided & scored), np.sum(gdim & scored), np.sum(guided & ~scored),
+                           np.sum(gdim & ~scored)]
 
     def share(a, b) -> str:
         return f"{a / b:.1%}" if b else "-"
@@ -60,6 +71,10 @@ def main(argv=None) -> int:
     for key, (n_s, d_s, u_s, n_o, d_o, u_o) in counts.items():
         print(f"{key:<40}{n_s:>8}{share(d_s, n_s):>7}{share(u_s, n_s):>8}{n_o:>10}{share(d_o, n_o):>7}"
               f"{share(u_o, n_o):>8}{share(d_o, d_s + d_o):>14}{share(u_o, u_s + u_o):>8}")
+    print("\nthe estimate's rows it guides but does not call visible (within its visible span):")
+    print(f"{'rig':<40}{'scored':>8}{'dim':>7}{'left out':>10}{'dim':>7}")
+    for key, (n_s, d_s, n_o, d_o) in faint.items():
+        print(f"{key:<40}{n_s:>8}{share(d_s, n_s):>7}{n_o:>10}{share(d_o, n_o):>7}")
     return 0
 
 

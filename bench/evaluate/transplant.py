@@ -843,12 +843,15 @@ def _line(row, a: int, b: int) -> np.ndarray:
     return ml[None, :] + t[:, None] * (mr - ml)[None, :]
 
 
-def dim_rows(ext: Extents, clipped=None) -> np.ndarray:
+def dim_rows(ext: Extents, clipped=None, *, guided: bool = False) -> np.ndarray:
     """The visible rows of ``ext`` whose stripe stands under :data:`DIM_SHARE` of the median height (``ext.height``,
     the peak over the reference window's median) of its visible rows, shape (H,) bool: the rows a photograph's
     reference leaves out as unclear (docs/predict.md, "Which rows a reference scores"); none without heights.
     ``clipped`` (H,) bool, optional: rows whose peak is clipped (:func:`clipped_peaks`), which are never dim: a
-    clipped core stands low over its window's median only where a glow as bright fills the window.
+    clipped core stands low over its window's median only where a glow as bright fills the window. ``guided``: every
+    row with a height, visible or not (the stripe's rows under 6 of the frame's noise units that the reference rule,
+    with its own noise unit, still sees: the renders' measured side since the thirteenth session, docs/predict.md,
+    "Faint rows the extent does not call visible").
 
     Examples
     --------
@@ -859,6 +862,9 @@ def dim_rows(ext: Extents, clipped=None) -> np.ndarray:
     [False, False, False, True, False, False]
     >>> dim_rows(e, clipped=np.array([0, 0, 0, 1, 0, 0], bool)).tolist()
     [False, False, False, False, False, False]
+    >>> e.visible[3] = False
+    >>> dim_rows(e).tolist(), dim_rows(e, guided=True).tolist()
+    ([False, False, False, False, False, False], [False, False, False, True, False, False])
     """
     out = np.zeros(np.shape(ext.visible), bool)
     if ext.height is None or not np.any(ext.visible):
@@ -868,7 +874,7 @@ def dim_rows(ext: Extents, clipped=None) -> np.ndarray:
     if not np.isfinite(typical) or typical <= 0:
         return out
     with np.errstate(invalid="ignore"):
-        out = ext.visible & (h < DIM_SHARE * typical)
+        out = (np.isfinite(h) if guided else ext.visible) & (h < DIM_SHARE * typical)
     if clipped is not None:
         clipped = np.asarray(clipped, bool)
         if clipped.shape != out.shape:
@@ -911,9 +917,10 @@ def clipped_peaks(original, ext: Extents, noise_dn=None) -> np.ndarray:
     return np.any(planes[np.arange(H), cols, :].astype(np.float64) >= top, axis=-1)
 
 
-def unclear_rows(ext: Extents, original=None, noise_dn=None) -> np.ndarray:
-    """The rows of ``ext`` a photograph's reference leaves out as unclear, shape (H,) bool: its :func:`dim_rows`,
-    less those whose peak is clipped in ``original`` (:func:`clipped_peaks`, with ``noise_dn``) when it is given.
+def unclear_rows(ext: Extents, original=None, noise_dn=None, *, guided: bool = False) -> np.ndarray:
+    """The rows of ``ext`` a photograph's reference leaves out as unclear, shape (H,) bool: its :func:`dim_rows`
+    (``guided`` as there), less those whose peak is clipped in ``original`` (:func:`clipped_peaks`, with ``noise_dn``)
+    when it is given.
     The one home of the convention, read on a transplant's estimate (:func:`row_states`) and on a render's truth
     (``stripebench predictcheck --rows clear``; docs/predict.md, "Which rows a reference scores").
 
@@ -929,7 +936,7 @@ def unclear_rows(ext: Extents, original=None, noise_dn=None) -> np.ndarray:
     >>> unclear_rows(e, img, noise_dn=[1.0]).tolist()
     [False, True, False, False, False]
     """
-    return dim_rows(ext, None if original is None else clipped_peaks(original, ext, noise_dn))
+    return dim_rows(ext, None if original is None else clipped_peaks(original, ext, noise_dn), guided=guided)
 
 
 def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarray:

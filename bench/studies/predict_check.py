@@ -57,7 +57,8 @@ TRUTHS = ("render", "reference")
 #: Which stripe rows the measured side scores (``--rows``): ``seen``, every row where the reference rule sees the true
 #: stripe (:func:`bench.evaluate.outcomes.referenced_states`; every run before the tenth session's), or ``clear`` (the
 #: default since then), those less the rows where the true stripe stands far under its typical height and its peak is
-#: not clipped (:func:`bench.evaluate.transplant.unclear_rows` along the true columns), which a photograph's reference
+#: not clipped (:func:`bench.evaluate.transplant.unclear_rows` along the true columns; since the thirteenth session
+#: ``guided``, whether or not the row stands 6 of the frame's noise units up), which a photograph's reference
 #: leaves out as unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those
 #: rows are then not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
 ROWS = ("seen", "clear")
@@ -339,7 +340,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             plain = cond.measure(img, None) if rows == "clear" or frames == "transplant" else None
             if rows == "clear":  # less the rows a photograph's reference leaves out as unclear
                 unclear = tp.unclear_rows(tp.stripe_extents(img, None, measured=plain, guide=case.truth_columns),
-                                          case.original)
+                                          case.original, guided=True)
                 states = np.where((states == STRIPE) & unclear, UNSURE, states).astype(np.int8)
             scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():

@@ -247,6 +247,23 @@ def test_a_moved_stripe_does_not_land_on_a_rival():
         assert not (ext.lo[r] + right - tp.SIDE_PX <= c + 15 <= ext.hi[r] + right + tp.SIDE_PX)
 
 
+def test_guided_dim_rows_also_count_the_faint_rows_the_extent_does_not_call_visible():
+    """Rows 10-14 of a 100 DN stripe stand 3 DN up, under 6 noise units (not visible) and under a fifth of its
+    height: ``guided`` counts them dim, as a reference leaves them out; by default only visible rows can be dim."""
+    rng = np.random.default_rng(8)
+    img = rng.normal(30.0, 1.0, (40, 60))
+    height = np.full(40, 100.0)
+    height[10:15] = 3.0
+    img[:, 30] += height
+    ext = tp.stripe_extents(img, guide=np.full(40, 30.0))
+    assert not ext.visible[10:15].any() and ext.visible[15:].all()
+    assert not tp.dim_rows(ext).any()
+    want = np.zeros(40, bool)
+    want[10:15] = True
+    assert np.array_equal(tp.dim_rows(ext, guided=True), want)
+    assert np.array_equal(tp.unclear_rows(ext, img.astype(np.uint8), guided=True), want)
+
+
 def test_dim_rows_are_the_stripe_s_rows_standing_under_a_fifth_of_its_typical_height():
     """:func:`dim_rows` along a known stripe: 100 DN over the background in most rows, 15 DN (visible, but under
     :data:`DIM_SHARE` of the median) in rows 10-14, 40 DN (over it) in rows 20-24."""

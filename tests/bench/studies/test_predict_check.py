@@ -330,7 +330,7 @@ def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tm
                                      n_angles=pr.N_ANGLES):
         seen = referenced_states(case.image, case.truth_columns)
         along = tp.stripe_extents(case.image, guide=case.truth_columns)
-        dim = tp.dim_rows(along, clipped=tp.clipped_peaks(case.original, along)) & (seen == STRIPE)
+        dim = tp.dim_rows(along, clipped=tp.clipped_peaks(case.original, along), guided=True) & (seen == STRIPE)
         n_dim += int(dim.sum())
         for rows, states in (("seen", seen), ("clear", np.where(dim, UNSURE, seen))):
             want = outcome_counts(pr.score_frame(tr, case.image, case.truth_columns, states=states)["threshold"])

@@ -33,9 +33,9 @@ INTERVAL_DRAWS = 1000
 
 def predicted_figures(counts: dict) -> dict:
     """A prediction's figures from its row-outcome counts: :func:`bench.evaluate.outcomes.detection_figures` of
-    the moved frames' and the photograph's in place counts (``n_hit`` ...), with the false-report rate also counting the false-report frames'
-    stripe-less rows (``n_false_cut``, ``n_quiet_cut``, when given: :func:`bench.run.predict.cut_counts`), which
-    only that figure reads (docs/predict.md).
+    the counts of the moved frames and the photograph in place (``n_hit`` ...), with the false-report rate also
+    counting the false-report frames' stripe-less rows (``n_false_cut``, ``n_quiet_cut``, when given:
+    :func:`bench.run.predict.cut_counts`), which only that figure reads (docs/predict.md).
 
     Examples
     --------

@@ -748,8 +748,8 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
 
 def in_place_truth(ext: Extents) -> np.ndarray:
     """The estimated stripe's centre in the rows :func:`transplant` would clean or move, from the first visible row
-    to the last, shape (H,), px (NaN elsewhere): the truth of the photograph itself as a frame of the prediction, read with :func:`row_states`
-    (docs/predict.md, "The photograph in place").
+    to the last, shape (H,), px (NaN elsewhere): the truth of the photograph itself as a frame of the prediction,
+    read with :func:`row_states` (docs/predict.md, "The photograph in place").
 
     Examples
     --------

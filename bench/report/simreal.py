@@ -101,7 +101,8 @@ def predicted_html(doc: dict) -> str:
     return ("<section class='sim-to-real-predicted'><h3>Predicted beside measured, photograph by photograph</h3>"
             f"<p>The same trackers' figures predicted for {len(doc['photographs'])} of the photographs from frames "
             f"made of each (<code>{esc(doc.get('frames', ''))}</code>: the photograph with its own stripe moved to a "
-            "known place, and itself with its stripe where the estimate puts it, docs/predict.md) beside the figures measured on the same photographs' rows. Unlike the "
+            "known place, and itself with its stripe where the estimate puts it, docs/predict.md) beside the figures "
+            "measured on the same photographs' rows. Unlike the "
             f"means above, both sides are the same photographs.{out}</p>"
             + table(["tracker", "hit rate predicted", "measured", "F1 predicted", "measured"], body)
             + f"<p>All photographs: hit rate Spearman's rho / mean |predicted &minus; measured| "

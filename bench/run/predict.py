@@ -375,7 +375,8 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     rivals = tp.rival_mask(photo.frame, photo.background, ext)
     right, left = tp.shifts_for(ext, rivals)
     noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
-    unclear = tp.unclear_rows(ext, original, noise)  # the moved rows a reference would leave out (row_states)
+    # the moved rows a reference would leave out (row_states): dim ones, visible or not (docs/predict.md, (ad))
+    unclear = tp.unclear_rows(ext, original, noise, guided=True)
     out = []
     for j, s in enumerate((right, -left)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,

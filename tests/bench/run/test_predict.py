@@ -339,6 +339,34 @@ def test_moved_rows_of_a_clipped_core_in_a_glow_are_scored_and_a_faint_stretch_i
         assert (states[40:60] == STRIPE).all() and (states[100:110] == UNSURE).all()
 
 
+def test_a_moved_faint_stretch_under_the_visible_level_is_not_scored_even_where_the_reference_rule_sees_it(
+        monkeypatch):
+    """Rows 100-109 of a 150 DN stripe stand 9 DN up: under 6 of the frame's noise units (2 DN), so the extent does not
+    call them visible, and under a fifth of the stripe's height. With the reference rule's noise unit at 1 DN (as on a
+    frame of flat dark background) the rule sees them in the moved frames; they are left out all the same, as the
+    references leave out such rows (docs/predict.md, "Faint rows the extent does not call visible" and (ad))."""
+    from pathlib import Path
+
+    from bench.evaluate import outcomes
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE, UNSURE, referenced_states
+
+    monkeypatch.setattr(outcomes, "reference_noise", lambda frame: 1.0)
+    rng = np.random.default_rng(9)
+    x = np.arange(120.0)
+    amp = np.full((160, 1), 150.0)
+    amp[100:110] = 9.0
+    img = 30.0 + rng.normal(0, 2.0, (160, 120)) + amp * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    ext = tp.stripe_extents(img)
+    assert not ext.visible[100:110].any() and ext.visible[:100].all()
+    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
+    for image, truth, states, _, _ in made[:pr.N_FULL]:
+        assert np.isfinite(truth[100:110]).all()
+        assert (referenced_states(image, truth)[100:110] == STRIPE).sum() >= 8  # the rule sees most of them ...
+        assert (states[100:110] == UNSURE).all() and (states[:100] == STRIPE).sum() >= 95  # ... they are not scored
+
+
 def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dropped():
     """A red stripe in rows 0-99 and none in rows 100-159, and a white bar (bright in every channel, of no colour)
     down the whole frame: the colour guide has the stripe in rows 0-99 and nothing below; the frame's own guide takes

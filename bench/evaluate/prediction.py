@@ -213,14 +213,8 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     1.0
     """
     import pandas as pd
-    from scipy.stats import rankdata
 
-    names = list(dict.fromkeys(str(n) for n in names))
-    if len(names) < RELIABILITY_MIN_PHOTOS:
-        raise ValueError(f"`names` must hold at least {RELIABILITY_MIN_PHOTOS} photographs to split in halves, "
-                         f"got {len(names)}")
-    if isinstance(n_splits, bool) or not isinstance(n_splits, (int, np.integer)) or n_splits < 1:
-        raise ValueError(f"`n_splits` must be an integer >= 1, got {n_splits!r}")
+    names = _checked_names(names, "split in halves", n_splits=n_splits)
     from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
 
     sub = real_metrics[real_metrics["experiment"].astype(str).isin(set(names))]
@@ -239,12 +233,7 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
         order = rng.permutation(len(names))
         halves = [[detection_figures(c) for c in counts[idx].sum(axis=0)]
                   for idx in np.array_split(order, [len(names) // 2])]
-        for f in COMPARED:
-            x = np.array([d[FIGURE_KEYS[f]] for d in halves[0]])
-            y = np.array([d[FIGURE_KEYS[f]] for d in halves[1]])
-            ok = np.isfinite(x) & np.isfinite(y)
-            if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
-                rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))  # Spearman's rho
+        _ranked_rhos(halves[0], halves[1], rhos)
     out = {}
     for f in COMPARED:
         if rhos[f]:
@@ -288,23 +277,18 @@ def rank_interval(predicted_photos, real_metrics, names, *, n_draws: int = INTER
 
     Examples
     --------
+    Four photographs on which the prediction orders three trackers as the measurement does:
+
     >>> import pandas as pd
-    >>> def rec(name, t, h):
-    ...     return {"name": name, "experiment": name, "tracker": t, "n_hit": h, "n_wrong": 0,
-    ...             "n_missed": 10 - h, "n_false": 0, "n_quiet": 0}
-    >>> pred = pd.DataFrame([rec(f"p{i}", t, h) for i in range(4) for t, h in (("a", 9), ("b", 5), ("c", 7))])
-    >>> real = pd.DataFrame([rec(f"p{i}", t, h + i % 2) for i in range(4) for t, h in (("a", 8), ("b", 4), ("c", 6))])
+    >>> hits = pd.DataFrame({"name": [f"p{i}" for i in range(4) for _ in "abc"], "tracker": list("abc") * 4,
+    ...                      "n_hit": [9, 5, 7] * 4, "n_wrong": 0, "n_missed": [1, 5, 3] * 4,
+    ...                      "n_false": 0, "n_quiet": 0})
+    >>> real = hits.rename(columns={"name": "experiment"}).assign(n_hit=[8, 4, 6] * 4, n_missed=[2, 6, 4] * 4)
+    >>> pred = hits
     >>> rank_interval(pred, real, ["p0", "p1", "p2", "p3"], n_draws=50)["hit_rate"]
     {'interval': [1.0, 1.0], 'median': 1.0, 'n_draws': 50}
     """
-    from scipy.stats import rankdata
-
-    names = list(dict.fromkeys(str(n) for n in names))
-    if len(names) < RELIABILITY_MIN_PHOTOS:
-        raise ValueError(f"`names` must hold at least {RELIABILITY_MIN_PHOTOS} photographs to resample, "
-                         f"got {len(names)}")
-    if isinstance(n_draws, bool) or not isinstance(n_draws, (int, np.integer)) or n_draws < 1:
-        raise ValueError(f"`n_draws` must be an integer >= 1, got {n_draws!r}")
+    names = _checked_names(names, "resample", n_draws=n_draws)
     if not 0.0 < float(level) < 1.0:
         raise ValueError(f"`level` must lie in (0, 1), got {level!r}")
     pred_keys, pred = _count_stack(predicted_photos, "name", names)
@@ -318,17 +302,39 @@ def rank_interval(predicted_photos, real_metrics, names, *, n_draws: int = INTER
         idx = rng.integers(0, len(names), len(names))
         sides = [[predicted_figures(dict(zip(keys, (int(v) for v in row)))) for row in stack[idx].sum(axis=0)]
                  for keys, stack in ((pred_keys, P), (real_keys, R))]
-        for f in COMPARED:
-            x = np.array([d[FIGURE_KEYS[f]] for d in sides[0]])
-            y = np.array([d[FIGURE_KEYS[f]] for d in sides[1]])
-            ok = np.isfinite(x) & np.isfinite(y)
-            if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
-                rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))  # Spearman's rho
+        _ranked_rhos(sides[0], sides[1], rhos)
     tail = 50.0 * (1.0 - float(level))
     return {f: {"interval": ([float(v) for v in np.percentile(rhos[f], [tail, 100.0 - tail])] if rhos[f]
                              else [float("nan")] * 2),
                 "median": float(np.median(rhos[f])) if rhos[f] else float("nan"), "n_draws": len(rhos[f])}
             for f in COMPARED}
+
+
+def _checked_names(names, purpose: str, **count) -> list:
+    """``names`` as distinct strings, refused unless at least :data:`RELIABILITY_MIN_PHOTOS` (to ``purpose``) and the
+    one keyword ``count`` (its name and value) an integer >= 1."""
+    names = list(dict.fromkeys(str(n) for n in names))
+    if len(names) < RELIABILITY_MIN_PHOTOS:
+        raise ValueError(f"`names` must hold at least {RELIABILITY_MIN_PHOTOS} photographs to {purpose}, "
+                         f"got {len(names)}")
+    (key, n), = count.items()
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"`{key}` must be an integer >= 1, got {n!r}")
+    return names
+
+
+def _ranked_rhos(first, second, rhos: dict) -> None:
+    """Append to ``rhos[f]``, for each figure ``f`` (:data:`COMPARED`), Spearman's rho between two sides' per-tracker
+    :func:`~bench.evaluate.outcomes.detection_figures` (lists in one tracker order), where at least 3 trackers have
+    the figure on both sides and neither side's are all equal (else nothing: no ranks to compare)."""
+    from scipy.stats import rankdata
+
+    for f in COMPARED:
+        x = np.array([d[FIGURE_KEYS[f]] for d in first])
+        y = np.array([d[FIGURE_KEYS[f]] for d in second])
+        ok = np.isfinite(x) & np.isfinite(y)
+        if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
+            rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))
 
 
 def _count_stack(df, name_col: str, names) -> tuple:

@@ -9,9 +9,10 @@ all: the rows the references score and the share of them dim, the rows they leav
 share of dim rows left out, once counting every dim row and once only those whose peak is not clipped (the
 ``--rows clear`` convention of ``stripebench predictcheck``). A second table does the same for the estimate's rows
 between its first and last visible one that it does not call visible but guides (a height, under 6 of the frame's
-noise units), each dim or not by the same median (:func:`bench.evaluate.transplant.dim_rows` with ``guided``). Used
-for docs/predict.md ("Which rows a reference scores", "A clipped core is not dim", "Faint rows the extent does not
-call visible"):
+noise units), each dim or not by the same median (:func:`bench.evaluate.transplant.dim_rows` with ``guided``); a third
+for its rows whose peak is clipped and which the reference rule does not see in the photograph. Used for
+docs/predict.md ("Which rows a reference scores", "A clipped core is not dim", "Faint rows the extent does not call
+visible", "A clipped core in a glow is seen"):
 
     python scripts/reference_rows.py bench/data/real
 """
@@ -34,6 +35,7 @@ def main(argv=None) -> int:
 
     from bench.evaluate import conditions as cond
     from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE, referenced_states
     from bench.run import predict as pr
     from bench.store.realset import read_reference_states
 
@@ -42,6 +44,7 @@ def main(argv=None) -> int:
         rig_of = {row["name"]: row.get("source_repo", "") for row in csv.DictReader(f)}
     counts = defaultdict(lambda: np.zeros(6, int))  # scored, scored dim, scored dim unclipped, left out, ...
     faint = defaultdict(lambda: np.zeros(4, int))  # invisible guided rows: scored, scored dim, left out, left out dim
+    core = defaultdict(lambda: np.zeros(2, int))  # clipped peaks the rule does not see in place: scored, left out
     for p in pr.collect_photos(root, references=True):
         c = cond.measure(p.frame, p.background)
         if tp.out_of_range(c):
@@ -58,8 +61,11 @@ def main(argv=None) -> int:
             span[np.flatnonzero(vis)[0]:np.flatnonzero(vis)[-1] + 1] = True
         guided = span & ~vis & np.isfinite(ext.height)
         gdim = guided & tp.dim_rows(ext, guided=True)
+        truth = tp.in_place_truth(ext)
+        unseen = tp.clipped_peaks(original, ext) & np.isfinite(truth) & (referenced_states(p.frame, truth) != STRIPE)
         for key in (rig_of.get(p.name, "?"), "all"):
             counts[key] += row
+            core[key] += [np.sum(unseen & scored), np.sum(unseen & ~scored)]
             faint[key] += [np.sum(guided & scored), np.sum(gdim & scored), np.sum(guided & ~scored),
                            np.sum(gdim & ~scored)]
 
@@ -75,6 +81,10 @@ def main(argv=None) -> int:
     print(f"{'rig':<40}{'scored':>8}{'dim':>7}{'left out':>10}{'dim':>7}")
     for key, (n_s, d_s, n_o, d_o) in faint.items():
         print(f"{key:<40}{n_s:>8}{share(d_s, n_s):>7}{n_o:>10}{share(d_o, n_o):>7}")
+    print("\nthe estimate's rows whose peak is clipped and which the reference rule does not see in place:")
+    print(f"{'rig':<40}{'scored':>8}{'left out':>10}")
+    for key, (n_s, n_o) in core.items():
+        print(f"{key:<40}{n_s:>8}{n_o:>10}")
     return 0
 
 

@@ -939,6 +939,33 @@ def unclear_rows(ext: Extents, original=None, noise_dn=None, *, guided: bool = F
     return dim_rows(ext, None if original is None else clipped_peaks(original, ext, noise_dn), guided=guided)
 
 
+def seen_states(image, truth, clipped=None) -> np.ndarray:
+    """The states a photograph's reference gives the rows of ``truth`` (px, shape (H,), NaN: no stripe), shape (H,)
+    int8: :func:`~bench.evaluate.outcomes.referenced_states`, and with ``clipped`` ((H,) bool: rows whose stripe's peak
+    is clipped, :func:`clipped_peaks`) such a row is a stripe row even where the reference rule does not see it: a
+    clipped core in a glow that fills the reference window, which the shipped set's references score (412 of the 469
+    such rows of its estimates; docs/predict.md, "A clipped core in a glow is seen"). The one home of that reading, on
+    a render's truth (``predictcheck --rows clear``) and on a transplant's frames.
+
+    Examples
+    --------
+    A clipped core standing 5 DN over a glow as wide as the window (row 0), and a faint unclipped row (row 1):
+
+    >>> img = np.full((2, 20), 30, np.uint8); img[0, 4:17] = 250; img[0, 10] = 255; img[1, 10] = 33
+    >>> seen_states(img, [10.0, 10.0]).tolist(), seen_states(img, [10.0, 10.0], np.array([True, False])).tolist()
+    ([-1, -1], [1, -1])
+    """
+    from bench.evaluate.outcomes import STRIPE, UNSURE, referenced_states
+
+    states = referenced_states(image, truth)
+    if clipped is not None:
+        clipped = np.asarray(clipped, bool)
+        if clipped.shape != states.shape:
+            raise ValueError(f"`clipped` must have one entry per row, shape {states.shape}, got {clipped.shape}")
+        states[(states == UNSURE) & clipped] = STRIPE
+    return states
+
+
 def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 

@@ -58,7 +58,9 @@ TRUTHS = ("render", "reference")
 #: stripe (:func:`bench.evaluate.outcomes.referenced_states`; every run before the tenth session's), or ``clear`` (the
 #: default since then), those less the rows where the true stripe stands far under its typical height and its peak is
 #: not clipped (:func:`bench.evaluate.transplant.unclear_rows` along the true columns; since the thirteenth session
-#: ``guided``, whether or not the row stands 6 of the frame's noise units up), which a photograph's reference
+#: ``guided``, whether or not the row stands 6 of the frame's noise units up), and with the rows whose true peak is
+#: clipped scored even where the rule does not see them (:func:`bench.evaluate.transplant.seen_states`), as a
+#: photograph's reference scores a clipped core in a glow; the rows left out are those a photograph's reference
 #: leaves out as unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those
 #: rows are then not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
 ROWS = ("seen", "clear")
@@ -338,9 +340,10 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             states = referenced_states(img, case.truth_columns)
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
             plain = cond.measure(img, None) if rows == "clear" or frames == "transplant" else None
-            if rows == "clear":  # less the rows a photograph's reference leaves out as unclear
-                unclear = tp.unclear_rows(tp.stripe_extents(img, None, measured=plain, guide=case.truth_columns),
-                                          case.original, guided=True)
+            if rows == "clear":  # a clipped core is seen; less the rows a photograph's reference leaves out as unclear
+                along = tp.stripe_extents(img, None, measured=plain, guide=case.truth_columns)
+                states = tp.seen_states(img, case.truth_columns, tp.clipped_peaks(case.original, along))
+                unclear = tp.unclear_rows(along, case.original, guided=True)
                 states = np.where((states == STRIPE) & unclear, UNSURE, states).astype(np.int8)
             scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():

@@ -247,6 +247,31 @@ def test_a_moved_stripe_does_not_land_on_a_rival():
         assert not (ext.lo[r] + right - tp.SIDE_PX <= c + 15 <= ext.hi[r] + right + tp.SIDE_PX)
 
 
+def test_a_clipped_core_in_a_glow_filling_the_window_is_seen_and_a_faint_row_is_not():
+    """Rows 10-19: a clipped core 3 px wide in a glow of 240 DN 40 px wide (the reference window's median is the glow's,
+    so the rule does not see the core); rows 30-34 a 4 DN stripe; elsewhere a 150 DN stripe. With the clipped peaks
+    the core rows are stripe rows, the faint ones still not (docs/predict.md, "A clipped core in a glow is seen")."""
+    from bench.evaluate.outcomes import STRIPE, UNSURE, referenced_states
+
+    rng = np.random.default_rng(12)
+    img = rng.normal(30.0, 2.0, (50, 80))
+    img[:, 40] += 150.0
+    img[10:20, 20:60] = 240.0 + rng.normal(0, 2.0, (10, 40))
+    img[10:20, 39:42] = 255.0
+    img[30:35, 40] = 34.0
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    truth = np.full(50, 40.0)
+    ext = tp.stripe_extents(img, guide=truth)
+    clipped = tp.clipped_peaks(img, ext)
+    assert clipped[10:20].all() and not clipped[30:35].any()
+    assert (referenced_states(img, truth)[10:20] == UNSURE).all()
+    states = tp.seen_states(img, truth, clipped)
+    assert (states[10:20] == STRIPE).all() and (states[30:35] == UNSURE).all() and (states[:10] == STRIPE).all()
+    assert np.array_equal(tp.seen_states(img, truth), referenced_states(img, truth))
+    with pytest.raises(ValueError, match=r"`clipped` must have one entry per row, shape \(50,\), got \(49,\)"):
+        tp.seen_states(img, truth, clipped[1:])
+
+
 def test_guided_dim_rows_also_count_the_faint_rows_the_extent_does_not_call_visible():
     """Rows 10-14 of a 100 DN stripe stand 3 DN up, under 6 noise units (not visible) and under a fifth of its
     height: ``guided`` counts them dim, as a reference leaves them out; by default only visible rows can be dim."""

@@ -56,12 +56,9 @@ def main(argv=None) -> int:
         dim_unclipped = tp.unclear_rows(ext, original)
         scored, vis = np.isfinite(cols), ext.visible
         row = [np.sum(vis & s & d) for s in (scored, ~scored) for d in (np.ones_like(vis), dim, dim_unclipped)]
-        span = np.zeros_like(vis)
-        if vis.any():
-            span[np.flatnonzero(vis)[0]:np.flatnonzero(vis)[-1] + 1] = True
-        guided = span & ~vis & np.isfinite(ext.height)
+        truth = tp.in_place_truth(ext)  # the guided rows of the visible span
+        guided = np.isfinite(truth) & ~vis
         gdim = guided & tp.dim_rows(ext, guided=True)
-        truth = tp.in_place_truth(ext)
         unseen = tp.clipped_peaks(original, ext) & np.isfinite(truth) & (referenced_states(p.frame, truth) != STRIPE)
         for key in (rig_of.get(p.name, "?"), "all"):
             counts[key] += row

@@ -114,7 +114,8 @@ def add_frames(parser, flag: str = "--frames") -> None:
 
     parser.add_argument(flag, default=FRAMES[0], choices=FRAMES,
                         help="the frames with truth the prediction scores: transplant (each photograph with its own "
-                             "stripe moved to a known place, and in place) or render (renders matched to its conditions); "
+                             "stripe moved to a known place, and in place) or render (renders matched to its "
+                             "conditions); "
                              f"default {FRAMES[0]}")
 
 

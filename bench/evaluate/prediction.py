@@ -228,12 +228,13 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     counts = np.stack([table.reindex(pd.MultiIndex.from_product([[n], trackers]), fill_value=0).to_numpy()
                        for n in names])  # (photographs, trackers, 5)
     rng = np.random.default_rng(seed)
-    rhos: dict = {f: [] for f in COMPARED}
+    pairs = []
     for _ in range(int(n_splits)):
         order = rng.permutation(len(names))
         halves = [[detection_figures(c) for c in counts[idx].sum(axis=0)]
                   for idx in np.array_split(order, [len(names) // 2])]
-        _ranked_rhos(halves[0], halves[1], rhos)
+        pairs.append(halves)
+    rhos = _ranked_rhos(pairs)
     out = {}
     for f in COMPARED:
         if rhos[f]:
@@ -297,12 +298,12 @@ def rank_interval(predicted_photos, real_metrics, names, *, n_draws: int = INTER
     P = np.stack([pred[t] for t in trackers], axis=1)  # (photographs, trackers, counts)
     R = np.stack([real[t] for t in trackers], axis=1)
     rng = np.random.default_rng(seed)
-    rhos: dict = {f: [] for f in COMPARED}
+    pairs = []
     for _ in range(int(n_draws)):
         idx = rng.integers(0, len(names), len(names))
-        sides = [[predicted_figures(dict(zip(keys, (int(v) for v in row)))) for row in stack[idx].sum(axis=0)]
-                 for keys, stack in ((pred_keys, P), (real_keys, R))]
-        _ranked_rhos(sides[0], sides[1], rhos)
+        pairs.append([[predicted_figures(dict(zip(keys, (int(v) for v in row)))) for row in stack[idx].sum(axis=0)]
+                      for keys, stack in ((pred_keys, P), (real_keys, R))])
+    rhos = _ranked_rhos(pairs)
     tail = 50.0 * (1.0 - float(level))
     return {f: {"interval": ([float(v) for v in np.percentile(rhos[f], [tail, 100.0 - tail])] if rhos[f]
                              else [float("nan")] * 2),
@@ -323,18 +324,33 @@ def _checked_names(names, purpose: str, **count) -> list:
     return names
 
 
-def _ranked_rhos(first, second, rhos: dict) -> None:
-    """Append to ``rhos[f]``, for each figure ``f`` (:data:`COMPARED`), Spearman's rho between two sides' per-tracker
-    :func:`~bench.evaluate.outcomes.detection_figures` (lists in one tracker order), where at least 3 trackers have
-    the figure on both sides and neither side's are all equal (else nothing: no ranks to compare)."""
+def _ranked_rhos(pairs) -> dict:
+    """Figure (:data:`COMPARED`) -> the list of Spearman's rho, one per pair of ``pairs`` (each two sides' per-tracker
+    :func:`~bench.evaluate.outcomes.detection_figures`, lists in one tracker order) where at least 3 trackers have
+    the figure on both sides and neither side's are all equal (else none: no ranks to compare), in the pairs' order.
+    The pairs whose trackers all have the figure are ranked together, row by row, the others one by one."""
     from scipy.stats import rankdata
 
+    out = {}
     for f in COMPARED:
-        x = np.array([d[FIGURE_KEYS[f]] for d in first])
-        y = np.array([d[FIGURE_KEYS[f]] for d in second])
+        x = np.array([[d[FIGURE_KEYS[f]] for d in a] for a, _ in pairs], dtype=np.float64).reshape(len(pairs), -1)
+        y = np.array([[d[FIGURE_KEYS[f]] for d in b] for _, b in pairs], dtype=np.float64).reshape(len(pairs), -1)
         ok = np.isfinite(x) & np.isfinite(y)
-        if ok.sum() >= 3 and np.ptp(x[ok]) > 0 and np.ptp(y[ok]) > 0:
-            rhos[f].append(float(np.corrcoef(rankdata(x[ok]), rankdata(y[ok]))[0, 1]))
+        rho = np.full(len(pairs), np.nan)
+        whole = ok.all(axis=1) & (x.shape[1] >= 3)
+        if whole.any():  # Pearson's r of the ranks, every row at once
+            rx, ry = rankdata(x[whole], axis=1), rankdata(y[whole], axis=1)
+            rx -= rx.mean(axis=1, keepdims=True)
+            ry -= ry.mean(axis=1, keepdims=True)
+            den = np.sqrt((rx * rx).sum(axis=1) * (ry * ry).sum(axis=1))
+            with np.errstate(invalid="ignore", divide="ignore"):
+                rho[whole] = np.where(den > 0, (rx * ry).sum(axis=1) / den, np.nan)  # a side all equal: no ranks
+        for i in np.flatnonzero(~whole & (ok.sum(axis=1) >= 3)):
+            xi, yi = x[i, ok[i]], y[i, ok[i]]
+            if np.ptp(xi) > 0 and np.ptp(yi) > 0:
+                rho[i] = float(np.corrcoef(rankdata(xi), rankdata(yi))[0, 1])
+        out[f] = [float(v) for v in rho if np.isfinite(v)]
+    return out
 
 
 def _count_stack(df, name_col: str, names) -> tuple:

@@ -944,8 +944,9 @@ def seen_states(image, truth, clipped=None) -> np.ndarray:
     int8: :func:`~bench.evaluate.outcomes.referenced_states`, and with ``clipped`` ((H,) bool: rows whose stripe's peak
     is clipped, :func:`clipped_peaks`) such a row is a stripe row even where the reference rule does not see it: a
     clipped core in a glow that fills the reference window, which the shipped set's references score (412 of the 469
-    such rows of its estimates; docs/predict.md, "A clipped core in a glow is seen"). The one home of that reading, on
-    a render's truth (``predictcheck --rows clear``) and on a transplant's frames.
+    such rows of its estimates; docs/predict.md, "A clipped core in a glow is seen"). The one home of that reading,
+    used on a render's truth (``predictcheck --rows clear``); the same reading on a transplant's frames, (ae), was
+    rejected on renders.
 
     Examples
     --------

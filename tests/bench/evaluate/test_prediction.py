@@ -115,3 +115,23 @@ def test_rank_interval_refuses_too_few_or_unknown_photographs_and_a_bad_level():
         rank_interval(pred, real, names, level=1.5)
     tied = rank_interval(pred, real, names, n_draws=10)  # every tracker alike: nothing ranks
     assert tied["hit_rate"]["n_draws"] == 0 and all(v != v for v in tied["hit_rate"]["interval"])
+
+
+def test_a_tracker_without_a_figure_is_left_out_of_that_figure_s_ranks_only():
+    """Tracker ``d`` has no stripe-less rows (no false-report rate): the false-report rate is ranked over the other
+    three, in every split, as the whole-row ranking ranks the hit rate over all four."""
+    from bench.evaluate.prediction import rank_interval, rank_reliability
+
+    names = [f"p{i}" for i in range(6)]
+    rows = [{"name": n, "experiment": n, "tracker": t, "n_hit": h, "n_wrong": 0, "n_missed": 10 - h,
+             "n_false": fa, "n_quiet": q} for n in names
+            for t, h, fa, q in (("a", 9, 1, 9), ("b", 7, 3, 7), ("c", 5, 5, 5), ("d", 3, 0, 0))]
+    df = pd.DataFrame(rows)
+    rel = rank_reliability(df, names, n_splits=20)
+    assert rel["hit_rate"]["split_half_rho"] == 1.0 and rel["hit_rate"]["n_splits"] == 20
+    assert rel["false_report_rate"]["split_half_rho"] == 1.0 and rel["false_report_rate"]["n_splits"] == 20
+    reversed_ = df.assign(n_false=df["n_false"].map({1: 5, 3: 3, 5: 1, 0: 0}),
+                          n_quiet=df["n_quiet"].map({9: 5, 7: 7, 5: 9, 0: 0}))
+    iv = rank_interval(df, reversed_, names, n_draws=20)
+    assert iv["false_report_rate"] == {"interval": [-1.0, -1.0], "median": -1.0, "n_draws": 20}
+    assert iv["hit_rate"]["interval"] == [1.0, 1.0]

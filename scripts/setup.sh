@@ -7,6 +7,22 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# The environment takes about 2.4 GB (JAX, Mitsuba, VTK), and pip needs about as much again in its
+# temporary folder while it installs (less when that is on another disk). Below 3 GB free it cannot
+# succeed: say so in one line and stop, before pip fails half-way with "No space left on device".
+free_mb() { df -Pm "$1" 2>/dev/null | awk 'NR == 2 {print $4}'; }
+need_mb=${STRIPEBENCH_SETUP_NEED_MB:-3000}
+if [ ! -x .venv/bin/stripebench ]; then
+    for dir in . "${TMPDIR:-/tmp}"; do
+        have=$(free_mb "$dir")
+        if [ -n "$have" ] && [ "$have" -lt "$need_mb" ]; then
+            echo "setup: only ${have} MB free on $(cd "$dir" && pwd) (set-up needs at least ${need_mb} MB: the environment takes about 2.4 GB);" \
+                 "free some space${TMPDIR:+ or point TMPDIR elsewhere}" >&2
+            exit 2
+        fi
+    done
+fi
+
 have_llvm19() { ldconfig -p 2>/dev/null | grep -q 'libLLVM\(-19\|\.so\.19\)'; }
 if ! have_llvm19; then
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then

@@ -127,3 +127,29 @@ def test_make_real_set_writes_the_shipped_references():
         assert np.array_equal(np.isnan(ref), np.isnan(shipped)), name
         assert np.allclose(ref[~np.isnan(ref)], shipped[~np.isnan(shipped)], atol=0.0051), name
         assert np.array_equal(mod.states_for(ref, guides[name]), states), name
+
+
+def _setup_copy(tmp_path):
+    """``scripts/setup.sh`` alone in an empty project folder (no ``.venv``)."""
+    (tmp_path / "scripts").mkdir()
+    (tmp_path / "scripts" / "setup.sh").write_text((REPO / "scripts" / "setup.sh").read_text())
+    return tmp_path / "scripts" / "setup.sh"
+
+
+def test_setup_stops_in_one_line_when_the_disk_is_too_full(tmp_path):
+    script = _setup_copy(tmp_path)
+    env = {"PATH": "/usr/bin:/bin", "STRIPEBENCH_SETUP_NEED_MB": str(10**12), "TMPDIR": str(tmp_path)}
+    r = subprocess.run(["bash", str(script)], capture_output=True, text=True, env=env, timeout=60)
+    assert r.returncode == 2, r.stdout + r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("setup: only ") and "MB free on" in lines[0], r.stderr
+    assert not (tmp_path / ".venv").exists()  # stopped before it made anything
+
+
+def test_ci_run_stops_when_setup_fails():
+    """``set -e`` does not stop on a failure left of ``&&``: the set-up must be a command of its own."""
+    lines = [ln.strip() for ln in (REPO / ".ci" / "run").read_text().splitlines()]
+    commands = [ln for ln in lines if ln and not ln.startswith("#")]
+    assert "set -euo pipefail" in commands
+    setup = [ln for ln in commands if "scripts/setup.sh" in ln]
+    assert setup == ["bash scripts/setup.sh"], setup

@@ -76,7 +76,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
            "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "unclear_rows", "tie_break",
-           "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows"]
+           "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -202,7 +202,8 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
         Its laser-off frame (DN).
     estimate : {'auto', 'path', 'argmax'}
         How the guide is found (:data:`ESTIMATES`): ``path``, the DP path (module docstring);
-        ``argmax``, each row's maximum, kept where it stands ``VISIBLE_K`` noise units up within
+        ``argmax``, each row's pixel standing highest over the median of the reference window around it
+        (:func:`window_lift`), kept where it stands ``VISIBLE_K`` noise units up within
         ``conditions.JUMP_PX`` px of the median of such rows within :data:`GUIDE_ROWS` rows and has
         :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS` (the first version); or ``auto``
         (the default), ``argmax`` for a stripe at most :data:`AUTO_WIDTH_PX` wide or a frame with at
@@ -453,10 +454,34 @@ def _estimated_guide(sm, med, first, noise: float, estimate: str, measured) -> n
         path = _path(np.clip(lift / (PATH_CAP * noise), 0.0, 1.0) + tie_break(lift))
         on = sm[rows, path] - med >= cond.VISIBLE_K * noise
         return _guide(path, on & (np.convolve(on.astype(int), window, mode="same") >= SUPPORT_MIN))
-    strong = sm[rows, first] - med >= cond.VISIBLE_K * noise
+    lift = window_lift(sm)
+    first = np.argmax(lift, axis=1)
+    strong = lift[rows, first] >= cond.VISIBLE_K * noise
     near = np.abs(first - np.nan_to_num(_guide(first, strong), nan=-1e9)) <= cond.JUMP_PX
     kept = strong & near
     return _guide(first, kept & (np.convolve(kept.astype(int), window, mode="same") >= SUPPORT_MIN))
+
+
+def window_lift(smoothed) -> np.ndarray:
+    """Each pixel's height over the median of the reference window around it, shape (H, W), DN: ``smoothed`` (H, W;
+    DN) less its running median along the row over ``2 * GUIDE_HALF_PX + 1`` px (edges: the nearest pixel repeated).
+    What the argmax guide reads (docs/predict.md, "The argmax guide on the reference window's height"): a reference
+    sees a stripe where its peak stands over the median of the window around it, so a glow or a lit patch wider than
+    the window stands low however bright it is, and a thin stripe beside it or inside it stands high.
+
+    Examples
+    --------
+    A stripe 1 px wide of 40 DN beside a glow 30 px wide of 100 DN: the row's maximum is the glow, the highest over
+    the window is the stripe.
+
+    >>> row = np.zeros((1, 80)); row[0, 10:40] = 100.0; row[0, 60] = 40.0
+    >>> int(np.argmax(row[0])), int(np.argmax(window_lift(row)[0])), float(window_lift(row)[0, 60])
+    (10, 60, 40.0)
+    """
+    from scipy.ndimage import median_filter
+
+    sm = np.asarray(smoothed, dtype=np.float64)
+    return sm - median_filter(sm, size=(1, 2 * GUIDE_HALF_PX + 1), mode="nearest")
 
 
 def tie_break(lift) -> np.ndarray:

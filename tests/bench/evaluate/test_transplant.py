@@ -155,6 +155,16 @@ def test_the_path_follows_the_stripe_past_a_brighter_rival_that_the_argmax_takes
         tp.stripe_extents(img, estimate="guess")
 
 
+def test_the_argmax_guide_takes_a_thin_stripe_over_a_brighter_glow_wider_than_the_reference_window():
+    img = _frame(60.0, sigma=0.8, amp=80.0).astype(float)
+    img[:, 95:135] += 160.0  # a lit patch 40 px wide, brighter than the stripe in every row
+    img = np.clip(img, 0, 255).astype(np.uint8)
+    assert np.all(np.argmax(img, axis=1) >= 95)  # each row's maximum is in the patch
+    ext = tp.stripe_extents(img, estimate="argmax")
+    assert np.all(np.abs(ext.centre - 60.0) < 0.5)  # the highest over the window around it is the stripe
+    assert np.all(ext.visible)
+
+
 @pytest.mark.parametrize("sigma, chosen", [(0.8, "argmax"), (3.0, "path")])
 def test_auto_takes_the_argmax_for_a_narrow_stripe_and_the_path_for_a_wide_one(sigma, chosen):
     img = _frame(60.0, sigma=sigma).astype(float)

@@ -243,7 +243,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
             raise ValueError(f"`guide` must have one column per row of `frame`, shape {(H,)}, got {guide.shape}")
         guide = np.where(np.isfinite(guide), np.clip(guide, 0, W - 1), np.nan)
     else:
-        guide = _estimated_guide(sm, np.median(work, axis=1), first, noise, estimate, measured)
+        guide = _estimated_guide(sm, np.median(work, axis=1), noise, estimate, measured)
     peak = first.copy()
     visible = np.zeros(H, bool)
     lo, hi = peak.copy(), peak.copy()
@@ -301,8 +301,8 @@ def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=N
     >>> float(np.nanmedian(estimate_guide(img)))
     15.0
     """
-    work, sm, first, measured = _prepared(frame, background, estimate, measured)
-    return _estimated_guide(sm, np.median(work, axis=1), first, measured.noise_dn, estimate, measured)
+    work, sm, _, measured = _prepared(frame, background, estimate, measured)
+    return _estimated_guide(sm, np.median(work, axis=1), measured.noise_dn, estimate, measured)
 
 
 def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None) -> np.ndarray:
@@ -441,9 +441,9 @@ def _working(frame, background) -> tuple[np.ndarray, np.ndarray]:
     return work, cond.row_smoothed(work)
 
 
-def _estimated_guide(sm, med, first, noise: float, estimate: str, measured) -> np.ndarray:
+def _estimated_guide(sm, med, noise: float, estimate: str, measured) -> np.ndarray:
     """:func:`stripe_extents`' guide by ``estimate`` (``auto``, ``path`` or ``argmax``), NaN where no stripe:
-    ``sm`` the row-smoothed frame (H, W), ``med`` its rows' medians, ``first`` their argmax."""
+    ``sm`` the row-smoothed frame (H, W), ``med`` its rows' medians."""
     if estimate == "auto":
         narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
         estimate = "argmax" if narrow or capped_share(sm, med, noise) >= AUTO_CAPPED else "path"

@@ -14,7 +14,9 @@ into the same folder wrote for another input (unless ``force``).
 
     run.json, .lock, config.json   as in every run folder (dataset, trackers, tolerance, seed)
     metrics.parquet    one record per tracker x image (experiment = image name,
-    metrics.csv        region = "real"), plus experiment = "mean"
+    metrics.csv        region = "real"), plus experiment = "mean"; no timings: the same
+                       seed gives byte-identical files
+    timings.csv        ms_per_frame per tracker x image (machine dependent)
     tracks/NAME.csv    the columns of every tracker (as ``track`` writes them)
     overlays/NAME.png  the photograph with every tracker's columns and the reference
     summary.json       kind = "real" (bench.store.summary)
@@ -28,13 +30,14 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.store.files import RunFolderError, atomic_write_text, os_error, write_table
+from bench.store.files import RunFolderError, atomic_write_text, os_error
 from bench.store.summary import read_summary
 
 __all__ = ["LAYOUT", "INPUTS_FILE", "write_track_csv", "track_output_names", "read_inputs", "write_inputs",
            "write_real_metrics", "load_real_run", "real_run_means"]
 
-LAYOUT = {"metrics_parquet": "metrics.parquet", "metrics_csv": "metrics.csv", "tracks": "tracks",
+LAYOUT = {"metrics_parquet": "metrics.parquet", "metrics_csv": "metrics.csv", "timings": "timings.csv",
+          "tracks": "tracks",
           "overlays": "overlays", "summary": "summary.json", "report": "report.html"}
 INPUTS_FILE = "inputs.json"
 
@@ -138,12 +141,16 @@ def track_output_names(paths, out_dir, *, extra_inputs=(), force: bool = False) 
 
 
 def write_real_metrics(run_dir, metrics) -> None:
-    """``metrics.parquet`` and ``metrics.csv`` of a real run, atomically (``RunFolderError`` naming the file)."""
-    write_table(run_dir, metrics, LAYOUT["metrics_parquet"], LAYOUT["metrics_csv"])
+    """``metrics.parquet`` and ``metrics.csv`` of a real run without its timings, and ``timings.csv`` with them,
+    atomically (:func:`bench.store.runfolder.write_metrics`; ``RunFolderError`` naming the file)."""
+    from bench.store.runfolder import write_metrics
+
+    write_metrics(run_dir, metrics)
 
 
 def load_real_run(run_dir) -> dict:
-    """A finished real run's ``summary`` (kind ``real``) and ``metrics`` (DataFrame), checked.
+    """A finished real run's ``summary`` (kind ``real``) and ``metrics`` (DataFrame, ``timings.csv`` joined in),
+    checked.
 
     Raises
     ------
@@ -154,7 +161,7 @@ def load_real_run(run_dir) -> dict:
 
     d = Path(run_dir)
     summary = read_summary(d / LAYOUT["summary"], kind="real")
-    return {"summary": summary, "metrics": load_metrics(d)}
+    return {"summary": summary, "metrics": load_metrics(d, timings=True)}
 
 
 def real_run_means(run_dir, metric: str = "hit_rate") -> dict[str, float]:

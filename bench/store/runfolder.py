@@ -53,7 +53,7 @@ from bench.store.summary import read_summary
 
 __all__ = ["FORMAT", "KINDS", "LAYOUT", "RunFolderError", "RunFolder", "default_run_dir", "named_run_dir",
            "safe_dir_name", "read_npz", "save_npz", "write_tables", "write_summary", "write_figdata", "write_gallery",
-           "load_summary", "load_metrics", "load_run", "METRIC_KEYS", "TIMING_COLUMNS"]
+           "load_summary", "load_metrics", "load_run", "METRIC_KEYS", "TIMING_COLUMNS", "write_metrics"]
 
 FORMAT = 2  # run.json: 1 had no `kind` (every such folder is a synthetic run)
 _READS = (1, 2)
@@ -363,15 +363,24 @@ def _guard_write(path, fn) -> None:
         raise os_error("write", path, exc) from None
 
 
-def write_tables(run_dir, metrics, samples) -> None:
-    """``metrics.parquet``/``metrics.csv`` without timing columns, ``timings.csv``
-    with them, ``samples.csv``; each written atomically."""
+def write_metrics(run_dir, metrics) -> None:
+    """``metrics.parquet``/``metrics.csv`` without timing columns (:data:`TIMING_COLUMNS`: the same seed gives
+    byte-identical files) and ``timings.csv`` with them (the machine's); each written atomically. The one writer of
+    a run's metrics, synthetic (:func:`write_tables`) or real (:func:`bench.store.realrun.write_real_metrics`)."""
     run_dir = Path(run_dir)
     timing = [c for c in TIMING_COLUMNS if c in metrics.columns]
     timings = metrics[[*METRIC_KEYS, *timing]]
     write_table(run_dir, metrics.drop(columns=timing), LAYOUT["metrics_parquet"], LAYOUT["metrics_csv"])
-    for name, table in ((LAYOUT["timings"], timings), (LAYOUT["samples"], samples)):
-        _guard_write(run_dir / name, lambda: atomic_write_text(run_dir / name, table.to_csv(index=False)))
+    path = run_dir / LAYOUT["timings"]
+    _guard_write(path, lambda: atomic_write_text(path, timings.to_csv(index=False)))
+
+
+def write_tables(run_dir, metrics, samples) -> None:
+    """:func:`write_metrics` and ``samples.csv``; each written atomically."""
+    run_dir = Path(run_dir)
+    write_metrics(run_dir, metrics)
+    path = run_dir / LAYOUT["samples"]
+    _guard_write(path, lambda: atomic_write_text(path, samples.to_csv(index=False)))
 
 
 def write_summary(run_dir, summary: dict) -> None:

@@ -118,14 +118,30 @@ def _tiny_set(root):
     return root
 
 
+def test_real_runs_with_one_seed_write_byte_identical_metrics_and_keep_timings_apart(tmp_path):
+    root = _tiny_set(tmp_path / "set")
+    args = ["real", str(root), "--trackers", "threshold,com_bg", "--n-boot", "50", "--quiet"]
+    for run in ("r1", "r2"):
+        assert main([*args, "--out", str(tmp_path / run)]) == 0
+    first, second = (tmp_path / "r1" / "metrics.csv").read_bytes(), (tmp_path / "r2" / "metrics.csv").read_bytes()
+    assert first == second  # the time per frame, which differs run to run, is not in them
+    m = pd.read_parquet(tmp_path / "r1" / "metrics.parquet")
+    t = pd.read_csv(tmp_path / "r1" / "timings.csv")
+    assert "ms_per_frame" not in m.columns and len(t) == len(m) and (t["ms_per_frame"] >= 0).all()
+    from bench.store.realrun import load_real_run
+
+    joined = load_real_run(tmp_path / "r1")["metrics"]
+    assert "ms_per_frame" in joined.columns and joined["ms_per_frame"].notna().all()
+
+
 def test_real_run_folder_metrics_and_gate(tmp_path, capsys):
     root = _tiny_set(tmp_path / "set")
     out = tmp_path / "run"
     assert main(["real", str(root), "--out", str(out), "--trackers", "threshold,com_bg", "--n-boot", "50"]) == 0
     printed = capsys.readouterr().out
     assert "hit rate" in printed and "report at" in printed
-    for f in ("config.json", "metrics.parquet", "metrics.csv", "summary.json", "report.html", "tracks/a.csv",
-              "overlays/b.png"):
+    for f in ("config.json", "metrics.parquet", "metrics.csv", "timings.csv", "summary.json", "report.html",
+              "tracks/a.csv", "overlays/b.png"):
         assert (out / f).exists(), f
     m = pd.read_parquet(out / "metrics.parquet").set_index(["experiment", "tracker"])
     assert m.loc[("a", "threshold"), "hit_rate"] == 1.0 and m.loc[("a", "threshold"), "mae_px"] == 1.0

@@ -212,21 +212,11 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
     >>> rank_reliability(pd.DataFrame(rows), [f"p{i}" for i in range(6)], n_splits=20)["hit_rate"]["split_half_rho"]
     1.0
     """
-    import pandas as pd
+    from bench.evaluate.outcomes import detection_figures
 
     names = _checked_names(names, "split in halves", n_splits=n_splits)
-    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
-
-    sub = real_metrics[real_metrics["experiment"].astype(str).isin(set(names))]
-    missing = sorted(set(names) - set(sub["experiment"].astype(str)))
-    if missing:
-        raise ValueError(f"`names` must be photographs of `real_metrics`, got {', '.join(map(repr, missing[:3]))}"
-                         + (f" and {len(missing) - 3} more" if len(missing) > 3 else ""))
-    trackers = list(dict.fromkeys(sub["tracker"].astype(str)))
-    table = sub.assign(experiment=sub["experiment"].astype(str), tracker=sub["tracker"].astype(str))
-    table = table.groupby(["experiment", "tracker"])[list(COUNT_KEYS[:5])].sum()
-    counts = np.stack([table.reindex(pd.MultiIndex.from_product([[n], trackers]), fill_value=0).to_numpy()
-                       for n in names])  # (photographs, trackers, 5)
+    _, per_tracker = _count_stack(real_metrics, "experiment", names, "`real_metrics`")
+    counts = np.stack(list(per_tracker.values()), axis=1)  # (photographs, trackers, 5)
     rng = np.random.default_rng(seed)
     pairs = []
     for _ in range(int(n_splits)):
@@ -292,8 +282,8 @@ def rank_interval(predicted_photos, real_metrics, names, *, n_draws: int = INTER
     names = _checked_names(names, "resample", n_draws=n_draws)
     if not 0.0 < float(level) < 1.0:
         raise ValueError(f"`level` must lie in (0, 1), got {level!r}")
-    pred_keys, pred = _count_stack(predicted_photos, "name", names)
-    real_keys, real = _count_stack(real_metrics, "experiment", names)
+    pred_keys, pred = _count_stack(predicted_photos, "name", names, "both tables")
+    real_keys, real = _count_stack(real_metrics, "experiment", names, "both tables")
     trackers = [t for t in pred if t in real]
     P = np.stack([pred[t] for t in trackers], axis=1)  # (photographs, trackers, counts)
     R = np.stack([real[t] for t in trackers], axis=1)
@@ -353,10 +343,10 @@ def _ranked_rhos(pairs) -> dict:
     return out
 
 
-def _count_stack(df, name_col: str, names) -> tuple:
+def _count_stack(df, name_col: str, names, table: str) -> tuple:
     """``(keys, {tracker: counts})``: the row-outcome count columns of ``df`` (:data:`COUNT_KEYS` and a prediction's
     ``n_false_cut``, ``n_quiet_cut``) and per tracker an integer array (photographs ``names``, keys), 0 where a
-    photograph has no row; a name missing from ``df`` is refused."""
+    photograph has no row; a name missing from ``df`` (the caller's ``table``, as its message names it) is refused."""
     import pandas as pd
 
     from bench.evaluate.outcomes import COUNT_KEYS
@@ -364,7 +354,7 @@ def _count_stack(df, name_col: str, names) -> tuple:
     sub = df.assign(**{name_col: df[name_col].astype(str), "tracker": df["tracker"].astype(str)})
     missing = sorted(set(names) - set(sub[name_col]))
     if missing:
-        raise ValueError(f"`names` must be photographs of both tables, got {', '.join(map(repr, missing[:3]))}"
+        raise ValueError(f"`names` must be photographs of {table}, got {', '.join(map(repr, missing[:3]))}"
                          + (f" and {len(missing) - 3} more" if len(missing) > 3 else ""))
     keys = [k for k in (*COUNT_KEYS[:5], "n_false_cut", "n_quiet_cut") if k in sub.columns]
     table = sub[sub[name_col].isin(set(names))].groupby([name_col, "tracker"])[keys].sum()

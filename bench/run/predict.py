@@ -587,7 +587,8 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     (``NAME_off.EXT`` frames paired as laser-off frames, no reference), with the given ``channel``, ``laser``
     and ``rotate_deg``, each ``downscale`` x ``downscale`` block of pixels averaged into one
     (:func:`bench.store.realset.load_frame`; 1: as they are; references only at 1). An unreadable file
-    gets one line on ``err``."""
+    gets one line on ``err``, and so does a file whose EXIF orientation asks for a turn its ``rotate_deg`` does not
+    give (:func:`bench.store.realset.orientation_note`: read as stored)."""
     from bench.store import realset as real
 
     if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
@@ -624,6 +625,9 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
         except (real.ImageError, real.DatasetError) as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
+        note = real.orientation_note(path, rot)
+        if note:
+            print(f"stripebench predict: {note}", file=err)
         photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original, ref))
     return photos
 

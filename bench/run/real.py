@@ -61,7 +61,9 @@ def track_images(paths, out_dir, specs, *, background=None, pair: bool = True, c
     drawing belongs to the report layer); without ``draw`` no overlay is written.
 
     A file that cannot be read (or whose background cannot) gets one line on
-    ``err`` and the others go on. ``background`` (a path) is used for every
+    ``err`` and the others go on; so does a file whose EXIF orientation asks for
+    a turn ``rotate_deg`` does not give (it is tracked as stored:
+    :func:`bench.store.realset.orientation_note`). ``background`` (a path) is used for every
     image; otherwise, with ``pair``, ``NAME_off.EXT`` beside ``NAME.EXT``; files
     that are the laser-off partner of another given file are not tracked.
 
@@ -134,6 +136,9 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
             print(f"stripebench track: {exc}", file=err)
             failed += 1
             continue
+        note = real.orientation_note(p, rotate_deg)
+        if note:
+            print(f"stripebench track: {note}", file=err)
         res = _track_all(trackers, frame, bg)
         tracks = {lab: r[0] for lab, r in res.items()}
         name = names[p]

@@ -41,7 +41,7 @@ from bench.evaluate.outcomes import GAP_ROWS, NO_STRIPE, STATES, fallback_states
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
            "load_dataset", "ignored_columns", "validate_dataset", "read_reference", "read_reference_states",
-           "synthetic_hit_rates"]
+           "synthetic_hit_rates", "exif_orientation", "orientation_note"]
 
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
@@ -167,6 +167,67 @@ def _read_pillow(data: bytes) -> np.ndarray:
         if im.mode in ("CMYK", "YCbCr", "LAB", "HSV", "P", "PA", "1"):
             im = im.convert("RGBA" if im.mode == "PA" or (im.mode == "P" and "transparency" in im.info) else "RGB")
         return np.asarray(im)
+
+
+#: EXIF orientation -> the ``rotate_deg`` (:func:`rotate_image`, counter-clockwise) that shows the stored pixels
+#: upright; orientations 2, 4, 5 and 7 also mirror the image, which no ``rotate_deg`` does.
+EXIF_ROTATE = {1: 0, 3: 180, 6: 270, 8: 90}
+
+
+def exif_orientation(path) -> int:
+    """The EXIF orientation tag (1-8) of an image file, 1 (as stored) when it has none or cannot be read.
+
+    :func:`read_image` never applies it: a frame is its file's pixels as stored, as a reference file's rows are.
+    A phone's JPEG often asks to be shown turned (6: a quarter turn clockwise), so the stripe a user sees running
+    down the photograph may run across the stored pixels (:func:`orientation_note`).
+
+    Examples
+    --------
+    >>> import io, tempfile
+    >>> from PIL import Image
+    >>> exif = Image.Exif(); exif[0x0112] = 6
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     Image.new("RGB", (4, 2)).save(f"{d}/a.jpg", exif=exif)
+    ...     Image.new("RGB", (4, 2)).save(f"{d}/b.jpg")
+    ...     exif_orientation(f"{d}/a.jpg"), exif_orientation(f"{d}/b.jpg"), exif_orientation(f"{d}/none.jpg")
+    (6, 1, 1)
+    """
+    from PIL import Image
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with Image.open(path) as im:
+                value = im.getexif().get(0x0112, 1)
+    except Exception:  # unreadable files are read_image's to name
+        return 1
+    return int(value) if isinstance(value, int) and 1 <= value <= 8 else 1
+
+
+def orientation_note(path, rotate_deg: int = 0) -> str | None:
+    """One line saying that ``path`` asks (EXIF) to be shown otherwise than its stored pixels, which are what the
+    trackers see (turned by ``rotate_deg``), or None when it does not or when ``rotate_deg`` already shows it
+    upright.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from PIL import Image
+    >>> exif = Image.Exif(); exif[0x0112] = 6
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     Image.new("RGB", (4, 2)).save(f"{d}/a.jpg", exif=exif)
+    ...     print(orientation_note(f"{d}/a.jpg")); print(orientation_note(f"{d}/a.jpg", 270))
+    a.jpg: its EXIF orientation (6) shows it turned: the trackers see its pixels as stored; if its stripe runs across them, give `--rotate 270` (upright as shown)
+    None
+    """
+    value = exif_orientation(path)
+    turn = EXIF_ROTATE.get(value)
+    if value == 1 or turn == rotate_deg:
+        return None
+    how = (f"give `--rotate {turn}` (upright as shown)" if turn is not None
+           else "mirror the file as it is shown (no `--rotate` mirrors)")
+    return (f"{Path(path).name}: its EXIF orientation ({value}) shows it {'turned' if turn is not None else 'mirrored'}:"
+            f" the trackers see its pixels as stored; if its stripe runs across them, {how}")
 
 
 def background_for(path) -> Path | None:

@@ -172,6 +172,25 @@ def test_collect_photos_refuses_a_bad_downscale(tmp_path):
         pr.collect_photos(tmp_path, downscale=0)
 
 
+def test_collect_photos_says_in_one_line_which_file_asks_to_be_shown_turned(tmp_path):
+    import io
+
+    from PIL import Image
+
+    exif = Image.Exif()
+    exif[0x0112] = 8
+    Image.new("RGB", (30, 20), (20, 20, 20)).save(tmp_path / "phone.jpg", exif=exif)
+    Image.new("RGB", (30, 20), (20, 20, 20)).save(tmp_path / "plain.jpg")
+    err = io.StringIO()
+    photos = pr.collect_photos(tmp_path, err=err)
+    assert [p.name for p in photos] == ["phone", "plain"] and photos[0].frame.shape == (20, 30)  # as stored
+    lines = err.getvalue().strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("stripebench predict: phone.jpg") and "--rotate 90" in lines[0]
+    err = io.StringIO()
+    pr.collect_photos(tmp_path, rotate_deg=90, err=err)
+    assert err.getvalue() == ""
+
+
 def _two_stripes(rows=60, seed=5):
     """A brighter line (a lamp's edge) at column 35 and the laser's dimmer stripe at column 70, uint8."""
     rng = np.random.default_rng(seed)

@@ -347,3 +347,25 @@ def test_track_into_a_folder_of_other_settings_or_for_another_input_is_refused(t
     assert main(["track", str(tmp_path / "b" / "s.png"), "--out", out, "--trackers", "threshold", "--force"]) == 0
     assert np.allclose(pd.read_csv(tmp_path / "o" / "s.csv")["col_threshold"], 30)
     assert (tmp_path / "o" / "t.csv").exists()
+
+
+def _turned_jpeg(path, orientation: int):
+    """A JPEG whose stored pixels hold a horizontal stripe (row 20) and whose EXIF asks to be shown turned."""
+    from PIL import Image
+
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    Image.fromarray(_frame(h=40, w=50, col=20).T.copy()).save(path, quality=95, exif=exif)
+
+
+def test_track_says_in_one_line_when_a_file_asks_to_be_shown_turned_and_tracks_it_as_stored(tmp_path, capsys):
+    _turned_jpeg(tmp_path / "phone.jpg", 6)  # shown a quarter turn clockwise: the stripe runs down, as shot
+    assert main(["track", str(tmp_path / "phone.jpg"), "--trackers", "threshold", "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "phone.jpg" in err[0] and "EXIF orientation (6)" in err[0] and "--rotate 270" in err[0]
+    assert len(pd.read_csv(tmp_path / "o" / "phone.csv")) == 50  # as stored: the file's 50 rows
+    assert main(["track", str(tmp_path / "phone.jpg"), "--trackers", "threshold", "--rotate", "270",
+                 "--out", str(tmp_path / "turned")]) == 0
+    assert "EXIF" not in capsys.readouterr().err  # turned as it is shown: nothing to say
+    cols = pd.read_csv(tmp_path / "turned" / "phone.csv")["col_threshold"]
+    assert len(cols) == 40 and np.all(np.abs(cols - 29) <= 1)  # upright: the stripe runs down column 49 - 20

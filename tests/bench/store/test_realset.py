@@ -345,3 +345,28 @@ def test_a_nan_float_tiff_is_one_line_and_pillow_size_warnings_never_leak(tmp_pa
     monkeypatch.setattr(real, "MAX_PIXELS", 500)  # our own bound: one line
     with pytest.raises(real.ImageError, match=r"30x20 pixels, more than the 500 read"):
         real.read_image(tmp_path / "big.png")
+
+
+@pytest.mark.parametrize("orientation, rotate_deg, says", [
+    (1, 0, None), (3, 0, "--rotate 180"), (6, 0, "--rotate 270"), (8, 0, "--rotate 90"), (8, 90, None),
+    (6, 90, "--rotate 270"), (2, 0, "mirrored")])
+def test_the_orientation_note_says_which_turn_shows_a_file_as_its_exif_asks(tmp_path, orientation, rotate_deg, says):
+    from PIL import Image
+
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    Image.new("RGB", (8, 6)).save(tmp_path / "a.jpg", exif=exif)
+    assert real.exif_orientation(tmp_path / "a.jpg") == orientation
+    note = real.orientation_note(tmp_path / "a.jpg", rotate_deg)
+    if says is None:
+        assert note is None
+    else:
+        assert note.startswith("a.jpg: its EXIF orientation") and says in note and "\n" not in note
+    assert real.read_image(tmp_path / "a.jpg").shape == (6, 8, 3)  # read as stored, whatever the tag
+
+
+def test_a_file_without_exif_or_not_an_image_has_no_orientation(tmp_path):
+    iio.imwrite(tmp_path / "a.png", np.zeros((4, 5), np.uint8))
+    (tmp_path / "b.jpg").write_bytes(b"not a jpeg")
+    assert real.exif_orientation(tmp_path / "a.png") == 1 and real.exif_orientation(tmp_path / "b.jpg") == 1
+    assert real.orientation_note(tmp_path / "a.png") is None

@@ -729,10 +729,16 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     tables, memos, matches, conds, moved = {}, {}, {}, {}, {}
+    def measured(ph):  # the photograph's conditions, and one line where its stripe seems to run across the frame
+        c = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg, laser=ph.laser)
+        if cond.runs_across(ph.frame, ph.background, c):
+            warn(f"stripebench predict: {ph.name}: its stripe seems to run across the frame, not down it (the "
+                 "trackers read one column per row): if it does, give `--rotate 90` or `--rotate 270`")
+        return c
+
     for ph in photos:
         if frames == "transplant":
-            conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
-                                              laser=ph.laser)
+            conds[ph.name] = measured(ph)
             made, bad = transplanted(ph, seed=seed, estimate=estimate, measured=conds[ph.name])
             moved[ph.name] = made
             if bad:
@@ -765,8 +771,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
                         f"{', laser-off' if key[2] else ''}): {i}/{n} renders measured")
             tables[key] = grid_table(grid, colour=key[0], laser=key[1], use_background=key[2], say=tick)
             memos[key] = refined_memo(grid, colour=key[0], laser=key[1], use_background=key[2])
-        conds[ph.name] = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg,
-                                          laser=ph.laser)
+        conds[ph.name] = measured(ph)
         known = len(memos[key])
         matches[ph.name] = match(conds[ph.name], tables[key], grid, colour=key[0], laser=key[1],
                                  use_background=key[2], memo=memos[key])

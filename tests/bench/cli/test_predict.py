@@ -85,6 +85,23 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     assert "its stripe moved" in html and "wider than the reference window" in html and html.count("<img") == 3
 
 
+def test_predict_says_in_one_line_when_a_stripe_runs_across_the_frame(photos, tmp_path, capsys):
+    turned = tmp_path / "turned"
+    turned.mkdir()
+    board = iio.imread(photos / "board.png")
+    iio.imwrite(turned / "across.png", np.ascontiguousarray(np.rot90(board)))  # as a horizontal rig's frame
+    iio.imwrite(turned / "down.png", board)
+    assert main(["predict", str(turned), "--out", str(tmp_path / "p"), "--trackers", "threshold", "--n-boot", "50",
+                 "--quiet"]) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "run across" in ln]
+    assert len(lines) == 1 and lines[0].startswith("stripebench predict: across: its stripe seems to run across")
+    assert "`--rotate 90`" in lines[0]
+    assert main(["predict", str(turned), "--out", str(tmp_path / "q"), "--trackers", "threshold", "--n-boot", "50",
+                 "--rotate", "90", "--quiet"]) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "run across" in ln]
+    assert len(lines) == 1 and lines[0].startswith("stripebench predict: down:")  # turned: now the other one
+
+
 def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
     out = tmp_path / "busy"
     out.mkdir()

@@ -90,7 +90,8 @@ def _predict(args) -> int:
 def predict_check_options(p) -> None:
     """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
     from bench.config import PROFILES
-    from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, ROWS, TRUTHS
+    from bench.studies.predict_check import (CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, ROWS, STATE_READINGS,
+                                             TRUTHS)
 
     add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
     p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
@@ -125,6 +126,10 @@ def predict_check_options(p) -> None:
                    help="which stripe rows the measured side scores: clear (every row where the reference rule sees "
                         "the true stripe, less those where it stands under a fifth of its typical height, which a "
                         "photograph's reference leaves out as unclear; default) or seen (all of them, as before)")
+    p.add_argument("--states", default=DEFAULTS["states"], choices=STATE_READINGS,
+                   help="how rows that are not scored stripe rows are read, on both sides: given (as the render's "
+                        "truth gives them; default) or fallback (as a real set's reference without row states: every "
+                        "row 15 or more rows from a scored stripe row has no stripe)")
     p.add_argument("--family", default=DEFAULTS["family"], choices=tuple(FAMILIES),
                    help="a named render family, which sets its own options: native, phone (--downscale 4 "
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "

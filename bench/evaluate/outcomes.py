@@ -46,7 +46,7 @@ import numpy as np
 
 
 __all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
-           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "distant_states",
+           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "fallback_of", "distant_states",
            "REFERENCE_HALF_WIDTH", "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "window_centre",
            "referenced_columns", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",
@@ -186,6 +186,37 @@ def fallback_states(reference, gap_rows: int = GAP_ROWS) -> np.ndarray:
     dist = np.minimum(idx - last, nxt - idx)
     out = np.where(has, STRIPE, np.where(dist >= gap_rows, NO_STRIPE, UNSURE))
     return out.astype(np.int8)
+
+
+def fallback_of(states, gap_rows: int = GAP_ROWS) -> np.ndarray:
+    """``states`` as a reference without row states would give them: its :data:`STRIPE` rows kept, every other row
+    read by :func:`fallback_states` around them (:data:`NO_STRIPE` at least ``gap_rows`` rows from every stripe row,
+    else :data:`UNSURE`). A real set whose ``NAME_ref.csv`` files have no ``state`` column is scored so
+    (:func:`bench.store.realset.read_reference_states`); a prediction for such a set reads its frames' rows the same
+    way (docs/predict.md, "A set whose references give no row states").
+
+    Parameters
+    ----------
+    states : array_like of int, shape (H,) or (F, H)
+        Row states (:data:`STATES`' values).
+    gap_rows : int
+        As :func:`fallback_states`'.
+
+    Returns
+    -------
+    numpy.ndarray of int8, the shape of ``states``
+
+    Examples
+    --------
+    A faint stretch left unscored (rows 20-39) between two stripe stretches, and an unscored row by the stripe:
+
+    >>> s = np.r_[np.full(20, STRIPE), np.full(20, UNSURE), np.full(20, STRIPE)]; s[5] = UNSURE
+    >>> f = fallback_of(s, gap_rows=5)
+    >>> int(f[5]), f[20:24].tolist(), f[24:36].tolist() == [NO_STRIPE] * 12, f[36:40].tolist()
+    (-1, [-1, -1, -1, -1], True, [-1, -1, -1, -1])
+    """
+    st = np.asarray(states)
+    return fallback_states(np.where(st == STRIPE, 0.0, np.nan), gap_rows)
 
 
 def distant_states(states, truth, gap_rows: int = GAP_ROWS) -> np.ndarray:

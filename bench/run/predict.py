@@ -360,13 +360,14 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         ``shift_px`` 0): the tracker's frame of the moved
         photograph (:func:`bench.evaluate.pixels.select_channel` with the photograph's channel and
         laser), the moved stripe's columns (px, NaN where not moved), its row states
-        (:func:`bench.evaluate.transplant.row_states`), the moved photograph (turned as the frame) and
+        (:func:`bench.evaluate.transplant.row_states`; with :attr:`Photo.fallback_rows`, read by
+        :func:`bench.evaluate.outcomes.fallback_of`), the moved photograph (turned as the frame) and
         the shift; empty when the moved stripe is seen (by the reference rule) in fewer than
         :data:`bench.evaluate.transplant.MIN_ROWS` rows of the two moved frames together: too few to
         predict from (no visible stripe, or one much wider than the reference window).
     """
     from bench.evaluate import transplant as tp
-    from bench.evaluate.outcomes import STRIPE, UNSURE
+    from bench.evaluate.outcomes import STRIPE, UNSURE, fallback_of
     from bench.evaluate.pixels import select_channel
 
     ext, original, bg_original = photo_extents(photo, estimate=estimate, measured=measured)
@@ -377,6 +378,10 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
     # the moved rows a reference would leave out (row_states): dim ones, visible or not (docs/predict.md, (ad))
     unclear = tp.unclear_rows(ext, original, noise, guided=True)
+
+    def read(states):  # as the photograph's references read rows without a stripe (Photo.fallback_rows)
+        return fallback_of(states) if photo.fallback_rows else states
+
     out = []
     for j, s in enumerate((right, -left)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
@@ -384,18 +389,18 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         image = select_channel(moved, photo.channel, photo.laser)
         # rows where the moved stripe lands on a rival are not scored: the photograph's stripe stands beside it
         landed = tp.landed_rows(ext, rivals, s)
-        out.append((image, truth, tp.row_states(ext, truth, image, unclear=unclear | landed), moved, s))
+        out.append((image, truth, read(tp.row_states(ext, truth, image, unclear=unclear | landed)), moved, s))
     # the photograph itself, its stripe where the estimate puts it: its own glow, rivals and surroundings, which no
     # moved frame carries whole (docs/predict.md, "The photograph in place")
     truth = tp.in_place_truth(ext)
-    out.append((photo.frame, truth, tp.row_states(ext, truth, photo.frame, unclear=unclear), original, 0))
+    out.append((photo.frame, truth, read(tp.row_states(ext, truth, photo.frame, unclear=unclear)), original, 0))
     keep = tp.cut_ends(ext)
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
         for j, s in enumerate((right, -left)):
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
                                          noise_dn=noise, keep=keep)
             image = select_channel(moved, photo.channel, photo.laser)
-            states = tp.row_states(ext, truth, image, keep, unclear)
+            states = read(tp.row_states(ext, truth, image, keep, unclear))
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out[:N_MOVED]) >= tp.MIN_ROWS else []
@@ -572,6 +577,12 @@ class Photo:
     reference: np.ndarray | None = None
     """A real set's reference columns per row of ``frame`` (px, NaN: no stripe), read only for the
     ablations (:data:`ABLATIONS`); None otherwise."""
+    fallback_rows: bool = False
+    """Whether the frames' rows are read as a reference without row states is read
+    (:func:`bench.evaluate.outcomes.fallback_of`: every row not scored as a stripe row, at least ``GAP_ROWS`` from
+    each that is, has no stripe): set for a real set whose ``NAME_ref.csv`` files give no ``state`` column, as
+    ``stripebench real`` then scores its photographs (docs/predict.md, "A set whose references give no row
+    states"); otherwise a row the stripe crosses unseen is not scored."""
 
     @property
     def colour(self) -> bool:
@@ -583,7 +594,8 @@ class Photo:
 def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0, downscale: int = 1,
                    references: bool = False, err=None) -> list[Photo]:
     """The photographs of ``folder``: a real set's (its manifest's laser, channel and rotation;
-    references ignored unless ``references``: then read into :attr:`Photo.reference`) or every image file
+    references ignored unless ``references``: then read into :attr:`Photo.reference`; whether they give row states
+    sets :attr:`Photo.fallback_rows`) or every image file
     (``NAME_off.EXT`` frames paired as laser-off frames, no reference), with the given ``channel``, ``laser``
     and ``rotate_deg``, each ``downscale`` x ``downscale`` block of pixels averaged into one
     (:func:`bench.store.realset.load_frame`; 1: as they are; references only at 1). An unreadable file
@@ -604,7 +616,7 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
         images, _ = real.validate_dataset(root)
         for im in images:
             jobs.append((im.name, im.image_path, im.background_path, im.channel, im.laser_colour, im.rotate_deg,
-                         im.reference_path if references else None))
+                         im.reference_path))
     if not jobs:
         files = sorted(p for p in root.iterdir() if p.is_file() and p.suffix.lower() in real.IMAGE_SUFFIXES)
         for p in files:
@@ -621,14 +633,16 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
                 if bg.shape != frame.shape:
                     raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
                                           f"the image {frame.shape}")
-            ref = None if refp is None else real.read_reference(refp, frame.shape)
+            ref = None if refp is None or not references else real.read_reference(refp, frame.shape)
+            given = refp is None or real.reference_gives_states(refp)  # the states' convention, never the labels
         except (real.ImageError, real.DatasetError) as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
         note = real.orientation_note(path, rot)
         if note:
             print(f"stripebench predict: {note}", file=err)
-        photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original, ref))
+        photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original, ref,
+                            fallback_rows=not given))
     return photos
 
 

@@ -41,7 +41,7 @@ from bench.evaluate.outcomes import GAP_ROWS, NO_STRIPE, STATES, fallback_states
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
            "load_dataset", "ignored_columns", "validate_dataset", "read_reference", "read_reference_states",
-           "synthetic_hit_rates", "exif_orientation", "orientation_note"]
+           "synthetic_hit_rates", "exif_orientation", "orientation_note", "reference_gives_states"]
 
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
@@ -305,6 +305,39 @@ def read_reference(path, shape) -> np.ndarray:
         NaN where there is no reference.
     """
     return read_reference_states(path, shape)[0]
+
+
+def reference_gives_states(path) -> bool:
+    """Whether a ``NAME_ref.csv`` gives its rows' states (its header is ``row,col,state``), read from its first line
+    alone: the convention a prediction for its photograph follows (``bench.run.predict.Photo.fallback_rows``), not
+    its labels. A file without it is read with the fallback rule (:func:`read_reference_states`).
+
+    Raises
+    ------
+    DatasetError
+        The file cannot be read, or its header is neither ``row,col`` nor ``row,col,state``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     _ = Path(d, "a_ref.csv").write_text("row,col,state\\n0,3.0,stripe\\n")
+    ...     _ = Path(d, "b_ref.csv").write_text("row,col\\n0,3.0\\n")
+    ...     reference_gives_states(Path(d, "a_ref.csv")), reference_gives_states(Path(d, "b_ref.csv"))
+    (True, False)
+    """
+    p = Path(path)
+    try:
+        with p.open(encoding="utf-8", newline="") as fh:
+            first = fh.readline()
+    except OSError as exc:
+        raise DatasetError([f"{p.name}: cannot read reference ({exc.strerror})"]) from None
+    except UnicodeDecodeError as exc:
+        raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
+    header = [h.strip() for h in first.lstrip("\ufeff").strip().split(",")]
+    if header not in (["row", "col"], ["row", "col", "state"]):
+        raise DatasetError([f"{p.name}: header must be 'row,col' or 'row,col,state', got {first.strip()!r}"])
+    return len(header) == 3
 
 
 def read_reference_states(path, shape, gap_rows: int = GAP_ROWS) -> tuple[np.ndarray, np.ndarray, bool]:

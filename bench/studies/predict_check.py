@@ -34,14 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX",
            "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
            "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
             "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
-            "distractor": "none", "truth": "render", "rows": "clear", "family": None}
+            "distractor": "none", "truth": "render", "rows": "clear", "states": "given", "family": None}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
@@ -64,6 +64,14 @@ TRUTHS = ("render", "reference")
 #: leaves out as unclear (docs/predict.md, "Which rows a reference scores": measured on the shipped set's labels). Those
 #: rows are then not scored (``UNSURE``). :func:`family_of` names a ``seen`` run's family with ``, rows seen``.
 ROWS = ("seen", "clear")
+
+#: How the rows that are not scored stripe rows are read (``--states``), on both sides: ``given`` (the default), as the
+#: render's truth gives them (no stripe only where the laser is not: a reference whose file gives row states), or
+#: ``fallback``, as a real set's reference without row states is read (:func:`bench.evaluate.outcomes.fallback_of`:
+#: every row at least ``GAP_ROWS`` from the scored stripe rows has no stripe, a faint stretch left out included), the
+#: prediction reading its frames so too (``bench.run.predict.Photo.fallback_rows``; docs/predict.md, "A set whose
+#: references give no row states"). :func:`family_of` names a ``fallback`` run's family with ``, states fallback``.
+STATE_READINGS = ("given", "fallback")
 
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
 #: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
@@ -245,7 +253,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
           laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"],
           distractor=DEFAULTS["distractor"], truth=DEFAULTS["truth"], trackers=None, quiet: bool = False,
-          family: str | None = DEFAULTS["family"], rows: str = DEFAULTS["rows"]) -> int:
+          family: str | None = DEFAULTS["family"], rows: str = DEFAULTS["rows"],
+          states: str = DEFAULTS["states"]) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
 
     Parameters
@@ -302,8 +311,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     from bench.config import profile as load_profile
     from bench.evaluate import conditions as cond
     from bench.evaluate import transplant as tp
-    from bench.evaluate.outcomes import (STRIPE, UNKNOWN, UNSURE, distant_states, outcome_counts, referenced_columns,
-                                         referenced_states)
+    from bench.evaluate.outcomes import (STRIPE, UNKNOWN, UNSURE, distant_states, fallback_of, outcome_counts,
+                                         referenced_columns, referenced_states)
     from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
@@ -314,6 +323,9 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         raise ValueError(f"`truth` must be one of {', '.join(TRUTHS)}, got {truth!r}")
     if rows not in ROWS:
         raise ValueError(f"`rows` must be one of {', '.join(ROWS)}, got {rows!r}")
+    if states not in STATE_READINGS:
+        raise ValueError(f"`states` must be one of {', '.join(STATE_READINGS)}, got {states!r}")
+    reading = states
     if family is not None:
         opts = family_options(family, {"profile": profile, "downscale": downscale, "line_fwhm_mrad": line_fwhm_mrad,
                                        "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor})
@@ -338,13 +350,15 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
             key = (colour, laser)
             states = referenced_states(img, case.truth_columns)
-            near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
             plain = cond.measure(img, None) if rows == "clear" or frames == "transplant" else None
             if rows == "clear":  # a clipped core is seen; less the rows a photograph's reference leaves out as unclear
                 along = tp.stripe_extents(img, None, measured=plain, guide=case.truth_columns)
                 states = tp.seen_states(img, case.truth_columns, tp.clipped_peaks(case.original, along))
                 unclear = tp.unclear_rows(along, case.original, guided=True)
                 states = np.where((states == STRIPE) & unclear, UNSURE, states).astype(np.int8)
+            if reading == "fallback":  # as a reference without row states: far from the scored stripe rows, none
+                states = fallback_of(states)
+            near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
             scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))
@@ -352,7 +366,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                                   "n_false_far": far["n_false"], "n_quiet_far": far["n_quiet"]})
             if frames == "transplant":
                 photo = pr.Photo(name, Path(name), img, None, case.original, laser, channel=case.channel,
-                                 reference=case.truth_columns)
+                                 reference=case.truth_columns, fallback_rows=reading == "fallback")
                 made, bad = pr.transplanted(photo, seed=seed, estimate=estimate, measured=plain)
                 bad = list(bad)
                 frames_doc.append({"name": name, "case": exp.key, "status": "out of range" if bad else "matched",
@@ -402,7 +416,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
            "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor, "truth": truth,
-           "rows": rows, "grid": g.to_value() if frames == "render" else None,
+           "rows": rows, "states": reading, "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc,
            "cases": {k: {**comparison_doc(v), FAR: comparison_doc(far[k])["false_report_rate"]}
                      for k, v in cases.items()},
@@ -456,6 +470,11 @@ def family_of(doc: dict) -> str:
 
     >>> family_of({**now, "rows": "seen"}), family_of({"downscale": 1, "line_fwhm_mrad": None})
     ('native, rows seen', 'native, rows seen')
+
+    Rows read as a reference without row states reads them (``--states fallback``):
+
+    >>> family_of({**now, "states": "fallback"})
+    'native, states fallback'
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
     ch, dis, tr = doc.get("channel", "auto"), doc.get("distractor", "none"), doc.get("truth", "render")
@@ -468,6 +487,8 @@ def family_of(doc: dict) -> str:
                   + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
     if doc.get("rows", "seen") != DEFAULTS["rows"]:  # a run from before the tenth session has no key: ``seen``
         family += f", rows {doc.get('rows', 'seen')}"
+    if doc.get("states", "given") != DEFAULTS["states"]:  # before the fifteenth session: ``given``
+        family += f", states {doc['states']}"
     return family if profile == "field" else f"{profile}: {family}"
 
 

@@ -7,7 +7,7 @@ import pytest
 
 from bench.evaluate.outcomes import (FALSE, HIT, MISSED, NO_STRIPE, OUTCOMES, QUIET, STRIPE, UNKNOWN, UNSURE, WRONG,
                                      average_precision, bootstrap_frames, detection_figures, distant_states,
-                                     fallback_states, outcome_counts, pr_curve, referenced_columns, referenced_states,
+                                     fallback_of, fallback_states, outcome_counts, pr_curve, referenced_columns, referenced_states,
                                      row_outcomes, truth_states, window_centre)
 
 
@@ -79,6 +79,19 @@ def test_the_fallback_rule_and_the_explicit_third_state():
     assert row_outcomes([5.0, 5.0], [np.nan, np.nan], [UNSURE, NO_STRIPE]).tolist() == [UNKNOWN, FALSE]
     with pytest.raises(ValueError, match="`gap_rows` must be an integer >= 1"):
         fallback_states(ref, gap_rows=0)
+
+
+def test_fallback_of_reads_the_rows_around_the_stripe_rows_as_a_reference_without_states():
+    ref = np.full(60, np.nan)
+    ref[20:30] = 7.0
+    given = fallback_states(ref)
+    given[:6] = UNSURE  # rows a reference with states calls unknown: read again by the rule
+    given[40:] = UNSURE
+    assert (fallback_of(given) == fallback_states(ref)).all()
+    assert (fallback_of(np.stack([given, truth_states(np.full(60, 1.0))]))[1] == STRIPE).all()
+    assert (fallback_of(np.full(5, UNSURE)) == NO_STRIPE).all()  # no stripe row: none anywhere
+    with pytest.raises(ValueError, match="`gap_rows` must be an integer >= 1"):
+        fallback_of(given, gap_rows=0)
 
 
 def _brute_force_ap(scores, codes):

@@ -386,6 +386,62 @@ def test_a_moved_faint_stretch_under_the_visible_level_is_not_scored_even_where_
         assert (states[100:110] == UNSURE).all() and (states[:100] == STRIPE).sum() >= 95  # ... they are not scored
 
 
+def _stripe_with_a_faint_stretch(rows=200, faint=(60, 140), faint_dn=4.0, seed=3) -> np.ndarray:
+    """A 150 DN stripe at column 50 whose rows ``faint`` stand ``faint_dn`` up, under the visible level, uint8."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(120.0)
+    amp = np.full((rows, 1), 150.0)
+    amp[faint[0]:faint[1]] = faint_dn
+    img = 30.0 + rng.normal(0, 2.0, (rows, 120)) + amp * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+
+
+def test_a_set_without_row_states_is_predicted_with_the_rows_far_from_the_stripe_scored_as_none():
+    """A faint stretch (rows 60-139) between two bright ones: read as the shipped set's given states are, the rows it
+    crosses are not scored; with ``fallback_rows`` (a set whose references have no ``state`` column, as ``real``
+    then scores it) every row 15 or more from a scored stripe row has no stripe, in every frame, the photograph in
+    place and the false-report frames included (docs/predict.md, "A set whose references give no row states")."""
+    from pathlib import Path
+
+    from bench.evaluate.outcomes import NO_STRIPE, STRIPE, UNSURE
+
+    img = _stripe_with_a_faint_stretch()
+    given = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
+    fallback = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img, fallback_rows=True))
+    assert len(given) == len(fallback) == 5
+    for (_, t0, s0, _, _), (_, t1, s1, _, _) in zip(given, fallback):
+        np.testing.assert_array_equal(t0, t1)  # the frames and their truth are the same ...
+        assert (s0[60:140] == UNSURE).all()  # ... read as given, the faint stretch is not scored
+        assert (s1 == STRIPE).sum() == (s0 == STRIPE).sum()  # the stripe rows are the same
+        stripe = np.flatnonzero(s1 == STRIPE)
+        far = np.min(np.abs(np.arange(200)[:, None] - stripe[None, :]), axis=1) >= 15 if stripe.size else None
+        if far is not None:
+            assert (s1[far] == NO_STRIPE).all() and (s1[~far & (s1 != STRIPE)] == UNSURE).all()
+    assert (fallback[2][2][80:120] == NO_STRIPE).all()  # in place: the faint stretch's middle has no stripe
+
+
+def test_collect_photos_reads_whether_a_set_s_references_give_row_states(tmp_path):
+    import csv
+
+    import imageio.v3 as iio
+
+    img = _stripe_with_a_faint_stretch(rows=40, faint=(10, 20))
+    for folder, header, cells in (("given", "row,col,state", lambda r: f"{r},50.0,stripe"),
+                                  ("fallback", "row,col", lambda r: f"{r},50.0")):
+        root = tmp_path / folder
+        root.mkdir()
+        iio.imwrite(root / "a.png", img)
+        (root / "a_ref.csv").write_text("\n".join([header] + [cells(r) for r in range(40)]) + "\n")
+        with open(root / "manifest.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerows([["name", "has_background", "laser_colour"], ["a", 0, "red"]])
+        photos = pr.collect_photos(root)
+        assert [p.fallback_rows for p in photos] == [folder == "fallback"] and photos[0].reference is None
+        assert pr.collect_photos(root, downscale=2)[0].fallback_rows == (folder == "fallback")
+    iio.imwrite(tmp_path / "loose.png", img)  # a folder of photographs without references: as given
+    assert [p.fallback_rows for p in pr.collect_photos(tmp_path) if p.name == "loose"] == [False]
+
+
 def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dropped():
     """A red stripe in rows 0-99 and none in rows 100-159, and a white bar (bright in every channel, of no colour)
     down the whole frame: the colour guide has the stripe in rows 0-99 and nothing below; the frame's own guide takes

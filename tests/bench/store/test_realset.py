@@ -370,3 +370,15 @@ def test_a_file_without_exif_or_not_an_image_has_no_orientation(tmp_path):
     (tmp_path / "b.jpg").write_bytes(b"not a jpeg")
     assert real.exif_orientation(tmp_path / "a.png") == 1 and real.exif_orientation(tmp_path / "b.jpg") == 1
     assert real.orientation_note(tmp_path / "a.png") is None
+
+
+def test_whether_a_reference_gives_row_states_is_read_from_its_header(tmp_path):
+    (tmp_path / "a_ref.csv").write_text("row,col,state\n0,1.5,stripe\n")
+    (tmp_path / "b_ref.csv").write_text("\ufeffrow, col\r\n0,1.5\r\n")  # a byte-order mark, spaces, CRLF
+    (tmp_path / "c_ref.csv").write_text("r,c\n0,1.5\n")
+    assert real.reference_gives_states(tmp_path / "a_ref.csv") is True
+    assert real.reference_gives_states(tmp_path / "b_ref.csv") is False
+    with pytest.raises(real.DatasetError, match=r"c_ref.csv: header must be 'row,col' or 'row,col,state', got 'r,c'"):
+        real.reference_gives_states(tmp_path / "c_ref.csv")
+    with pytest.raises(real.DatasetError, match="d_ref.csv: cannot read reference"):
+        real.reference_gives_states(tmp_path / "d_ref.csv")

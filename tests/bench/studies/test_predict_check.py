@@ -379,3 +379,25 @@ def test_predictscore_against_prints_each_family_s_paired_difference(checked, tm
     assert len(err) == 1 and "the RUNs have no run of family 'quick: native' and seed 1 to pair with" in err[0]
     assert main(["predictscore", str(checked), "--against", str(tmp_path / "s2")]) == 2
     assert "--against has no run of family 'quick: native' and seed 1" in capsys.readouterr().err
+
+
+def test_fallback_states_read_both_sides_rows_as_a_reference_without_states(tmp_path):
+    """``--states fallback``: the measured side's rows and the prediction's frames are read as a reference without
+    row states is (:func:`bench.evaluate.outcomes.fallback_of`): the stripe rows are the same on each side; the
+    measured stripe-less rows change (rows without the laser near the stripe are no longer scored, unseen stretches
+    far from it are); the prediction scores every stripe-less row it scored before and more."""
+    from bench.studies.predict_check import family_of, study
+
+    runs = _quick_runs(tmp_path, "--states", ("given", "fallback"))
+    (g_doc, g_meas, g_pred), (f_doc, f_meas, f_pred) = runs["given"], runs["fallback"]
+    assert (g_doc["states"], f_doc["states"]) == ("given", "fallback")
+    assert family_of(g_doc) == "quick: native" and family_of(f_doc) == "quick: native, states fallback"
+    stripe = "n_hit + n_wrong + n_missed"
+    none = "n_false + n_quiet"
+    for g, f in ((g_meas, f_meas), (g_pred, f_pred)):
+        assert (g.eval(stripe).to_numpy() == f.eval(stripe).to_numpy()).all()
+    assert (f_meas.eval(none).to_numpy() != g_meas.eval(none).to_numpy()).any()
+    assert (f_pred.eval(none).to_numpy() >= g_pred.eval(none).to_numpy()).all()
+    assert (f_pred.eval(none).to_numpy() > g_pred.eval(none).to_numpy()).any()
+    with pytest.raises(ValueError, match="`states` must be one of given, fallback, got 'none'"):
+        study(out=tmp_path / "bad", states="none")

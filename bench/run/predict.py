@@ -526,10 +526,12 @@ def transplant_outcomes(trackers: dict, made: list, background=None) -> dict:
 
 
 def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser: str = "red",
-                     use_background: bool = False, n_angles: int = N_ANGLES, say=None) -> dict:
+                     use_background: bool = False, n_angles: int = N_ANGLES, say=None,
+                     fallback_rows: bool = False) -> dict:
     """Row outcomes of each tracker on the renders of matched points.
 
-    A rendered row is scored as a photograph's would be (:func:`score_frame`).
+    A rendered row is scored as a photograph's would be (:func:`score_frame`); with ``fallback_rows``, its rows
+    read as a reference without row states reads them (:attr:`Photo.fallback_rows`).
 
     Parameters
     ----------
@@ -544,13 +546,18 @@ def predict_outcomes(points, grid: Grid, trackers: dict, *, colour: bool, laser:
         Photograph name -> label -> list of row-outcome arrays (one per rendered frame), and
         ``"_frames"``: photograph name -> list of ``(image, truth columns)`` (for the contact sheet).
     """
+    from bench.evaluate.outcomes import fallback_of, referenced_states
+
     out: dict = {"_frames": {}}
     for i, (name, pt) in enumerate(points.items()):
         per = {lab: [] for lab in trackers}
         frames = render_point(pt, grid, colour=colour, laser=laser, n_angles=n_angles)
         out["_frames"][name] = [(f.rgb if f.rgb is not None else img, f.truth.columns) for f, img, _, _ in frames]
         for f, img, bg, _ in frames:
-            for lab, codes in score_frame(trackers, img, f.truth.columns, bg if use_background else None).items():
+            states = referenced_states(img, f.truth.columns)
+            states = fallback_of(states) if fallback_rows else states
+            for lab, codes in score_frame(trackers, img, f.truth.columns, bg if use_background else None,
+                                          states).items():
                 per[lab].append(codes)
         out[name] = per
         if say is not None:
@@ -743,6 +750,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     tables, memos, matches, conds, moved = {}, {}, {}, {}, {}
+
     def measured(ph):  # the photograph's conditions, and one line where its stripe seems to run across the frame
         c = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg, laser=ph.laser)
         if cond.runs_across(ph.frame, ph.background, c):
@@ -807,7 +815,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
             continue
         key = (ph.colour, ph.laser, ph.background is not None)
         res = predict_outcomes({ph.name: matches[ph.name].point}, grid, trackers, colour=key[0], laser=key[1],
-                               use_background=key[2], n_angles=n_angles)
+                               use_background=key[2], n_angles=n_angles, fallback_rows=ph.fallback_rows)
         per_photo[ph.name] = res[ph.name]
         sheet[ph.name] = res["_frames"][ph.name]
         say(f"stripebench predict: rendered and tracked {i + 1}/{len(matched)} ({ph.name})")
@@ -861,6 +869,7 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
                 "grid": grid.to_value() if frames == "render" else None, "channel": channel,
                 "laser": laser, "rotate_deg": int(rotate_deg), "downscale": int(downscale),
                 "n_angles": n_angles, "n_boot": n_boot, "seed": seed,
+                "fallback_rows": [ph.name for ph in photos if ph.fallback_rows],
                 "out_of_range": {ph.name: list(matches[ph.name].out_of_range) for ph in photos
                                  if matches[ph.name].out_of_range}}
     atomic_write_text(out / "predict.json", json.dumps(settings, indent=1))

@@ -399,7 +399,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             if m.out_of_range:
                 say(f"stripebench predictcheck: {name}: out of range ({', '.join(m.out_of_range)})")
                 continue
-            res = pr.predict_outcomes({name: m.point}, g, tr, colour=colour, laser=laser, n_angles=pr.N_ANGLES)
+            res = pr.predict_outcomes({name: m.point}, g, tr, colour=colour, laser=laser, n_angles=pr.N_ANGLES,
+                                      fallback_rows=reading == "fallback")
             for lab in tr:
                 pred_rows.append({"name": name, "tracker": lab,
                                   **outcome_counts(np.concatenate([x.ravel() for x in res[name][lab]]))})

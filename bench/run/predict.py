@@ -751,11 +751,20 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     out.mkdir(parents=True, exist_ok=True)
     tables, memos, matches, conds, moved = {}, {}, {}, {}, {}
 
-    def measured(ph):  # the photograph's conditions, and one line where its stripe seems to run across the frame
+    def measured(ph):  # the photograph's conditions, and one line each where its stripe seems to run across the
+        # frame or to be of another colour than the laser's (docs/predict.md, `stripebench predict`)
         c = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg, laser=ph.laser)
         if cond.runs_across(ph.frame, ph.background, c):
             warn(f"stripebench predict: {ph.name}: its stripe seems to run across the frame, not down it (the "
                  "trackers read one column per row): if it does, give `--rotate 90` or `--rotate 270`")
+        if ph.colour and ph.channel in COLOUR_GUIDED:
+            from bench.evaluate.pixels import rotate_image
+
+            other = cond.likelier_laser(rotate_image(ph.original, ph.rotate_deg), ph.laser)
+            if other is not None:
+                warn(f"stripebench predict: {ph.name}: its stripe stands out far more in the {other} excess than in "
+                     f"the {ph.laser} one the trackers see: if the laser is {other}, give `--laser {other}` (a real "
+                     "set: its manifest's laser_colour)")
         return c
 
     for ph in photos:

@@ -102,6 +102,24 @@ def test_predict_says_in_one_line_when_a_stripe_runs_across_the_frame(photos, tm
     assert len(lines) == 1 and lines[0].startswith("stripebench predict: down:")  # turned: now the other one
 
 
+def test_predict_says_in_one_line_when_the_stripe_is_of_another_colour_than_the_laser_given(tmp_path, capsys):
+    rng = np.random.default_rng(4)
+    x = np.arange(128.0)
+    img = np.clip(40.0 + rng.normal(0, 2.0, (120, 128, 3)), 0, 255)
+    img[..., 1] += 150.0 * np.exp(-0.5 * ((x - 60.0) / 1.2) ** 2)  # a green line down the frame
+    folder = tmp_path / "green"
+    folder.mkdir()
+    iio.imwrite(folder / "g.png", np.clip(img, 0, 255).round().astype(np.uint8))
+    assert main(["predict", str(folder), "--out", str(tmp_path / "p"), "--trackers", "threshold", "--n-boot", "50",
+                 "--quiet"]) == 0  # predicted for as given (the auto blend still shows a trace): a note, not a refusal
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "excess" in ln]
+    assert len(lines) == 1 and lines[0].startswith("stripebench predict: g: its stripe stands out far more in the "
+                                                   "green excess") and "`--laser green`" in lines[0]
+    assert main(["predict", str(folder), "--out", str(tmp_path / "q"), "--trackers", "threshold", "--n-boot", "50",
+                 "--laser", "green", "--quiet"]) == 0
+    assert "excess" not in capsys.readouterr().err
+
+
 def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
     out = tmp_path / "busy"
     out.mkdir()

@@ -131,3 +131,26 @@ def test_bad_shapes_are_refused():
         cond.measure(np.zeros((4, 4, 3)))
     with pytest.raises(ValueError):
         cond.measure(np.zeros((8, 8)), np.zeros((8, 9)))
+
+
+def test_a_stripe_along_the_rows_is_said_to_run_across_and_one_down_them_is_not():
+    rng = np.random.default_rng(2)
+    rows, cols = np.mgrid[0:80, 0:100]
+    down = 20.0 + rng.normal(0, 2.0, (80, 100)) + 150.0 * np.exp(-0.5 * ((cols - 40.0 - 0.1 * rows) / 1.2) ** 2)
+    assert not cond.runs_across(down)
+    assert cond.runs_across(np.rot90(down)) and cond.runs_across(np.rot90(down, 3))
+    bg = np.full((80, 100), 20.0)
+    assert not cond.runs_across(down, bg) and cond.runs_across(np.rot90(down), np.rot90(bg))
+
+
+def test_the_likelier_laser_is_the_colour_whose_excess_shows_the_stripe_far_more_clearly():
+    rng = np.random.default_rng(3)
+    img = rng.normal(60.0, 2.0, (60, 80, 3))
+    img[:, 30, 2] += 100.0  # a blue line
+    assert [cond.likelier_laser(img, c) for c in ("red", "green", "blue")] == ["blue", "blue", None]
+    grey = np.repeat(rng.normal(60.0, 2.0, (60, 80, 1)), 3, axis=2)
+    assert cond.likelier_laser(grey, "red") is None  # no colour anywhere
+    with pytest.raises(ValueError, match=r"`rgb` must be a colour image \(H, W, 3\), got shape \(60, 80\)"):
+        cond.likelier_laser(img[..., 0])
+    with pytest.raises(ValueError, match="`laser` must be one of red, green, blue, got 'violet'"):
+        cond.likelier_laser(img, "violet")

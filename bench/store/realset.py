@@ -183,7 +183,7 @@ def exif_orientation(path) -> int:
 
     Examples
     --------
-    >>> import io, tempfile
+    >>> import tempfile
     >>> from PIL import Image
     >>> exif = Image.Exif(); exif[0x0112] = 6
     >>> with tempfile.TemporaryDirectory() as d:
@@ -217,17 +217,16 @@ def orientation_note(path, rotate_deg: int = 0) -> str | None:
     >>> with tempfile.TemporaryDirectory() as d:
     ...     Image.new("RGB", (4, 2)).save(f"{d}/a.jpg", exif=exif)
     ...     print(orientation_note(f"{d}/a.jpg")); print(orientation_note(f"{d}/a.jpg", 270))
-    a.jpg: its EXIF orientation (6) shows it turned: the trackers see its pixels as stored; if its stripe runs across them, give `--rotate 270` (upright as shown)
+    a.jpg: EXIF orientation 6 (shown turned); the trackers see the pixels as stored: if the stripe runs across them, give `--rotate 270`
     None
     """
     value = exif_orientation(path)
     turn = EXIF_ROTATE.get(value)
     if value == 1 or turn == rotate_deg:
         return None
-    how = (f"give `--rotate {turn}` (upright as shown)" if turn is not None
-           else "mirror the file as it is shown (no `--rotate` mirrors)")
-    return (f"{Path(path).name}: its EXIF orientation ({value}) shows it {'turned' if turn is not None else 'mirrored'}:"
-            f" the trackers see its pixels as stored; if its stripe runs across them, {how}")
+    how = f"give `--rotate {turn}`" if turn is not None else "mirror the file as it is shown (no `--rotate` mirrors)"
+    return (f"{Path(path).name}: EXIF orientation {value} (shown {'turned' if turn is not None else 'mirrored'}); the "
+            f"trackers see the pixels as stored: if the stripe runs across them, {how}")
 
 
 def background_for(path) -> Path | None:

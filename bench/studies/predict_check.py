@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX", "BAR_SIGMA_PX",
-           "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
+__all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
+           "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
            "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
 
 #: The study's defaults (the command's options).

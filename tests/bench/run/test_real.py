@@ -362,7 +362,8 @@ def test_track_says_in_one_line_when_a_file_asks_to_be_shown_turned_and_tracks_i
     _turned_jpeg(tmp_path / "phone.jpg", 6)  # shown a quarter turn clockwise: the stripe runs down, as shot
     assert main(["track", str(tmp_path / "phone.jpg"), "--trackers", "threshold", "--out", str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "phone.jpg" in err[0] and "EXIF orientation (6)" in err[0] and "--rotate 270" in err[0]
+    assert len(err) == 1 and "phone.jpg" in err[0] and "EXIF orientation 6 (shown turned)" in err[0]
+    assert "`--rotate 270`" in err[0]
     assert len(pd.read_csv(tmp_path / "o" / "phone.csv")) == 50  # as stored: the file's 50 rows
     assert main(["track", str(tmp_path / "phone.jpg"), "--trackers", "threshold", "--rotate", "270",
                  "--out", str(tmp_path / "turned")]) == 0

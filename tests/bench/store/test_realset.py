@@ -361,7 +361,7 @@ def test_the_orientation_note_says_which_turn_shows_a_file_as_its_exif_asks(tmp_
     if says is None:
         assert note is None
     else:
-        assert note.startswith("a.jpg: its EXIF orientation") and says in note and "\n" not in note
+        assert note.startswith(f"a.jpg: EXIF orientation {orientation} (shown") and says in note and "\n" not in note
     assert real.read_image(tmp_path / "a.jpg").shape == (6, 8, 3)  # read as stored, whatever the tag
 
 

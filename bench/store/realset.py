@@ -211,14 +211,19 @@ def orientation_note(path, rotate_deg: int = 0) -> str | None:
 
     Examples
     --------
+    A phone's portrait photograph, stored sideways (orientation 6: shown a quarter turn clockwise), read as stored
+    and then with the turn that shows it upright:
+
     >>> import tempfile
     >>> from PIL import Image
-    >>> exif = Image.Exif(); exif[0x0112] = 6
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     Image.new("RGB", (4, 2)).save(f"{d}/a.jpg", exif=exif)
-    ...     print(orientation_note(f"{d}/a.jpg")); print(orientation_note(f"{d}/a.jpg", 270))
+    >>> tmp = tempfile.TemporaryDirectory(); path = Path(tmp.name) / "a.jpg"
+    >>> tags = Image.Exif(); tags[0x0112] = 6
+    >>> Image.new("L", (4, 2)).save(path, exif=tags)
+    >>> for turn in (0, 270):
+    ...     print(orientation_note(path, turn))
     a.jpg: EXIF orientation 6 (shown turned); the trackers see the pixels as stored: if the stripe runs across them, give `--rotate 270`
     None
+    >>> tmp.cleanup()
     """
     value = exif_orientation(path)
     turn = EXIF_ROTATE.get(value)

@@ -129,6 +129,41 @@ def test_make_real_set_writes_the_shipped_references():
         assert np.array_equal(mod.states_for(ref, guides[name]), states), name
 
 
+def test_without_states_copies_a_real_set_with_its_references_read_by_the_fallback_rule(tmp_path, capsys):
+    """``scripts/without_states.py``: the columns as shipped, the states those of the fallback rule, every other file
+    the same bytes; an existing destination or a bad reference is one line and exit 2."""
+    import importlib.util
+
+    import numpy as np
+
+    from bench.evaluate.outcomes import fallback_states
+    from bench.store import realset as real
+
+    spec = importlib.util.spec_from_file_location("without_states", REPO / "scripts" / "without_states.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    dst = tmp_path / "copy"
+    assert mod.main([str(real.SHIPPED), str(dst)]) == 0
+    assert sorted(p.name for p in dst.iterdir()) == sorted(p.name for p in real.SHIPPED.iterdir())
+    for im in real.load_dataset(dst):
+        frame, _, _, _ = im.load()
+        cols, states, explicit = real.read_reference_states(im.reference_path, frame.shape)
+        shipped, _, was = real.read_reference_states(real.SHIPPED / im.reference_path.name, frame.shape)
+        assert was and not explicit and real.reference_gives_states(real.SHIPPED / im.reference_path.name)
+        np.testing.assert_array_equal(cols, shipped)
+        np.testing.assert_array_equal(states, fallback_states(shipped))
+        assert (dst / im.image_path.name).read_bytes() == im.image_path.read_bytes()
+    capsys.readouterr()
+    assert mod.main([str(real.SHIPPED), str(dst)]) == 2
+    assert capsys.readouterr().err.strip().endswith("exists; give a new folder")
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (bad / "manifest.csv").write_text("name,has_background,laser_colour\n")
+    (bad / "a_ref.csv").write_text("r,c,s\n0,1,stripe\n")
+    assert mod.main([str(bad), str(tmp_path / "out")]) == 2 and not (tmp_path / "out").exists()
+    assert "a_ref.csv: header must be" in capsys.readouterr().err
+
+
 def _setup_copy(tmp_path):
     """``scripts/setup.sh`` alone in an empty project folder (no ``.venv``)."""
     (tmp_path / "scripts").mkdir()

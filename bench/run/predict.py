@@ -54,12 +54,16 @@ __all__ = ["LASER_NM", "N_ANGLES", "Grid", "DEFAULT_GRID", "SMALL_GRID", "Match"
            "point_params", "render_point", "grid_table", "refined_memo", "save_refined_memo", "match",
            "score_frame", "transplant_frames", "photo_extents", "transplanted", "colour_guide", "COLOUR_GUIDED",
            "transplant_outcomes", "cut_counts", "N_MOVED", "N_FULL", "predict_outcomes", "TABLE_VERSION", "Photo", "collect_photos",
-           "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for"]
+           "run_predict", "FRAMES", "ESTIMATES", "PREDICTED_NAMES", "DOWNSCALES", "downscale_for", "MIN_FRAME_PX"]
 
 #: Each laser colour's wavelength in the renders (nm); the band-pass filter is centred on it.
 LASER_NM = {"red": 650.0, "green": 532.0, "blue": 450.0}
 #: Mirror angles rendered per matched photograph for the prediction (spread over the middle half of the scan).
 N_ANGLES = 3
+#: The least tracker frame predicted for (rows, columns): the stripe estimate's support window along the rows
+#: (``2 * transplant.SUPPORT_ROWS + 1``) and its smoothing along a row (``transplant.stripe_extents``: 8 columns).
+#: A smaller photograph is one line and left out (:func:`collect_photos`).
+MIN_FRAME_PX = (7, 8)
 #: The version of the grid tables' format and of the measures they hold (bump when either changes).
 TABLE_VERSION = 1
 
@@ -606,8 +610,9 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     (``NAME_off.EXT`` frames paired as laser-off frames, no reference), with the given ``channel``, ``laser``
     and ``rotate_deg``, each ``downscale`` x ``downscale`` block of pixels averaged into one
     (:func:`bench.store.realset.load_frame`; 1: as they are; references only at 1). An unreadable file
-    gets one line on ``err``, and so does a file whose EXIF orientation asks for a turn its ``rotate_deg`` does not
-    give (:func:`bench.store.realset.orientation_note`: read as stored)."""
+    gets one line on ``err`` and is left out, as is a frame smaller than :data:`MIN_FRAME_PX`; a file whose EXIF
+    orientation asks for a turn its ``rotate_deg`` does not give gets one line too
+    (:func:`bench.store.realset.orientation_note`: read as stored)."""
     from bench.store import realset as real
 
     if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
@@ -634,6 +639,10 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
     for name, path, bgp, ch, las, rot, refp in jobs:
         try:
             frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)
+            if frame.shape[0] < MIN_FRAME_PX[0] or frame.shape[1] < MIN_FRAME_PX[1]:
+                raise real.ImageError(f"{str(path)!r}: its frame is {frame.shape[0]} x {frame.shape[1]} px, too small "
+                                      f"to predict for (at least {MIN_FRAME_PX[0]} rows and {MIN_FRAME_PX[1]} "
+                                      "columns)")
             bg = bg_original = None
             if bgp is not None:
                 bg, bg_original = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)

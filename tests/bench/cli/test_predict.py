@@ -120,6 +120,23 @@ def test_predict_says_in_one_line_when_the_stripe_is_of_another_colour_than_the_
     assert "excess" not in capsys.readouterr().err
 
 
+def test_a_photograph_too_small_to_predict_for_is_one_line_and_left_out(photos, tmp_path, capsys):
+    folder = tmp_path / "small"
+    folder.mkdir()
+    iio.imwrite(folder / "board.png", iio.imread(photos / "board.png"))
+    strip = np.full((5, 50), 30, np.uint8)
+    strip[:, 25] = 200
+    iio.imwrite(folder / "strip.png", strip)  # fewer rows than the stripe estimate's support window
+    assert main(["predict", str(folder), "--out", str(tmp_path / "p"), "--trackers", "threshold", "--n-boot", "50",
+                 "--quiet"]) == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "strip" in ln]
+    assert len(err) == 1 and "its frame is 5 x 50 px, too small to predict for (at least 7 rows and 8 columns)" in err[0]
+    (folder / "board.png").unlink()
+    assert main(["predict", str(folder), "--out", str(tmp_path / "q"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "too small" in err[0] and "no readable photograph" in err[1]
+
+
 def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
     out = tmp_path / "busy"
     out.mkdir()

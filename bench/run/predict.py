@@ -631,8 +631,12 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
                          im.reference_path))
     if not jobs:
         files = sorted(p for p in root.iterdir() if p.is_file() and p.suffix.lower() in real.IMAGE_SUFFIXES)
+        stems = {p.stem for p in files}
         for p in files:
             if p.stem.endswith("_off"):
+                if p.stem[:-4] not in stems:  # a laser-off frame is no photograph: say so when it has no partner
+                    print(f"stripebench predict: {p.name}: a laser-off frame with no photograph {p.stem[:-4]}.* "
+                          "beside it: not predicted for", file=err)
                 continue
             jobs.append((p.stem, p, real.background_for(p), channel, laser, rotate_deg, None))
     photos = []

@@ -189,6 +189,12 @@ def test_collect_photos_says_in_one_line_which_file_asks_to_be_shown_turned(tmp_
     err = io.StringIO()
     pr.collect_photos(tmp_path, rotate_deg=90, err=err)
     assert err.getvalue() == ""
+    Image.new("RGB", (30, 20)).save(tmp_path / "plain_off.png")  # paired: said nothing of
+    Image.new("RGB", (30, 20)).save(tmp_path / "alone_off.png")  # no alone.*: one line
+    err = io.StringIO()
+    assert [p.name for p in pr.collect_photos(tmp_path, rotate_deg=90, err=err)] == ["phone", "plain"]
+    assert err.getvalue() == ("stripebench predict: alone_off.png: a laser-off frame with no photograph alone.* beside "
+                              "it: not predicted for\n")
 
 
 def _two_stripes(rows=60, seed=5):

@@ -20,25 +20,16 @@ from pathlib import Path
 
 
 def strip_states(text: str, name: str = "reference") -> str:
-    """``text``, a ``NAME_ref.csv``'s, without its ``state`` column (as it is when it has none).
+    """``text``, a ``NAME_ref.csv``'s whose header is ``row,col,state``, without its ``state`` column (the header
+    is checked by :func:`bench.store.realset.reference_gives_states` first).
 
     Examples
     --------
     >>> strip_states("row,col,state\\n0,3.5,stripe\\n1,,none\\n")
     'row,col\\n0,3.5\\n1,\\n'
-    >>> strip_states("row,col\\n0,3.5\\n")
-    'row,col\\n0,3.5\\n'
     """
-    lines = text.splitlines()
-    if not lines:
-        raise ValueError(f"{name}: empty")
-    header = [h.strip() for h in lines[0].lstrip("\ufeff").split(",")]
-    if header == ["row", "col"]:
-        return text
-    if header != ["row", "col", "state"]:
-        raise ValueError(f"{name}: header must be 'row,col' or 'row,col,state', got {lines[0]!r}")
     out = []
-    for k, line in enumerate(lines):
+    for k, line in enumerate(text.splitlines()):
         if not line:
             continue
         cells = line.split(",")
@@ -59,15 +50,18 @@ def main(argv=None) -> int:
     if args.dst.exists():
         print(f"without_states: {str(args.dst)!r}: exists; give a new folder", file=sys.stderr)
         return 2
-    try:
-        refs = {p.name: strip_states(p.read_text(encoding="utf-8"), p.name) for p in args.src.glob("*_ref.csv")}
+    from bench.store.realset import reference_gives_states  # its DatasetError is a ValueError
+
+    try:  # a file without states is copied as it is
+        refs = {p.name: strip_states(p.read_text(encoding="utf-8"), p.name)
+                for p in args.src.glob("*_ref.csv") if reference_gives_states(p)}
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         print(f"without_states: {exc}", file=sys.stderr)
         return 2
     shutil.copytree(args.src, args.dst)
     for name, text in refs.items():
         (args.dst / name).write_text(text, encoding="utf-8")
-    print(f"without_states: {len(refs)} references without states in {args.dst}")
+    print(f"without_states: {len(refs)} references' states taken out in {args.dst}")
     return 0
 
 

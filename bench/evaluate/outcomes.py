@@ -46,7 +46,8 @@ import numpy as np
 
 
 __all__ = ["HIT_PX", "WITHIN_MM", "GROSS_MM", "PAPER_IMPROVEMENT", "N_SAMPLES", "hits", "within", "gross", "HIT", "WRONG", "MISSED", "FALSE", "QUIET", "UNKNOWN", "OUTCOMES", "STRIPE", "NO_STRIPE",
-           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "fallback_of", "distant_states",
+           "UNSURE", "STATES", "STATE_NAMES", "GAP_ROWS", "truth_states", "fallback_states", "fallback_of",
+           "distant_states",
            "REFERENCE_HALF_WIDTH", "REFERENCE_MIN_CONTRAST", "reference_noise", "referenced_states", "window_centre",
            "referenced_columns", "row_outcomes",
            "outcome_counts", "detection_figures", "average_precision", "pr_curve", "bootstrap_frames",

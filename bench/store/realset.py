@@ -41,7 +41,8 @@ from bench.evaluate.outcomes import GAP_ROWS, NO_STRIPE, STATES, fallback_states
 __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "ImageError", "DatasetError", "read_image",
            "select_channel", "rotate_image", "unrotate_points", "background_for", "load_frame", "RealImage",
            "load_dataset", "ignored_columns", "validate_dataset", "read_reference", "read_reference_states",
-           "synthetic_hit_rates", "exif_orientation", "orientation_note", "reference_gives_states"]
+           "synthetic_hit_rates", "exif_orientation", "orientation_note", "reference_gives_states",
+           "REFERENCE_HEADERS"]
 
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
@@ -338,9 +339,20 @@ def reference_gives_states(path) -> bool:
         raise DatasetError([f"{p.name}: cannot read reference ({exc.strerror})"]) from None
     except UnicodeDecodeError as exc:
         raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
-    header = [h.strip() for h in first.lstrip("\ufeff").strip().split(",")]
-    if header not in (["row", "col"], ["row", "col", "state"]):
-        raise DatasetError([f"{p.name}: header must be 'row,col' or 'row,col,state', got {first.strip()!r}"])
+    return _reference_header(first.lstrip("\ufeff").strip().split(","), p.name)
+
+
+#: The headers a ``NAME_ref.csv`` may have: columns only (its rows' states by the fallback rule), or with states.
+REFERENCE_HEADERS = (("row", "col"), ("row", "col", "state"))
+
+
+def _reference_header(cells, name: str) -> bool:
+    """Whether a reference's header ``cells`` (its first line's fields) give row states; ``DatasetError`` naming
+    the file ``name`` for any header but :data:`REFERENCE_HEADERS`. The one home of the rule, read whole
+    (:func:`read_reference_states`) or from the first line alone (:func:`reference_gives_states`)."""
+    header = tuple(h.strip() for h in cells)
+    if header not in REFERENCE_HEADERS:
+        raise DatasetError([f"{name}: header must be 'row,col' or 'row,col,state', got {','.join(cells)!r}"])
     return len(header) == 3
 
 
@@ -379,11 +391,8 @@ def read_reference_states(path, shape, gap_rows: int = GAP_ROWS) -> tuple[np.nda
     except UnicodeDecodeError as exc:
         raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
     rows = loads_csv(text, p.name, error=lambda m: DatasetError([m]), header=False)
-    header = [h.strip() for h in rows[0]] if rows else []
-    if header not in (["row", "col"], ["row", "col", "state"]):
-        raise DatasetError([f"{p.name}: header must be 'row,col' or 'row,col,state', "
-                            f"got {','.join(rows[0]) if rows else ''!r}"])
-    explicit = len(header) == 3
+    explicit = _reference_header(rows[0] if rows else [], p.name)
+    header = REFERENCE_HEADERS[explicit]
     body = [r for r in rows[1:] if r]
     if len(body) != H:
         raise DatasetError([f"{p.name}: {len(body)} rows for an image of height {H} (one line per row expected)"])

@@ -35,8 +35,8 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
-           "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames", "study", "family_of",
-           "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
+           "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames",
+           "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -325,7 +325,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         raise ValueError(f"`rows` must be one of {', '.join(ROWS)}, got {rows!r}")
     if states not in STATE_READINGS:
         raise ValueError(f"`states` must be one of {', '.join(STATE_READINGS)}, got {states!r}")
-    reading = states
+    reading = states  # the option's value: the loop below names each case's row states ``states``
     if family is not None:
         opts = family_options(family, {"profile": profile, "downscale": downscale, "line_fwhm_mrad": line_fwhm_mrad,
                                        "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor})

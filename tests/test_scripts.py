@@ -188,3 +188,72 @@ def test_ci_run_stops_when_setup_fails():
     assert "set -euo pipefail" in commands
     setup = [ln for ln in commands if "scripts/setup.sh" in ln]
     assert setup == ["bash scripts/setup.sh"], setup
+
+
+def _script(name):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.mark.parametrize("path", [p for p in SCRIPTS if ">>> " in p.read_text(encoding="utf-8")],
+                         ids=lambda p: p.name)
+def test_scripts_docstring_examples(path):
+    """Every docstring example of a script runs and prints what it shows, as the packages' do."""
+    import doctest
+
+    import numpy as np
+
+    mod = _script(path.stem)
+    with np.printoptions(legacy=False, sign="-", precision=8, suppress=False, floatmode="maxprec"):
+        result = doctest.testmod(mod, extraglobs={"np": np}, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0, (path.name, result)
+
+
+def test_drawn_line_finds_a_line_blended_over_the_stripe_and_not_the_stripe_alone():
+    """``scripts/drawn_line.py``: a one-pixel line at opacity a leaves a dip of depth 1 - a in every channel where it
+    falls on a pixel, two pixels at 1 - a / 2 where it falls between two; a clean stripe, or one whose dip is
+    shallower than DIP, has none; a dip farther than HALF_WIDTH from the reference is not looked at."""
+    import numpy as np
+
+    mod = _script("drawn_line")
+    rows, cols = np.mgrid[0:30, 0:60]
+    stripe = 20.0 + 200.0 * np.minimum(1.0, 1.5 * np.exp(-0.5 * ((cols - 30.0) / 2.5) ** 2))  # a clipped core
+    img = np.repeat(stripe[..., None], 3, axis=2) * np.array([1.0, 0.6, 0.5])
+    ref = np.full(30, 30.0)
+    assert mod.narrow_dips(img, ref) == []
+    drawn = img.copy()
+    drawn[:10, 30] *= 1 - 0.4  # on a pixel, opacity 0.4
+    drawn[10:20, 30:32] *= 1 - 0.3 / 2  # between two pixels, opacity 0.3: each covered half
+    drawn[20:, 30] *= 0.9  # too shallow to count
+    dips = mod.narrow_dips(drawn, ref)
+    assert [r for r, *_ in dips] == list(range(10))  # the two-pixel dips (0.85) are not under DIP...
+    assert all(c == 30 and w == 1 and np.allclose(d, 0.6, atol=0.02) for _, c, w, d in dips)
+    deeper = img.copy()
+    deeper[:, 30:32] *= 1 - 0.6 / 2
+    assert [(c, w) for _, c, w, _ in mod.narrow_dips(deeper, ref)] == [(30, 2)] * 30  # ... at opacity 0.6 they are
+    far = img.copy()
+    far[:, 30] *= 0.5
+    assert mod.narrow_dips(far, np.full(30, 30.0 + mod.HALF_WIDTH + 3)) == []
+    half = ref.copy()
+    half[5:] = np.nan
+    assert len(mod.narrow_dips(drawn, half)) == 5
+    with pytest.raises(ValueError, match="ref_cols"):
+        mod.narrow_dips(img, ref[:5])
+
+
+def test_drawn_line_reads_a_real_set_and_names_an_unknown_photograph(capsys, tmp_path):
+    from bench.store import realset as real
+
+    mod = _script("drawn_line")
+    assert mod.main([str(real.SHIPPED), "ag_tape", "dg_weld"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split() == ["photograph", "rows", "1", "px", "even", "depth", "2", "px", "even", "depth"]
+    assert [ln.split()[0] for ln in lines[1:]] == ["ag_tape", "dg_weld"]
+    assert mod.main([str(real.SHIPPED), "nosuch"]) == 2
+    assert "no photograph nosuch" in capsys.readouterr().err
+    assert mod.main([str(tmp_path)]) == 2
+    assert capsys.readouterr().err.startswith("drawn_line.py: ")

@@ -67,6 +67,8 @@ SOURCES = {
     "bb_board": ("brightness_15cm_0.png", 1, None),
     "bb_hand": ("test_1.png", 1, None),
     "jz_chair": ("test.jpg", 2, (2, 1012, 18, 1366)),  # the frame's black left band and top rows cut off
+    **{f"fh_{side}{step}{off}": (f"{step:02d}-{'off' if off else side}.png", 3, None)
+       for step in (0, 16) for side in ("left", "right") for off in ("", "_off")},
 }
 
 

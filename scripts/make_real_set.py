@@ -9,6 +9,11 @@ Two steps, both repeatable:
     under the names of ``SOURCES`` below. Nothing of the source repositories but
     these pixels is used.
 
+``python scripts/make_real_set.py guides NAME ... [--skip-cols N]``
+    Print guide segments read off a photograph's laser-on minus laser-off
+    difference (:func:`difference_guide`), as ``guides.toml`` holds them (the
+    ``fh_*`` frames' guides were written so, with ``--skip-cols 70``).
+
 ``python scripts/make_real_set.py refs``
     Write ``NAME_ref.csv`` (``row,col,state``) for every image from
     ``bench/data/real/guides.toml`` and a check overlay ``docs/real/NAME_ref.png``
@@ -139,6 +144,74 @@ def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:
     return ref
 
 
+def difference_guide(on, off, laser: str = "red", *, skip_cols: int = 0, min_k: float = 8.0, rival_k: float = 6.0,
+                     rival_px: int = 25, jump_px: int = 4, run_rows: int = 8, line_rows: int = 12) -> list[dict]:
+    """Guide segments (``{"rows": [r0, r1], "cols": [c0, c1]}``) read off a laser-on minus laser-off difference.
+
+    The difference is taken in the laser colour's excess (its channel minus the mean of the other two, not clipped),
+    its noise is the MAD of the whole difference, and columns under ``skip_cols`` are then set to 0 (a window whose
+    daylight changes between the two frames). A row is guided where its maximum stands ``min_k`` noise units up and
+    nothing ``rival_px`` px or more from it reaches ``rival_k`` (one lit piece, not two); runs of such rows whose
+    maxima move at most ``jump_px`` px from row to row, ``run_rows`` rows or more, get one line per ``line_rows`` rows
+    (a shorter last piece joins the line before it), drawn between the run's 5-row median maxima at its ends. Used
+    for the ``fh_*`` frames (docs/real.md, "How the references were made"); the reference rule then finds each row's
+    column on the tracker frame near the line, as for a hand-placed guide.
+
+    Parameters
+    ----------
+    on, off : ndarray, shape (H, W, 3)
+        The laser-on photograph and its laser-off frame (DN).
+
+    Returns
+    -------
+    list of dict
+        The segments, top to bottom.
+    """
+    from scipy.ndimage import median_filter
+
+    from bench.evaluate.pixels import LASERS
+
+    k = LASERS.index(laser)
+    others = [i for i in range(3) if i != k]
+
+    def excess(x):
+        x = np.asarray(x, dtype=np.float64)
+        return x[..., k] - 0.5 * (x[..., others[0]] + x[..., others[1]])
+
+    d = excess(on) - excess(off)
+    H = d.shape[0]
+    noise = 1.4826 * np.median(np.abs(d - np.median(d)))
+    if noise <= 0.0:  # the two frames are (nearly everywhere) the same: no laser line to guide by
+        return []
+    d[:, :skip_cols] = 0.0
+    peak = np.argmax(d, axis=1)
+    height = d[np.arange(H), peak] / noise
+    rival = np.empty(H)
+    for r in range(H):
+        m = d[r].copy()
+        m[max(0, peak[r] - rival_px):peak[r] + rival_px + 1] = -np.inf
+        rival[r] = m.max() / noise
+    ok = (height >= min_k) & (rival < rival_k)
+    segments, r = [], 0
+    while r < H:
+        if not ok[r]:
+            r += 1
+            continue
+        r0 = r
+        while r + 1 < H and ok[r + 1] and abs(int(peak[r + 1]) - int(peak[r])) <= jump_px:
+            r += 1
+        if r - r0 + 1 >= run_rows:
+            cols = median_filter(peak[r0:r + 1].astype(np.float64), size=5, mode="nearest")
+            starts = list(range(r0, r + 1, line_rows))
+            if r - starts[-1] < 2 and len(starts) > 1:  # a last piece of one or two rows joins the line before it
+                starts.pop()
+            for i, q0 in enumerate(starts):
+                q1 = starts[i + 1] - 1 if i + 1 < len(starts) else r
+                segments.append({"rows": [q0, q1], "cols": [int(round(cols[q0 - r0])), int(round(cols[q1 - r0]))]})
+        r += 1
+    return segments
+
+
 def states_for(ref: np.ndarray, guide: dict) -> np.ndarray:
     """Row states (H,) int8: stripe where ``ref`` has a column, none in the guide's ``none`` ranges, else unknown."""
     from bench.evaluate.outcomes import NO_STRIPE, STRIPE, UNSURE
@@ -192,6 +265,22 @@ def make_refs() -> None:
               f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)")
 
 
+def print_difference_guides(names, *, skip_cols: int = 0) -> None:
+    """Print each photograph's :func:`difference_guide` segments as ``guides.toml`` holds them."""
+    import csv
+
+    from bench.store import realset as real
+
+    rows = {r["name"]: r for r in csv.DictReader((DATA / "manifest.csv").read_text().splitlines())}
+    for name in names:
+        if name not in rows or not (DATA / f"{name}_off.png").is_file():
+            raise SystemExit(f"make_real_set.py guides: {name!r} is not a shipped photograph with a laser-off frame")
+        segs = difference_guide(real.read_image(DATA / f"{name}.png"), real.read_image(DATA / f"{name}_off.png"),
+                                rows[name]["laser_colour"], skip_cols=skip_cols)
+        print(f"[{name}]\nsegments = [" + ",\n            ".join(
+            f"{{rows = [{g['rows'][0]}, {g['rows'][1]}], cols = [{g['cols'][0]}, {g['cols'][1]}]}}" for g in segs) + "]")
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = p.add_subparsers(dest="cmd", required=True)
@@ -199,9 +288,14 @@ def main(argv=None) -> int:
     s.add_argument("src", type=Path)
     s.add_argument("names", nargs="*", help="only these images (default: all)")
     sub.add_parser("refs")
+    s = sub.add_parser("guides", help="print guide segments read off the laser-on minus laser-off difference")
+    s.add_argument("names", nargs="+", help="photographs of the shipped set with a NAME_off.png")
+    s.add_argument("--skip-cols", type=int, default=0, help="columns left of this are left out (default 0)")
     args = p.parse_args(argv)
     if args.cmd == "images":
         make_images(args.src, args.names)
+    elif args.cmd == "guides":
+        print_difference_guides(args.names, skip_cols=args.skip_cols)
     else:
         make_refs()
     return 0

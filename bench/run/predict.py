@@ -653,8 +653,11 @@ def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_
                 if bg.shape != frame.shape:
                     raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
                                           f"the image {frame.shape}")
-            ref = None if refp is None or not references else real.read_reference(refp, frame.shape)
-            given = refp is None or real.reference_gives_states(refp)  # the states' convention, never the labels
+            ref, given = None, True
+            if refp is not None and references:  # the file read once: columns, and whether it gives states
+                ref, _, given = real.read_reference_states(refp, frame.shape)
+            elif refp is not None:  # the states' convention from its header alone, never the labels
+                given = real.reference_gives_states(refp)
         except (real.ImageError, real.DatasetError) as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue

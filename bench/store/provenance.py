@@ -39,17 +39,24 @@ def git_revision() -> str:
         return "unknown"
 
 
-def source_fingerprint() -> str:
-    """A hash of the source of the packages whose code changes results
-    (``trackers``, ``scenes``): a checkpoint made by other code is not resumed."""
-    import hashlib
+def source_fingerprint(packages=("trackers", "scenes")) -> str:
+    """A hash of the source (``.py`` files) of the named packages, by default those whose code changes results
+    (``trackers``, ``scenes``): a checkpoint made by other code is not resumed. ``("bench", "trackers",
+    "scenes")`` fingerprints the whole of what a study runs (``predictcheck``'s runs record it, so that two runs made
+    by the same code are not compared as two versions).
 
-    import scenes
-    import trackers
+    Examples
+    --------
+    >>> a = source_fingerprint()
+    >>> len(a), a == source_fingerprint(("trackers", "scenes")), a == source_fingerprint(("bench", "trackers", "scenes"))
+    (16, True, False)
+    """
+    import hashlib
+    import importlib
 
     h = hashlib.sha256()
-    for pkg in (trackers, scenes):
-        root = Path(pkg.__file__).parent
+    for name in packages:
+        root = Path(importlib.import_module(name).__file__).parent
         for f in sorted(root.rglob("*.py")):
             h.update(str(f.relative_to(root)).encode())
             h.update(f.read_bytes())

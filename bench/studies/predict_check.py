@@ -423,7 +423,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                      for k, v in cases.items()},
            "pooled": {**comparison_doc(pooled["all"]), FAR: comparison_doc(far_pooled["all"])["false_report_rate"]}
            if pooled else None,
-           "per_case": {**per_group_error(cases), FAR: per_group_error(far)["false_report_rate"]} if cases else None}
+           "per_case": {**per_group_error(cases), FAR: per_group_error(far)["false_report_rate"]} if cases else None,
+           "code": code_of_run()}
     atomic_write_text(outdir / "predict_check.json", json.dumps(doc, indent=1, default=float))
     atomic_write_text(outdir / "predicted.csv", predicted.to_csv(index=False))
     atomic_write_text(outdir / "measured.csv", measured.to_csv(index=False))
@@ -568,6 +569,15 @@ PAIRED = {"per_case": "per case", "false_report_per_case": "false-report |diff|"
           "pooled": "pooled", "pooled_false_report": "pooled false-report"}
 
 
+def code_of_run() -> dict:
+    """What code a run was made by: ``revision`` (``git describe``, :func:`bench.store.provenance.git_revision`) and
+    ``fingerprint``, a hash of the ``bench``, ``trackers`` and ``scenes`` source that ran
+    (:func:`bench.store.provenance.source_fingerprint`): :func:`paired` refuses two runs of the same code."""
+    from bench.store.provenance import git_revision, source_fingerprint
+
+    return {"revision": git_revision(), "fingerprint": source_fingerprint(("bench", "trackers", "scenes"))}
+
+
 def paired(docs: dict, against: dict, min_rows: int = 0) -> dict:
     """Each run of ``docs`` beside the run of ``against`` of its family and seed (name -> ``predict_check.json``):
     the differences (this minus that) of :func:`objective`'s per-run figures (with ``min_rows``), per pair, and per
@@ -577,7 +587,10 @@ def paired(docs: dict, against: dict, min_rows: int = 0) -> dict:
     Raises
     ------
     ValueError
-        A run with no partner of its family and seed in the other set, or two runs of one family and seed in one set.
+        A run with no partner of its family and seed in the other set, two runs of one family and seed in one set,
+        or a pair made by the same code (both record ``code``, :func:`code_of_run`, with one ``fingerprint``: their
+        differences are nought by construction, not a finding; e.g. a candidate run from the base's folder, where
+        ``python -m`` imports the folder's ``bench`` before ``PYTHONPATH``'s).
 
     Examples
     --------
@@ -603,6 +616,12 @@ def paired(docs: dict, against: dict, min_rows: int = 0) -> dict:
         k = sorted(set(mine) ^ set(theirs), key=str)[0]
         where = "--against has" if k in mine else "the RUNs have"
         raise ValueError(f"{where} no run of family {k[0]!r} and seed {k[1]} to pair with")
+    for k in sorted(mine, key=str):
+        a, b = (docs[mine[k][0]].get("code") or {}), (against[theirs[k][0]].get("code") or {})
+        if a.get("fingerprint") and a.get("fingerprint") == b.get("fingerprint"):
+            raise ValueError(f"{mine[k][0]} and {theirs[k][0]} were made by the same code (fingerprint "
+                             f"{a['fingerprint']}, revision {a.get('revision', 'unknown')}): a pair compares two "
+                             "versions (run each from its own folder: `python -m` imports the folder's `bench` first)")
     keys = tuple(PAIRED)
     pairs = {k: {f: mine[k][1][f] - theirs[k][1][f] for f in keys} | {"runs": (mine[k][0], theirs[k][0])}
              for k in sorted(mine, key=str)}

@@ -359,6 +359,7 @@ def test_predictscore_against_prints_each_family_s_paired_difference(checked, tm
         for k in ("hit_rate", "f1"):
             case[k]["mean_abs_diff"] += 0.01
     worse["pooled"]["hit_rate"]["mean_abs_diff"] += 0.02  # the pooled score is the mean of hit rate's and F1's
+    worse["code"] = dict(doc["code"], fingerprint="0" * 16)  # another version's run
     other = tmp_path / "worse"
     other.mkdir()
     (other / "predict_check.json").write_text(json.dumps(worse))
@@ -379,6 +380,28 @@ def test_predictscore_against_prints_each_family_s_paired_difference(checked, tm
     assert len(err) == 1 and "the RUNs have no run of family 'quick: native' and seed 1 to pair with" in err[0]
     assert main(["predictscore", str(checked), "--against", str(tmp_path / "s2")]) == 2
     assert "--against has no run of family 'quick: native' and seed 1" in capsys.readouterr().err
+
+
+def test_a_run_records_its_code_and_two_runs_of_the_same_code_are_not_paired(checked, tmp_path, capsys):
+    """``predict_check.json`` names the code that made it (``code_of_run``: the source fingerprint of ``bench``,
+    ``trackers`` and ``scenes``); pairing a run with one made by the same code is one line and status 2 (a candidate
+    run from the base's folder, whose paired differences would all be nought), and a run from before runs recorded
+    their code still pairs."""
+    from bench.studies.predict_check import code_of_run, paired
+
+    doc = json.loads((checked / "predict_check.json").read_text())
+    assert doc["code"] == code_of_run() and len(doc["code"]["fingerprint"]) == 16
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    (copy / "predict_check.json").write_text(json.dumps(doc))
+    with pytest.raises(ValueError, match="made by the same code"):
+        paired({"copy": doc}, {"base": doc})
+    capsys.readouterr()
+    assert main(["predictscore", str(copy), "--against", str(checked)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"fingerprint {doc['code']['fingerprint']}" in err[0]
+    old = {k: v for k, v in doc.items() if k != "code"}
+    assert paired({"old": old}, {"base": doc})["per_case"] == 0.0
 
 
 def test_fallback_states_read_both_sides_rows_as_a_reference_without_states(tmp_path):

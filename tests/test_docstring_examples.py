@@ -42,7 +42,7 @@ WITHOUT_EXAMPLES = {
     "bench.cli.sweep", "bench.cli.train", "bench.config.profiles", "bench.config.tune", "bench.evaluate", "bench.evaluate._ap_kernel",
     "bench.evaluate.triangulation", "bench.report", "bench.report.real", "bench.report.simreal", "bench.report.sweep",
     "bench.run", "bench.run.export", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",
-    "bench.run.sweep", "bench.store", "bench.store.figdata", "bench.store.provenance", "bench.studies",
+    "bench.run.sweep", "bench.store", "bench.store.figdata", "bench.studies",
     "bench.studies.estimators", "bench.studies.field_sheet", "bench.studies.perf", "bench.studies.perf.lit",
     "bench.studies.perf.mis", "bench.studies.perf.scenes", "bench.studies.perf.shiny", "bench.studies.perf.sweep",
     "bench.studies.perf.trackers",

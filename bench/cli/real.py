@@ -174,7 +174,7 @@ def _predict_and_compare(args, specs, out) -> None:
 
 
 COMMANDS = (
-    Command("track", "run trackers on photographs (PNG/JPEG/TIFF): a CSV and an overlay per image", _add_track,
+    Command("track", "run trackers on photographs (PNG/JPEG/TIFF/BMP): a CSV and an overlay per image", _add_track,
             _track),
     Command("real", "evaluate trackers on a real set (manifest.csv, NAME.png, NAME_ref.csv)", _add_real, _real),
 )

@@ -46,7 +46,7 @@ __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "Imag
 
 #: The real set shipped with stripebench (its photographs and their rigs are listed in docs/real.md).
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
-IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
 MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
 MANIFEST_OPTIONAL = ("rotate", "channel", "condition", "source_repo", "source_commit", "source_path", "license", "notes")
 
@@ -70,9 +70,10 @@ MAX_PIXELS = 2**27
 
 
 def read_image(path) -> np.ndarray:
-    """Read a PNG, JPEG or TIFF file (8 or 16 bit, grey or colour; 16-bit colour as TIFF).
+    """Read a PNG, JPEG, TIFF or BMP file (8 or 16 bit, grey or colour; 16-bit colour as TIFF).
 
-    PNG and JPEG are read with Pillow, TIFF with tifffile (through imageio).
+    PNG, JPEG and BMP (a machine-vision camera's or MATLAB's frames) are read with Pillow, TIFF with tifffile
+    (through imageio).
 
     Parameters
     ----------
@@ -95,7 +96,7 @@ def read_image(path) -> np.ndarray:
 
     p = Path(path)
     if p.suffix.lower() not in IMAGE_SUFFIXES:
-        raise ImageError(f"{str(p)!r}: not a PNG, JPEG or TIFF file (suffix {p.suffix!r})")
+        raise ImageError(f"{str(p)!r}: not a PNG, JPEG, TIFF or BMP file (suffix {p.suffix!r})")
     if not p.is_file():
         raise ImageError(f"{str(p)!r}: no such file")
     try:
@@ -154,7 +155,7 @@ def _refused_layout(data: bytes, suffix: str) -> str | None:
 
 
 def _read_pillow(data: bytes) -> np.ndarray:
-    """A PNG or JPEG through Pillow, CMYK (and other colour spaces) converted to RGB, palettes expanded."""
+    """A PNG, JPEG or BMP through Pillow, CMYK (and other colour spaces) converted to RGB, palettes expanded."""
     import io
 
     from PIL import Image

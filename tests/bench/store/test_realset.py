@@ -70,11 +70,34 @@ def test_read_grey_rgb_rgba_16bit_png_tiff_and_jpeg(tmp_path):
     assert out.shape == rgb.shape and out.dtype == np.uint8 and abs(int(out[5, 12, 0]) - 220) < 20
 
 
+def test_bmp_frames_grey_palette_and_colour_are_read_as_their_pixels(tmp_path):
+    """A machine-vision camera's or MATLAB's BMP: 8-bit grey (mode L), 8-bit with a grey palette (read as RGB with
+    three equal channels, which the channels take for grey) and 24-bit colour, each read as its pixels."""
+    from PIL import Image
+
+    rng = np.random.default_rng(2)
+    grey = rng.integers(0, 256, (6, 10), dtype=np.uint8)
+    Image.fromarray(grey, "L").save(tmp_path / "g.bmp")
+    np.testing.assert_array_equal(real.read_image(tmp_path / "g.bmp"), grey)
+    pal = Image.fromarray(grey, "L").convert("P")
+    pal.putpalette([v for i in range(256) for v in (i, i, i)])
+    pal.save(tmp_path / "p.bmp")
+    out = real.read_image(tmp_path / "p.bmp")
+    assert out.shape in ((6, 10), (6, 10, 3))
+    np.testing.assert_array_equal(real.select_channel(out, "auto"), grey)
+    rgb = rng.integers(0, 256, (6, 10, 3), dtype=np.uint8)
+    Image.fromarray(rgb, "RGB").save(tmp_path / "c.bmp")
+    np.testing.assert_array_equal(real.read_image(tmp_path / "c.bmp"), rgb)
+    assert real.background_for(tmp_path / "c.bmp") is None
+    Image.fromarray(rgb, "RGB").save(tmp_path / "c_off.bmp")
+    assert real.background_for(tmp_path / "c.bmp") == tmp_path / "c_off.bmp"
+
+
 @pytest.mark.parametrize("content, suffix, message", [
     (b"not an image at all", ".png", "cannot read image"),
     (b"", ".jpg", "cannot read image"),
     (None, ".png", "no such file"),
-    (b"x", ".gif", "not a PNG, JPEG or TIFF file"),
+    (b"x", ".gif", "not a PNG, JPEG, TIFF or BMP file"),
 ])
 def test_bad_files_raise_one_line(tmp_path, content, suffix, message):
     p = tmp_path / f"bad{suffix}"

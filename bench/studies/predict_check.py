@@ -36,12 +36,14 @@ import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames",
-           "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options"]
+           "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options", "JPEG_FAMILY_QUALITY",
+           "code_of_run"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
             "estimate": "auto", "line_fwhm_mrad": None, "laser_power_mw": None, "channel": "auto",
-            "distractor": "none", "truth": "render", "rows": "clear", "states": "given", "family": None}
+            "distractor": "none", "jpeg_quality": None, "truth": "render", "rows": "clear", "states": "given",
+            "family": None}
 
 #: What the trackers see of a colour case (``--channel``): ``auto``, the laser-colour blend
 #: (:func:`bench.evaluate.pixels.select_channel`), or ``laser``, the laser's own plain channel (red for a red laser),
@@ -78,6 +80,11 @@ STATE_READINGS = ("given", "fallback")
 #: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
 #: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"). :func:`family_of` names a run's
 #: family by its options, whichever way they were given.
+#: The ``marble-60mw-jpeg`` family's JPEG quality: Pillow's default, 75 (a webcam's MJPEG frames and a phone's JPEGs
+#: are compressed so or harder): clipped stripes in a glow whose cores ring under the top, as a JPEG photograph's do
+#: (seventeenth session, docs/predict.md, "A clipped core moves whole").
+JPEG_FAMILY_QUALITY = 75
+
 FAMILIES = {
     "native": {},
     "phone": {"downscale": 4, "line_fwhm_mrad": 1.2},
@@ -87,6 +94,7 @@ FAMILIES = {
     "marble": {"profile": "marble"},
     "marble-15mw": {"profile": "marble", "laser_power_mw": 15.0},
     "marble-60mw": {"profile": "marble", "laser_power_mw": 60.0},
+    "marble-60mw-jpeg": {"profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": JPEG_FAMILY_QUALITY},
 }
 
 
@@ -212,13 +220,15 @@ def with_white_bar(photo, truth_columns):
 
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
                 downscale: int = 1, line_fwhm_mrad: float | None = None, laser_power_mw: float | None = None,
-                channel: str = "auto", distractor: str = "none") -> list:
+                channel: str = "auto", distractor: str = "none", jpeg_quality: int | None = None) -> list:
     """``[(name, Case, scene params), ...]``: one experiment of ``config`` rendered with ``seed`` at
     ``width`` x ``height`` px, at ``n_angles`` mirror angles over the middle half of its scan; with
     ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`family_scene`, :func:`shrink_frame`);
     ``line_fwhm_mrad`` replaces the laser line's width of every case, ``laser_power_mw`` its laser power; ``channel``
     (:data:`CASE_CHANNELS`) is what the trackers see of a colour case; ``distractor`` (:data:`DISTRACTORS`) what is
-    added to each frame's photograph (:func:`with_white_bar`)."""
+    added to each frame's photograph (:func:`with_white_bar`); ``jpeg_quality`` (1-95, or None) JPEG-compresses each
+    frame's photograph after that, as a webcam or a phone does (:func:`scenes.jpeg_round_trip`; 8-bit
+    frames only)."""
     from bench.evaluate.pixels import LASER_INDEX, select_channel
     from bench.run.camera_view import laser_colour
     from bench.run.plan import angles_for
@@ -227,6 +237,9 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
         raise ValueError(f"`channel` must be one of {', '.join(CASE_CHANNELS)}, got {channel!r}")
     if distractor not in DISTRACTORS:
         raise ValueError(f"`distractor` must be one of {', '.join(DISTRACTORS)}, got {distractor!r}")
+    if jpeg_quality is not None and (isinstance(jpeg_quality, bool) or not isinstance(jpeg_quality, (int, np.integer))
+                                     or not 1 <= jpeg_quality <= 95):
+        raise ValueError(f"`jpeg_quality` must be an integer 1-95 or None, got {jpeg_quality!r}")
 
     scene = family_scene(experiment, config, seed=seed, width=width, height=height, downscale=downscale,
                          line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw)
@@ -238,6 +251,13 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
         if distractor == "white-bar":
             f.rgb = None if f.rgb is None else with_white_bar(f.rgb, f.truth_columns)
             f.image = f.image if f.rgb is not None else with_white_bar(f.image, f.truth_columns)
+        if jpeg_quality is not None:
+            from scenes import jpeg_round_trip
+
+            if f.rgb is not None:
+                f.rgb = jpeg_round_trip(f.rgb, jpeg_quality)
+            else:
+                f.image = jpeg_round_trip(f.image, jpeg_quality)
         if f.rgb is not None:
             laser = laser_colour(scene.params["laser_wavelength_nm"])
             ch = "rgb"[LASER_INDEX[laser]] if channel == "laser" else channel
@@ -252,7 +272,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
           grid: str = DEFAULTS["grid"], frames: str = DEFAULTS["frames"], downscale: int = DEFAULTS["downscale"],
           estimate: str = DEFAULTS["estimate"], line_fwhm_mrad=DEFAULTS["line_fwhm_mrad"],
           laser_power_mw=DEFAULTS["laser_power_mw"], channel=DEFAULTS["channel"],
-          distractor=DEFAULTS["distractor"], truth=DEFAULTS["truth"], trackers=None, quiet: bool = False,
+          distractor=DEFAULTS["distractor"], jpeg_quality=DEFAULTS["jpeg_quality"], truth=DEFAULTS["truth"],
+          trackers=None, quiet: bool = False,
           family: str | None = DEFAULTS["family"], rows: str = DEFAULTS["rows"],
           states: str = DEFAULTS["states"]) -> int:
     """Run the check and write ``predict_check.json``, ``predicted.csv`` and ``measured.csv`` into ``out``.
@@ -287,6 +308,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         What the trackers see of a colour case (:data:`CASE_CHANNELS`): ``auto`` or ``laser``.
     distractor : str
         What each case frame carries besides its render (:data:`DISTRACTORS`): ``none`` or ``white-bar``.
+    jpeg_quality : int, optional
+        JPEG-compress each case frame's photograph at this quality (1-95), as a webcam or a phone does.
     truth : str
         What the measured side scores against (:data:`TRUTHS`): ``render`` (the render's truth) or ``reference``
         (the columns a photograph's reference would give). The prediction is the same either way.
@@ -328,9 +351,11 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     reading = states  # the option's value: the loop below names each case's row states ``states``
     if family is not None:
         opts = family_options(family, {"profile": profile, "downscale": downscale, "line_fwhm_mrad": line_fwhm_mrad,
-                                       "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor})
+                                       "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor,
+                                       "jpeg_quality": jpeg_quality})
         profile, downscale, line_fwhm_mrad = opts["profile"], opts["downscale"], opts["line_fwhm_mrad"]
         laser_power_mw, channel, distractor = opts["laser_power_mw"], opts["channel"], opts["distractor"]
+        jpeg_quality = opts["jpeg_quality"]
     say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
     config = load_profile(profile)
     g = replace(pr.SMALL_GRID if grid == "small" else pr.DEFAULT_GRID, width=int(size), height=int(size) * 15 // 16)
@@ -344,7 +369,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
         for name, case, params in case_frames(exp, config, seed=seed, width=g.width, height=g.height,
                                               n_angles=pr.N_ANGLES, downscale=downscale,
                                               line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw,
-                                              channel=channel, distractor=distractor):
+                                              channel=channel, distractor=distractor, jpeg_quality=jpeg_quality):
             img = case.image
             colour = params.get("camera", "mono") == "rgb"
             laser = laser_colour(params.get("laser_wavelength_nm", pr.LASER_NM["red"]))
@@ -416,7 +441,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     far_pooled = compare_by_group(predicted, distant, {n: "all" for n in groups}) if pred_rows else {}
     doc = {"kind": "predict_check", "profile": profile, "seed": int(seed), "procedure": frames,
            "downscale": int(downscale), "estimate": estimate, "line_fwhm_mrad": line_fwhm_mrad,
-           "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor, "truth": truth,
+           "laser_power_mw": laser_power_mw, "channel": channel, "distractor": distractor,
+           "jpeg_quality": jpeg_quality, "truth": truth,
            "rows": rows, "states": reading, "grid": g.to_value() if frames == "render" else None,
            "trackers": list(tr), "frames": frames_doc,
            "cases": {k: {**comparison_doc(v), FAR: comparison_doc(far[k])["false_report_rate"]}
@@ -477,16 +503,23 @@ def family_of(doc: dict) -> str:
 
     >>> family_of({**now, "states": "fallback"})
     'native, states fallback'
+
+    Frames JPEG-compressed (``--jpeg-quality``):
+
+    >>> family_of({**now, "profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": 75})
+    'marble: downscale 1, 60 mW, JPEG 75'
     """
     d, lw, mw = int(doc.get("downscale", 1)), doc.get("line_fwhm_mrad"), doc.get("laser_power_mw")
     ch, dis, tr = doc.get("channel", "auto"), doc.get("distractor", "none"), doc.get("truth", "render")
+    jq = doc.get("jpeg_quality")
     profile = doc.get("profile", "field")
-    if d == 1 and lw is None and mw is None and ch == "auto" and dis == "none" and tr == "render":
+    if d == 1 and lw is None and mw is None and ch == "auto" and dis == "none" and tr == "render" and jq is None:
         family = "native"
     else:
         family = (f"downscale {d}" + ("" if lw is None else f", line {float(lw):g} mrad")
                   + ("" if mw is None else f", {float(mw):g} mW") + ("" if ch == "auto" else f", channel {ch}")
-                  + ("" if dis == "none" else f", {dis}") + ("" if tr == "render" else f", truth {tr}"))
+                  + ("" if dis == "none" else f", {dis}") + ("" if jq is None else f", JPEG {int(jq)}")
+                  + ("" if tr == "render" else f", truth {tr}"))
     if doc.get("rows", "seen") != DEFAULTS["rows"]:  # a run from before the tenth session has no key: ``seen``
         family += f", rows {doc.get('rows', 'seen')}"
     if doc.get("states", "given") != DEFAULTS["states"]:  # before the fifteenth session: ``given``

@@ -139,6 +139,33 @@ def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, distractor="lamp")
 
 
+def test_jpeg_frames_are_the_render_compressed_and_their_family_is_named(tmp_path, capsys):
+    """``jpeg_quality``: each case frame's photograph JPEG-compressed (the truth unchanged; the frame changed, in an
+    8-bit colour case's every channel); the ``marble-60mw-jpeg`` family sets it; a quality out of 1-95 is refused,
+    by the command in one line with status 2."""
+    from bench.config import profile
+    from bench.studies.predict_check import JPEG_FAMILY_QUALITY, case_frames, family_of, family_options
+
+    config = profile("field")
+    exp = next(e for e in config.experiments if e.key == "colour-no-filter")
+    plain = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1)[0][1]
+    packed = case_frames(exp, config, seed=1, width=128, height=120, n_angles=1, jpeg_quality=30)[0][1]
+    assert np.array_equal(plain.truth_columns, packed.truth_columns, equal_nan=True)
+    assert packed.rgb.dtype == np.uint8 and packed.rgb.shape == plain.rgb.shape
+    diff = np.abs(packed.rgb.astype(float) - plain.rgb.astype(float))
+    assert all(diff[..., c].mean() > 0.2 for c in range(3)) and diff.mean() < 20  # compressed, not another picture
+    assert family_options("marble-60mw-jpeg", {"jpeg_quality": None})["jpeg_quality"] == JPEG_FAMILY_QUALITY == 75
+    doc = {"downscale": 1, "rows": "clear", "profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": 75}
+    assert family_of(doc) == "marble: downscale 1, 60 mW, JPEG 75"
+    with pytest.raises(ValueError, match="`jpeg_quality` must be an integer 1-95 or None, got 0"):
+        case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, jpeg_quality=0)
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as exc:
+        main(["predictcheck", "--out", str(tmp_path / "bad"), "--jpeg-quality", "96", "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert exc.value.code == 2 and len(err) == 1 and "--jpeg-quality: must be an integer 1 .. 95, got '96'" in err[0]
+
+
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
     from bench.config import profile
     from bench.studies.predict_check import case_frames

@@ -36,8 +36,8 @@ import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames",
-           "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options", "JPEG_FAMILY_QUALITY",
-           "code_of_run"]
+           "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
+           "JPEG_FAMILY_QUALITY", "code_of_run"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -75,16 +75,16 @@ ROWS = ("seen", "clear")
 #: references give no row states"). :func:`family_of` names a ``fallback`` run's family with ``, states fallback``.
 STATE_READINGS = ("given", "fallback")
 
-#: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
-#: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
-#: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
-#: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"). :func:`family_of` names a run's
-#: family by its options, whichever way they were given.
 #: The ``marble-60mw-jpeg`` family's JPEG quality: Pillow's default, 75 (a webcam's MJPEG frames and a phone's JPEGs
 #: are compressed so or harder): clipped stripes in a glow whose cores ring under the top, as a JPEG photograph's do
 #: (seventeenth session, docs/predict.md, "A clipped core moves whole").
 JPEG_FAMILY_QUALITY = 75
 
+#: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
+#: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
+#: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
+#: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"), ``marble-60mw-jpeg`` since the
+#: seventeenth. :func:`family_of` names a run's family by its options, whichever way they were given.
 FAMILIES = {
     "native": {},
     "phone": {"downscale": 4, "line_fwhm_mrad": 1.2},

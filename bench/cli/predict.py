@@ -116,8 +116,9 @@ def predict_check_options(p) -> None:
                    help="what the trackers see of a colour case: auto (the laser-colour blend; default) or laser "
                         "(the laser's own channel, as a rig whose software reads one channel)")
     p.add_argument("--distractor", default=DEFAULTS["distractor"], choices=DISTRACTORS,
-                   help="what each case frame carries besides its render: none (default) or white-bar (a vertical "
-                        "white line beside the stripe, a window's frame or a lamp's stem, added to the photograph)")
+                   help="what each case frame carries besides its render: none (default), white-bar (a vertical "
+                        "white line beside the stripe, a window's frame or a lamp's stem, added to the photograph) or "
+                        "fringed-bar (the same with a fringe of the laser's colour, as a lens's lateral colour)")
     p.add_argument("--jpeg-quality", dest="jpeg_quality", metavar="Q",
                    type=arg_type(lambda n, v: int_in_range(n, v, 1, 95), "--jpeg-quality"), default=DEFAULTS["jpeg_quality"],
                    help="JPEG-compress each case frame's photograph at this quality (1-95), as a webcam or a phone "
@@ -137,7 +138,8 @@ def predict_check_options(p) -> None:
     p.add_argument("--family", default=DEFAULTS["family"], choices=tuple(FAMILIES),
                    help="a named render family, which sets its own options: native, phone (--downscale 4 "
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "
-                        "(--distractor white-bar), marble (--profile marble), marble-15mw and marble-60mw (and "
+                        "(--distractor white-bar), fringed-bar (--distractor fringed-bar), marble (--profile marble), "
+                        "marble-15mw and marble-60mw (and "
                         "--laser-power 15 or 60), marble-60mw-jpeg (and --jpeg-quality 75); an option it sets, given "
                         "otherwise, is an error")
     add_estimate(p)

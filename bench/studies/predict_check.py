@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
-           "BAR_SIGMA_PX", "BAR_PEAK_DN", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames",
+           "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames",
            "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
            "JPEG_FAMILY_QUALITY", "code_of_run"]
 
@@ -91,6 +91,7 @@ FAMILIES = {
     "third": {"downscale": 2, "line_fwhm_mrad": 1.2},
     "plain": {"channel": "laser"},
     "white-bar": {"distractor": "white-bar"},
+    "fringed-bar": {"distractor": "fringed-bar"},
     "marble": {"profile": "marble"},
     "marble-15mw": {"profile": "marble", "laser_power_mw": 15.0},
     "marble-60mw": {"profile": "marble", "laser_power_mw": 60.0},
@@ -127,13 +128,19 @@ def family_options(family: str, given: dict) -> dict:
 #: What a case frame may carry besides its render (``--distractor``): ``none``, or ``white-bar``: a vertical white line
 #: beside the stripe in every row (a window's frame, a lamp's stem: bright in every channel, of no colour), added to
 #: the rendered photograph before the trackers' channel is taken (:func:`with_white_bar`). It is not rendered: a
-#: controlled distractor for the stripe estimate, which the renders otherwise lack (docs/predict.md).
-DISTRACTORS = ("none", "white-bar")
+#: controlled distractor for the stripe estimate, which the renders otherwise lack (docs/predict.md). ``fringed-bar``
+#: (seventeenth session): the same bar with the laser's channel displaced :data:`FRINGE_PX` px away from the stripe, as
+#: a lens's lateral colour fringes a bright edge (``al_room7``'s window bars, green beside a green stripe): bright and
+#: of the laser's colour on one side, a rival that looks like the laser (docs/predict.md, "Rows two guides contest").
+DISTRACTORS = ("none", "white-bar", "fringed-bar")
 #: The white bar: its distance from the stripe's median column (px; on the side with room), its Gaussian sigma (px)
 #: and its peak (DN added in every channel, clipped at the top of the range).
 BAR_OFFSET_PX = 20
 BAR_SIGMA_PX = 1.2
 BAR_PEAK_DN = 200.0
+#: ``fringed-bar``: how far the laser's channel of the bar lies from the others (px): about a pixel and a half of
+#: lateral colour, as a webcam's or a phone's lens shows at a bright edge off the axis.
+FRINGE_PX = 1.5
 #: The key of the false-report comparison on the stripe-less rows a photograph's reference scores, at least
 #: :data:`bench.evaluate.outcomes.GAP_ROWS` rows from the stripe (:func:`bench.evaluate.outcomes.distant_states`):
 #: on renders every other stripe-less row is one where the stripe jumps at an occlusion, which a photograph's
@@ -191,11 +198,13 @@ def shrink_frame(frame, downscale: int):
     return SimpleNamespace(**planes, truth_columns=downscale_columns(frame.truth.columns, n))
 
 
-def with_white_bar(photo, truth_columns):
+def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None):
     """``photo`` (H, W) or (H, W, 3), integer DN, with :data:`DISTRACTORS`' white bar added: a vertical Gaussian line
     of :data:`BAR_PEAK_DN` and :data:`BAR_SIGMA_PX`, :data:`BAR_OFFSET_PX` px right of the median of
     ``truth_columns`` (px, NaN: no stripe), or left where the right has no room, in every channel and row, clipped at
-    the top of the dtype's range. Unchanged where ``truth_columns`` has no column.
+    the top of the dtype's range. Unchanged where ``truth_columns`` has no column. With ``fringe_channel`` (a colour
+    photograph's channel index, the laser's), that channel's line lies :data:`FRINGE_PX` px further from the stripe:
+    the ``fringed-bar`` distractor, a bar with a fringe of the laser's colour on its far side.
 
     Examples
     --------
@@ -203,6 +212,9 @@ def with_white_bar(photo, truth_columns):
     >>> out = with_white_bar(img, np.full(4, 10.0))
     >>> int(np.argmax(out[0])), int(out[0, 30]), out.dtype.name
     (30, 200, 'uint8')
+    >>> rgb = with_white_bar(np.zeros((4, 60, 3), np.uint8), np.full(4, 10.0), fringe_channel=0)
+    >>> int(rgb[0, 33, 0]) > int(rgb[0, 33, 1]) + 50, int(rgb[0, 27, 0]) < int(rgb[0, 27, 1])
+    (True, True)
     """
     a = np.asarray(photo)
     t = np.asarray(truth_columns, dtype=np.float64)
@@ -213,6 +225,10 @@ def with_white_bar(photo, truth_columns):
     col = c + BAR_OFFSET_PX if c + BAR_OFFSET_PX + 3 * BAR_SIGMA_PX <= W - 1 else c - BAR_OFFSET_PX
     bar = BAR_PEAK_DN * np.exp(-0.5 * ((np.arange(W) - col) / BAR_SIGMA_PX) ** 2)
     bar = bar[None, :, None] if a.ndim == 3 else bar[None, :]
+    if fringe_channel is not None and a.ndim == 3:
+        away = col + (FRINGE_PX if col > c else -FRINGE_PX)  # the laser's channel, further from the stripe
+        bar = np.repeat(bar, a.shape[2], axis=2)
+        bar[..., fringe_channel] = BAR_PEAK_DN * np.exp(-0.5 * ((np.arange(W) - away) / BAR_SIGMA_PX) ** 2)[None, :]
     top = float(np.iinfo(a.dtype).max) if np.issubdtype(a.dtype, np.integer) else np.inf
     out = np.clip(a.astype(np.float64) + bar, 0.0, top)
     return np.rint(out).astype(a.dtype) if np.issubdtype(a.dtype, np.integer) else out.astype(a.dtype)
@@ -248,8 +264,10 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
     out = []
     for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
         f = shrink_frame(scene.render(float(ang)), downscale)
-        if distractor == "white-bar":
-            f.rgb = None if f.rgb is None else with_white_bar(f.rgb, f.truth_columns)
+        if distractor in ("white-bar", "fringed-bar"):
+            fringe = (LASER_INDEX[laser_colour(scene.params["laser_wavelength_nm"])]
+                      if distractor == "fringed-bar" and f.rgb is not None else None)
+            f.rgb = None if f.rgb is None else with_white_bar(f.rgb, f.truth_columns, fringe_channel=fringe)
             f.image = f.image if f.rgb is not None else with_white_bar(f.image, f.truth_columns)
         if jpeg_quality is not None:
             from scenes import jpeg_round_trip
@@ -307,7 +325,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     channel : str
         What the trackers see of a colour case (:data:`CASE_CHANNELS`): ``auto`` or ``laser``.
     distractor : str
-        What each case frame carries besides its render (:data:`DISTRACTORS`): ``none`` or ``white-bar``.
+        What each case frame carries besides its render (:data:`DISTRACTORS`): ``none``, ``white-bar`` or
+        ``fringed-bar``.
     jpeg_quality : int, optional
         JPEG-compress each case frame's photograph at this quality (1-95), as a webcam or a phone does.
     truth : str

@@ -135,7 +135,7 @@ def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_
     assert added[:, col].min() >= 0 and np.ptp(added[:, col].mean(axis=0)) < 30  # in every channel alike: white
     assert barred.image[:, col].mean() > plain.image[:, col].mean() + 20  # and the trackers see it
     assert family_of({"downscale": 1, "distractor": "white-bar", "rows": "clear"}) == "downscale 1, white-bar"
-    with pytest.raises(ValueError, match="`distractor` must be one of none, white-bar, got 'lamp'"):
+    with pytest.raises(ValueError, match="`distractor` must be one of none, white-bar, fringed-bar, got 'lamp'"):
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, distractor="lamp")
 
 
@@ -164,6 +164,38 @@ def test_jpeg_frames_are_the_render_compressed_and_their_family_is_named(tmp_pat
         main(["predictcheck", "--out", str(tmp_path / "bad"), "--jpeg-quality", "96", "--quiet"])
     err = capsys.readouterr().err.strip().splitlines()
     assert exc.value.code == 2 and len(err) == 1 and "--jpeg-quality: must be an integer 1 .. 95, got '96'" in err[0]
+
+
+def test_the_fringed_bar_is_the_white_bar_with_a_fringe_that_looks_like_the_laser():
+    """``fringed-bar``: the white bar with the laser's channel displaced FRINGE_PX further from the stripe. Its far side
+    is bright and of the laser's colour, so the laser evidence near it (bench.evaluate.transplant.laser_evidence) is
+    of the stripe's order, where the white bar's is nought: a rival that looks like the laser."""
+    from bench.config import profile
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.pixels import LASER_INDEX, select_channel
+    from bench.studies.predict_check import BAR_OFFSET_PX, case_frames, family_of
+
+    config = profile("field")
+    exp = next(e for e in config.experiments if e.key == "colour-no-filter")
+    kw = dict(seed=1, width=128, height=120, n_angles=1)
+    plain = case_frames(exp, config, **kw)[0][1]
+    frames = {d: case_frames(exp, config, distractor=d, **kw)[0][1] for d in ("white-bar", "fringed-bar")}
+    truth = plain.truth_columns
+    rows = np.flatnonzero(np.isfinite(truth))
+    bar = int(round(np.nanmedian(truth))) + BAR_OFFSET_PX
+    li = int(np.argmax([np.abs(plain.rgb[..., c].astype(float) - np.median(plain.rgb[..., c])).max() for c in range(3)]))
+    laser = {v: k for k, v in LASER_INDEX.items()}[li]
+
+    def evidence(rgb, cols):
+        ev = tp.laser_evidence(rgb[..., li].astype(float), select_channel(rgb, "excess", laser))
+        return float(np.median([ev[r, max(c - 2, 0):c + 3].max() for r, c in zip(rows, cols)]))
+
+    stripe = evidence(plain.rgb, np.rint(truth[rows]).astype(int))
+    white = evidence(frames["white-bar"].rgb, np.full(len(rows), bar + 2))
+    fringed = evidence(frames["fringed-bar"].rgb, np.full(len(rows), bar + 2))
+    assert white < 0.2 * fringed and fringed >= 0.5 * stripe  # white: no colour; fringed: like the laser
+    assert np.array_equal(frames["fringed-bar"].truth_columns, truth, equal_nan=True)
+    assert family_of({"downscale": 1, "distractor": "fringed-bar", "rows": "clear"}) == "downscale 1, fringed-bar"
 
 
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):

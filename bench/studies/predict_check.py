@@ -83,19 +83,20 @@ JPEG_FAMILY_QUALITY = 75
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
 #: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
 #: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
-#: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"), ``marble-60mw-jpeg`` since the
-#: seventeenth. :func:`family_of` names a run's family by its options, whichever way they were given.
+#: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"); ``marble-60mw-jpeg`` and
+#: ``fringed-bar`` since the seventeenth (the first a declaration's ninth family once, the second a measurement only).
+#: :func:`family_of` names a run's family by its options, whichever way they were given.
 FAMILIES = {
     "native": {},
     "phone": {"downscale": 4, "line_fwhm_mrad": 1.2},
     "third": {"downscale": 2, "line_fwhm_mrad": 1.2},
     "plain": {"channel": "laser"},
     "white-bar": {"distractor": "white-bar"},
-    "fringed-bar": {"distractor": "fringed-bar"},
     "marble": {"profile": "marble"},
     "marble-15mw": {"profile": "marble", "laser_power_mw": 15.0},
     "marble-60mw": {"profile": "marble", "laser_power_mw": 60.0},
     "marble-60mw-jpeg": {"profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": JPEG_FAMILY_QUALITY},
+    "fringed-bar": {"distractor": "fringed-bar"},
 }
 
 

@@ -267,16 +267,15 @@ def make_refs() -> None:
 
 def print_difference_guides(names, *, skip_cols: int = 0) -> None:
     """Print each photograph's :func:`difference_guide` segments as ``guides.toml`` holds them."""
-    import csv
-
     from bench.store import realset as real
 
-    rows = {r["name"]: r for r in csv.DictReader((DATA / "manifest.csv").read_text().splitlines())}
+    images = {im.name: im for im in real.load_dataset(DATA)}  # the set's manifest, read and checked in one place
     for name in names:
-        if name not in rows or not (DATA / f"{name}_off.png").is_file():
+        im = images.get(name)
+        if im is None or im.background_path is None:
             raise SystemExit(f"make_real_set.py guides: {name!r} is not a shipped photograph with a laser-off frame")
-        segs = difference_guide(real.read_image(DATA / f"{name}.png"), real.read_image(DATA / f"{name}_off.png"),
-                                rows[name]["laser_colour"], skip_cols=skip_cols)
+        segs = difference_guide(real.read_image(im.image_path), real.read_image(im.background_path), im.laser_colour,
+                                skip_cols=skip_cols)
         print(f"[{name}]\nsegments = [" + ",\n            ".join(
             f"{{rows = [{g['rows'][0]}, {g['rows'][1]}], cols = [{g['cols'][0]}, {g['cols'][1]}]}}" for g in segs) + "]")
 

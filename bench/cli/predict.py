@@ -120,7 +120,8 @@ def predict_check_options(p) -> None:
                         "white line beside the stripe, a window's frame or a lamp's stem, added to the photograph) or "
                         "fringed-bar (the same with a fringe of the laser's colour, as a lens's lateral colour)")
     p.add_argument("--jpeg-quality", dest="jpeg_quality", metavar="Q",
-                   type=arg_type(lambda n, v: int_in_range(n, v, 1, 95), "--jpeg-quality"), default=DEFAULTS["jpeg_quality"],
+                   type=arg_type(lambda n, v: int_in_range(n, v, 1, 95), "--jpeg-quality"),
+                   default=DEFAULTS["jpeg_quality"],
                    help="JPEG-compress each case frame's photograph at this quality (1-95), as a webcam or a phone "
                         "does (default: not compressed)")
     p.add_argument("--truth", default=DEFAULTS["truth"], choices=TRUTHS,
@@ -139,9 +140,8 @@ def predict_check_options(p) -> None:
                    help="a named render family, which sets its own options: native, phone (--downscale 4 "
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "
                         "(--distractor white-bar), fringed-bar (--distractor fringed-bar), marble (--profile marble), "
-                        "marble-15mw and marble-60mw (and "
-                        "--laser-power 15 or 60), marble-60mw-jpeg (and --jpeg-quality 75); an option it sets, given "
-                        "otherwise, is an error")
+                        "marble-15mw and marble-60mw (and --laser-power 15 or 60), marble-60mw-jpeg (and "
+                        "--jpeg-quality 75); an option it sets, given otherwise, is an error")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)

@@ -35,8 +35,8 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
-           "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "with_white_bar", "Case", "family_scene", "shrink_frame", "case_frames",
-           "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
+           "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "with_white_bar", "Case", "family_scene", "shrink_frame",
+           "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
            "JPEG_FAMILY_QUALITY", "code_of_run"]
 
 #: The study's defaults (the command's options).
@@ -254,20 +254,21 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
         raise ValueError(f"`channel` must be one of {', '.join(CASE_CHANNELS)}, got {channel!r}")
     if distractor not in DISTRACTORS:
         raise ValueError(f"`distractor` must be one of {', '.join(DISTRACTORS)}, got {distractor!r}")
-    if jpeg_quality is not None and (isinstance(jpeg_quality, bool) or not isinstance(jpeg_quality, (int, np.integer))
-                                     or not 1 <= jpeg_quality <= 95):
-        raise ValueError(f"`jpeg_quality` must be an integer 1-95 or None, got {jpeg_quality!r}")
+    if jpeg_quality is not None:  # before any render: the shared check of an integer option (a ValueError)
+        from bench.config.options import int_in_range
+
+        jpeg_quality = int_in_range("`jpeg_quality`", jpeg_quality, 1, 95)
 
     scene = family_scene(experiment, config, seed=seed, width=width, height=height, downscale=downscale,
                          line_fwhm_mrad=line_fwhm_mrad, laser_power_mw=laser_power_mw)
     a = np.asarray(angles_for(experiment, scene), float)
     lo, hi = a[len(a) // 4], a[min(len(a) - 1, (3 * len(a)) // 4)]  # as bench.run.predict's matched renders
+    laser = laser_colour(scene.params["laser_wavelength_nm"])
     out = []
     for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
         f = shrink_frame(scene.render(float(ang)), downscale)
         if distractor in ("white-bar", "fringed-bar"):
-            fringe = (LASER_INDEX[laser_colour(scene.params["laser_wavelength_nm"])]
-                      if distractor == "fringed-bar" and f.rgb is not None else None)
+            fringe = LASER_INDEX[laser] if distractor == "fringed-bar" and f.rgb is not None else None
             f.rgb = None if f.rgb is None else with_white_bar(f.rgb, f.truth_columns, fringe_channel=fringe)
             f.image = f.image if f.rgb is not None else with_white_bar(f.image, f.truth_columns)
         if jpeg_quality is not None:
@@ -278,7 +279,6 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
             else:
                 f.image = jpeg_round_trip(f.image, jpeg_quality)
         if f.rgb is not None:
-            laser = laser_colour(scene.params["laser_wavelength_nm"])
             ch = "rgb"[LASER_INDEX[laser]] if channel == "laser" else channel
             case = Case(select_channel(f.rgb, ch, laser), f.rgb, f.truth_columns, ch)
         else:

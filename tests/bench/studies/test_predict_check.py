@@ -157,7 +157,7 @@ def test_jpeg_frames_are_the_render_compressed_and_their_family_is_named(tmp_pat
     assert family_options("marble-60mw-jpeg", {"jpeg_quality": None})["jpeg_quality"] == JPEG_FAMILY_QUALITY == 75
     doc = {"downscale": 1, "rows": "clear", "profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": 75}
     assert family_of(doc) == "marble: downscale 1, 60 mW, JPEG 75"
-    with pytest.raises(ValueError, match="`jpeg_quality` must be an integer 1-95 or None, got 0"):
+    with pytest.raises(ValueError, match="`jpeg_quality` must be an integer 1 .. 95, got 0"):
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, jpeg_quality=0)
     capsys.readouterr()
     with pytest.raises(SystemExit) as exc:
@@ -173,18 +173,19 @@ def test_the_fringed_bar_is_the_white_bar_with_a_fringe_that_looks_like_the_lase
     from bench.config import profile
     from bench.evaluate import transplant as tp
     from bench.evaluate.pixels import LASER_INDEX, select_channel
+    from bench.run.camera_view import laser_colour
     from bench.studies.predict_check import BAR_OFFSET_PX, case_frames, family_of
 
     config = profile("field")
     exp = next(e for e in config.experiments if e.key == "colour-no-filter")
     kw = dict(seed=1, width=128, height=120, n_angles=1)
-    plain = case_frames(exp, config, **kw)[0][1]
+    _, plain, params = case_frames(exp, config, **kw)[0]
     frames = {d: case_frames(exp, config, distractor=d, **kw)[0][1] for d in ("white-bar", "fringed-bar")}
     truth = plain.truth_columns
     rows = np.flatnonzero(np.isfinite(truth))
     bar = int(round(np.nanmedian(truth))) + BAR_OFFSET_PX
-    li = int(np.argmax([np.abs(plain.rgb[..., c].astype(float) - np.median(plain.rgb[..., c])).max() for c in range(3)]))
-    laser = {v: k for k, v in LASER_INDEX.items()}[li]
+    laser = laser_colour(params["laser_wavelength_nm"])
+    li = LASER_INDEX[laser]
 
     def evidence(rgb, cols):
         ev = tp.laser_evidence(rgb[..., li].astype(float), select_channel(rgb, "excess", laser))

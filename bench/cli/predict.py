@@ -90,8 +90,8 @@ def _predict(args) -> int:
 def predict_check_options(p) -> None:
     """The options of ``stripebench predictcheck`` (:func:`bench.studies.predict_check.study`)."""
     from bench.config import PROFILES
-    from bench.studies.predict_check import (CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, ROWS, STATE_READINGS,
-                                             TRUTHS)
+    from bench.studies.predict_check import (CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, FRINGE_SHARE, ROWS,
+                                             STATE_READINGS, TRUTHS)
 
     add_out(p, "output folder (predict_check.json, predicted.csv, measured.csv)", required=True)
     p.add_argument("--profile", default=DEFAULTS["profile"], choices=sorted(PROFILES),
@@ -118,7 +118,9 @@ def predict_check_options(p) -> None:
     p.add_argument("--distractor", default=DEFAULTS["distractor"], choices=DISTRACTORS,
                    help="what each case frame carries besides its render: none (default), white-bar (a vertical "
                         "white line beside the stripe, a window's frame or a lamp's stem, added to the photograph) or "
-                        "fringed-bar (the same with a fringe of the laser's colour, as a lens's lateral colour)")
+                        "fringed-bar (the same with a fringe of the laser's colour, as a lens's lateral colour) or "
+                        f"rival-fringe (the white bar with a fringe carrying {FRINGE_SHARE} of the stripe's laser "
+                        "evidence)")
     p.add_argument("--jpeg-quality", dest="jpeg_quality", metavar="Q",
                    type=arg_type(lambda n, v: int_in_range(n, v, 1, 95), "--jpeg-quality"),
                    default=DEFAULTS["jpeg_quality"],
@@ -139,8 +141,8 @@ def predict_check_options(p) -> None:
     p.add_argument("--family", default=DEFAULTS["family"], choices=tuple(FAMILIES),
                    help="a named render family, which sets its own options: native, phone (--downscale 4 "
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "
-                        "(--distractor white-bar), fringed-bar (--distractor fringed-bar), marble (--profile marble), "
-                        "marble-15mw and marble-60mw (and --laser-power 15 or 60), marble-60mw-jpeg (and "
+                        "(--distractor white-bar), fringed-bar and rival-fringe (their --distractor), marble "
+                        "(--profile marble), marble-15mw and marble-60mw (and --laser-power 15 or 60), marble-60mw-jpeg (and "
                         "--jpeg-quality 75); an option it sets, given otherwise, is an error")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")

@@ -35,7 +35,8 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DISTRACTORS", "FAR", "BAR_OFFSET_PX",
-           "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "with_white_bar", "Case", "family_scene", "shrink_frame",
+           "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "FRINGE_SHARE",
+           "stripe_evidence", "with_white_bar", "with_rival_fringe", "Case", "family_scene", "shrink_frame",
            "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
            "JPEG_FAMILY_QUALITY", "code_of_run"]
 
@@ -84,7 +85,8 @@ JPEG_FAMILY_QUALITY = 75
 #: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
 #: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
 #: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"); ``marble-60mw-jpeg`` and
-#: ``fringed-bar`` since the seventeenth (the first a declaration's ninth family once, the second a measurement only).
+#: ``fringed-bar`` since the seventeenth (the first a declaration's ninth family once, the second a measurement only);
+#: ``rival-fringe`` since the eighteenth.
 #: :func:`family_of` names a run's family by its options, whichever way they were given.
 FAMILIES = {
     "native": {},
@@ -97,6 +99,7 @@ FAMILIES = {
     "marble-60mw": {"profile": "marble", "laser_power_mw": 60.0},
     "marble-60mw-jpeg": {"profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": JPEG_FAMILY_QUALITY},
     "fringed-bar": {"distractor": "fringed-bar"},
+    "rival-fringe": {"distractor": "rival-fringe"},
 }
 
 
@@ -133,7 +136,11 @@ def family_options(family: str, given: dict) -> dict:
 #: (seventeenth session): the same bar with the laser's channel displaced :data:`FRINGE_PX` px away from the stripe, as
 #: a lens's lateral colour fringes a bright edge (``al_room7``'s window bars, green beside a green stripe): bright and
 #: of the laser's colour on one side, a rival that looks like the laser (docs/predict.md, "Rows two guides contest").
-DISTRACTORS = ("none", "white-bar", "fringed-bar")
+#: ``rival-fringe`` (eighteenth session): the white bar with a fringe of the laser's colour :data:`FRINGE_PX` px beyond
+#: it whose laser evidence is :data:`FRINGE_SHARE` of the stripe's in that frame: a rival nearly as like the laser as
+#: the stripe, as ``al_room7``'s window bars are, where ``fringed-bar``'s outshines it (docs/predict.md, "A rival
+#: nearly as like the laser as the stripe").
+DISTRACTORS = ("none", "white-bar", "fringed-bar", "rival-fringe")
 #: The white bar: its distance from the stripe's median column (px; on the side with room), its Gaussian sigma (px)
 #: and its peak (DN added in every channel, clipped at the top of the range).
 BAR_OFFSET_PX = 20
@@ -142,6 +149,10 @@ BAR_PEAK_DN = 200.0
 #: ``fringed-bar``: how far the laser's channel of the bar lies from the others (px): about a pixel and a half of
 #: lateral colour, as a webcam's or a phone's lens shows at a bright edge off the axis.
 FRINGE_PX = 1.5
+#: ``rival-fringe``: the fringe's laser evidence (:func:`bench.evaluate.transplant.laser_evidence`) as a share of the
+#: stripe's median in the frame (:func:`stripe_evidence`): the middle of what ``al_room7``'s window bars carry
+#: (0.8-0.95 of its stripe's, docs/predict.md), set before any run of the family.
+FRINGE_SHARE = 0.85
 #: The key of the false-report comparison on the stripe-less rows a photograph's reference scores, at least
 #: :data:`bench.evaluate.outcomes.GAP_ROWS` rows from the stripe (:func:`bench.evaluate.outcomes.distant_states`):
 #: on renders every other stripe-less row is one where the stripe jumps at an occlusion, which a photograph's
@@ -199,13 +210,42 @@ def shrink_frame(frame, downscale: int):
     return SimpleNamespace(**planes, truth_columns=downscale_columns(frame.truth.columns, n))
 
 
-def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None):
+def stripe_evidence(rgb, truth_columns, laser: str) -> float:
+    """The stripe's laser evidence in a colour photograph (DN): the median over its rows (``truth_columns``, px, NaN:
+    no stripe) of the most :func:`bench.evaluate.transplant.laser_evidence` within
+    :data:`bench.evaluate.transplant.ARBITER_HALF_PX` px of its column, as ``arbitrate`` reads a guide's; 0 without a
+    stripe row.
+
+    Examples
+    --------
+    >>> rgb = np.zeros((4, 30, 3), np.uint8); rgb[:, 10, 0] = 90
+    >>> stripe_evidence(rgb, np.full(4, 10.0), "red")
+    90.0
+    """
+    from bench.evaluate.pixels import LASER_INDEX, select_channel
+    from bench.evaluate.transplant import ARBITER_HALF_PX, laser_evidence
+
+    a = np.asarray(rgb)
+    t = np.asarray(truth_columns, dtype=np.float64)
+    rows = np.flatnonzero(np.isfinite(t))
+    if not rows.size:
+        return 0.0
+    ev = laser_evidence(a[..., LASER_INDEX[laser]].astype(np.float64), select_channel(a, "excess", laser))
+    W = a.shape[1]
+    cols = np.clip(np.rint(t[rows]).astype(int), 0, W - 1)
+    return float(np.median([ev[r, max(c - ARBITER_HALF_PX, 0):c + ARBITER_HALF_PX + 1].max()
+                            for r, c in zip(rows, cols)]))
+
+
+def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None, fringe_dn: float | None = None):
     """``photo`` (H, W) or (H, W, 3), integer DN, with :data:`DISTRACTORS`' white bar added: a vertical Gaussian line
     of :data:`BAR_PEAK_DN` and :data:`BAR_SIGMA_PX`, :data:`BAR_OFFSET_PX` px right of the median of
     ``truth_columns`` (px, NaN: no stripe), or left where the right has no room, in every channel and row, clipped at
     the top of the dtype's range. Unchanged where ``truth_columns`` has no column. With ``fringe_channel`` (a colour
     photograph's channel index, the laser's), that channel's line lies :data:`FRINGE_PX` px further from the stripe:
-    the ``fringed-bar`` distractor, a bar with a fringe of the laser's colour on its far side.
+    the ``fringed-bar`` distractor, a bar with a fringe of the laser's colour on its far side. With ``fringe_dn`` as
+    well (DN), that channel keeps the white bar and gains a line of ``fringe_dn`` there instead: the ``rival-fringe``
+    distractor, whose fringe has ``fringe_dn`` of laser evidence (bright by it, and of the laser's colour by it).
 
     Examples
     --------
@@ -216,6 +256,9 @@ def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None):
     >>> rgb = with_white_bar(np.zeros((4, 60, 3), np.uint8), np.full(4, 10.0), fringe_channel=0)
     >>> int(rgb[0, 33, 0]) > int(rgb[0, 33, 1]) + 50, int(rgb[0, 27, 0]) < int(rgb[0, 27, 1])
     (True, True)
+    >>> rgb = with_white_bar(np.zeros((4, 60, 3), np.uint8), np.full(4, 10.0), fringe_channel=0, fringe_dn=40.0)
+    >>> int(rgb[0, 30, 0]) - int(rgb[0, 30, 1]), int(rgb[0, 32, 0]) - int(rgb[0, 32, 1])
+    (18, 37)
     """
     a = np.asarray(photo)
     t = np.asarray(truth_columns, dtype=np.float64)
@@ -229,10 +272,62 @@ def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None):
     if fringe_channel is not None and a.ndim == 3:
         away = col + (FRINGE_PX if col > c else -FRINGE_PX)  # the laser's channel, further from the stripe
         bar = np.repeat(bar, a.shape[2], axis=2)
-        bar[..., fringe_channel] = BAR_PEAK_DN * np.exp(-0.5 * ((np.arange(W) - away) / BAR_SIGMA_PX) ** 2)[None, :]
+        fringe = np.exp(-0.5 * ((np.arange(W) - away) / BAR_SIGMA_PX) ** 2)[None, :]
+        if fringe_dn is None:
+            bar[..., fringe_channel] = BAR_PEAK_DN * fringe
+        else:
+            bar[..., fringe_channel] += float(fringe_dn) * fringe
     top = float(np.iinfo(a.dtype).max) if np.issubdtype(a.dtype, np.integer) else np.inf
     out = np.clip(a.astype(np.float64) + bar, 0.0, top)
     return np.rint(out).astype(a.dtype) if np.issubdtype(a.dtype, np.integer) else out.astype(a.dtype)
+
+
+def with_rival_fringe(rgb, truth_columns, laser: str, share: float = FRINGE_SHARE):
+    """``rgb`` (H, W, 3), integer DN, with the ``rival-fringe`` distractor: :func:`with_white_bar` with a fringe in the
+    laser's channel whose laser evidence (:func:`stripe_evidence` read along the fringe's column) is ``share`` of the
+    stripe's (:func:`stripe_evidence` along ``truth_columns``, px, NaN: no stripe). The fringe's peak (DN) is found by
+    bisection: evidence is read over each row's median (:func:`bench.evaluate.transplant.laser_evidence`), so a fringe's
+    evidence is less than its peak by what the row's noise and texture hold, and clipping bends it. Unchanged without
+    a stripe row or a stripe with no evidence; the greatest fringe the range allows where ``share`` is out of reach.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> rgb = rng.integers(40, 60, (8, 60, 3)).astype(np.uint8); rgb[:, 10, 0] = 110
+    >>> t = np.full(8, 10.0)
+    >>> out = with_rival_fringe(rgb, t, "red", 0.5)
+    >>> fringe = np.full(8, 10.0 + BAR_OFFSET_PX + FRINGE_PX)
+    >>> round(stripe_evidence(out, fringe, "red") / stripe_evidence(rgb, t, "red"), 1)
+    0.5
+    """
+    from bench.evaluate.pixels import LASER_INDEX
+
+    a = np.asarray(rgb)
+    t = np.asarray(truth_columns, dtype=np.float64)
+    target = float(share) * stripe_evidence(a, t, laser)
+    if target <= 0.0:
+        return a.copy()
+    c = float(np.nanmedian(t))
+    side = 1.0 if c + BAR_OFFSET_PX + 3 * BAR_SIGMA_PX <= a.shape[1] - 1 else -1.0  # as with_white_bar's bar
+    along = np.where(np.isfinite(t), c + side * (BAR_OFFSET_PX + FRINGE_PX), np.nan)
+    li = LASER_INDEX[laser]
+
+    def made(dn):
+        out = with_white_bar(a, t, fringe_channel=li, fringe_dn=dn)
+        return out, stripe_evidence(out, along, laser)
+
+    lo, hi = 0.0, float(np.iinfo(a.dtype).max) if np.issubdtype(a.dtype, np.integer) else 1.0
+    best = made(hi)
+    if best[1] <= target:
+        return best[0]
+    for _ in range(16):  # evidence rises with the fringe's peak: bisect to within 1/65536 of the range
+        mid = 0.5 * (lo + hi)
+        out, ev = made(mid)
+        if ev < target:
+            lo = mid
+        else:
+            hi, best = mid, (out, ev)
+    return best[0]
 
 
 def case_frames(experiment, config, *, seed: int, width: int, height: int, n_angles: int,
@@ -267,7 +362,9 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
     out = []
     for i, ang in enumerate(np.linspace(lo, hi, n_angles) if n_angles > 1 else [a[len(a) // 2]]):
         f = shrink_frame(scene.render(float(ang)), downscale)
-        if distractor in ("white-bar", "fringed-bar"):
+        if distractor == "rival-fringe" and f.rgb is not None:
+            f.rgb = with_rival_fringe(f.rgb, f.truth_columns, laser)
+        elif distractor in ("white-bar", "fringed-bar", "rival-fringe"):
             fringe = LASER_INDEX[laser] if distractor == "fringed-bar" and f.rgb is not None else None
             f.rgb = None if f.rgb is None else with_white_bar(f.rgb, f.truth_columns, fringe_channel=fringe)
             f.image = f.image if f.rgb is not None else with_white_bar(f.image, f.truth_columns)

@@ -135,7 +135,7 @@ def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_
     assert added[:, col].min() >= 0 and np.ptp(added[:, col].mean(axis=0)) < 30  # in every channel alike: white
     assert barred.image[:, col].mean() > plain.image[:, col].mean() + 20  # and the trackers see it
     assert family_of({"downscale": 1, "distractor": "white-bar", "rows": "clear"}) == "downscale 1, white-bar"
-    with pytest.raises(ValueError, match="`distractor` must be one of none, white-bar, fringed-bar, got 'lamp'"):
+    with pytest.raises(ValueError, match="`distractor` must be one of none, white-bar, fringed-bar, rival-fringe, got 'lamp'"):
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, distractor="lamp")
 
 
@@ -197,6 +197,37 @@ def test_the_fringed_bar_is_the_white_bar_with_a_fringe_that_looks_like_the_lase
     assert white < 0.2 * fringed and fringed >= 0.5 * stripe  # white: no colour; fringed: like the laser
     assert np.array_equal(frames["fringed-bar"].truth_columns, truth, equal_nan=True)
     assert family_of({"downscale": 1, "distractor": "fringed-bar", "rows": "clear"}) == "downscale 1, fringed-bar"
+
+
+def test_the_rival_fringe_carries_its_share_of_the_stripes_laser_evidence():
+    """``rival-fringe``: the white bar kept whole, with a fringe of the laser's colour FRINGE_PX beyond it whose laser
+    evidence is FRINGE_SHARE of the stripe's (stripe_evidence): a rival nearly as like the laser as the stripe, where
+    ``fringed-bar``'s outshines it. The other channels are the white bar's; the truth is the render's."""
+    from bench.config import profile
+    from bench.evaluate.pixels import LASER_INDEX
+    from bench.run.camera_view import laser_colour
+    from bench.studies.predict_check import (BAR_OFFSET_PX, FRINGE_PX, FRINGE_SHARE, case_frames, family_of,
+                                             stripe_evidence)
+
+    config = profile("field")
+    exp = next(e for e in config.experiments if e.key == "colour-no-filter")
+    kw = dict(seed=1, width=128, height=120, n_angles=1)
+    _, plain, params = case_frames(exp, config, **kw)[0]
+    white = case_frames(exp, config, distractor="white-bar", **kw)[0][1]
+    rival = case_frames(exp, config, distractor="rival-fringe", **kw)[0][1]
+    laser = laser_colour(params["laser_wavelength_nm"])
+    li = LASER_INDEX[laser]
+    truth = plain.truth_columns
+    stripe = stripe_evidence(plain.rgb, truth, laser)
+    fringe_col = np.where(np.isfinite(truth), round(np.nanmedian(truth) + BAR_OFFSET_PX + FRINGE_PX), np.nan)
+    fringe = stripe_evidence(rival.rgb, fringe_col, laser)
+    assert stripe > 5.0 and abs(fringe - FRINGE_SHARE * stripe) <= 0.1 * stripe, (stripe, fringe)
+    assert stripe_evidence(white.rgb, fringe_col, laser) < 0.2 * fringe  # the white bar alone: no colour
+    others = [k for k in range(3) if k != li]
+    assert np.array_equal(rival.rgb[..., others], white.rgb[..., others])
+    assert np.all(rival.rgb[..., li] >= white.rgb[..., li]) and np.any(rival.rgb[..., li] > white.rgb[..., li])
+    assert np.array_equal(rival.truth_columns, truth, equal_nan=True)
+    assert family_of({"downscale": 1, "distractor": "rival-fringe", "rows": "clear"}) == "downscale 1, rival-fringe"
 
 
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):

@@ -86,7 +86,7 @@ JPEG_FAMILY_QUALITY = 75
 #: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
 #: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"); ``marble-60mw-jpeg`` and
 #: ``fringed-bar`` since the seventeenth (the first a declaration's ninth family once, the second a measurement only);
-#: ``rival-fringe`` since the eighteenth.
+#: ``rival-fringe`` since the eighteenth (the tenth family of that session's declarations).
 #: :func:`family_of` names a run's family by its options, whichever way they were given.
 FAMILIES = {
     "native": {},

@@ -472,11 +472,21 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
         return (np.asarray(image, dtype=np.float64)[..., LASER_INDEX[photo.laser]],
                 select_channel(image, "excess", photo.laser))
 
+    def hue_hidden(image):  # the laser's channel and another both clipped: the pixel's hue is not seen
+        a = np.asarray(image)
+        if not np.issubdtype(a.dtype, np.integer):
+            return np.zeros(a.shape[:2], bool)
+        top = float(np.iinfo(a.dtype).max) - np.maximum(tp.CLIP_NOISE_K * tp.channel_noise(a), 1.0)  # (3,)
+        clipped = a >= top[None, None, :]
+        li = LASER_INDEX[photo.laser]
+        return clipped[..., li] & np.delete(clipped, li, axis=2).any(axis=2)
+
     laser, excess = parts(original)
     laser_bg, excess_bg = parts(background_original)
     on_colour = tp.estimate_guide(excess, excess_bg)
     own = tp.estimate_guide(photo.frame, photo.background, measured=measured)
-    return tp.arbitrate(on_colour, own, tp.laser_evidence(laser, excess, laser_bg, excess_bg))
+    coloured = np.where(hue_hidden(original), 0.0, excess)  # what the arbiter reads as the laser's colour
+    return tp.arbitrate(on_colour, own, tp.laser_evidence(laser, coloured, laser_bg, excess_bg))
 
 
 def transplanted(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> tuple:

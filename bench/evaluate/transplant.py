@@ -74,7 +74,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "out_of_range", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
-           "SUPPORT_MIN", "ARBITER_HALF_PX", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
+           "SUPPORT_MIN", "ARBITER_HALF_PX", "hue_hidden", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE", "rival_mask",
            "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "unclear_rows", "tie_break",
            "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
 
@@ -303,6 +303,40 @@ def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=N
     """
     work, sm, _, measured = _prepared(frame, background, estimate, measured)
     return _estimated_guide(sm, np.median(work, axis=1), measured.noise_dn, estimate, measured)
+
+
+def hue_hidden(image, laser: str) -> np.ndarray:
+    """Pixels whose hue is not seen, shape (H, W) bool: the laser's channel and at least one other stand within
+    :data:`CLIP_NOISE_K` of that channel's noise units (:func:`channel_noise`, at least 1 DN) of the top of an integer
+    image's range, as the transplant reads clipping. There the laser-colour excess reads a glare clipped in green and
+    blue (cyan-white) as green; light of the laser's colour keeps the others under it (docs/predict.md, "Two clipped
+    channels hide the hue"). None on a float or grey image.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W, 3) or (H, W)
+        The photograph (DN).
+    laser : {'red', 'green', 'blue'}
+        The laser's colour.
+
+    Examples
+    --------
+    A green stripe clipped in green alone, a cyan glare clipped in green and blue, and a white core clipped in all:
+
+    >>> rgb = np.full((4, 8, 3), 40, np.uint8)
+    >>> rgb[:, 1] = [120, 255, 90]; rgb[:, 2] = [200, 255, 255]; rgb[:, 3] = [255, 255, 255]
+    >>> hue_hidden(rgb, "green")[0, :5].tolist()
+    [False, False, True, True, False]
+    """
+    from bench.evaluate.pixels import LASER_INDEX
+
+    a = np.asarray(image)
+    if a.ndim != 3 or not np.issubdtype(a.dtype, np.integer):
+        return np.zeros(a.shape[:2], bool)
+    top = float(np.iinfo(a.dtype).max) - np.maximum(CLIP_NOISE_K * channel_noise(a), 1.0)  # (C,)
+    clipped = a >= top[None, None, :]
+    li = LASER_INDEX[laser]
+    return clipped[..., li] & np.delete(clipped, li, axis=2).any(axis=2)
 
 
 def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None) -> np.ndarray:

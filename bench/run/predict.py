@@ -460,7 +460,8 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
     clipped or not, has none) and the ``auto`` guide of the tracker's frame (``measured``: its conditions), made one
     by :func:`bench.evaluate.transplant.arbitrate`: the colour guide, the frame's where the colour finds no stripe,
     and where the two part, the one with the more :func:`bench.evaluate.transplant.laser_evidence` (bright and of
-    the laser's colour: neither a white lamp nor a surface of the laser's hue). ``original`` and
+    the laser's colour: neither a white lamp nor a surface of the laser's hue; its colour read as nought where
+    :func:`bench.evaluate.transplant.hue_hidden`, a glare clipped in two channels). ``original`` and
     ``background_original``: the photograph and its laser-off frame, turned as the frame (docs/predict.md, "The
     guide found on the laser's colour" and "Brightness and colour together")."""
     from bench.evaluate import transplant as tp
@@ -472,20 +473,13 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
         return (np.asarray(image, dtype=np.float64)[..., LASER_INDEX[photo.laser]],
                 select_channel(image, "excess", photo.laser))
 
-    def hue_hidden(image):  # the laser's channel and another both clipped: the pixel's hue is not seen
-        a = np.asarray(image)
-        if not np.issubdtype(a.dtype, np.integer):
-            return np.zeros(a.shape[:2], bool)
-        top = float(np.iinfo(a.dtype).max) - np.maximum(tp.CLIP_NOISE_K * tp.channel_noise(a), 1.0)  # (3,)
-        clipped = a >= top[None, None, :]
-        li = LASER_INDEX[photo.laser]
-        return clipped[..., li] & np.delete(clipped, li, axis=2).any(axis=2)
-
     laser, excess = parts(original)
     laser_bg, excess_bg = parts(background_original)
     on_colour = tp.estimate_guide(excess, excess_bg)
     own = tp.estimate_guide(photo.frame, photo.background, measured=measured)
-    coloured = np.where(hue_hidden(original), 0.0, excess)  # what the arbiter reads as the laser's colour
+    # a pixel whose laser channel is clipped with another shows no hue: the arbiter reads no laser colour there
+    # (docs/predict.md, "Two clipped channels hide the hue")
+    coloured = np.where(tp.hue_hidden(original, photo.laser), 0.0, excess)
     return tp.arbitrate(on_colour, own, tp.laser_evidence(laser, coloured, laser_bg, excess_bg))
 
 

@@ -405,3 +405,32 @@ def test_a_rival_is_something_else_than_the_stripe_s_own_glow():
     assert r[20:, 98:103].any(axis=1).all() and not r[20:, :90].any()  # the bar, apart from it, is one
     landed = tp.landed_rows(ext, r, 40)
     assert landed[20:].all() and not landed[:20].any() and not tp.landed_rows(ext, r, -40).any()
+
+
+def test_a_glare_clipped_in_two_channels_has_no_hue_and_does_not_take_a_row_where_the_stripe_is_not_seen():
+    """As on ``al_room7`` (green laser): a stripe in rows 0-99 and none below, where the colour's guide stays on the
+    stripe's column with no laser evidence and the frame's own guide takes a window's glare, green and blue clipped
+    and red under the top. Its green over the mean of red and blue is of the stripe's order, so read with the excess
+    the arbiter keeps the glare; its hue is hidden (hue_hidden), its flanks are bluer than green, and read so neither
+    guide has evidence there and the rows are dropped (docs/predict.md, "Two clipped channels hide the hue")."""
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(21)
+    x = np.arange(160.0)
+    rgb = np.full((160, 160, 3), 60.0) + rng.normal(0, 2.0, (160, 160, 3))
+    rgb[:100, :, 1] += 40.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)  # the stripe, green
+    # the glare, down rows 100-159 at columns 106-114: a window pane, green and blue clipped and red under the top,
+    # with sky-blue flanks (as al_room7's window panes; there they are greener, and the rule moves only two rows)
+    rgb[100:, 106:115] = [[150, 190, 235], [150, 190, 235]] + [[200, 255, 255]] * 5 + [[150, 190, 235]] * 2
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    hidden = tp.hue_hidden(rgb, "green")
+    assert hidden[100:, 108:113].all() and not hidden[:, 106:108].any()  # the clipped core only, not its flanks
+    assert not hidden[:100].any() and not hidden[:, :100].any()
+    green = rgb[..., 1].astype(float)
+    excess = select_channel(rgb, "excess", "green")
+    colour = np.full(160, 50.0)  # the colour's guide, on the stripe's column throughout
+    own = np.where(np.arange(160) < 100, 50.0, 110.0)  # the frame's own, on the glare below (its middle)
+    with_excess = tp.arbitrate(colour, own, tp.laser_evidence(green, excess))
+    assert np.all(with_excess[100:] == 110.0)  # read with the excess, the glare keeps the rows
+    seen = tp.arbitrate(colour, own, tp.laser_evidence(green, np.where(hidden, 0.0, excess)))
+    assert np.all(seen[:100] == 50.0) and np.isnan(seen[100:]).all()  # the stripe kept, the glare's rows dropped

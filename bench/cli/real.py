@@ -152,7 +152,7 @@ def _predict_and_compare(args, specs, out) -> None:
         v = cmp[k]
         within = "" if not span else (f"; 95 % of resampled photograph sets {span[k]['interval'][0]:.2f} to "
                                       f"{span[k]['interval'][1]:.2f}")
-        print(f"{k}: Spearman rho {v['spearman_rho']:.2f} (p = {v['spearman_p']:.2g}, n = {v['n']}{within}), "
+        print(f"{k}: Spearman rho {v['spearman_rho']:.3f} (p = {v['spearman_p']:.2g}, n = {v['n']}{within}), "
               f"mean |predicted - measured| {v['mean_abs_diff']:.3f}")
     rel = res["doc"]["measured_reliability"]
     if rel:
@@ -166,7 +166,7 @@ def _predict_and_compare(args, specs, out) -> None:
     wide = max([34, *(len(str(g)) + 2 for g in rigs)])
     print(f"{'rig':<{wide}}{'photos':>7}{'hit rate':>17}{'F1':>17}   measured ranks repeat (hit rate, F1)")
     for g, v in rigs.items():
-        cells = "".join(f"{v[k]['spearman_rho']:>9.2f} / {v[k]['mean_abs_diff']:.3f}" for k in ("hit_rate", "f1"))
+        cells = "".join(f"{v[k]['spearman_rho']:>9.3f} / {v[k]['mean_abs_diff']:.3f}" for k in ("hit_rate", "f1"))
         rr = res["doc"]["rigs"][g]["measured_reliability"]
         rep = "" if not rr else f"   {rr['hit_rate']['split_half_rho']:.2f}, {rr['f1']['split_half_rho']:.2f}"
         print(f"{g:<{wide}}{len(v['photographs']):>7}{cells}{rep}")

@@ -67,7 +67,7 @@ def _agreement(v: dict) -> list[str]:
     out = []
     for k in ("hit_rate", "f1"):
         rho, diff = v[k]["spearman_rho"], v[k]["mean_abs_diff"]
-        out += ["–" if math.isnan(rho) else f"{rho:.2f}", "–" if math.isnan(diff) else f"{diff:.3f}"]
+        out += ["–" if math.isnan(rho) else f"{rho:.3f}", "–" if math.isnan(diff) else f"{diff:.3f}"]
     return out
 
 
@@ -114,7 +114,7 @@ def build_predict_report(result: dict) -> Path:
         parts.append("<h2>Predicted beside measured (the matched photographs, rows pooled)</h2>"
                      + table(["tracker", "hit rate predicted", "measured", "F1 predicted", "measured"], crow)
                      + "<p>" + "; ".join(
-                         f"{esc(k)}: Spearman &rho; {cmp[k]['spearman_rho']:.2f} (p = {cmp[k]['spearman_p']:.2g}, "
+                         f"{esc(k)}: Spearman &rho; {cmp[k]['spearman_rho']:.3f} (p = {cmp[k]['spearman_p']:.2g}, "
                          f"n = {cmp[k]['n']}), mean |predicted &minus; measured| {cmp[k]['mean_abs_diff']:.3f}"
                          for k in ("hit_rate", "f1")) + "</p>")
     for key, what in (("comparison_rigs", "rig"), ("comparison_photos", "photograph")):

@@ -33,7 +33,7 @@ def _detection_html(detection: dict) -> str:
     head = ["tracker"] + [f"{_DETECTION_NAMES.get(k, k)}<br>synthetic / real" for k in detection]
     body = [[esc(n)] + [f"{fixed(by[k][n]['synthetic'])} / {fixed(by[k][n]['real'])}" if n in by[k] else "–"
                         for k in detection] for n in trackers]
-    rho = "; ".join(f"{_DETECTION_NAMES.get(k, k)}: Spearman's rho {fixed(r['spearman_rho'], '.2f')}"
+    rho = "; ".join(f"{_DETECTION_NAMES.get(k, k)}: Spearman's rho {fixed(r['spearman_rho'], '.3f')}"
                     for k, r in detection.items())
     return (f"<p>Both halves of detection (a report on a row with no stripe is a false one): {esc(rho)}."
             "</p>" + table(head, body))
@@ -79,7 +79,7 @@ def predicted_html(doc: dict) -> str:
              fixed(f1[t["tracker"]]["real"]) if t["tracker"] in f1 else "–"] for t in doc["hit_rate"]["table"]]
 
     def agree(d):
-        return [f"{fixed(d[k]['spearman_rho'], '.2f')} / {fixed(d[k]['mean_abs_diff'])}" for k in ("hit_rate", "f1")]
+        return [f"{fixed(d[k]['spearman_rho'], '.3f')} / {fixed(d[k]['mean_abs_diff'])}" for k in ("hit_rate", "f1")]
 
     def repeat(v):
         rr = v.get("measured_reliability")

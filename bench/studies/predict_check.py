@@ -213,8 +213,10 @@ def shrink_frame(frame, downscale: int):
 def stripe_evidence(rgb, truth_columns, laser: str) -> float:
     """The stripe's laser evidence in a colour photograph (DN): the median over its rows (``truth_columns``, px, NaN:
     no stripe) of the most :func:`bench.evaluate.transplant.laser_evidence` within
-    :data:`bench.evaluate.transplant.ARBITER_HALF_PX` px of its column, as ``arbitrate`` reads a guide's; 0 without a
-    stripe row.
+    :data:`bench.evaluate.transplant.ARBITER_HALF_PX` px of its column, as ``arbitrate`` reads a guide's, with the
+    laser-colour excess as its colour term everywhere (as the arbiter read it when ``rival-fringe`` was made; since
+    then it reads none where :func:`bench.evaluate.transplant.hue_hidden`, which the family's frames are kept
+    without); 0 without a stripe row.
 
     Examples
     --------

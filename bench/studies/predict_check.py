@@ -340,7 +340,8 @@ def case_frames(experiment, config, *, seed: int, width: int, height: int, n_ang
     ``downscale`` N > 1 rendered N times larger and shrunk by N (:func:`family_scene`, :func:`shrink_frame`);
     ``line_fwhm_mrad`` replaces the laser line's width of every case, ``laser_power_mw`` its laser power; ``channel``
     (:data:`CASE_CHANNELS`) is what the trackers see of a colour case; ``distractor`` (:data:`DISTRACTORS`) what is
-    added to each frame's photograph (:func:`with_white_bar`); ``jpeg_quality`` (1-95, or None) JPEG-compresses each
+    added to each frame's photograph (:func:`with_white_bar`, :func:`with_rival_fringe`; a grey case gets the white
+    bar alone); ``jpeg_quality`` (1-95, or None) JPEG-compresses each
     frame's photograph after that, as a webcam or a phone does (:func:`scenes.jpeg_round_trip`; 8-bit
     frames only)."""
     from bench.evaluate.pixels import LASER_INDEX, select_channel

@@ -135,7 +135,8 @@ def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_
     assert added[:, col].min() >= 0 and np.ptp(added[:, col].mean(axis=0)) < 30  # in every channel alike: white
     assert barred.image[:, col].mean() > plain.image[:, col].mean() + 20  # and the trackers see it
     assert family_of({"downscale": 1, "distractor": "white-bar", "rows": "clear"}) == "downscale 1, white-bar"
-    with pytest.raises(ValueError, match="`distractor` must be one of none, white-bar, fringed-bar, rival-fringe, got 'lamp'"):
+    with pytest.raises(ValueError,
+                       match="`distractor` must be one of none, white-bar, fringed-bar, rival-fringe, got 'lamp'"):
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, distractor="lamp")
 
 

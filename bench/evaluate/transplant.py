@@ -74,7 +74,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "out_of_range", "shift_for", "channel_noise", "transplant", "row_states", "MIN_ROWS", "EDGE_K", "PAD_PX",
            "MAX_HALF_PX", "SIDE_PX", "GUIDE_ROWS", "GUIDE_HALF_PX", "PATH_CAP", "PATH_JUMP", "ESTIMATES",
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
-           "SUPPORT_MIN", "ARBITER_HALF_PX", "hue_hidden", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE",
+           "SUPPORT_MIN", "ARBITER_HALF_PX", "evidence_near", "hue_hidden", "CLIP_NOISE_K", "RIVAL_SEARCH_PX", "RIVAL_SHARE",
            "rival_mask", "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks", "unclear_rows",
            "tie_break", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
 
@@ -305,7 +305,19 @@ def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=N
     return _estimated_guide(sm, np.median(work, axis=1), measured.noise_dn, estimate, measured)
 
 
-def hue_hidden(image, laser: str) -> np.ndarray:
+def _clipped_at(image, noise_dn=None) -> np.ndarray:
+    """Each channel's clipping level, shape (C,), DN: at or above it a pixel counts as clipped, within
+    :data:`CLIP_NOISE_K` of the channel's noise units (``noise_dn``, :func:`channel_noise` when None; at least 1 DN) of
+    the top of an integer image's range; +inf on a float image (no known top)."""
+    img = np.asarray(image)
+    C = 1 if img.ndim == 2 else img.shape[2]
+    if not np.issubdtype(img.dtype, np.integer):
+        return np.full(C, np.inf)
+    noise = channel_noise(img) if noise_dn is None else np.broadcast_to(np.asarray(noise_dn, np.float64), (C,))
+    return float(np.iinfo(img.dtype).max) - np.maximum(CLIP_NOISE_K * noise, 1.0)
+
+
+def hue_hidden(image, laser: str, noise_dn=None) -> np.ndarray:
     """Pixels whose hue is not seen, shape (H, W) bool: the laser's channel and at least one other stand within
     :data:`CLIP_NOISE_K` of that channel's noise units (:func:`channel_noise`, at least 1 DN) of the top of an integer
     image's range, as the transplant reads clipping. There the laser-colour excess reads a glare clipped in green and
@@ -318,6 +330,8 @@ def hue_hidden(image, laser: str) -> np.ndarray:
         The photograph (DN).
     laser : {'red', 'green', 'blue'}
         The laser's colour.
+    noise_dn : array_like, shape (3,), optional
+        Each channel's noise (DN); :func:`channel_noise` when None.
 
     Examples
     --------
@@ -333,8 +347,7 @@ def hue_hidden(image, laser: str) -> np.ndarray:
     a = np.asarray(image)
     if a.ndim != 3 or not np.issubdtype(a.dtype, np.integer):
         return np.zeros(a.shape[:2], bool)
-    top = float(np.iinfo(a.dtype).max) - np.maximum(CLIP_NOISE_K * channel_noise(a), 1.0)  # (C,)
-    clipped = a >= top[None, None, :]
+    clipped = a >= _clipped_at(a, noise_dn)[None, None, :]
     li = LASER_INDEX[laser]
     return clipped[..., li] & np.delete(clipped, li, axis=2).any(axis=2)
 
@@ -431,24 +444,40 @@ def arbitrate(guide, other, evidence) -> np.ndarray:
         raise ValueError(f"`guide` and `other` must have one entry per row of `evidence` {evidence.shape}, "
                          f"got {guide.shape} and {other.shape}")
     out = np.where(np.isfinite(guide), guide, other)
-    W = evidence.shape[1]
     both = np.isfinite(guide) & np.isfinite(other) & (np.abs(guide - other) > cond.JUMP_PX)
-
-    def near(r, g):
-        c = int(round(g))
-        return float(np.max(evidence[r, max(c - ARBITER_HALF_PX, 0):min(c + ARBITER_HALF_PX, W - 1) + 1]))
-
+    eg, eo = evidence_near(evidence, guide), evidence_near(evidence, other)
     own = np.isfinite(guide)
-    least = EVIDENCE_SHARE * float(np.median([near(r, guide[r]) for r in np.flatnonzero(own)])) if own.any() else 0.0
-    for r in np.flatnonzero(both):
-        eg, eo = near(r, guide[r]), near(r, other[r])
-        if eo > eg:
-            out[r] = other[r]
-        if max(eg, eo) < least:  # the two part and neither looks like the laser: neither guides the row
-            out[r] = np.nan
-    for r in np.flatnonzero(~own & np.isfinite(other)):
-        if near(r, other[r]) < least:
-            out[r] = np.nan
+    least = EVIDENCE_SHARE * float(np.median(eg[own])) if own.any() else 0.0
+    with np.errstate(invalid="ignore"):
+        out[both & (eo > eg)] = other[both & (eo > eg)]
+        # the two part and neither looks like the laser: neither guides the row
+        out[both & (np.fmax(eg, eo) < least)] = np.nan
+        out[~own & np.isfinite(other) & (eo < least)] = np.nan
+    return out
+
+
+def evidence_near(evidence, guide) -> np.ndarray:
+    """The most of ``evidence`` (H, W) within :data:`ARBITER_HALF_PX` px of each row's ``guide`` (H,), px, shape (H,)
+    (NaN where the guide has none): how :func:`arbitrate` reads a guide's laser evidence (a guide is a median of peaks,
+    so the peak may lie a px or two off it).
+
+    Examples
+    --------
+    >>> ev = np.zeros((2, 10)); ev[:, 6] = [3.0, 5.0]
+    >>> evidence_near(ev, np.array([4.0, np.nan])).tolist()
+    [3.0, nan]
+    """
+    from scipy.ndimage import maximum_filter1d
+
+    ev = np.asarray(evidence, dtype=np.float64)
+    g = np.asarray(guide, dtype=np.float64)
+    if ev.ndim != 2 or g.shape != (ev.shape[0],):
+        raise ValueError(f"`guide` must have one entry per row of `evidence` {ev.shape}, got {g.shape}")
+    out = np.full(g.shape, np.nan)
+    rows = np.flatnonzero(np.isfinite(g))
+    if rows.size:
+        near = maximum_filter1d(ev, 2 * ARBITER_HALF_PX + 1, axis=1, mode="nearest")  # the edge: a shorter window
+        out[rows] = near[rows, np.clip(np.rint(g[rows]).astype(np.int64), 0, ev.shape[1] - 1)]
     return out
 
 
@@ -778,7 +807,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         lo_v, hi_v = float(np.iinfo(img.dtype).min), float(np.iinfo(img.dtype).max)
     else:
         lo_v, hi_v = -np.inf, np.inf
-    clipped_at = hi_v - np.maximum(CLIP_NOISE_K * noise, 1.0)  # (C,): at or above it, a pixel counts as clipped
+    clipped_at = _clipped_at(img, noise)  # (C,): at or above it, a pixel counts as clipped
     out = planes.copy()
     truth = np.full(H, np.nan)
     s = int(shift_px)
@@ -970,8 +999,7 @@ def clipped_peaks(original, ext: Extents, noise_dn=None) -> np.ndarray:
         raise ValueError(f"`original` must have the frame's {np.shape(ext.peak)[0]} rows, got shape {img.shape}")
     if not np.issubdtype(img.dtype, np.integer):
         return np.zeros(H, bool)
-    noise = channel_noise(img) if noise_dn is None else np.asarray(noise_dn, np.float64)
-    top = float(np.iinfo(img.dtype).max) - np.maximum(CLIP_NOISE_K * noise, 1.0)
+    top = _clipped_at(img, noise_dn)
     cols = np.clip(np.asarray(ext.peak, dtype=np.int64), 0, W - 1)
     return np.any(planes[np.arange(H), cols, :].astype(np.float64) >= top, axis=-1)
 

@@ -212,8 +212,8 @@ def shrink_frame(frame, downscale: int):
 
 def stripe_evidence(rgb, truth_columns, laser: str) -> float:
     """The stripe's laser evidence in a colour photograph (DN): the median over its rows (``truth_columns``, px, NaN:
-    no stripe) of the most :func:`bench.evaluate.transplant.laser_evidence` within
-    :data:`bench.evaluate.transplant.ARBITER_HALF_PX` px of its column, as ``arbitrate`` reads a guide's, with the
+    no stripe) of :func:`bench.evaluate.transplant.laser_evidence` near its column
+    (:func:`bench.evaluate.transplant.evidence_near`), as ``arbitrate`` reads a guide's, with the
     laser-colour excess as its colour term everywhere (as the arbiter read it when ``rival-fringe`` was made; since
     then it reads none where :func:`bench.evaluate.transplant.hue_hidden`, which the family's frames are kept
     without); 0 without a stripe row.
@@ -225,18 +225,14 @@ def stripe_evidence(rgb, truth_columns, laser: str) -> float:
     90.0
     """
     from bench.evaluate.pixels import LASER_INDEX, select_channel
-    from bench.evaluate.transplant import ARBITER_HALF_PX, laser_evidence
+    from bench.evaluate.transplant import evidence_near, laser_evidence
 
     a = np.asarray(rgb)
     t = np.asarray(truth_columns, dtype=np.float64)
-    rows = np.flatnonzero(np.isfinite(t))
-    if not rows.size:
+    if not np.isfinite(t).any():
         return 0.0
     ev = laser_evidence(a[..., LASER_INDEX[laser]].astype(np.float64), select_channel(a, "excess", laser))
-    W = a.shape[1]
-    cols = np.clip(np.rint(t[rows]).astype(int), 0, W - 1)
-    return float(np.median([ev[r, max(c - ARBITER_HALF_PX, 0):c + ARBITER_HALF_PX + 1].max()
-                            for r, c in zip(rows, cols)]))
+    return float(np.nanmedian(evidence_near(ev, t)))
 
 
 def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None, fringe_dn: float | None = None):

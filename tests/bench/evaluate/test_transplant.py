@@ -434,3 +434,22 @@ def test_a_glare_clipped_in_two_channels_has_no_hue_and_does_not_take_a_row_wher
     assert np.all(with_excess[100:] == 110.0)  # read with the excess, the glare keeps the rows
     seen = tp.arbitrate(colour, own, tp.laser_evidence(green, np.where(hidden, 0.0, excess)))
     assert np.all(seen[:100] == 50.0) and np.isnan(seen[100:]).all()  # the stripe kept, the glare's rows dropped
+
+
+def test_evidence_near_is_the_most_within_the_arbiter_s_half_width_at_the_edges_too():
+    """evidence_near, the one home of how arbitrate and the rival-fringe family read a guide's evidence: the most of
+    each row's evidence within ARBITER_HALF_PX px of the guide's rounded column, the window cut at the frame's edges."""
+    rng = np.random.default_rng(3)
+    ev = rng.uniform(0, 50, (40, 30))
+    guide = rng.uniform(0, 29, 40)
+    guide[[0, 1, 2]] = [0.0, 29.0, np.nan]  # both edges, and a row without a guide
+    got = tp.evidence_near(ev, guide)
+    h = tp.ARBITER_HALF_PX
+    for r in range(40):
+        if np.isnan(guide[r]):
+            assert np.isnan(got[r])
+            continue
+        c = int(round(guide[r]))
+        assert got[r] == ev[r, max(c - h, 0):min(c + h, 29) + 1].max()
+    with pytest.raises(ValueError, match="`guide` must have one entry per row of `evidence`"):
+        tp.evidence_near(ev, guide[:5])

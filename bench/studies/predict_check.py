@@ -38,7 +38,8 @@ __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DIS
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "FRINGE_SHARE",
            "stripe_evidence", "with_white_bar", "with_rival_fringe", "Case", "family_scene", "shrink_frame",
            "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
-           "JPEG_FAMILY_QUALITY", "code_of_run"]
+           "JPEG_FAMILY_QUALITY", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_OTHER", "white_core_share",
+           "code_of_run"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -81,12 +82,27 @@ STATE_READINGS = ("given", "fallback")
 #: (seventeenth session, docs/predict.md, "A clipped core moves whole").
 JPEG_FAMILY_QUALITY = 75
 
+#: The ``white-core`` family's laser power (mW, every case's): the field profile's cases bright enough that the stripe's
+#: core clips to white, as in about a third of the shipped photographs (a red laser's light reaches the green and blue
+#: channels too, a little; overexposed, they rise near the top). Chosen from pixels alone, before any prediction ran
+#: on the family: the lowest power of the doubling grid 12.5, 25, 50, ... mW at which the median
+#: :func:`white_core_share` of the field cases' frames at seed 121 (21 frames) reaches the shipped photographs' median
+#: among those whose laser core is clipped in at least a tenth of their referenced rows (docs/predict.md, "A stripe
+#: whose core clips white: the ``white-core`` family").
+WHITE_CORE_POWER_MW = 50.0
+#: :func:`white_core_share`: how far from the stripe's column its core is looked for (px, each side), and how high the
+#: brighter of the other two channels must stand there, as a share of the top of the range, for a clipped core to count
+#: as white.
+WHITE_CORE_HALF_PX = 3
+WHITE_CORE_OTHER = 0.6
+
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
 #: defaults or what is given; a given option that the family sets otherwise is an error). The first five are the
 #: declarations' families since the eighth session, the last three (the translucent ``marble`` profile, at its own
 #: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"); ``marble-60mw-jpeg`` and
 #: ``fringed-bar`` since the seventeenth (the first a declaration's ninth family once, the second a measurement only);
-#: ``rival-fringe`` since the eighteenth (the tenth family of that session's declarations).
+#: ``rival-fringe`` since the eighteenth (the tenth family of that session's declarations), ``white-core`` since the
+#: nineteenth (:data:`WHITE_CORE_POWER_MW`).
 #: :func:`family_of` names a run's family by its options, whichever way they were given.
 FAMILIES = {
     "native": {},
@@ -100,6 +116,7 @@ FAMILIES = {
     "marble-60mw-jpeg": {"profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": JPEG_FAMILY_QUALITY},
     "fringed-bar": {"distractor": "fringed-bar"},
     "rival-fringe": {"distractor": "rival-fringe"},
+    "white-core": {"laser_power_mw": WHITE_CORE_POWER_MW},
 }
 
 
@@ -233,6 +250,51 @@ def stripe_evidence(rgb, truth_columns, laser: str) -> float:
         return 0.0
     ev = laser_evidence(a[..., LASER_INDEX[laser]].astype(np.float64), select_channel(a, "excess", laser))
     return float(np.nanmedian(evidence_near(ev, t)))
+
+
+def white_core_share(rgb, columns, laser: str) -> float:
+    """The share of a colour photograph's stripe rows whose core is clipped white: rows with a column (``columns``,
+    shape (H,), px, NaN: no stripe) whose brightest laser-channel pixel within :data:`WHITE_CORE_HALF_PX` px of it
+    stands within 2 DN of the top of the range, with the brighter of the other two channels above
+    :data:`WHITE_CORE_OTHER` of the top there; NaN without a stripe row. A condition the renders at their own laser
+    powers never show and a third of the shipped photographs do (the ``white-core`` family, :data:`FAMILIES`).
+
+    Parameters
+    ----------
+    rgb : array_like, shape (H, W, 3)
+        The photograph, integer DN.
+    columns : array_like, shape (H,)
+        The stripe's column per row (px): the render's truth or a photograph's reference.
+    laser : {'red', 'green', 'blue'}
+        The laser's colour.
+
+    Examples
+    --------
+    A red stripe clipped white in two of four rows, clipped red in one, unclipped in the last:
+
+    >>> rgb = np.zeros((4, 20, 3), np.uint8)
+    >>> rgb[:, 9] = [[255, 240, 230], [255, 200, 90], [255, 30, 20], [180, 20, 10]]
+    >>> white_core_share(rgb, np.full(4, 8.0), "red")
+    0.5
+    """
+    from bench.evaluate.pixels import LASER_INDEX
+
+    a = np.asarray(rgb)
+    if a.ndim != 3 or a.shape[2] != 3 or not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"`rgb` must be an integer (H, W, 3) image, got {a.dtype} of shape {a.shape}")
+    c = np.asarray(columns, dtype=np.float64)
+    if c.shape != (a.shape[0],):
+        raise ValueError(f"`columns` must have one entry per row of `rgb` ({a.shape[0]}), got shape {c.shape}")
+    rows = np.flatnonzero(np.isfinite(c))
+    if not rows.size:
+        return float("nan")
+    li, top = LASER_INDEX[laser], float(np.iinfo(a.dtype).max)
+    cols = np.rint(c[rows]).astype(np.int64)
+    win = np.stack([a[rows, np.clip(cols + d, 0, a.shape[1] - 1)]
+                    for d in range(-WHITE_CORE_HALF_PX, WHITE_CORE_HALF_PX + 1)], axis=1).astype(np.float64)
+    core = win[np.arange(rows.size), win[..., li].argmax(axis=1)]
+    white = (core[:, li] >= top - 2.0) & (np.delete(core, li, axis=1).max(axis=1) > WHITE_CORE_OTHER * top)
+    return float(white.mean())
 
 
 def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None, fringe_dn: float | None = None):

@@ -231,6 +231,29 @@ def test_the_rival_fringe_carries_its_share_of_the_stripes_laser_evidence():
     assert family_of({"downscale": 1, "distractor": "rival-fringe", "rows": "clear"}) == "downscale 1, rival-fringe"
 
 
+def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own_power_does_not():
+    """``white-core`` (WHITE_CORE_POWER_MW for every case): a colour case's stripe clips white in its core, as in a
+    third of the shipped photographs; at the case's own power it does not. The family is named by its power."""
+    from bench.config import profile
+    from bench.run.camera_view import laser_colour
+    from bench.studies.predict_check import WHITE_CORE_POWER_MW, case_frames, family_of, family_options, white_core_share
+
+    config = profile("field")
+    exp = next(e for e in config.experiments if e.key == "board-checker-room")
+    kw = dict(seed=1, width=128, height=120, n_angles=1)
+    opts = family_options("white-core", {"laser_power_mw": None})
+    assert opts == {"laser_power_mw": WHITE_CORE_POWER_MW}
+    (_, own, params), = case_frames(exp, config, **kw)
+    (_, white, _), = case_frames(exp, config, **kw, **opts)
+    laser = laser_colour(params["laser_wavelength_nm"])
+    assert own.rgb is not None and np.array_equal(own.truth_columns, white.truth_columns, equal_nan=True)
+    assert white_core_share(own.rgb, own.truth_columns, laser) < 0.05
+    assert white_core_share(white.rgb, white.truth_columns, laser) > 0.3
+    assert family_of({"downscale": 1, "line_fwhm_mrad": None, "rows": "clear", **opts}) == "downscale 1, 50 mW"
+    with pytest.raises(ValueError, match="`columns` must have one entry per row of `rgb` \\(120\\), got shape \\(3,\\)"):
+        white_core_share(white.rgb, np.zeros(3), laser)
+
+
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
     from bench.config import profile
     from bench.studies.predict_check import case_frames

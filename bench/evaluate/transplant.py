@@ -761,7 +761,7 @@ def channel_noise(original) -> np.ndarray:
 
 
 def transplant(original, ext: Extents, shift_px: int, *, background_original=None, seed: int = 0,
-               noise_dn=None, keep=None):
+               noise_dn=None, keep=None, laser_channel: int | None = None):
     """The photograph with its stripe moved ``shift_px`` columns (module docstring, steps 2-3).
 
     Parameters
@@ -780,6 +780,11 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         :func:`channel_noise` of ``original``, when the caller has it (it is measured otherwise).
     keep : array_like of bool, shape (H,), optional
         The rows whose stripe is moved (default: all); the others are cleaned, not moved (:func:`cut_ends`).
+    laser_channel : int, optional
+        The laser's channel of a colour ``original``: where it stands at or above the ``auto`` knee
+        (:data:`bench.evaluate.colour.AUTO_KNEE` of the top), its moved lift is at least the greatest of the other
+        channels' (under the laser's light its own channel rises most; near the top it shows less only because it
+        clips: a white core in a red glow, docs/predict.md, (ao)).
 
     Returns
     -------
@@ -824,7 +829,14 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         if not kept[r] or a + s - SIDE_PX < 0 or b + s + SIDE_PX > W - 1 or abs(s) < b - a + 1 + SIDE_PX:
             continue  # the moved extent would leave the frame or meet the old one: removed, not moved
         src = planes[r, a:b + 1]
-        out[r, a + s:b + s + 1] = np.where(src >= clipped_at[None, :], hi_v, planes[r, a + s:b + s + 1] + (src - line))
+        lift = src - line
+        if laser_channel is not None and C > 1 and np.isfinite(hi_v):
+            from bench.evaluate.colour import AUTO_KNEE
+
+            li = int(laser_channel)
+            near_top = src[:, li] >= AUTO_KNEE * hi_v
+            lift[near_top, li] = np.maximum(lift[near_top, li], np.delete(lift[near_top], li, axis=1).max(axis=1))
+        out[r, a + s:b + s + 1] = np.where(src >= clipped_at[None, :], hi_v, planes[r, a + s:b + s + 1] + lift)
         if np.isfinite(ext.centre[r]):
             truth[r] = ext.centre[r] + s
     out = np.clip(out, lo_v, hi_v)

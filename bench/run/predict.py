@@ -372,7 +372,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     """
     from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import STRIPE, UNSURE, fallback_of
-    from bench.evaluate.pixels import select_channel
+    from bench.evaluate.pixels import LASER_INDEX, select_channel
 
     ext, original, bg_original = photo_extents(photo, estimate=estimate, measured=measured)
     if not ext.visible.any():
@@ -387,9 +387,10 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         return fallback_of(states) if photo.fallback_rows else states
 
     out = []
+    li = LASER_INDEX[photo.laser] if np.ndim(original) == 3 else None  # (ao)
     for j, s in enumerate((right, -left)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
-                                     noise_dn=noise)
+                                     noise_dn=noise, laser_channel=li)
         image = select_channel(moved, photo.channel, photo.laser)
         # rows where the moved stripe lands on a rival are not scored: the photograph's stripe stands beside it
         landed = tp.landed_rows(ext, rivals, s)
@@ -402,7 +403,7 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
         for j, s in enumerate((right, -left)):
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
-                                         noise_dn=noise, keep=keep)
+                                         noise_dn=noise, keep=keep, laser_channel=li)
             image = select_channel(moved, photo.channel, photo.laser)
             states = read(tp.row_states(ext, truth, image, keep, unclear))
             states[states == STRIPE] = UNSURE

@@ -784,7 +784,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
         The laser's channel of a colour ``original``: where it stands at or above the ``auto`` knee
         (:data:`bench.evaluate.colour.AUTO_KNEE` of the top), its moved lift is at least the greatest of the other
         channels' (under the laser's light its own channel rises most; near the top it shows less only because it
-        clips: a white core in a red glow, docs/predict.md, (ao)).
+        clips: a white core in a red glow, docs/predict.md, "A near-clipped laser channel rises most").
 
     Returns
     -------

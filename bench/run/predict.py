@@ -387,7 +387,8 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         return fallback_of(states) if photo.fallback_rows else states
 
     out = []
-    li = LASER_INDEX[photo.laser] if np.ndim(original) == 3 else None  # (ao)
+    # the laser's channel: near the top its moved lift is at least the others' (transplant's laser_channel)
+    li = LASER_INDEX[photo.laser] if np.ndim(original) == 3 else None
     for j, s in enumerate((right, -left)):
         moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + j,
                                      noise_dn=noise, laser_channel=li)

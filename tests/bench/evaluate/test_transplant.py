@@ -436,6 +436,33 @@ def test_a_glare_clipped_in_two_channels_has_no_hue_and_does_not_take_a_row_wher
     assert np.all(seen[:100] == 50.0) and np.isnan(seen[100:]).all()  # the stripe kept, the glare's rows dropped
 
 
+def test_a_near_clipped_laser_channel_rises_at_least_as_much_as_the_others_when_moved():
+    """As on ``bb_dark`` (red laser): a whitish core (248 / 241 / 205 DN) in a red glow (85 / 4 / 11), moved onto a
+    dark wall. Its red rose less than its green only because it stood near the top; moved as each channel's own lift,
+    the core would turn green-white there. With the laser's channel given, red lifts at least as much as green, so the
+    moved core stays red-white (docs/predict.md, "A near-clipped laser channel rises most")."""
+    rng = np.random.default_rng(5)
+    H, W = 60, 120
+    rgb = np.full((H, W, 3), [9.0, 4.0, 4.0]) + rng.normal(0, 1.0, (H, W, 3))
+    rgb[:, 20:41] = [85.0, 4.0, 11.0]  # the red glow around the stripe
+    rgb[:, 28:33] = [[120, 3, 15], [216, 102, 91], [248, 241, 205], [228, 107, 99], [127, 2, 11]]  # the stripe
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    frame = rgb[..., 0].astype(float)
+    ext = tp.stripe_extents(frame)
+    assert np.isfinite(ext.centre).all() and np.allclose(ext.centre, 30.0, atol=0.5)
+    plain, truth = tp.transplant(rgb, ext, 50, seed=1)
+    raised, truth2 = tp.transplant(rgb, ext, 50, seed=1, laser_channel=0)
+    assert np.array_equal(truth, truth2, equal_nan=True)
+    core = plain[:, 80].astype(int), raised[:, 80].astype(int)
+    assert np.all(core[0][:, 0] < core[0][:, 1] - 40)  # each channel's own lift: green-white on the dark wall
+    assert np.all(core[1][:, 0] >= core[1][:, 1] - 2)  # the laser's channel rises at least as much: red-white
+    assert np.array_equal(plain[..., 1:], raised[..., 1:])  # the other channels as before
+    below = plain[:, 79].astype(int)  # a pixel under the knee keeps its own lift
+    assert np.array_equal(below, raised[:, 79].astype(int))
+    grey, _ = tp.transplant(rgb[..., 0], ext, 50, seed=1, laser_channel=0)  # a grey photograph: unchanged
+    assert np.array_equal(grey, tp.transplant(rgb[..., 0], ext, 50, seed=1)[0])
+
+
 def test_evidence_near_is_the_most_within_the_arbiter_s_half_width_at_the_edges_too():
     """evidence_near, the one home of how arbitrate and the rival-fringe family read a guide's evidence: the most of
     each row's evidence within ARBITER_HALF_PX px of the guide's rounded column, the window cut at the frame's edges."""

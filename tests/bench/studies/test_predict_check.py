@@ -236,7 +236,8 @@ def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own
     third of the shipped photographs; at the case's own power it does not. The family is named by its power."""
     from bench.config import profile
     from bench.run.camera_view import laser_colour
-    from bench.studies.predict_check import WHITE_CORE_POWER_MW, case_frames, family_of, family_options, white_core_share
+    from bench.studies.predict_check import (WHITE_CORE_POWER_MW, case_frames, family_of, family_options,
+                                             white_core_share)
 
     config = profile("field")
     exp = next(e for e in config.experiments if e.key == "board-checker-room")
@@ -250,7 +251,8 @@ def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own
     assert white_core_share(own.rgb, own.truth_columns, laser) < 0.05
     assert white_core_share(white.rgb, white.truth_columns, laser) > 0.3
     assert family_of({"downscale": 1, "line_fwhm_mrad": None, "rows": "clear", **opts}) == "downscale 1, 50 mW"
-    with pytest.raises(ValueError, match="`columns` must have one entry per row of `rgb` \\(120\\), got shape \\(3,\\)"):
+    too_few = "`columns` must have one entry per row of `rgb` \\(120\\), got shape \\(3,\\)"
+    with pytest.raises(ValueError, match=too_few):
         white_core_share(white.rgb, np.zeros(3), laser)
 
 

@@ -813,6 +813,15 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
     else:
         lo_v, hi_v = -np.inf, np.inf
     clipped_at = _clipped_at(img, noise)  # (C,): at or above it, a pixel counts as clipped
+    li = None  # the laser's channel, lifted at least as the others where near the top (a colour integer image)
+    if laser_channel is not None and C > 1:
+        if isinstance(laser_channel, bool) or not isinstance(laser_channel, (int, np.integer)) or \
+                not 0 <= laser_channel < C:
+            raise ValueError(f"`laser_channel` must be a channel of `original` (0-{C - 1}), got {laser_channel!r}")
+        if np.isfinite(hi_v):
+            from bench.evaluate.colour import AUTO_KNEE
+
+            li, knee = int(laser_channel), AUTO_KNEE * hi_v
     out = planes.copy()
     truth = np.full(H, np.nan)
     s = int(shift_px)
@@ -830,11 +839,8 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
             continue  # the moved extent would leave the frame or meet the old one: removed, not moved
         src = planes[r, a:b + 1]
         lift = src - line
-        if laser_channel is not None and C > 1 and np.isfinite(hi_v):
-            from bench.evaluate.colour import AUTO_KNEE
-
-            li = int(laser_channel)
-            near_top = src[:, li] >= AUTO_KNEE * hi_v
+        if li is not None:
+            near_top = src[:, li] >= knee
             lift[near_top, li] = np.maximum(lift[near_top, li], np.delete(lift[near_top], li, axis=1).max(axis=1))
         out[r, a + s:b + s + 1] = np.where(src >= clipped_at[None, :], hi_v, planes[r, a + s:b + s + 1] + lift)
         if np.isfinite(ext.centre[r]):

@@ -38,8 +38,8 @@ __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DIS
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "FRINGE_SHARE",
            "stripe_evidence", "with_white_bar", "with_rival_fringe", "Case", "family_scene", "shrink_frame",
            "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
-           "JPEG_FAMILY_QUALITY", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_OTHER", "white_core_share",
-           "code_of_run"]
+           "JPEG_FAMILY_QUALITY", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_CLIP_DN",
+           "WHITE_CORE_OTHER", "white_core_share", "code_of_run"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,
@@ -90,10 +90,12 @@ JPEG_FAMILY_QUALITY = 75
 #: among those whose laser core is clipped in at least a tenth of their referenced rows (docs/predict.md, "A stripe
 #: whose core clips white: the ``white-core`` family").
 WHITE_CORE_POWER_MW = 50.0
-#: :func:`white_core_share`: how far from the stripe's column its core is looked for (px, each side), and how high the
-#: brighter of the other two channels must stand there, as a share of the top of the range, for a clipped core to count
-#: as white.
+#: :func:`white_core_share`: how far from the stripe's column its core is looked for (px, each side); how near the top
+#: of the range its laser channel must stand to count as clipped (DN: a fixed margin, not the transplant's noise-based
+#: clipping level, so that renders and photographs of any noise are read alike); and how high the brighter of the
+#: other two channels must stand there, as a share of the top, for a clipped core to count as white.
 WHITE_CORE_HALF_PX = 3
+WHITE_CORE_CLIP_DN = 2.0
 WHITE_CORE_OTHER = 0.6
 
 #: The named render families (``--family NAME``): each sets these options of :func:`study` (the others keep their
@@ -255,7 +257,7 @@ def stripe_evidence(rgb, truth_columns, laser: str) -> float:
 def white_core_share(rgb, columns, laser: str) -> float:
     """The share of a colour photograph's stripe rows whose core is clipped white: rows with a column (``columns``,
     shape (H,), px, NaN: no stripe) whose brightest laser-channel pixel within :data:`WHITE_CORE_HALF_PX` px of it
-    stands within 2 DN of the top of the range, with the brighter of the other two channels above
+    stands within :data:`WHITE_CORE_CLIP_DN` of the top of the range, with the brighter of the other two channels above
     :data:`WHITE_CORE_OTHER` of the top there; NaN without a stripe row. A condition the renders at their own laser
     powers never show and a third of the shipped photographs do (the ``white-core`` family, :data:`FAMILIES`).
 
@@ -293,7 +295,7 @@ def white_core_share(rgb, columns, laser: str) -> float:
     win = np.stack([a[rows, np.clip(cols + d, 0, a.shape[1] - 1)]
                     for d in range(-WHITE_CORE_HALF_PX, WHITE_CORE_HALF_PX + 1)], axis=1).astype(np.float64)
     core = win[np.arange(rows.size), win[..., li].argmax(axis=1)]
-    white = (core[:, li] >= top - 2.0) & (np.delete(core, li, axis=1).max(axis=1) > WHITE_CORE_OTHER * top)
+    white = (core[:, li] >= top - WHITE_CORE_CLIP_DN) & (np.delete(core, li, axis=1).max(axis=1) > WHITE_CORE_OTHER * top)
     return float(white.mean())
 
 

@@ -461,6 +461,8 @@ def test_a_near_clipped_laser_channel_rises_at_least_as_much_as_the_others_when_
     assert np.array_equal(below, raised[:, 79].astype(int))
     grey, _ = tp.transplant(rgb[..., 0], ext, 50, seed=1, laser_channel=0)  # a grey photograph: unchanged
     assert np.array_equal(grey, tp.transplant(rgb[..., 0], ext, 50, seed=1)[0])
+    with pytest.raises(ValueError, match="`laser_channel` must be a channel of `original` \\(0-2\\), got 3"):
+        tp.transplant(rgb, ext, 50, laser_channel=3)
 
 
 def test_evidence_near_is_the_most_within_the_arbiter_s_half_width_at_the_edges_too():

@@ -352,7 +352,8 @@ def hue_hidden(image, laser: str, noise_dn=None) -> np.ndarray:
     return clipped[..., li] & np.delete(clipped, li, axis=2).any(axis=2)
 
 
-def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None) -> np.ndarray:
+def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None, *,
+                   over: str = "row") -> np.ndarray:
     """How much each pixel looks like the laser, shape (H, W), DN: the lesser of two lifts over their row's median,
     each clipped at 0: the laser's own channel (bright), and the laser-colour excess
     (:func:`bench.evaluate.pixels.select_channel` ``excess``) at its most within :data:`GUIDE_HALF_PX` px along the
@@ -367,6 +368,13 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
         The photograph's laser channel and its laser-colour excess (DN).
     laser_background, excess_background : array_like, shape (H, W), optional
         The same of its laser-off frame, subtracted first.
+    over : {'row', 'window', 'both'}
+        What each lift stands over: its row's median (``row``); the median of the reference window around it
+        (``window``, :func:`window_lift`; the colour's lift taken before it is widened); or ``both``, the lesser of
+        the two: a line that stands out of its row and of the window around it, not a glare or lit patch wider than
+        the window (which stands over its row only) nor a bar's coloured edge beside a bright patch (over its window
+        only). :func:`bench.run.predict.colour_guide`'s arbiter reads the frame's own guide ``both`` (docs/predict.md,
+        "The frame's own guide must stand out of the window too").
 
     Examples
     --------
@@ -389,6 +397,17 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     >>> ev = laser_evidence(red, excess)
     >>> float(ev[0, 10]), float(ev[0, 40])
     (22.0, 3.0)
+
+    A greenish glare 30 px wide (columns 20-49): it stands over its row, not over the window around its middle; a
+    thin green line (column 120) stands over both.
+
+    >>> green = np.full((1, 200), 60.0); excess = np.zeros((1, 200))
+    >>> green[0, 20:50] = 200.0; excess[0, 20:50] = 30.0
+    >>> green[0, 120] = 120.0; excess[0, 120] = 40.0
+    >>> [float(laser_evidence(green, excess, over=o)[0, 35]) for o in ("row", "window", "both")]
+    [30.0, 0.0, 0.0]
+    >>> [float(laser_evidence(green, excess, over=o)[0, 120]) for o in ("row", "window", "both")]
+    [40.0, 40.0, 40.0]
     """
     lc = np.asarray(laser_channel, dtype=np.float64)
     ex = np.asarray(excess, dtype=np.float64)
@@ -397,19 +416,30 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     for name, bg in (("laser_background", laser_background), ("excess_background", excess_background)):
         if bg is not None and np.shape(bg) != lc.shape:
             raise ValueError(f"`{name}` must have the shape of `laser_channel` {lc.shape}, got {np.shape(bg)}")
+    if over not in ("row", "window", "both"):
+        raise ValueError(f"`over` must be 'row', 'window' or 'both', got {over!r}")
     if laser_background is not None:
         lc = lc - np.asarray(laser_background, dtype=np.float64)
     if excess_background is not None:
         ex = ex - np.asarray(excess_background, dtype=np.float64)
     from scipy.ndimage import maximum_filter1d
 
-    ex = maximum_filter1d(ex, 2 * GUIDE_HALF_PX + 1, axis=1, mode="nearest")
-    bright = np.clip(lc - np.median(lc, axis=1, keepdims=True), 0.0, None)
-    coloured = np.clip(ex - np.median(ex, axis=1, keepdims=True), 0.0, None)
-    return np.minimum(bright, coloured)
+    widen = 2 * GUIDE_HALF_PX + 1
+    out = None
+    if over in ("row", "both"):
+        wide = maximum_filter1d(ex, widen, axis=1, mode="nearest")
+        bright = np.clip(lc - np.median(lc, axis=1, keepdims=True), 0.0, None)
+        coloured = np.clip(wide - np.median(wide, axis=1, keepdims=True), 0.0, None)
+        out = np.minimum(bright, coloured)
+    if over in ("window", "both"):  # the colour's lift before it is widened: a widened peak is a plateau that wide
+        bright = np.clip(window_lift(lc), 0.0, None)
+        coloured = maximum_filter1d(np.clip(window_lift(ex), 0.0, None), widen, axis=1, mode="nearest")
+        near = np.minimum(bright, coloured)
+        out = near if out is None else np.minimum(out, near)
+    return out
 
 
-def arbitrate(guide, other, evidence) -> np.ndarray:
+def arbitrate(guide, other, evidence, other_evidence=None) -> np.ndarray:
     """Two guides made one, shape (H,), px: ``guide``, and ``other`` where ``guide`` has no stripe; where both do
     and lie more than ``conditions.JUMP_PX`` apart, the one with the more ``evidence`` (H, W; e.g.
     :func:`laser_evidence`) within :data:`ARBITER_HALF_PX` px of it (``guide`` on a tie), unless neither has
@@ -417,7 +447,8 @@ def arbitrate(guide, other, evidence) -> np.ndarray:
     white, the colour's guide may wander onto something else, docs/predict.md, "Where two guides part and neither
     looks like the laser"). Where ``guide`` has no stripe, ``other`` is kept only with that share (a white lamp's or
     window's edge, which the frame's own guide may follow where the colour shows no stripe, has none); with no such
-    rows, as it is.
+    rows, as it is. ``other_evidence`` (H, W), optional: the evidence ``other`` is read on (default ``evidence``);
+    the share is always of ``guide``'s.
 
     Examples
     --------
@@ -443,9 +474,13 @@ def arbitrate(guide, other, evidence) -> np.ndarray:
     if guide.shape != other.shape or evidence.ndim != 2 or evidence.shape[0] != guide.shape[0]:
         raise ValueError(f"`guide` and `other` must have one entry per row of `evidence` {evidence.shape}, "
                          f"got {guide.shape} and {other.shape}")
+    other_evidence = evidence if other_evidence is None else np.asarray(other_evidence, dtype=np.float64)
+    if other_evidence.shape != evidence.shape:
+        raise ValueError(f"`other_evidence` must have the shape of `evidence` {evidence.shape}, "
+                         f"got {other_evidence.shape}")
     out = np.where(np.isfinite(guide), guide, other)
     both = np.isfinite(guide) & np.isfinite(other) & (np.abs(guide - other) > cond.JUMP_PX)
-    eg, eo = evidence_near(evidence, guide), evidence_near(evidence, other)
+    eg, eo = evidence_near(evidence, guide), evidence_near(other_evidence, other)
     own = np.isfinite(guide)
     least = EVIDENCE_SHARE * float(np.median(eg[own])) if own.any() else 0.0
     with np.errstate(invalid="ignore"):

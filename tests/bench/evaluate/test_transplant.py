@@ -465,6 +465,40 @@ def test_a_near_clipped_laser_channel_rises_at_least_as_much_as_the_others_when_
         tp.transplant(rgb, ext, 50, laser_channel=3)
 
 
+def test_the_frame_s_own_guide_on_a_glare_wider_than_the_window_has_no_evidence_read_over_both():
+    """As on ``al_room7`` (green laser, rows 169-248, which its reference leaves out): the stripe runs on into rows
+    where it lies on a dark patch of a row that is mostly a bright wall (nothing over its row's median), and the
+    frame's own guide takes a greenish glare 30 px wide on the wall. Read over its row, the glare has the evidence and
+    the arbiter keeps it; the frame's own guide read over its row and the window around it (``both``) has none there,
+    and with the stripe unseen in its row neither guides those rows (docs/predict.md, "The frame's own guide must
+    stand out of the window too")."""
+    from bench.evaluate.pixels import select_channel
+
+    rng = np.random.default_rng(35)
+    H, W = 120, 200
+    x = np.arange(W, dtype=float)
+    rgb = np.full((H, W, 3), [60.0, 62.0, 58.0]) + rng.normal(0, 2.0, (H, W, 3))
+    rgb[60:, :120] = [195.0, 160.0, 135.0]  # rows 60-119: most of the row a bright wall
+    rgb[60:, 120:] = [102.0, 120.0, 143.0]  # and a dark patch, where the stripe runs on
+    rgb[:, :, 1] += np.where(np.arange(H)[:, None] < 60, 40.0, 20.0) * np.exp(-0.5 * ((x - 150.0) / 1.2) ** 2)
+    rgb[60:, 30:60] = [205.0, 250.0, 240.0]  # a glare 30 px wide on the wall, greenish
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    green = rgb[..., 1].astype(float)
+    excess = np.where(tp.hue_hidden(rgb, "green"), 0.0, select_channel(rgb, "excess", "green"))
+    colour = np.full(H, 150.0)  # the colour's guide on the stripe throughout
+    own = np.where(np.arange(H) < 60, 150.0, 45.0)  # the frame's own on the glare's middle below
+    row = tp.laser_evidence(green, excess)
+    both = tp.laser_evidence(green, excess, over="both")
+    assert tp.evidence_near(row, own)[60:].min() > 20.0 and tp.evidence_near(both, own)[60:].max() < 2.0
+    assert np.all(tp.arbitrate(colour, own, row)[60:] == 45.0)  # read over its row, the glare keeps the rows
+    kept = tp.arbitrate(colour, own, row, both)
+    assert np.all(kept[:60] == 150.0) and np.isnan(kept[60:]).all()  # over both: the rows are left without a guide
+    with pytest.raises(ValueError, match="`over` must be 'row', 'window' or 'both', got 'frame'"):
+        tp.laser_evidence(green, excess, over="frame")
+    with pytest.raises(ValueError, match="`other_evidence` must have the shape of `evidence` \\(120, 200\\)"):
+        tp.arbitrate(colour, own, row, both[:10])
+
+
 def test_evidence_near_is_the_most_within_the_arbiter_s_half_width_at_the_edges_too():
     """evidence_near, the one home of how arbitrate and the rival-fringe family read a guide's evidence: the most of
     each row's evidence within ARBITER_HALF_PX px of the guide's rounded column, the window cut at the frame's edges."""

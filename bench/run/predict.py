@@ -463,9 +463,11 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
     by :func:`bench.evaluate.transplant.arbitrate`: the colour guide, the frame's where the colour finds no stripe,
     and where the two part, the one with the more :func:`bench.evaluate.transplant.laser_evidence` (bright and of
     the laser's colour: neither a white lamp nor a surface of the laser's hue; its colour read as nought where
-    :func:`bench.evaluate.transplant.hue_hidden`, a glare clipped in two channels). ``original`` and
+    :func:`bench.evaluate.transplant.hue_hidden`, a glare clipped in two channels; the frame's own guide's read over
+    both its row and the reference window around it, the colour's over its row). ``original`` and
     ``background_original``: the photograph and its laser-off frame, turned as the frame (docs/predict.md, "The
-    guide found on the laser's colour" and "Brightness and colour together")."""
+    guide found on the laser's colour", "Brightness and colour together" and "The frame's own guide must stand out of
+    the window too")."""
     from bench.evaluate import transplant as tp
     from bench.evaluate.pixels import LASER_INDEX, select_channel
 

@@ -143,8 +143,8 @@ def predict_check_options(p) -> None:
                         "--line-fwhm 1.2), third (--downscale 2 --line-fwhm 1.2), plain (--channel laser), white-bar "
                         "(--distractor white-bar), fringed-bar and rival-fringe (their --distractor), marble "
                         "(--profile marble), marble-15mw and marble-60mw (and --laser-power 15 or 60), "
-                        "marble-60mw-jpeg (and --jpeg-quality 75), white-core (--laser-power 50: cores clipped white); an "
-                        "option it sets, given otherwise, is an error")
+                        "marble-60mw-jpeg (and --jpeg-quality 75), white-core (--laser-power 50: cores clipped "
+                        "white); an option it sets, given otherwise, is an error")
     add_estimate(p)
     add_trackers(p, "tracker names or settings as for `run` (default: the profile's)")
     add_quiet(p)

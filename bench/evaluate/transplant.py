@@ -322,7 +322,7 @@ def hue_hidden(image, laser: str, noise_dn=None) -> np.ndarray:
     :data:`CLIP_NOISE_K` of that channel's noise units (:func:`channel_noise`, at least 1 DN) of the top of an integer
     image's range, as the transplant reads clipping. There the laser-colour excess reads a glare clipped in green and
     blue (cyan-white) as green; light of the laser's colour keeps the others under it (docs/predict.md, "Two clipped
-    channels hide the hue"). None on a float or grey image.
+    channels hide the hue"). All False on a float or grey image.
 
     Parameters
     ----------
@@ -354,13 +354,14 @@ def hue_hidden(image, laser: str, noise_dn=None) -> np.ndarray:
 
 def laser_evidence(laser_channel, excess, laser_background=None, excess_background=None, *,
                    over: str = "row") -> np.ndarray:
-    """How much each pixel looks like the laser, shape (H, W), DN: the lesser of two lifts over their row's median,
-    each clipped at 0: the laser's own channel (bright), and the laser-colour excess
-    (:func:`bench.evaluate.pixels.select_channel` ``excess``) at its most within :data:`GUIDE_HALF_PX` px along the
-    row (coloured: a stripe's core clipped white in every channel takes its fringe's colour). White light (a lamp,
-    a window) is bright without colour; a surface of the laser's hue is coloured without being brighter than its
-    row; the stripe is both. The lesser, not a mean: a white bar far brighter than the stripe, with a few DN of
-    colour at its edge, must not outweigh the stripe (docs/predict.md, "Brightness and colour, both").
+    """How much each pixel looks like the laser, shape (H, W), DN: the lesser of two lifts over their row's median (or,
+    ``over="window"``, over the reference window around each pixel), each clipped at 0: the laser's own channel
+    (bright), and the laser-colour excess (:func:`bench.evaluate.pixels.select_channel` ``excess``) at its most within
+    :data:`GUIDE_HALF_PX` px along the row (coloured: a stripe's core clipped white in every channel takes its
+    fringe's colour). White light (a lamp, a window) is bright without colour; a surface of the laser's hue is
+    coloured without being brighter than its row; the stripe is both. The lesser, not a mean: a white bar far
+    brighter than the stripe, with a few DN of colour at its edge, must not outweigh the stripe (docs/predict.md,
+    "Brightness and colour, both").
 
     Parameters
     ----------
@@ -368,12 +369,11 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
         The photograph's laser channel and its laser-colour excess (DN).
     laser_background, excess_background : array_like, shape (H, W), optional
         The same of its laser-off frame, subtracted first.
-    over : {'row', 'window', 'both'}
-        What each lift stands over: its row's median (``row``); the median of the reference window around it
-        (``window``, :func:`window_lift`; the colour's lift taken before it is widened); or ``both``, the lesser of
-        the two: a line that stands out of its row and of the window around it, not a glare or lit patch wider than
-        the window (which stands over its row only) nor a bar's coloured edge beside a bright patch (over its window
-        only). :func:`bench.run.predict.colour_guide`'s arbiter reads the frame's own guide ``both`` (docs/predict.md,
+    over : {'row', 'window'}
+        What each lift stands over: its row's median (``row``), or the median of the reference window around it
+        (``window``, :func:`window_lift`; the colour's lift taken before it is widened). A glare or lit patch wider
+        than the window stands over its row only; a bar's coloured edge beside a bright patch over its window only.
+        :func:`bench.run.predict.colour_guide` reads the frame's own guide on the lesser of the two (docs/predict.md,
         "The frame's own guide must stand out of the window too").
 
     Examples
@@ -399,15 +399,15 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     (22.0, 3.0)
 
     A greenish glare 30 px wide (columns 20-49): it stands over its row, not over the window around its middle; a
-    thin green line (column 120) stands over both.
+    thin green line (column 120) stands over either.
 
     >>> green = np.full((1, 200), 60.0); excess = np.zeros((1, 200))
     >>> green[0, 20:50] = 200.0; excess[0, 20:50] = 30.0
     >>> green[0, 120] = 120.0; excess[0, 120] = 40.0
-    >>> [float(laser_evidence(green, excess, over=o)[0, 35]) for o in ("row", "window", "both")]
-    [30.0, 0.0, 0.0]
-    >>> [float(laser_evidence(green, excess, over=o)[0, 120]) for o in ("row", "window", "both")]
-    [40.0, 40.0, 40.0]
+    >>> [float(laser_evidence(green, excess, over=o)[0, 35]) for o in ("row", "window")]
+    [30.0, 0.0]
+    >>> [float(laser_evidence(green, excess, over=o)[0, 120]) for o in ("row", "window")]
+    [40.0, 40.0]
     """
     lc = np.asarray(laser_channel, dtype=np.float64)
     ex = np.asarray(excess, dtype=np.float64)
@@ -416,8 +416,8 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     for name, bg in (("laser_background", laser_background), ("excess_background", excess_background)):
         if bg is not None and np.shape(bg) != lc.shape:
             raise ValueError(f"`{name}` must have the shape of `laser_channel` {lc.shape}, got {np.shape(bg)}")
-    if over not in ("row", "window", "both"):
-        raise ValueError(f"`over` must be 'row', 'window' or 'both', got {over!r}")
+    if over not in ("row", "window"):
+        raise ValueError(f"`over` must be 'row' or 'window', got {over!r}")
     if laser_background is not None:
         lc = lc - np.asarray(laser_background, dtype=np.float64)
     if excess_background is not None:
@@ -425,18 +425,14 @@ def laser_evidence(laser_channel, excess, laser_background=None, excess_backgrou
     from scipy.ndimage import maximum_filter1d
 
     widen = 2 * GUIDE_HALF_PX + 1
-    out = None
-    if over in ("row", "both"):
-        wide = maximum_filter1d(ex, widen, axis=1, mode="nearest")
-        bright = np.clip(lc - np.median(lc, axis=1, keepdims=True), 0.0, None)
-        coloured = np.clip(wide - np.median(wide, axis=1, keepdims=True), 0.0, None)
-        out = np.minimum(bright, coloured)
-    if over in ("window", "both"):  # the colour's lift before it is widened: a widened peak is a plateau that wide
+    if over == "window":  # the colour's lift before it is widened: a widened peak is a plateau that wide
         bright = np.clip(window_lift(lc), 0.0, None)
         coloured = maximum_filter1d(np.clip(window_lift(ex), 0.0, None), widen, axis=1, mode="nearest")
-        near = np.minimum(bright, coloured)
-        out = near if out is None else np.minimum(out, near)
-    return out
+        return np.minimum(bright, coloured)
+    wide = maximum_filter1d(ex, widen, axis=1, mode="nearest")
+    bright = np.clip(lc - np.median(lc, axis=1, keepdims=True), 0.0, None)
+    coloured = np.clip(wide - np.median(wide, axis=1, keepdims=True), 0.0, None)
+    return np.minimum(bright, coloured)
 
 
 def arbitrate(guide, other, evidence, other_evidence=None) -> np.ndarray:
@@ -848,7 +844,7 @@ def transplant(original, ext: Extents, shift_px: int, *, background_original=Non
     else:
         lo_v, hi_v = -np.inf, np.inf
     clipped_at = _clipped_at(img, noise)  # (C,): at or above it, a pixel counts as clipped
-    li = None  # the laser's channel, lifted at least as the others where near the top (a colour integer image)
+    li, knee = None, None  # the laser's channel, lifted at least as the others at or above the knee
     if laser_channel is not None and C > 1:
         if isinstance(laser_channel, bool) or not isinstance(laser_channel, (int, np.integer)) or \
                 not 0 <= laser_channel < C:

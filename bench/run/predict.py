@@ -484,10 +484,12 @@ def colour_guide(photo: "Photo", original, background_original=None, measured=No
     # a pixel whose laser channel is clipped with another shows no hue: the arbiter reads no laser colour there
     # (docs/predict.md, "Two clipped channels hide the hue")
     coloured = np.where(tp.hue_hidden(original, photo.laser), 0.0, excess)
-    # the frame's own guide must stand out of the window around it too, not only of its row: a glare or lit patch
-    # wider than the window does not (docs/predict.md, "The frame's own guide must stand out of the window too")
-    return tp.arbitrate(on_colour, own, tp.laser_evidence(laser, coloured, laser_bg, excess_bg),
-                        tp.laser_evidence(laser, coloured, laser_bg, excess_bg, over="both"))
+    by_row = tp.laser_evidence(laser, coloured, laser_bg, excess_bg)
+    # the frame's own guide must stand out of the window around it too, not only of its row: read on the lesser (a
+    # glare or lit patch wider than the window has little; docs/predict.md, "The frame's own guide must stand out of
+    # the window too")
+    by_window = tp.laser_evidence(laser, coloured, laser_bg, excess_bg, over="window")
+    return tp.arbitrate(on_colour, own, by_row, np.minimum(by_row, by_window))
 
 
 def transplanted(photo: "Photo", *, seed: int = 0, estimate: str = "auto", measured=None) -> tuple:

@@ -295,8 +295,15 @@ def white_core_share(rgb, columns, laser: str) -> float:
     win = np.stack([a[rows, np.clip(cols + d, 0, a.shape[1] - 1)]
                     for d in range(-WHITE_CORE_HALF_PX, WHITE_CORE_HALF_PX + 1)], axis=1).astype(np.float64)
     core = win[np.arange(rows.size), win[..., li].argmax(axis=1)]
-    white = (core[:, li] >= top - WHITE_CORE_CLIP_DN) & (np.delete(core, li, axis=1).max(axis=1) > WHITE_CORE_OTHER * top)
+    others = np.delete(core, li, axis=1).max(axis=1)
+    white = (core[:, li] >= top - WHITE_CORE_CLIP_DN) & (others > WHITE_CORE_OTHER * top)
     return float(white.mean())
+
+
+def _bar_side(stripe_px: float, width: int) -> float:
+    """Which side of the stripe's median column (``stripe_px``) the white bar goes in a frame ``width`` px wide: +1
+    (right, :data:`BAR_OFFSET_PX` px away) where the bar and three of its sigmas fit, else -1 (left)."""
+    return 1.0 if stripe_px + BAR_OFFSET_PX + 3 * BAR_SIGMA_PX <= width - 1 else -1.0
 
 
 def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None, fringe_dn: float | None = None):
@@ -328,7 +335,7 @@ def with_white_bar(photo, truth_columns, *, fringe_channel: int | None = None, f
         return a.copy()
     W = a.shape[1]
     c = float(np.nanmedian(t))
-    col = c + BAR_OFFSET_PX if c + BAR_OFFSET_PX + 3 * BAR_SIGMA_PX <= W - 1 else c - BAR_OFFSET_PX
+    col = c + _bar_side(c, W) * BAR_OFFSET_PX
     bar = BAR_PEAK_DN * np.exp(-0.5 * ((np.arange(W) - col) / BAR_SIGMA_PX) ** 2)
     bar = bar[None, :, None] if a.ndim == 3 else bar[None, :]
     if fringe_channel is not None and a.ndim == 3:
@@ -370,8 +377,7 @@ def with_rival_fringe(rgb, truth_columns, laser: str, share: float = FRINGE_SHAR
     if target <= 0.0:
         return a.copy()
     c = float(np.nanmedian(t))
-    side = 1.0 if c + BAR_OFFSET_PX + 3 * BAR_SIGMA_PX <= a.shape[1] - 1 else -1.0  # as with_white_bar's bar
-    along = np.where(np.isfinite(t), c + side * (BAR_OFFSET_PX + FRINGE_PX), np.nan)
+    along = np.where(np.isfinite(t), c + _bar_side(c, a.shape[1]) * (BAR_OFFSET_PX + FRINGE_PX), np.nan)
     li = LASER_INDEX[laser]
 
     def made(dn):

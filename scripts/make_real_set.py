@@ -7,7 +7,8 @@ Two steps, both repeatable:
     see ``bench/data/real/manifest.csv`` for repository, commit and path) into
     ``NAME.png`` files by block averaging. ``SRC_DIR`` holds the original files
     under the names of ``SOURCES`` below. Nothing of the source repositories but
-    these pixels is used.
+    these pixels is used. A source with a line drawn over its stripe
+    (``DRAWN_LINE``) has the line's darkening undone.
 
 ``python scripts/make_real_set.py guides NAME ... [--skip-cols N]``
     Print guide segments read off a photograph's laser-on minus laser-off
@@ -77,6 +78,22 @@ SOURCES = {
 }
 
 
+#: Photographs whose source has a thin black line drawn over its stripe (a tracker's output saved with the frame): the
+#: line is found and its darkening undone (``scripts/drawn_line.py``: :func:`line_pixels`, :func:`undo_line`), so that
+#: what is shipped is the camera's pixels (docs/real.md, "A line drawn over `ag_tape`'s stripe")
+DRAWN_LINE = ("ag_tape",)
+
+
+def _drawn_line():
+    """``scripts/drawn_line.py`` as a module (it is a script beside this one, not a package's)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("drawn_line", Path(__file__).resolve().with_name("drawn_line.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 def _downscale(a: np.ndarray, f: int) -> np.ndarray:
     from skimage.transform import downscale_local_mean
 
@@ -102,8 +119,14 @@ def make_images(src: Path, names=None) -> None:
             r0, r1, c0, c1 = crop
             a = a[r0:r1, c0:c1]
         out = _downscale(a, f)
+        undone = ""
+        if name in DRAWN_LINE:
+            dl = _drawn_line()
+            pixels = dl.line_pixels(out)
+            out = dl.undo_line(out, pixels)
+            undone = f", a drawn line undone in {len(pixels)} pixels of {len({r for r, _, _ in pixels})} rows"
         iio.imwrite(DATA / f"{name}.png", out)
-        print(f"{name}.png {out.shape[1]}x{out.shape[0]} from {fname} (1/{f})")
+        print(f"{name}.png {out.shape[1]}x{out.shape[0]} from {fname} (1/{f}){undone}")
 
 
 def reference_for(frame: np.ndarray, guide: dict) -> np.ndarray:

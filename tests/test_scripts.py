@@ -290,6 +290,21 @@ def test_drawn_line_finds_a_line_drawn_over_a_stripe_and_undoes_it():
         mod.undo_line(drawn.astype(float), found)
 
 
+def test_the_shipped_ag_tape_has_no_line_drawn_over_its_stripe():
+    """The shipped ``ag_tape`` is its source with the drawn line undone (``make_real_set.py images``): along its
+    references it has no more even narrow dips than the other photographs have (0-3), where its source has one in
+    244 of its 253 reference rows (docs/real.md)."""
+    import numpy as np
+
+    from bench.store import realset as real
+
+    mod = _script("drawn_line")
+    im = next(im for im in real.load_dataset(real.SHIPPED) if im.name == "ag_tape")
+    frame, _, original, ref = im.load()
+    dips = mod.narrow_dips(original, ref)
+    assert sum(1 for *_, d in dips if d.max() - d.min() <= mod.EVEN) <= 3
+
+
 def test_drawn_line_reads_a_real_set_and_names_an_unknown_photograph(capsys, tmp_path):
     from bench.store import realset as real
 

@@ -145,8 +145,8 @@ def line_pixels(image, alpha: float = ALPHA) -> list[tuple[int, int, float]]:
     it covers.
 
     The line is found by its dips of one pixel at ``1 - alpha`` (a pixel it covers whole) or two at
-    ``1 - alpha / 2`` (half each): the longest chain of such rows, each within STEP_PX px (per row) of the last and at most GAP_ROWS rows after it, is the line (a texture's
-    scattered dips of that depth do not line up). Along it, and GAP_ROWS rows past its ends, each row's dip of one or
+    ``1 - alpha / 2`` (half each): the longest chain of such rows, each within STEP_PX px (per row) of the last and
+    at most GAP_ROWS rows after it, is the line (a texture's scattered dips of that depth do not line up). Along it, and GAP_ROWS rows past its ends, each row's dip of one or
     two pixels nearest the chain's column (within STEP_PX) is read, each pixel's cover from its depth (COVERS; past the
     chain's ends by the founding dips' tolerances, along it by the looser ones).
 
@@ -217,9 +217,22 @@ def line_pixels(image, alpha: float = ALPHA) -> list[tuple[int, int, float]]:
 
 
 def undo_line(image, pixels, alpha: float = ALPHA) -> np.ndarray:
-    """``image`` (integer DN) with the darkening of :func:`line_pixels`' ``pixels`` undone: each divided by
-    ``1 - alpha * cover``, rounded and clipped to the type's range (a pixel the line halved on a clipped core
-    comes back within 1 DN of the top).
+    """``image`` with the darkening of :func:`line_pixels`' ``pixels`` undone: each divided by ``1 - alpha * cover``,
+    rounded and clipped to the type's range (a pixel the line halved on a clipped core comes back within 1 DN of the
+    top).
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W, C), integer
+        The photograph (DN).
+    pixels : sequence of (row, col, cover)
+        :func:`line_pixels`' answer.
+    alpha : float
+        The line's opacity.
+
+    Returns
+    -------
+    ndarray like ``image``
 
     Examples
     --------

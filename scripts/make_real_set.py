@@ -79,19 +79,9 @@ SOURCES = {
 
 
 #: Photographs whose source has a thin black line drawn over its stripe (a tracker's output saved with the frame): the
-#: line is found and its darkening undone (``scripts/drawn_line.py``: :func:`line_pixels`, :func:`undo_line`), so that
-#: what is shipped is the camera's pixels (docs/real.md, "A line drawn over `ag_tape`'s stripe")
+#: line is found and its darkening undone (:func:`bench.evaluate.overlay.line_pixels`, :func:`~bench.evaluate.overlay.
+#: undo_line`), so that what is shipped is the camera's pixels (docs/real.md, "A line drawn over `ag_tape`'s stripe")
 DRAWN_LINE = ("ag_tape",)
-
-
-def _drawn_line():
-    """``scripts/drawn_line.py`` as a module (it is a script beside this one, not a package's)."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("drawn_line", Path(__file__).resolve().with_name("drawn_line.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def _downscale(a: np.ndarray, f: int) -> np.ndarray:
@@ -121,9 +111,10 @@ def make_images(src: Path, names=None) -> None:
         out = _downscale(a, f)
         undone = ""
         if name in DRAWN_LINE:
-            dl = _drawn_line()
-            pixels = dl.line_pixels(out)
-            out = dl.undo_line(out, pixels)
+            from bench.evaluate.overlay import line_pixels, undo_line
+
+            pixels = line_pixels(out)
+            out = undo_line(out, pixels)
             undone = f", a drawn line undone in {len(pixels)} pixels of {len({r for r, _, _ in pixels})} rows"
         iio.imwrite(DATA / f"{name}.png", out)
         print(f"{name}.png {out.shape[1]}x{out.shape[0]} from {fname} (1/{f}){undone}")

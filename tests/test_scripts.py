@@ -245,51 +245,6 @@ def test_drawn_line_finds_a_line_blended_over_the_stripe_and_not_the_stripe_alon
         mod.narrow_dips(img, ref[:5])
 
 
-def test_drawn_line_finds_a_line_drawn_over_a_stripe_and_undoes_it():
-    """``line_pixels`` finds a black line at opacity 0.5 drawn down a curved stripe (a pixel covered whole, two covered
-    half each, two pixels apart where it is steep, on the clipped core and on the unclipped flank) and not the
-    scattered dips of a texture beside it; ``undo_line`` brings every covered pixel back within 1 DN (the rounding of
-    the drawn frame, doubled) and changes no other."""
-    import numpy as np
-
-    mod = _script("drawn_line")
-    rng = np.random.default_rng(3)
-    H, W = 80, 120
-    cols = np.arange(W, dtype=float)
-    centre = 60.0 + 10.0 * np.sin(np.arange(H) / 25.0)
-    prof = np.minimum(1.0, 1.4 * np.exp(-0.5 * ((cols[None, :] - centre[:, None]) / 3.0) ** 2))
-    clean = 60.0 + prof[..., None] * np.array([195.0, 120.0, 150.0]) + rng.normal(0.0, 2.0, (H, W, 3))
-    clean[:, :30] = 120.0 + 80.0 * (rng.random((H, 30, 1)) > 0.5)  # a texture of dark and light pixels
-    clean = np.clip(np.rint(clean), 0, 255).astype(np.uint8)
-    drawn = clean.astype(float)
-    covered = {}
-    for r in range(5, 75):
-        x = round(centre[r]) + (0.5 if r % 3 == 0 else 0.0)  # on a pixel, or between two
-        if 40 <= r < 42:  # steep: two pixels apart, half each
-            covered[(r, int(x) - 1)] = covered[(r, int(x) + 1)] = 0.5
-        elif x % 1:
-            covered[(r, int(x))] = covered[(r, int(x) + 1)] = 0.5
-        else:
-            covered[(r, int(x))] = 1.0
-    for (r, c), cover in covered.items():
-        drawn[r, c] *= 1.0 - 0.5 * cover
-    drawn = np.clip(np.rint(drawn), 0, 255).astype(np.uint8)
-    found = mod.line_pixels(drawn)
-    assert {(r, c): cover for r, c, cover in found} == covered
-    assert mod.line_pixels(clean) == [] or len({r for r, *_ in mod.line_pixels(clean)}) < 10
-    back = mod.undo_line(drawn, found)
-    diff = np.abs(back.astype(int) - clean.astype(int))
-    mask = np.zeros((H, W), bool)
-    mask[tuple(np.array(list(covered)).T)] = True
-    assert diff[mask].max() <= 1 and diff[~mask].max() == 0
-    with pytest.raises(ValueError, match="`image` must be a colour photograph"):
-        mod.line_pixels(drawn[..., 0])
-    with pytest.raises(ValueError, match="`alpha` must lie between 0 and 1, got 1.5"):
-        mod.line_pixels(drawn, alpha=1.5)
-    with pytest.raises(ValueError, match="`image` must hold integer DN"):
-        mod.undo_line(drawn.astype(float), found)
-
-
 def test_the_shipped_ag_tape_has_no_line_drawn_over_its_stripe():
     """The shipped ``ag_tape`` is its source with the drawn line undone (``make_real_set.py images``): along its
     references it has no more even narrow dips than the other photographs have (0-3), where its source has one in

@@ -751,8 +751,10 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     """
     import pandas as pd
 
+    from bench.evaluate import overlay
     from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, outcome_counts
+    from bench.evaluate.pixels import rotate_image
     from bench.evaluate.prediction import predicted_figures
     from bench.run.track import build_trackers
     from bench.store import realset as real
@@ -781,15 +783,20 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
     tables, memos, matches, conds, moved = {}, {}, {}, {}, {}
 
     def measured(ph):  # the photograph's conditions, and one line each where its stripe seems to run across the
-        # frame or to be of another colour than the laser's (docs/predict.md, `stripebench predict`)
+        # frame or to be of another colour than the laser's, or a line seems drawn over it (docs/predict.md,
+        # `stripebench predict`)
         c = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg, laser=ph.laser)
+        turned = rotate_image(ph.original, ph.rotate_deg)  # the stripe runs down it, as the frame's
+        if ph.colour and overlay.drawn_over(turned):
+            warn(f"stripebench predict: {ph.name}: a thin dark line seems drawn over it in {overlay.line_rows(turned)} "
+                 f"of its {turned.shape[0]} rows (a tracker's output saved with the frame?): the trackers and the "
+                 "prediction read that line, not the camera's pixels alone (docs/real.md, \"A line drawn over "
+                 "`ag_tape`'s stripe\")")
         if cond.runs_across(ph.frame, ph.background, c):
             warn(f"stripebench predict: {ph.name}: its stripe seems to run across the frame, not down it (the "
                  "trackers read one column per row): if it does, give `--rotate 90` or `--rotate 270`")
         if ph.colour and ph.channel in COLOUR_GUIDED:
-            from bench.evaluate.pixels import rotate_image
-
-            other = cond.likelier_laser(rotate_image(ph.original, ph.rotate_deg), ph.laser)
+            other = cond.likelier_laser(turned, ph.laser)
             if other is not None:
                 warn(f"stripebench predict: {ph.name}: its stripe stands out far more in the {other} excess than in "
                      f"the {ph.laser} one the trackers see: if the laser is {other}, give `--laser {other}` (a real "

@@ -120,6 +120,28 @@ def test_predict_says_in_one_line_when_the_stripe_is_of_another_colour_than_the_
     assert "excess" not in capsys.readouterr().err
 
 
+def test_predict_says_in_one_line_when_a_line_seems_drawn_over_a_photograph(tmp_path, capsys):
+    """A colour photograph with a black line drawn down its stripe at half opacity (a tracker's output saved with the
+    frame) is named, with the rows the line runs through; the same photograph without the line is not."""
+    rng = np.random.default_rng(5)
+    x = np.arange(128.0)
+    img = 90.0 + rng.normal(0, 2.0, (120, 128, 3))  # a lit wall (on a dark one a dip's depth says nothing)
+    img[..., 0] += 165.0 * np.minimum(1.0, 1.3 * np.exp(-0.5 * ((x - 60.0) / 2.0) ** 2))  # a red stripe, clipped core
+    img = np.clip(img, 0, 255).round().astype(np.uint8)
+    folder = tmp_path / "drawn"
+    folder.mkdir()
+    iio.imwrite(folder / "clean.png", img)
+    drawn = img.astype(float)
+    drawn[10:110, 60] *= 0.5  # the line, on one pixel, rows 10-109
+    iio.imwrite(folder / "drawn.png", np.clip(drawn, 0, 255).round().astype(np.uint8))
+    assert main(["predict", str(folder), "--out", str(tmp_path / "p"), "--trackers", "threshold", "--n-boot", "50",
+                 "--quiet"]) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "drawn over" in ln]
+    assert len(lines) == 1 and lines[0].startswith("stripebench predict: drawn: a thin dark line seems drawn over it in ")
+    n = int(lines[0].split(" in ")[1].split()[0])
+    assert 90 <= n <= 100 and " of its 120 rows (a tracker's output saved with the frame?)" in lines[0]
+
+
 def test_a_photograph_too_small_to_predict_for_is_one_line_and_left_out(photos, tmp_path, capsys):
     folder = tmp_path / "small"
     folder.mkdir()

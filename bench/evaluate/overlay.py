@@ -1,0 +1,244 @@
+"""A thin line drawn over a photograph (a tracker's output saved with the frame): found, and its darkening undone.
+
+Some published laser-stripe photographs are not a camera's pixels alone: the program that took them drew its
+detected line over the stripe, anti-aliased and half transparent. Every tracker, reference and prediction then
+reads that line. A black line at opacity ``a`` leaves each pixel it covers by a share ``c`` at ``1 - a c`` of its
+value, in every channel alike, so where the shares are whole or half it can be undone exactly
+(docs/real.md, "A line drawn over `ag_tape`'s stripe"). Pure computation: arrays in, arrays and rows out.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["ALPHA", "COVERS", "EVEN", "DRAWN_SHARE", "line_pixels", "undo_line", "line_rows", "drawn_over"]
+
+#: An *even* dip: its depth differs by at most this much between channels (a grey frame's dips all are)
+EVEN = 0.05
+#: The drawn line's opacity, as measured on ``ag_tape``'s source (the one photograph found with one): its one-pixel even dips on
+#: the clipped core are 0.50 of their sides (median of 186), its two-pixel ones 0.76 (``1 - a / 2`` = 0.75)
+ALPHA = 0.5
+#: How much of a pixel a one-pixel-wide line drawn at whole or half-pixel positions covers: all of it, or half (where
+#: it falls between two pixels, or at its end)
+COVERS = (1.0, 0.5)
+#: A darkened pixel's depth (per channel, its brightness over the brighter pixel just outside its dip) lies within this
+#: of ``1 - ALPHA * cover`` in every channel, and its channels' depths within EVEN of each other, for a dip to found the
+#: line; along the line found, within LOOSE_TOL and LOOSE_EVEN (where the line crosses the stripe's unclipped flank,
+#: the pixels beside it stand under what it covered, and unevenly by channel)
+DEPTH_TOL = 0.06
+LOOSE_TOL = 0.09
+LOOSE_EVEN = 0.10
+#: A dip is read only where the pixels beside it are at least this bright in every channel (DN): on a dark background
+#: a ratio says nothing
+MIN_SIDE_DN = 40.0
+#: From one row to the next the line moves at most this many px (per row of a gap); a chain bridges gaps of at most
+#: GAP_ROWS rows
+STEP_PX = 4
+GAP_ROWS = 3
+
+
+#: A photograph is named as having a line drawn over it (:func:`drawn_over`) where the line found runs through at least
+#: this share of its rows (:func:`line_rows`). On the shipped set: ``ag_tape``'s source 0.51 (235 of 465 rows), the
+#: shipped ``ag_tape`` with it undone 0.01, the other 23 photographs 0.00-0.04
+DRAWN_SHARE = 0.25
+
+
+def _run_cover(x, j: int, w: int, alpha: float, tol: float = DEPTH_TOL, even: float = EVEN):
+    """The cover of each of the ``w`` pixels from column ``j`` of row ``x`` (W, C) if they are a dip a black line at
+    ``alpha`` leaves (each pixel's depth within ``tol`` of ``1 - alpha * cover`` for a cover of COVERS in every
+    channel and its channels' depths within ``even`` of each other, the pixels beside the run bright enough, brighter
+    than it and not darkened themselves), with its summed miss; else None."""
+    W = x.shape[0]
+    if j < 2 or j + w > W - 2:
+        return None
+    side = np.maximum(x[j - 1], x[j + w])
+    low = np.minimum(x[j - 1], x[j + w])
+    if np.any(low < MIN_SIDE_DN) or np.any(x[j:j + w] >= low):  # a dip: darker than both its sides (not a flank)
+        return None
+    # the pixels beside the run are not darkened themselves (against the next ones out): the run is the whole dip
+    for inner, outer in ((j - 1, j - 2), (j + w, j + w + 1)):
+        if np.all(x[inner] < (1 - alpha * min(COVERS) + DEPTH_TOL) * x[outer]):
+            return None
+    covers, miss = [], 0.0
+    for k in range(w):
+        d = x[j + k] / side
+        if d.max() - d.min() > even:
+            return None
+        best = min(COVERS, key=lambda c: float(np.abs(d - (1 - alpha * c)).max()))
+        m = float(np.abs(d - (1 - alpha * best)).max())
+        if m > tol:
+            return None
+        covers.append(best)
+        miss += m
+    return covers, miss
+
+
+def _seeds(f: np.ndarray, alpha: float) -> np.ndarray:
+    """``(row, col)`` of every dip that founds a line (shape (N, 2), in row order): one pixel covered whole, or two
+    covered half each, by :func:`_run_cover`'s tests with the founding tolerances, for every pixel at once (the
+    cheap test first: a run darker than both its sides in every channel)."""
+    H, W, _ = f.shape
+    found = np.zeros((H, W), bool)
+    half = 1 - alpha * min(COVERS) + DEPTH_TOL  # a pixel under this share of the next one out is darkened itself
+    covers = np.asarray(COVERS)
+    for w, want in ((1, (1.0,)), (2, (0.5, 0.5))):
+        if W < w + 4:
+            continue
+        j = np.arange(2, W - w - 1)  # the run's first column; its sides j - 1 and j + w, the next out j - 2, j + w + 1
+        low = np.minimum(f[:, j - 1], f[:, j + w])
+        dark = np.all(low >= MIN_SIDE_DN, axis=-1)
+        for k in range(w):
+            dark &= np.all(f[:, j + k] < low, axis=-1)
+        r, i = np.nonzero(dark)
+        if r.size == 0:
+            continue
+        c = j[i]
+        left, right = f[r, c - 1], f[r, c + w]
+        side = np.maximum(left, right)
+        ok = ~np.all(left < half * f[r, c - 2], axis=-1) & ~np.all(right < half * f[r, c + w + 1], axis=-1)
+        for k, cover in enumerate(want):
+            d = f[r, c + k] / side
+            ok &= (d.max(axis=-1) - d.min(axis=-1)) <= EVEN
+            miss = np.abs(d[:, None, :] - (1 - alpha * covers)[None, :, None]).max(axis=-1)  # (N, len(COVERS))
+            best = np.argmin(miss, axis=1)
+            ok &= (covers[best] == cover) & (miss[np.arange(r.size), best] <= DEPTH_TOL)
+        found[r[ok], c[ok]] = True
+    return np.argwhere(found)
+
+
+def _chain(seeds: np.ndarray) -> list:
+    """The longest chain of ``seeds`` (``(row, col)`` in row order): each within STEP_PX px per row of the chain's last
+    and at most GAP_ROWS rows after it (a seed joins the longest chain it continues)."""
+    chains = []
+    for r, j in seeds:
+        fits = [c for c in chains if 0 < r - c[-1][0] <= GAP_ROWS + 1 and abs(j - c[-1][1]) <= STEP_PX * (r - c[-1][0])]
+        if fits:
+            max(fits, key=len).append((int(r), int(j)))
+        else:
+            chains.append([(int(r), int(j))])
+    return max(chains, key=len) if chains else []
+
+
+def _checked(image, alpha: float) -> np.ndarray:
+    f = np.asarray(image, dtype=np.float64)
+    if f.ndim != 3:
+        raise ValueError(f"`image` must be a colour photograph (H, W, C), got shape {f.shape}")
+    if not 0.0 < alpha < 1.0:
+        raise ValueError(f"`alpha` must lie between 0 and 1, got {alpha!r}")
+    return f
+
+
+def line_rows(image, alpha: float = ALPHA) -> int:
+    """How many rows the line :func:`line_pixels` would find runs through by its founding dips (its longest chain), a
+    quick reading for :func:`drawn_over`.
+
+    Examples
+    --------
+    >>> img = np.full((20, 40, 3), 30.0); img[:, 16:25] = [200.0, 150.0, 180.0]
+    >>> img[:10, 20] *= 0.5; img[10:, 20:22] *= 0.75
+    >>> line_rows(img), line_rows(np.full((20, 40, 3), 90.0))
+    (20, 0)
+    """
+    return len({r for r, _ in _chain(_seeds(_checked(image, alpha), alpha))})
+
+
+def drawn_over(image, alpha: float = ALPHA) -> bool:
+    """Whether a line seems drawn over the photograph: :func:`line_rows` at least :data:`DRAWN_SHARE` of its rows. False
+    for a grey image (a dip there is even in its one channel whatever made it)."""
+    a = np.asarray(image)
+    if a.ndim != 3 or a.shape[2] < 3:
+        return False
+    return line_rows(a, alpha) >= DRAWN_SHARE * a.shape[0]
+
+
+def line_pixels(image, alpha: float = ALPHA) -> list[tuple[int, int, float]]:
+    """The pixels a thin black line drawn at opacity ``alpha`` over a colour photograph darkened, and how much of each
+    it covers.
+
+    The line is found by its dips of one pixel at ``1 - alpha`` (a pixel it covers whole) or two at
+    ``1 - alpha / 2`` (half each): the longest chain of such rows, each within STEP_PX px (per row) of the last and
+    at most GAP_ROWS rows after it, is the line (a texture's scattered dips of that depth do not line up). Along it, and GAP_ROWS rows past its ends, each row's dip of one or
+    two pixels nearest the chain's column (within STEP_PX) is read, each pixel's cover from its depth (COVERS; past the
+    chain's ends by the founding dips' tolerances, along it by the looser ones).
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W, C)
+        The photograph (DN).
+    alpha : float
+        The line's opacity (0-1).
+
+    Returns
+    -------
+    list of (row, col, cover)
+        One per darkened pixel, in row order.
+
+    Examples
+    --------
+    A bright stripe with a line drawn down its middle: on a pixel in rows 0-9, between two in rows 10-19:
+
+    >>> img = np.full((20, 40, 3), 30.0); img[:, 16:25] = [200.0, 150.0, 180.0]
+    >>> img[:10, 20] *= 0.5; img[10:, 20:22] *= 0.75
+    >>> px = line_pixels(img)
+    >>> px[:2], px[-2:], len(px)
+    ([(0, 20, 1.0), (1, 20, 1.0)], [(19, 20, 0.5), (19, 21, 0.5)], 30)
+    """
+    f = _checked(image, alpha)
+    H = f.shape[0]
+    chain = _chain(_seeds(f, alpha))
+    if not chain:
+        return []
+    rows = np.array([r for r, _ in chain]); cols = np.array([c for _, c in chain], dtype=np.float64)
+    out = []
+    for r in range(max(0, rows[0] - GAP_ROWS), min(H, rows[-1] + GAP_ROWS + 1)):
+        p = float(np.interp(r, rows, cols))
+        tol, even = (LOOSE_TOL, LOOSE_EVEN) if rows[0] <= r <= rows[-1] else (DEPTH_TOL, EVEN)  # past its ends: strict
+        runs = []
+        for w in (1, 2):
+            for j in range(int(round(p)) - STEP_PX, int(round(p)) + STEP_PX + 1):
+                got = _run_cover(f[r], j, w, alpha, tol, even)
+                if got is not None:
+                    runs.append(((got[1] + 0.01 * abs(j + (w - 1) / 2 - p), w), j, got[0]))
+        if not runs:
+            continue
+        _, j, covers = min(runs)
+        out += [(r, j + k, c) for k, c in enumerate(covers)]
+        if covers == [0.5]:  # a line steeper than a px per row halves two pixels apart: the other half
+            apart = [x for x in runs if x[2] == [0.5] and abs(x[1] - j) == 2]
+            if apart:
+                out.append((r, min(apart)[1], 0.5))
+    return sorted(out)
+
+
+def undo_line(image, pixels, alpha: float = ALPHA) -> np.ndarray:
+    """``image`` with the darkening of :func:`line_pixels`' ``pixels`` undone: each divided by ``1 - alpha * cover``,
+    rounded and clipped to the type's range (a pixel the line halved on a clipped core comes back within 1 DN of the
+    top).
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W, C), integer
+        The photograph (DN).
+    pixels : sequence of (row, col, cover)
+        :func:`line_pixels`' answer.
+    alpha : float
+        The line's opacity.
+
+    Returns
+    -------
+    ndarray like ``image``
+
+    Examples
+    --------
+    >>> img = np.full((2, 5, 3), 200, np.uint8); img[:, 2] = 100
+    >>> undo_line(img, [(0, 2, 1.0)])[:, 2].tolist()
+    [[200, 200, 200], [100, 100, 100]]
+    """
+    a = np.asarray(image)
+    if not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"`image` must hold integer DN, got {a.dtype}")
+    out = a.astype(np.float64)
+    for r, c, cover in pixels:
+        out[r, c] = out[r, c] / (1.0 - alpha * cover)
+    top = np.iinfo(a.dtype).max
+    return np.clip(np.rint(out), 0, top).astype(a.dtype)

@@ -15,8 +15,8 @@ __all__ = ["ALPHA", "COVERS", "EVEN", "DRAWN_SHARE", "line_pixels", "undo_line",
 
 #: An *even* dip: its depth differs by at most this much between channels (a grey frame's dips all are)
 EVEN = 0.05
-#: The drawn line's opacity, as measured on ``ag_tape``'s source (the one photograph found with one): its one-pixel even dips on
-#: the clipped core are 0.50 of their sides (median of 186), its two-pixel ones 0.76 (``1 - a / 2`` = 0.75)
+#: The drawn line's opacity, as measured on ``ag_tape``'s source (the one photograph found with one): its one-pixel even
+#: dips on the clipped core are 0.50 of their sides (median of 186), its two-pixel ones 0.76 (``1 - a / 2`` = 0.75)
 ALPHA = 0.5
 #: How much of a pixel a one-pixel-wide line drawn at whole or half-pixel positions covers: all of it, or half (where
 #: it falls between two pixels, or at its end)
@@ -109,14 +109,19 @@ def _seeds(f: np.ndarray, alpha: float) -> np.ndarray:
 def _chain(seeds: np.ndarray) -> list:
     """The longest chain of ``seeds`` (``(row, col)`` in row order): each within STEP_PX px per row of the chain's last
     and at most GAP_ROWS rows after it (a seed joins the longest chain it continues)."""
-    chains = []
+    best, active = [], []  # the chains a later seed may still continue: their last row within GAP_ROWS + 1
     for r, j in seeds:
-        fits = [c for c in chains if 0 < r - c[-1][0] <= GAP_ROWS + 1 and abs(j - c[-1][1]) <= STEP_PX * (r - c[-1][0])]
+        r, j = int(r), int(j)
+        still = []
+        for c in active:  # a chain whose last row lies too far above can grow no more
+            (still if r - c[-1][0] <= GAP_ROWS + 1 else best).append(c)
+        active = still
+        fits = [c for c in active if 0 < r - c[-1][0] and abs(j - c[-1][1]) <= STEP_PX * (r - c[-1][0])]
         if fits:
-            max(fits, key=len).append((int(r), int(j)))
+            max(fits, key=len).append((r, j))
         else:
-            chains.append([(int(r), int(j))])
-    return max(chains, key=len) if chains else []
+            active.append([(r, j)])
+    return max(best + active, key=len) if best or active else []
 
 
 def _checked(image, alpha: float) -> np.ndarray:

@@ -43,66 +43,56 @@ GAP_ROWS = 3
 DRAWN_SHARE = 0.25
 
 
-def _run_cover(x, j: int, w: int, alpha: float, tol: float = DEPTH_TOL, even: float = EVEN):
-    """The cover of each of the ``w`` pixels from column ``j`` of row ``x`` (W, C) if they are a dip a black line at
-    ``alpha`` leaves (each pixel's depth within ``tol`` of ``1 - alpha * cover`` for a cover of COVERS in every
-    channel and its channels' depths within ``even`` of each other, the pixels beside the run bright enough, brighter
-    than it and not darkened themselves), with its summed miss; else None."""
-    W = x.shape[0]
-    if j < 2 or j + w > W - 2:
-        return None
-    side = np.maximum(x[j - 1], x[j + w])
-    low = np.minimum(x[j - 1], x[j + w])
-    if np.any(low < MIN_SIDE_DN) or np.any(x[j:j + w] >= low):  # a dip: darker than both its sides (not a flank)
-        return None
-    # the pixels beside the run are not darkened themselves (against the next ones out): the run is the whole dip
-    for inner, outer in ((j - 1, j - 2), (j + w, j + w + 1)):
-        if np.all(x[inner] < (1 - alpha * min(COVERS) + DEPTH_TOL) * x[outer]):
-            return None
-    covers, miss = [], 0.0
+def _runs(f: np.ndarray, r, c, w: int, alpha: float, tol: float, even: float):
+    """The dip test, the one home of what a black line at ``alpha`` leaves, for the runs of ``w`` pixels starting at
+    rows ``r`` and columns ``c`` (int arrays, shape (N,)) of the photograph ``f`` (H, W, C): ``(ok, covers, miss)``,
+    shapes (N,), (N, w) and (N,). A run is a dip where the pixels beside it are bright enough (MIN_SIDE_DN in every
+    channel), brighter than it and not darkened themselves (against the next ones out), and each of its pixels' depths
+    (over the brighter pixel beside the run) lies within ``tol`` of ``1 - alpha * cover`` for a cover of COVERS in
+    every channel, its channels within ``even`` of each other; ``covers`` holds each pixel's nearest cover and ``miss``
+    the run's summed misses. Runs too near the frame's edge are not dips."""
+    r, c = np.asarray(r, np.int64), np.asarray(c, np.int64)
+    W = f.shape[1]
+    ok = (c >= 2) & (c + w <= W - 2)
+    c = np.clip(c, 2, max(W - w - 2, 2))
+    left, right = f[r, c - 1], f[r, np.minimum(c + w, W - 1)]
+    side, low = np.maximum(left, right), np.minimum(left, right)
+    ok &= np.all(low >= MIN_SIDE_DN, axis=-1)
+    half = 1 - alpha * min(COVERS) + DEPTH_TOL  # a pixel under this share of the next one out is darkened itself
+    outer_right = f[r, np.minimum(c + w + 1, W - 1)]
+    ok &= ~np.all(left < half * f[r, c - 2], axis=-1) & ~np.all(right < half * outer_right, axis=-1)
+    covers_all = np.asarray(COVERS)
+    covers, miss = np.zeros((r.size, w)), np.zeros(r.size)
     for k in range(w):
-        d = x[j + k] / side
-        if d.max() - d.min() > even:
-            return None
-        best = min(COVERS, key=lambda c: float(np.abs(d - (1 - alpha * c)).max()))
-        m = float(np.abs(d - (1 - alpha * best)).max())
-        if m > tol:
-            return None
-        covers.append(best)
-        miss += m
-    return covers, miss
+        px = f[r, np.minimum(c + k, W - 1)]
+        d = px / np.where(side > 0, side, np.inf)
+        ok &= np.all(px < low, axis=-1) & ((d.max(axis=-1) - d.min(axis=-1)) <= even)
+        off = np.abs(d[:, None, :] - (1 - alpha * covers_all)[None, :, None]).max(axis=-1)  # (N, len(COVERS))
+        best = np.argmin(off, axis=1)
+        m = off[np.arange(r.size), best]
+        ok &= m <= tol
+        covers[:, k], miss = covers_all[best], miss + m
+    return ok, covers, miss
 
 
 def _seeds(f: np.ndarray, alpha: float) -> np.ndarray:
     """``(row, col)`` of every dip that founds a line (shape (N, 2), in row order): one pixel covered whole, or two
-    covered half each, by :func:`_run_cover`'s tests with the founding tolerances, for every pixel at once (the
-    cheap test first: a run darker than both its sides in every channel)."""
+    covered half each, by :func:`_runs` with the founding tolerances (DEPTH_TOL, EVEN), for every pixel (the cheap
+    test first: a run darker than both its sides in every channel)."""
     H, W, _ = f.shape
     found = np.zeros((H, W), bool)
-    half = 1 - alpha * min(COVERS) + DEPTH_TOL  # a pixel under this share of the next one out is darkened itself
-    covers = np.asarray(COVERS)
-    for w, want in ((1, (1.0,)), (2, (0.5, 0.5))):
+    for w, want in ((1, [1.0]), (2, [0.5, 0.5])):
         if W < w + 4:
             continue
-        j = np.arange(2, W - w - 1)  # the run's first column; its sides j - 1 and j + w, the next out j - 2, j + w + 1
+        j = np.arange(2, W - w - 1)  # the run's first column
         low = np.minimum(f[:, j - 1], f[:, j + w])
-        dark = np.all(low >= MIN_SIDE_DN, axis=-1)
+        dark = np.ones(low.shape[:2], bool)
         for k in range(w):
             dark &= np.all(f[:, j + k] < low, axis=-1)
         r, i = np.nonzero(dark)
-        if r.size == 0:
-            continue
-        c = j[i]
-        left, right = f[r, c - 1], f[r, c + w]
-        side = np.maximum(left, right)
-        ok = ~np.all(left < half * f[r, c - 2], axis=-1) & ~np.all(right < half * f[r, c + w + 1], axis=-1)
-        for k, cover in enumerate(want):
-            d = f[r, c + k] / side
-            ok &= (d.max(axis=-1) - d.min(axis=-1)) <= EVEN
-            miss = np.abs(d[:, None, :] - (1 - alpha * covers)[None, :, None]).max(axis=-1)  # (N, len(COVERS))
-            best = np.argmin(miss, axis=1)
-            ok &= (covers[best] == cover) & (miss[np.arange(r.size), best] <= DEPTH_TOL)
-        found[r[ok], c[ok]] = True
+        ok, covers, _ = _runs(f, r, j[i], w, alpha, DEPTH_TOL, EVEN)
+        ok &= np.all(covers == want, axis=1)
+        found[r[ok], j[i][ok]] = True
     return np.argwhere(found)
 
 
@@ -147,13 +137,23 @@ def line_rows(image, alpha: float = ALPHA) -> int:
     return len({r for r, _ in _chain(_seeds(_checked(image, alpha), alpha))})
 
 
-def drawn_over(image, alpha: float = ALPHA) -> bool:
-    """Whether a line seems drawn over the photograph: :func:`line_rows` at least :data:`DRAWN_SHARE` of its rows. False
-    for a grey image (a dip there is even in its one channel whatever made it)."""
+def drawn_over(image, alpha: float = ALPHA) -> int:
+    """Whether a line seems drawn over the photograph: the rows it runs through (:func:`line_rows`) where they are at
+    least :data:`DRAWN_SHARE` of the photograph's, else 0 (so read as a truth value, yes or no). 0 for a grey image (a
+    dip there is even in its one channel whatever made it).
+
+    Examples
+    --------
+    >>> img = np.full((20, 40, 3), 30.0); img[:, 16:25] = [200.0, 150.0, 180.0]
+    >>> img[:10, 20] *= 0.5
+    >>> drawn_over(img), drawn_over(img[:, :, 0])
+    (10, 0)
+    """
     a = np.asarray(image)
     if a.ndim != 3 or a.shape[2] < 3:
-        return False
-    return line_rows(a, alpha) >= DRAWN_SHARE * a.shape[0]
+        return 0
+    n = line_rows(a, alpha)
+    return n if n >= DRAWN_SHARE * a.shape[0] else 0
 
 
 def line_pixels(image, alpha: float = ALPHA) -> list[tuple[int, int, float]]:
@@ -162,9 +162,10 @@ def line_pixels(image, alpha: float = ALPHA) -> list[tuple[int, int, float]]:
 
     The line is found by its dips of one pixel at ``1 - alpha`` (a pixel it covers whole) or two at
     ``1 - alpha / 2`` (half each): the longest chain of such rows, each within STEP_PX px (per row) of the last and
-    at most GAP_ROWS rows after it, is the line (a texture's scattered dips of that depth do not line up). Along it, and GAP_ROWS rows past its ends, each row's dip of one or
-    two pixels nearest the chain's column (within STEP_PX) is read, each pixel's cover from its depth (COVERS; past the
-    chain's ends by the founding dips' tolerances, along it by the looser ones).
+    at most GAP_ROWS rows after it, is the line (a texture's scattered dips of that depth do not line up). Along it,
+    and GAP_ROWS rows past its ends, each row's dip of one or two pixels nearest the chain's column (within STEP_PX)
+    is read by :func:`_runs`, each pixel's cover from its depth (COVERS; past the chain's ends by the founding dips'
+    tolerances, along it by the looser ones).
 
     Parameters
     ----------
@@ -198,12 +199,12 @@ def line_pixels(image, alpha: float = ALPHA) -> list[tuple[int, int, float]]:
     for r in range(max(0, rows[0] - GAP_ROWS), min(H, rows[-1] + GAP_ROWS + 1)):
         p = float(np.interp(r, rows, cols))
         tol, even = (LOOSE_TOL, LOOSE_EVEN) if rows[0] <= r <= rows[-1] else (DEPTH_TOL, EVEN)  # past its ends: strict
+        js = np.arange(int(round(p)) - STEP_PX, int(round(p)) + STEP_PX + 1)
         runs = []
         for w in (1, 2):
-            for j in range(int(round(p)) - STEP_PX, int(round(p)) + STEP_PX + 1):
-                got = _run_cover(f[r], j, w, alpha, tol, even)
-                if got is not None:
-                    runs.append(((got[1] + 0.01 * abs(j + (w - 1) / 2 - p), w), j, got[0]))
+            ok, covers, miss = _runs(f, np.full(js.size, r), js, w, alpha, tol, even)
+            runs += [((float(m) + 0.01 * abs(j + (w - 1) / 2 - p), w), int(j), cv.tolist())
+                     for j, cv, m, good in zip(js, covers, miss, ok) if good]
         if not runs:
             continue
         _, j, covers = min(runs)

@@ -787,8 +787,9 @@ def run_predict(folder, out_dir, specs, *, frames: str = "transplant", estimate:
         # `stripebench predict`)
         c = photo_conditions(ph.frame, ph.background, ph.original, rotate_deg=ph.rotate_deg, laser=ph.laser)
         turned = rotate_image(ph.original, ph.rotate_deg)  # the stripe runs down it, as the frame's
-        if ph.colour and overlay.drawn_over(turned):
-            warn(f"stripebench predict: {ph.name}: a thin dark line seems drawn over it in {overlay.line_rows(turned)} "
+        drawn = overlay.drawn_over(turned) if ph.colour else 0  # the line's rows, where it counts as drawn over
+        if drawn:
+            warn(f"stripebench predict: {ph.name}: a thin dark line seems drawn over it in {drawn} "
                  f"of its {turned.shape[0]} rows (a tracker's output saved with the frame?): the trackers and the "
                  "prediction read that line, not the camera's pixels alone (docs/real.md, \"A line drawn over "
                  "`ag_tape`'s stripe\")")

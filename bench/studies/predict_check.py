@@ -38,7 +38,7 @@ __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DIS
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "FRINGE_SHARE",
            "stripe_evidence", "with_white_bar", "with_rival_fringe", "Case", "family_scene", "shrink_frame",
            "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
-           "JPEG_FAMILY_QUALITY", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_CLIP_DN",
+           "GLOW_POWER_MW", "JPEG_FAMILY_QUALITY", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_CLIP_DN",
            "WHITE_CORE_OTHER", "white_core_share", "code_of_run"]
 
 #: The study's defaults (the command's options).
@@ -90,6 +90,13 @@ JPEG_FAMILY_QUALITY = 75
 #: among those whose laser core is clipped in at least a tenth of their referenced rows (docs/predict.md, "A stripe
 #: whose core clips white: the ``white-core`` family").
 WHITE_CORE_POWER_MW = 50.0
+#: The ``marble-480mw`` family's laser power (mW, every marble case's): a glowing surface whose glow beside a clipped
+#: core stands near the top, as the skin of the shipped ``bb_hand`` does (its clipped rows' median 4-12 px either side
+#: of the core: 0.90 of the top; 0.76 of them at 0.8 or more). Chosen from pixels alone, before any prediction ran on
+#: the family: the lowest power of the doubling grid from the profile's 60 mW (120, 240, 480, 960 mW) at which a
+#: ``sphere-skin`` frame at seed 121 has at least ``bb_hand``'s share of its clipped rows in a glow of 0.8 of the top
+#: or more: 0.32 at most at 240 mW, 0.77 at 480 mW (docs/predict.md, "A clipped core in a glow of the surface's").
+GLOW_POWER_MW = 480.0
 #: :func:`white_core_share`: how far from the stripe's column its core is looked for (px, each side); how near the top
 #: of the range its laser channel must stand to count as clipped (DN: a fixed margin, not the transplant's noise-based
 #: clipping level, so that renders and photographs of any noise are read alike); and how high the brighter of the
@@ -104,7 +111,7 @@ WHITE_CORE_OTHER = 0.6
 #: laser power and brighter) since the ninth (docs/predict.md, "Ties on the path"); ``marble-60mw-jpeg`` and
 #: ``fringed-bar`` since the seventeenth (the first a declaration's ninth family once, the second a measurement only);
 #: ``rival-fringe`` since the eighteenth (the tenth family of that session's declarations), ``white-core`` since the
-#: nineteenth (:data:`WHITE_CORE_POWER_MW`).
+#: nineteenth (:data:`WHITE_CORE_POWER_MW`), ``marble-480mw`` since the twenty-first (:data:`GLOW_POWER_MW`).
 #: :func:`family_of` names a run's family by its options, whichever way they were given.
 FAMILIES = {
     "native": {},
@@ -119,6 +126,7 @@ FAMILIES = {
     "fringed-bar": {"distractor": "fringed-bar"},
     "rival-fringe": {"distractor": "rival-fringe"},
     "white-core": {"laser_power_mw": WHITE_CORE_POWER_MW},
+    "marble-480mw": {"profile": "marble", "laser_power_mw": GLOW_POWER_MW},
 }
 
 

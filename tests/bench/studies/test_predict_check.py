@@ -256,6 +256,38 @@ def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own
         white_core_share(white.rgb, np.zeros(3), laser)
 
 
+def test_the_marble_480mw_family_glows_near_the_top_beside_a_clipped_core_where_the_profile_s_own_power_does_not():
+    """``marble-480mw`` (GLOW_POWER_MW for every marble case): the skin sphere's glow beside its clipped core stands
+    near the top, as the shipped ``bb_hand``'s skin does; at the profile's own power the core does not clip."""
+    from bench.config import profile
+    from bench.run.camera_view import laser_colour
+    from bench.evaluate.pixels import LASER_INDEX
+    from bench.studies.predict_check import GLOW_POWER_MW, case_frames, family_of, family_options
+
+    def glowing(case, laser):  # clipped rows, and the share of them whose glow 4-12 px either side is >= 0.8 of the top
+        a = np.asarray(case.original, float)
+        lc = a[..., LASER_INDEX[laser]] if a.ndim == 3 else a
+        shares = []
+        for r in np.flatnonzero(np.isfinite(case.truth_columns)):
+            c = int(round(case.truth_columns[r]))
+            if 12 <= c < lc.shape[1] - 12 and lc[r, c - 3:c + 4].max() >= 253:
+                shares.append(np.median(np.r_[lc[r, c - 12:c - 3], lc[r, c + 4:c + 13]]) >= 0.8 * 255)
+        return len(shares), float(np.mean(shares)) if shares else 0.0
+
+    config = profile("marble")
+    exp = next(e for e in config.experiments if e.key == "sphere-skin")
+    kw = dict(seed=1, width=256, height=240, n_angles=1)  # the cases' size in predictcheck: the glow's reach in px
+    opts = family_options("marble-480mw", {"profile": "marble", "laser_power_mw": None})
+    assert opts == {"profile": "marble", "laser_power_mw": GLOW_POWER_MW}
+    (_, own, params), = case_frames(exp, config, **kw)
+    (_, bright, _), = case_frames(exp, config, **kw, laser_power_mw=opts["laser_power_mw"])
+    laser = laser_colour(params["laser_wavelength_nm"])
+    assert glowing(own, laser)[0] == 0
+    n, share = glowing(bright, laser)
+    assert n >= 20 and share >= 0.5, (n, share)
+    assert family_of({"downscale": 1, "line_fwhm_mrad": None, "rows": "clear", **opts}) == "marble: downscale 1, 480 mW"
+
+
 def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
     from bench.config import profile
     from bench.studies.predict_check import case_frames

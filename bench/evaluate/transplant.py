@@ -76,7 +76,16 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "evidence_near", "hue_hidden", "CLIP_NOISE_K", "RIVAL_SEARCH_PX",
            "RIVAL_SHARE", "rival_mask", "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks",
-           "unclear_rows", "tie_break", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
+           "unclear_rows", "tie_break", "glow_rows", "GLOW_SHARE", "GLOW_NEAR_PX", "GLOW_FAR_PX", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
+
+#: A clipped core *in a glow*: a row whose stripe's peak is clipped and whose frame stands, over
+#: :data:`GLOW_NEAR_PX` to :data:`GLOW_FAR_PX` px either side of the peak (median), at least this share of the top of
+#: its range (:func:`glow_rows`). The shipped set's ``bb_hand`` (a hand, its skin glowing in the laser's light) has
+#: such a glow at a median 0.90 of the top; the renders' marble and skin at 60 mW at most 0.18 (docs/predict.md, "A
+#: clipped core in a glow of the surface's").
+GLOW_SHARE = 0.8
+#: The nearest and farthest columns from the peak (px) over which :func:`glow_rows` reads the glow.
+GLOW_NEAR_PX, GLOW_FAR_PX = 4, 12
 
 #: A row's stripe extends over the columns around its peak that stand this many noise units above the window's median.
 EDGE_K = 2.0
@@ -1075,14 +1084,48 @@ def unclear_rows(ext: Extents, original=None, noise_dn=None, *, guided: bool = F
     return dim_rows(ext, None if original is None else clipped_peaks(original, ext, noise_dn), guided=guided)
 
 
+def glow_rows(frame, ext: Extents) -> np.ndarray:
+    """The rows of ``ext`` whose stripe stands in a glow, shape (H,) bool: the median of ``frame`` (H, W; DN, an
+    integer image) over :data:`GLOW_NEAR_PX` to :data:`GLOW_FAR_PX` px either side of the row's peak is at least
+    :data:`GLOW_SHARE` of the top of its range; none in a float frame (no known top) or a row without a guide. With
+    :func:`clipped_peaks` these are the rows :func:`row_states` reads as :func:`seen_states` does.
+
+    Examples
+    --------
+    A core at 255 in a glow of 230 (row 0) and of 120 (row 1):
+
+    >>> img = np.full((2, 40), 120, np.uint8); img[0, 5:35] = 230; img[:, 20] = 255
+    >>> e = Extents(np.full(2, 20), np.ones(2, bool), np.zeros(2), np.zeros(2), np.full(2, 20.0), 1.0)
+    >>> glow_rows(img, e).tolist()
+    [True, False]
+    """
+    img = np.asarray(frame)
+    if img.ndim != 2:
+        raise ValueError(f"`frame` must be 2-D, got shape {img.shape}")
+    H, W = img.shape
+    if np.shape(ext.peak) != (H,):
+        raise ValueError(f"`frame` must have the stripe's {np.shape(ext.peak)[0]} rows, got shape {img.shape}")
+    out = np.zeros(H, bool)
+    if not np.issubdtype(img.dtype, np.integer):
+        return out
+    level = GLOW_SHARE * float(np.iinfo(img.dtype).max)
+    for r in np.flatnonzero(np.isfinite(ext.centre)):
+        c = int(ext.peak[r])
+        side = np.r_[img[r, max(c - GLOW_FAR_PX, 0):max(c - GLOW_NEAR_PX + 1, 0)],
+                     img[r, min(c + GLOW_NEAR_PX, W):min(c + GLOW_FAR_PX + 1, W)]]
+        out[r] = side.size > 0 and float(np.median(side)) >= level
+    return out
+
+
 def seen_states(image, truth, clipped=None) -> np.ndarray:
     """The states a photograph's reference gives the rows of ``truth`` (px, shape (H,), NaN: no stripe), shape (H,)
     int8: :func:`~bench.evaluate.outcomes.referenced_states`, and with ``clipped`` ((H,) bool: rows whose stripe's peak
     is clipped, :func:`clipped_peaks`) such a row is a stripe row even where the reference rule does not see it: a
     clipped core in a glow that fills the reference window, which the shipped set's references score (412 of the 469
     such rows of its estimates; docs/predict.md, "A clipped core in a glow is seen"). The one home of that reading,
-    used on a render's truth (``predictcheck --rows clear``); the same reading on a transplant's frames, (ae), was
-    rejected on renders.
+    used on a render's truth (``predictcheck --rows clear``) and, in the rows whose glow is the surface's
+    (:func:`glow_rows`), on a transplant's frames (:func:`row_states`' ``seen``); on every clipped row of the frames,
+    (ae), it was rejected on renders.
 
     Examples
     --------
@@ -1103,7 +1146,7 @@ def seen_states(image, truth, clipped=None) -> np.ndarray:
     return states
 
 
-def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarray:
+def row_states(ext: Extents, truth, image, keep=None, unclear=None, seen=None) -> np.ndarray:
     """The row states of a transplant, read as a photograph's reference would be, shape (H,) int8.
 
     A row with a moved centre is :data:`bench.evaluate.outcomes.STRIPE` where the real set's
@@ -1115,6 +1158,10 @@ def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarra
     ``NO_STRIPE`` at least ``GAP_ROWS`` rows from the stripe and ``UNSURE`` nearer
     (:func:`~bench.evaluate.outcomes.fallback_states`, the real set's rule for references without states).
     With ``keep`` (:func:`transplant`'s), the rows it leaves out hold no stripe and count as rows without one.
+    With ``seen`` (shape (H,) bool: rows whose stripe is a clipped core in a glow, :func:`clipped_peaks` and
+    :func:`glow_rows` of the photograph), those rows are read as :func:`seen_states` reads them, a stripe row where
+    the reference rule does not see the core in its glow, as the shipped set's references score them
+    (docs/predict.md, "A clipped core in a glow of the surface's").
 
     Examples
     --------
@@ -1138,7 +1185,9 @@ def row_states(ext: Extents, truth, image, keep=None, unclear=None) -> np.ndarra
     states = fallback_states(np.where(crossed, 0.0, np.nan))
     states[states == STRIPE] = UNSURE
     moved = np.isfinite(t)
+    if seen is not None and np.shape(seen) != t.shape:
+        raise ValueError(f"`seen` must have one entry per row, shape {t.shape}, got {np.shape(seen)}")
     if moved.any():
-        states[moved] = referenced_states(image, t)[moved]
+        states[moved] = (referenced_states(image, t) if seen is None else seen_states(image, t, seen))[moved]
         states[moved & unclear] = UNSURE  # as a reference leaves an unclear row out
     return states.astype(np.int8)

@@ -382,6 +382,8 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
     noise = tp.channel_noise(original)  # the clean plate's noise and the clipping margin (transplant)
     # the moved rows a reference would leave out (row_states): dim ones, visible or not (docs/predict.md, (ad))
     unclear = tp.unclear_rows(ext, original, noise, guided=True)
+    # a clipped core in a glow of the surface's is a stripe row, as the references read it (docs/predict.md, (ae'))
+    seen = tp.clipped_peaks(original, ext, noise) & tp.glow_rows(photo.frame, ext)
 
     def read(states):  # as the photograph's references read rows without a stripe (Photo.fallback_rows)
         return fallback_of(states) if photo.fallback_rows else states
@@ -395,18 +397,20 @@ def transplant_frames(photo: "Photo", *, seed: int = 0, estimate: str = "auto", 
         image = select_channel(moved, photo.channel, photo.laser)
         # rows where the moved stripe lands on a rival are not scored: the photograph's stripe stands beside it
         landed = tp.landed_rows(ext, rivals, s)
-        out.append((image, truth, read(tp.row_states(ext, truth, image, unclear=unclear | landed)), moved, s))
+        out.append((image, truth, read(tp.row_states(ext, truth, image, unclear=unclear | landed, seen=seen)), moved,
+                    s))
     # the photograph itself, its stripe where the estimate puts it: its own glow, rivals and surroundings, which no
     # moved frame carries whole (docs/predict.md, "The photograph in place")
     truth = tp.in_place_truth(ext)
-    out.append((photo.frame, truth, read(tp.row_states(ext, truth, photo.frame, unclear=unclear)), original, 0))
+    out.append((photo.frame, truth, read(tp.row_states(ext, truth, photo.frame, unclear=unclear, seen=seen)), original,
+                0))
     keep = tp.cut_ends(ext)
     if keep is not None:  # the false-report frames: the stripe's ends cut off, only stripe-less rows scored
         for j, s in enumerate((right, -left)):
             moved, truth = tp.transplant(original, ext, s, background_original=bg_original, seed=seed + 2 + j,
                                          noise_dn=noise, keep=keep, laser_channel=li)
             image = select_channel(moved, photo.channel, photo.laser)
-            states = read(tp.row_states(ext, truth, image, keep, unclear))
+            states = read(tp.row_states(ext, truth, image, keep, unclear, seen))
             states[states == STRIPE] = UNSURE
             out.append((image, truth, states, moved, s))
     return out if sum(int(np.sum(st == STRIPE)) for _, _, st, _, _ in out[:N_MOVED]) >= tp.MIN_ROWS else []

@@ -282,6 +282,37 @@ def test_a_clipped_core_in_a_glow_filling_the_window_is_seen_and_a_faint_row_is_
         tp.seen_states(img, truth, clipped[1:])
 
 
+def test_a_clipped_core_in_a_glow_of_the_surface_s_is_a_stripe_row_of_the_frames_and_one_in_a_dim_glow_is_not():
+    """Rows 10-19: a core clipped at 255 in a glow of 250 DN over 30 px (0.98 of the top), which the reference rule
+    does not see; rows 30-39: the same core in a glow of 120 DN; elsewhere a clear stripe on 30 DN."""
+    rng = np.random.default_rng(9)
+    img = rng.normal(30.0, 1.0, (50, 80))
+    img[:, 40] += 150.0
+    img[10:20, 25:56] = 250.0 + rng.normal(0, 1.0, (10, 31))
+    img[30:40, 25:56] = 120.0 + rng.normal(0, 1.0, (10, 31))
+    img[10:20, 39:42] = img[30:40, 39:42] = 255.0
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    truth = np.full(50, 40.0)
+    ext = tp.stripe_extents(img, guide=truth)
+    glow = tp.glow_rows(img, ext)
+    assert glow[10:20].all() and not glow[:10].any() and not glow[20:].any()
+    seen = tp.clipped_peaks(img, ext) & glow
+    plain = tp.row_states(ext, truth, img, unclear=np.zeros(50, bool))
+    read = tp.row_states(ext, truth, img, unclear=np.zeros(50, bool), seen=seen)
+    assert (plain[10:20] == UNSURE).all() and (read[10:20] == STRIPE).all()
+    assert np.array_equal(np.delete(plain, range(10, 20)), np.delete(read, range(10, 20)))  # no other row changes
+    assert (read[30:40] == plain[30:40]).all()
+    # an unclear row stays out, as a reference leaves it out
+    unclear = np.zeros(50, bool)
+    unclear[12] = True
+    assert tp.row_states(ext, truth, img, unclear=unclear, seen=seen)[12] == UNSURE
+    assert not tp.glow_rows(img.astype(float), ext).any()  # a float frame has no known top
+    with pytest.raises(ValueError, match=r"`seen` must have one entry per row, shape \(50,\), got \(49,\)"):
+        tp.row_states(ext, truth, img, seen=seen[1:])
+    with pytest.raises(ValueError, match="`frame` must be 2-D"):
+        tp.glow_rows(np.zeros((50, 80, 3), np.uint8), ext)
+
+
 def test_guided_dim_rows_also_count_the_faint_rows_the_extent_does_not_call_visible():
     """Rows 10-14 of a 100 DN stripe stand 3 DN up, under 6 noise units (not visible) and under a fifth of its
     height: ``guided`` counts them dim, as a reference leaves them out; by default only visible rows can be dim."""

@@ -76,7 +76,7 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "evidence_near", "hue_hidden", "CLIP_NOISE_K", "RIVAL_SEARCH_PX",
            "RIVAL_SHARE", "rival_mask", "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks",
-           "unclear_rows", "tie_break", "glow_rows", "GLOW_SHARE", "GLOW_NEAR_PX", "GLOW_FAR_PX", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
+           "unclear_rows", "tie_break", "glow_rows", "GLOW_SHARE", "GLOW_NEAR_PX", "GLOW_FAR_PX", "clipped_pixels", "argmax_pick", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
 
 #: A clipped core *in a glow*: a row whose stripe's peak is clipped and whose frame stands, over
 #: :data:`GLOW_NEAR_PX` to :data:`GLOW_FAR_PX` px either side of the peak (median), at least this share of the top of
@@ -252,7 +252,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
             raise ValueError(f"`guide` must have one column per row of `frame`, shape {(H,)}, got {guide.shape}")
         guide = np.where(np.isfinite(guide), np.clip(guide, 0, W - 1), np.nan)
     else:
-        guide = _estimated_guide(sm, np.median(work, axis=1), noise, estimate, measured)
+        guide = _estimated_guide(sm, np.median(work, axis=1), noise, estimate, measured, clipped_pixels(frame, noise))
     peak = first.copy()
     visible = np.zeros(H, bool)
     lo, hi = peak.copy(), peak.copy()
@@ -311,7 +311,8 @@ def estimate_guide(frame, background=None, *, estimate: str = "auto", measured=N
     15.0
     """
     work, sm, _, measured = _prepared(frame, background, estimate, measured)
-    return _estimated_guide(sm, np.median(work, axis=1), measured.noise_dn, estimate, measured)
+    return _estimated_guide(sm, np.median(work, axis=1), measured.noise_dn, estimate, measured,
+                            clipped_pixels(frame, measured.noise_dn))
 
 
 def _clipped_at(image, noise_dn=None) -> np.ndarray:
@@ -544,9 +545,10 @@ def _working(frame, background) -> tuple[np.ndarray, np.ndarray]:
     return work, cond.row_smoothed(work)
 
 
-def _estimated_guide(sm, med, noise: float, estimate: str, measured) -> np.ndarray:
+def _estimated_guide(sm, med, noise: float, estimate: str, measured, clipped=None) -> np.ndarray:
     """:func:`stripe_extents`' guide by ``estimate`` (``auto``, ``path`` or ``argmax``), NaN where no stripe:
-    ``sm`` the row-smoothed frame (H, W), ``med`` its rows' medians."""
+    ``sm`` the row-smoothed frame (H, W), ``med`` its rows' medians, ``clipped`` the frame's clipped pixels (H, W;
+    :func:`clipped_pixels`; None: none), read by the argmax guide (:func:`argmax_pick`)."""
     if estimate == "auto":
         narrow = math.isfinite(measured.width_px) and measured.width_px <= AUTO_WIDTH_PX
         estimate = "argmax" if narrow or capped_share(sm, med, noise) >= AUTO_CAPPED else "path"
@@ -558,11 +560,56 @@ def _estimated_guide(sm, med, noise: float, estimate: str, measured) -> np.ndarr
         on = sm[rows, path] - med >= cond.VISIBLE_K * noise
         return _guide(path, on & (np.convolve(on.astype(int), window, mode="same") >= SUPPORT_MIN))
     lift = window_lift(sm)
-    first = np.argmax(lift, axis=1)
+    first = argmax_pick(lift, clipped, cond.VISIBLE_K * noise)
     strong = lift[rows, first] >= cond.VISIBLE_K * noise
     near = np.abs(first - np.nan_to_num(_guide(first, strong), nan=-1e9)) <= cond.JUMP_PX
     kept = strong & near
     return _guide(first, kept & (np.convolve(kept.astype(int), window, mode="same") >= SUPPORT_MIN))
+
+
+def clipped_pixels(frame, noise_dn: float) -> np.ndarray:
+    """The pixels of ``frame`` (H, W) at its clipping level, shape (H, W), bool: within :data:`CLIP_NOISE_K` of
+    ``noise_dn`` (DN; at least 1 DN) of the top of an integer frame's range; none in a float frame (no known top).
+
+    Examples
+    --------
+    >>> clipped_pixels(np.array([[10, 254, 255]], np.uint8), 0.5).tolist(), bool(clipped_pixels(np.ones((1, 3)), 0.5).any())
+    ([[False, True, True]], False)
+    """
+    img = np.asarray(frame)
+    if not np.issubdtype(img.dtype, np.integer):
+        return np.zeros(img.shape, bool)
+    return img >= float(np.iinfo(img.dtype).max) - max(CLIP_NOISE_K * float(noise_dn), 1.0)
+
+
+def argmax_pick(lift, clipped, level: float) -> np.ndarray:
+    """Each row's pick for the argmax guide, shape (H,), px: of the clipped pixels standing at least ``level`` (DN)
+    over the window around them (``lift``, :func:`window_lift`; ``clipped``, :func:`clipped_pixels`, or None), the
+    one standing highest; in a row without one, the pixel standing highest (docs/predict.md, "A clipped core
+    outranks the glow beside it"). A stripe's clipped core is the brightest it gets; a glow's shoulder beside a dip
+    can stand higher over its window than the core over a window the core and its glow fill.
+
+    Examples
+    --------
+    Part of a row of a photograph of a hand (``bb_hand``, row 201, red channel): a glow of 200-240 DN, a dip to 184
+    and a core clipped at 253-255. The glow's shoulder stands highest over its window, the core is the pick.
+
+    >>> row = np.array([[199, 208, 226, 228, 231, 233, 234, 236, 237, 223, 197, 184, 194, 253, 255, 255, 252, 249,
+    ...                  252, 250, 248, 241, 230, 224, 219, 207, 192, 187, 180]], float)
+    >>> lift = window_lift(row)
+    >>> int(np.argmax(lift[0])), int(argmax_pick(lift, row >= 253, 4.0)[0])
+    (6, 14)
+    """
+    lift = np.asarray(lift, dtype=np.float64)
+    first = np.argmax(lift, axis=1)
+    if clipped is None:
+        return first
+    clipped = np.asarray(clipped, bool)
+    if clipped.shape != lift.shape:
+        raise ValueError(f"`clipped` must have the shape of `lift` {lift.shape}, got {clipped.shape}")
+    standing = np.where(clipped & (lift >= level), lift, -np.inf)
+    pick = np.argmax(standing, axis=1)
+    return np.where(np.isfinite(standing[np.arange(lift.shape[0]), pick]), pick, first)
 
 
 def window_lift(smoothed) -> np.ndarray:

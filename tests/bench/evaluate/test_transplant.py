@@ -165,6 +165,43 @@ def test_the_argmax_guide_takes_a_thin_stripe_over_a_brighter_glow_wider_than_th
     assert np.all(ext.visible)
 
 
+def _hand_frame(*, seed=0):
+    """A clipped core (cols 70-76) in a glow 200-240 DN wide of the window, a dip to 185 at its left edge (cols
+    66-68) and a glow's shoulder standing 8 DN over its surroundings beside the dip (col 63), as on ``bb_hand``."""
+    rng = np.random.default_rng(seed)
+    x = np.arange(W, dtype=float)
+    row = 110 + 130 * np.exp(-0.5 * ((x - 70) / 14.0) ** 2)
+    row[63] += 10.0
+    row[66:69] = 185.0
+    row[70:77] = 258.0
+    img = row[None, :] + rng.normal(0, 0.7, (H, W))
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+
+
+def test_a_clipped_core_outranks_the_glow_s_shoulder_beside_a_dip():
+    img = _hand_frame()
+    sm = np.asarray(tp.window_lift(tp.cond.row_smoothed(img.astype(float))))
+    assert np.all(np.abs(np.argmax(sm, axis=1) - 64) <= 2)  # the shoulder stands highest over its window
+    ext = tp.stripe_extents(img, estimate="argmax")
+    assert np.all((ext.centre >= 70) & (ext.centre <= 76))  # on the clipped core, as a reference is
+    guide = tp.estimate_guide(img, estimate="argmax")
+    assert np.all(np.abs(guide - 73.0) <= 3.5)
+    # the same frame a float (no known top): nothing counts as clipped, the shoulder guides
+    assert np.all(np.abs(tp.estimate_guide(img.astype(float), estimate="argmax") - 64.0) <= 2)
+
+
+def test_argmax_pick_takes_the_highest_clipped_pixel_standing_out_and_refuses_a_mask_of_another_shape():
+    lift = np.array([[0.0, 9.0, 1.0, 5.0, 3.0], [0.0, 9.0, 1.0, 5.0, 3.0], [0.0, 9.0, 1.0, 2.0, 3.0]])
+    clipped = np.array([[0, 0, 1, 1, 1], [0, 0, 0, 0, 0], [0, 0, 1, 1, 1]], bool)
+    # row 0: clipped pixels 3 and 4 stand at least 3, 3 the highest; row 1: none clipped; row 2: none standing 3
+    assert tp.argmax_pick(lift, clipped, 3.0).tolist() == [3, 1, 4]
+    assert tp.argmax_pick(lift, None, 3.0).tolist() == [1, 1, 1]
+    with pytest.raises(ValueError, match="`clipped` must have the shape of `lift`"):
+        tp.argmax_pick(lift, clipped[:, :4], 3.0)
+    assert tp.clipped_pixels(np.array([[250, 253, 254, 255]], np.uint8), 0.4).tolist() == [[False, False, True, True]]
+    assert tp.clipped_pixels(np.array([[250, 253, 254, 255]], np.uint8), 1.0).tolist() == [[False, True, True, True]]
+
+
 @pytest.mark.parametrize("sigma, chosen", [(0.8, "argmax"), (3.0, "path")])
 def test_auto_takes_the_argmax_for_a_narrow_stripe_and_the_path_for_a_wide_one(sigma, chosen):
     img = _frame(60.0, sigma=sigma).astype(float)

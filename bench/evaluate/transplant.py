@@ -37,7 +37,8 @@ own processing) but no truth. A *transplant* keeps all of the photograph except 
    meet its old extent is cleaned, not moved. The truth is the centre plus ``shift_px`` in the
    moved rows that have a guide; NaN in the others. :func:`row_states` then reads the moved stripe
    as the real set's references would be read, leaving unscored the rows where the stripe stands far
-   lower than its typical height (:func:`dim_rows`), as a reference leaves unclear rows out.
+   lower than its typical height (:func:`dim_rows`), as a reference leaves unclear rows out, and scoring a
+   clipped core in a glow near the top (:func:`glow_rows`), as a reference scores it.
 4. **The photograph in place:** the photograph itself is a frame too, its truth the estimated centre in the rows
    from the first visible one to the last (:func:`in_place_truth`), read by :func:`row_states` as a moved
    frame's: its glow, rivals and surroundings stay where they are, as no moved frame carries them.
@@ -76,7 +77,8 @@ __all__ = ["Extents", "stripe_extents", "estimate_guide", "laser_evidence", "arb
            "AUTO_WIDTH_PX", "AUTO_CAPPED", "MAX_WIDTH_PX", "END_CUT", "END_CUT_MIN_ROWS", "SUPPORT_ROWS",
            "SUPPORT_MIN", "ARBITER_HALF_PX", "evidence_near", "hue_hidden", "CLIP_NOISE_K", "RIVAL_SEARCH_PX",
            "RIVAL_SHARE", "rival_mask", "shifts_for", "EVIDENCE_SHARE", "DIM_SHARE", "dim_rows", "clipped_peaks",
-           "unclear_rows", "tie_break", "glow_rows", "GLOW_SHARE", "GLOW_NEAR_PX", "GLOW_FAR_PX", "clipped_pixels", "argmax_pick", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
+           "unclear_rows", "tie_break", "glow_rows", "GLOW_SHARE", "GLOW_NEAR_PX", "GLOW_FAR_PX", "clipped_pixels",
+           "argmax_pick", "PATH_TIE", "TIE_SIGMA_PX", "DIP_SHARE", "landed_rows", "window_lift"]
 
 #: A clipped core *in a glow*: a row whose stripe's peak is clipped and whose frame stands, over
 #: :data:`GLOW_NEAR_PX` to :data:`GLOW_FAR_PX` px either side of the peak (median), at least this share of the top of
@@ -212,7 +214,7 @@ def stripe_extents(frame, background=None, *, estimate: str = "auto", measured=N
     estimate : {'auto', 'path', 'argmax'}
         How the guide is found (:data:`ESTIMATES`): ``path``, the DP path (module docstring);
         ``argmax``, each row's pixel standing highest over the median of the reference window around it
-        (:func:`window_lift`), kept where it stands ``VISIBLE_K`` noise units up within
+        (:func:`window_lift`; of its clipped pixels standing out, the highest, where it has one: :func:`argmax_pick`), kept where it stands ``VISIBLE_K`` noise units up within
         ``conditions.JUMP_PX`` px of the median of such rows within :data:`GUIDE_ROWS` rows and has
         :data:`SUPPORT_MIN` such rows within :data:`SUPPORT_ROWS` (the first version); or ``auto``
         (the default), ``argmax`` for a stripe at most :data:`AUTO_WIDTH_PX` wide or a frame with at
@@ -573,8 +575,10 @@ def clipped_pixels(frame, noise_dn: float) -> np.ndarray:
 
     Examples
     --------
-    >>> clipped_pixels(np.array([[10, 254, 255]], np.uint8), 0.5).tolist(), bool(clipped_pixels(np.ones((1, 3)), 0.5).any())
-    ([[False, True, True]], False)
+    >>> clipped_pixels(np.array([[10, 254, 255]], np.uint8), 0.5).tolist()
+    [[False, True, True]]
+    >>> bool(clipped_pixels(np.ones((1, 3)), 0.5).any())
+    False
     """
     img = np.asarray(frame)
     if not np.issubdtype(img.dtype, np.integer):
@@ -585,8 +589,8 @@ def clipped_pixels(frame, noise_dn: float) -> np.ndarray:
 def argmax_pick(lift, clipped, level: float) -> np.ndarray:
     """Each row's pick for the argmax guide, shape (H,), px: of the clipped pixels standing at least ``level`` (DN)
     over the window around them (``lift``, :func:`window_lift`; ``clipped``, :func:`clipped_pixels`, or None), the
-    one standing highest; in a row without one, the pixel standing highest (docs/predict.md, "A clipped core
-    outranks the glow beside it"). A stripe's clipped core is the brightest it gets; a glow's shoulder beside a dip
+    one standing highest; in a row without one, the pixel standing highest (docs/predict.md, "A clipped core in a
+    glow of the surface's", (aw)). A stripe's clipped core is the brightest it gets; a glow's shoulder beside a dip
     can stand higher over its window than the core over a window the core and its glow fill.
 
     Examples

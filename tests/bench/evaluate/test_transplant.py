@@ -179,9 +179,11 @@ def _hand_frame(*, seed=0):
 
 
 def test_a_clipped_core_outranks_the_glow_s_shoulder_beside_a_dip():
+    from bench.evaluate.conditions import row_smoothed
+
     img = _hand_frame()
-    sm = np.asarray(tp.window_lift(tp.cond.row_smoothed(img.astype(float))))
-    assert np.all(np.abs(np.argmax(sm, axis=1) - 64) <= 2)  # the shoulder stands highest over its window
+    lift = tp.window_lift(row_smoothed(img.astype(float)))
+    assert np.all(np.abs(np.argmax(lift, axis=1) - 64) <= 2)  # the shoulder stands highest over its window
     ext = tp.stripe_extents(img, estimate="argmax")
     assert np.all((ext.centre >= 70) & (ext.centre <= 76))  # on the clipped core, as a reference is
     guide = tp.estimate_guide(img, estimate="argmax")

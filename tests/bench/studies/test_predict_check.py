@@ -258,21 +258,21 @@ def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own
 
 def test_the_marble_480mw_family_glows_near_the_top_beside_a_clipped_core_where_the_profile_s_own_power_does_not():
     """``marble-480mw`` (GLOW_POWER_MW for every marble case): the skin sphere's glow beside its clipped core stands
-    near the top, as the shipped ``bb_hand``'s skin does; at the profile's own power the core does not clip."""
+    near the top (``transplant.glow_rows``), as the shipped ``bb_hand``'s skin does; at the profile's own power the
+    core does not clip."""
     from bench.config import profile
     from bench.run.camera_view import laser_colour
+    from bench.evaluate import transplant as tp
     from bench.evaluate.pixels import LASER_INDEX
     from bench.studies.predict_check import GLOW_POWER_MW, case_frames, family_of, family_options
 
-    def glowing(case, laser):  # clipped rows, and the share of them whose glow 4-12 px either side is >= 0.8 of the top
-        a = np.asarray(case.original, float)
-        lc = a[..., LASER_INDEX[laser]] if a.ndim == 3 else a
-        shares = []
-        for r in np.flatnonzero(np.isfinite(case.truth_columns)):
-            c = int(round(case.truth_columns[r]))
-            if 12 <= c < lc.shape[1] - 12 and lc[r, c - 3:c + 4].max() >= 253:
-                shares.append(np.median(np.r_[lc[r, c - 12:c - 3], lc[r, c + 4:c + 13]]) >= 0.8 * 255)
-        return len(shares), float(np.mean(shares)) if shares else 0.0
+    def glowing(case, laser):  # clipped rows along the truth, and the share of them in a glow near the top (ae')
+        a = np.asarray(case.original)
+        frame = a[..., LASER_INDEX[laser]] if a.ndim == 3 else a
+        ext = tp.stripe_extents(frame, guide=case.truth_columns)
+        clipped = tp.clipped_peaks(case.original, ext) & np.isfinite(case.truth_columns)
+        glow = clipped & tp.glow_rows(frame, ext)
+        return int(clipped.sum()), float(glow.sum() / max(clipped.sum(), 1))
 
     config = profile("marble")
     exp = next(e for e in config.experiments if e.key == "sphere-skin")

@@ -38,7 +38,7 @@ __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DIS
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "FRINGE_SHARE",
            "stripe_evidence", "with_white_bar", "with_rival_fringe", "Case", "family_scene", "shrink_frame",
            "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
-           "GLOW_POWER_MW", "JPEG_FAMILY_QUALITY", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_CLIP_DN",
+           "GLOW_POWER_MW", "JPEG_FAMILY_QUALITY", "scored_columns", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_CLIP_DN",
            "WHITE_CORE_OTHER", "white_core_share", "code_of_run"]
 
 #: The study's defaults (the command's options).
@@ -529,7 +529,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     from bench.evaluate import conditions as cond
     from bench.evaluate import transplant as tp
     from bench.evaluate.outcomes import (STRIPE, UNKNOWN, UNSURE, distant_states, fallback_of, outcome_counts,
-                                         referenced_columns, referenced_states)
+                                         referenced_states)
     from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict as pr
     from bench.run.camera_view import laser_colour
@@ -578,7 +578,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             if reading == "fallback":  # as a reference without row states: far from the scored stripe rows, none
                 states = fallback_of(states)
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
-            scored = case.truth_columns if truth == "render" else referenced_columns(img, case.truth_columns)
+            scored = scored_columns(img, case.truth_columns, states, truth)
             for lab, codes in pr.score_frame(tr, img, scored, states=states).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes),
@@ -665,6 +665,35 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     n_out = sum(1 for d in frames_doc if d["status"] != "matched")
     print(f"stripebench: predictcheck in {outdir} ({len(frames_doc)} frames, {n_out} out of range)")
     return 0
+
+
+def scored_columns(image, truth_columns, states, truth: str = "render") -> np.ndarray:
+    """The columns the measured side scores a case frame against (``truth``, :data:`TRUTHS`), shape (H,), px (NaN: no
+    stripe): ``render``, ``truth_columns`` (the render's truth); ``reference``, the columns a photograph's reference
+    would give (:func:`bench.evaluate.outcomes.referenced_columns` of ``image``), and in a row ``states`` calls a
+    stripe row where the reference rule gives none (a clipped core in a glow, read as seen:
+    :func:`bench.evaluate.transplant.seen_states`, ``--rows clear``), the true column.
+
+    Examples
+    --------
+    A stripe on column 10 in rows 0-1; row 1's truth 2 px off; row 2 a stripe row the rule does not see:
+
+    >>> img = np.zeros((3, 20)); img[:2, 9:12] = [40.0, 80.0, 40.0]; img[2, 9:12] = 1.0
+    >>> scored_columns(img, [10.0, 12.0, 10.5], np.array([1, 1, 1]), "reference").tolist()
+    [10.0, 10.0, 10.5]
+    >>> scored_columns(img, [10.0, 12.0, 10.5], np.array([1, 1, 1])).tolist()
+    [10.0, 12.0, 10.5]
+    """
+    from bench.evaluate.outcomes import STRIPE, referenced_columns
+
+    if truth not in TRUTHS:
+        raise ValueError(f"`truth` must be one of {', '.join(TRUTHS)}, got {truth!r}")
+    t = np.asarray(truth_columns, dtype=np.float64)
+    if truth == "render":
+        return t
+    cols = referenced_columns(image, t)
+    seen = (np.asarray(states) == STRIPE) & ~np.isfinite(cols)
+    return np.where(seen, t, cols)
 
 
 def family_of(doc: dict) -> str:

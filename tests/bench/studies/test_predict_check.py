@@ -425,6 +425,37 @@ def _quick_runs(tmp_path, option: str, values) -> dict:
     return runs
 
 
+def test_the_reference_truth_scores_a_clipped_core_in_a_glow_at_its_true_column_where_the_rule_gives_none():
+    """``--truth reference --rows clear``: a row read as seen (a clipped core in a glow, ``seen_states``) has no
+    reference column by the rule; it is scored at its true column instead of failing (``row_outcomes`` refuses a
+    stripe row without a column). Found on ``marble-480mw`` in the twenty-first session."""
+    from bench.evaluate import transplant as tp
+    from bench.evaluate.outcomes import STRIPE, referenced_columns, row_outcomes
+    from bench.studies.predict_check import scored_columns
+
+    rng = np.random.default_rng(3)
+    img = rng.normal(30.0, 1.0, (40, 60))
+    img[:, 30] += 150.0
+    img[10:20, 15:46] = 250.0 + rng.normal(0, 1.0, (10, 31))  # a glow filling the reference window
+    img[10:20, 29:32] = 255.0  # its clipped core, 5 DN up: the rule does not see it
+    img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+    truth = np.full(40, 30.2)
+    along = tp.stripe_extents(img, guide=truth)
+    states = tp.seen_states(img, truth, tp.clipped_peaks(img, along))
+    assert (states[10:20] == STRIPE).all() and np.isnan(referenced_columns(img, truth)[10:20]).all()
+    cols = scored_columns(img, truth, states, "reference")
+    assert np.array_equal(cols[10:20], truth[10:20])  # the true column where the rule gives none
+    ref = referenced_columns(img, truth)
+    assert np.array_equal(np.delete(cols, range(10, 20)), np.delete(ref, range(10, 20)), equal_nan=True)
+    assert np.array_equal(scored_columns(img, truth, states, "render"), truth)
+    reports = np.full(40, 30.0)
+    assert (row_outcomes(reports, cols, states)[10:20] == row_outcomes(reports, truth, states)[10:20]).all()
+    with pytest.raises(ValueError, match="`state` says stripe where `truth` has no column"):
+        row_outcomes(reports, ref, states)  # what the measured side did before
+    with pytest.raises(ValueError, match="`truth` must be one of render, reference, got 'labels'"):
+        scored_columns(img, truth, states, "labels")
+
+
 def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_reference_columns(tmp_path):
     """``--truth reference``: the measured side is scored against the columns a photograph's reference would give
     (:func:`bench.evaluate.outcomes.referenced_columns`), with the same row states; the prediction is unchanged."""

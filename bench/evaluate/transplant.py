@@ -570,8 +570,9 @@ def _estimated_guide(sm, med, noise: float, estimate: str, measured, clipped=Non
 
 
 def clipped_pixels(frame, noise_dn: float) -> np.ndarray:
-    """The pixels of ``frame`` (H, W) at its clipping level, shape (H, W), bool: within :data:`CLIP_NOISE_K` of
-    ``noise_dn`` (DN; at least 1 DN) of the top of an integer frame's range; none in a float frame (no known top).
+    """The pixels of ``frame`` (H, W) at its clipping level (:func:`_clipped_at`, with ``noise_dn``), shape (H, W), bool:
+    within :data:`CLIP_NOISE_K` of ``noise_dn`` (DN; at least 1 DN) of the top of an integer frame's range; none in a
+    float frame (no known top).
 
     Examples
     --------
@@ -581,9 +582,7 @@ def clipped_pixels(frame, noise_dn: float) -> np.ndarray:
     False
     """
     img = np.asarray(frame)
-    if not np.issubdtype(img.dtype, np.integer):
-        return np.zeros(img.shape, bool)
-    return img >= float(np.iinfo(img.dtype).max) - max(CLIP_NOISE_K * float(noise_dn), 1.0)
+    return img >= _clipped_at(img, float(noise_dn))[0]  # inf on a float frame: none
 
 
 def argmax_pick(lift, clipped, level: float) -> np.ndarray:

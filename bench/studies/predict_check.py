@@ -38,8 +38,8 @@ __all__ = ["DEFAULTS", "CASE_CHANNELS", "TRUTHS", "ROWS", "STATE_READINGS", "DIS
            "BAR_SIGMA_PX", "BAR_PEAK_DN", "FRINGE_PX", "FRINGE_SHARE",
            "stripe_evidence", "with_white_bar", "with_rival_fringe", "Case", "family_scene", "shrink_frame",
            "case_frames", "study", "family_of", "objective", "PAIRED", "paired", "score", "FAMILIES", "family_options",
-           "GLOW_POWER_MW", "JPEG_FAMILY_QUALITY", "scored_columns", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX", "WHITE_CORE_CLIP_DN",
-           "WHITE_CORE_OTHER", "white_core_share", "code_of_run"]
+           "GLOW_POWER_MW", "JPEG_FAMILY_QUALITY", "scored_columns", "WHITE_CORE_POWER_MW", "WHITE_CORE_HALF_PX",
+           "WHITE_CORE_CLIP_DN", "WHITE_CORE_OTHER", "white_core_share", "code_of_run"]
 
 #: The study's defaults (the command's options).
 DEFAULTS = {"profile": "field", "seed": 1, "size": 256, "grid": "default", "frames": "transplant", "downscale": 1,

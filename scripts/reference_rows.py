@@ -4,7 +4,7 @@ For each photograph the transplant can take (``stripebench predict``'s stripe es
 visible rows are split by whether the reference gives the row a column, and each row's height (the peak over the
 reference window's median, :class:`bench.evaluate.transplant.Extents`) is compared with the median height of the
 visible rows: a row under :data:`bench.evaluate.transplant.DIM_SHARE` of it is *dim*; its peak is *clipped* where
-:func:`bench.evaluate.transplant.clipped_peaks` says so. Printed per rig (the manifest's ``source_repo``) and for
+:func:`bench.evaluate.transplant.clipped_peaks` says so. Printed per rig (the manifest's ``rig``) and for
 all: the rows the references score and the share of them dim, the rows they leave out and the share dim, and the
 share of dim rows left out, once counting every dim row and once only those whose peak is not clipped (the
 ``--rows clear`` convention of ``stripebench predictcheck``). A second table does the same for the estimate's rows
@@ -20,7 +20,6 @@ visible", "A clipped core in a glow is seen"):
 from __future__ import annotations
 
 import argparse
-import csv
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -40,8 +39,9 @@ def main(argv=None) -> int:
     from bench.store.realset import read_reference_states
 
     root = args.dataset
-    with open(root / "manifest.csv", newline="") as f:
-        rig_of = {row["name"]: row.get("source_repo", "") for row in csv.DictReader(f)}
+    from bench.store.realset import load_dataset
+
+    rig_of = {im.name: im.rig for im in load_dataset(root)}
     counts = defaultdict(lambda: np.zeros(6, int))  # scored, scored dim, scored dim unclipped, left out, ...
     faint = defaultdict(lambda: np.zeros(4, int))  # invisible guided rows: scored, scored dim, left out, left out dim
     core = defaultdict(lambda: np.zeros(2, int))  # clipped peaks the rule does not see in place: scored, left out

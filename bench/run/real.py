@@ -280,7 +280,7 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
     dict
         ``result`` (``run_predict``'s, with ``comparison``, ``comparison_rigs`` and ``comparison_photos``
         added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
-        ``hit_rate`` and ``f1`` pooled, ``rigs`` (a rig: the manifest's ``source_repo``; a photograph
+        ``hit_rate`` and ``f1`` pooled, ``rigs`` (:attr:`bench.store.realset.RealImage.rig`; a photograph
         without one is a rig of its own; each also with its ``measured_reliability``) and ``per_photograph``, each as
         :func:`bench.evaluate.prediction.comparison_doc`, ``measured_reliability``, how repeatable the measured
         ranks are, :func:`bench.evaluate.prediction.rank_reliability`, and ``rank_interval``, how far the rank
@@ -303,7 +303,7 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
     names = [n for n, m in result["matches"].items() if not m.out_of_range]
     metrics = load_real_run(out)["metrics"]
     cmp = compare_with_real(result["predicted"], metrics, names)
-    rig_of = {im.name: im.meta.get("source_repo") or im.name for im in real.load_dataset(dataset)}
+    rig_of = {im.name: im.rig for im in real.load_dataset(dataset)}
     rigs = compare_by_group(result["predicted_photos"], metrics, {n: rig_of.get(n, n) for n in names})
     photos = compare_by_group(result["predicted_photos"], metrics, {n: n for n in names})
     result.update(comparison=cmp, comparison_rigs=rigs, comparison_photos=photos)

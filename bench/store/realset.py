@@ -7,7 +7,8 @@ File readers only: per-image metrics and the sim-to-real numbers are in
 A real set is a folder::
 
     manifest.csv      columns name, has_background (0/1), laser_colour, and optionally
-                      rotate, channel, condition (the class of photograph, free text; a run's
+                      rotate, channel, rig (the camera-and-laser set-up that took it: figures
+                      are grouped and held out by it), condition (the class of photograph, free text; a run's
                       experiments with that `condition` are its synthetic match), source_repo,
                       source_commit, source_path, license, notes;
                       any other column is ignored (:func:`ignored_columns`)
@@ -48,7 +49,7 @@ __all__ = ["SHIPPED", "CHANNELS", "LASERS", "ROTATIONS", "IMAGE_SUFFIXES", "Imag
 SHIPPED = Path(__file__).resolve().parents[1] / "data" / "real"
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
 MANIFEST_REQUIRED = ("name", "has_background", "laser_colour")
-MANIFEST_OPTIONAL = ("rotate", "channel", "condition", "source_repo", "source_commit", "source_path", "license", "notes")
+MANIFEST_OPTIONAL = ("rotate", "channel", "rig", "condition", "source_repo", "source_commit", "source_path", "license", "notes")
 
 
 class ImageError(StripebenchError, ValueError):
@@ -293,6 +294,12 @@ class RealImage:
                                rotate_deg=self.rotate_deg)
         ref = read_reference(self.reference_path, frame.shape)
         return frame, bg, original, ref
+
+    @property
+    def rig(self) -> str:
+        """The rig that took the photograph: the manifest's ``rig``, else its ``source_repo``, else the
+        photograph's own name (a set that names no rig holds one rig per photograph)."""
+        return self.meta.get("rig") or self.meta.get("source_repo") or self.name
 
     def reference(self, shape, gap_rows: int = GAP_ROWS) -> tuple[np.ndarray, np.ndarray]:
         """The reference's columns and row states for the tracker frame's ``shape``

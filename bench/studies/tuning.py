@@ -120,14 +120,15 @@ def synthetic_frames(kinds, seeds, *, background: bool = False) -> list[TuningFr
 
 def real_frames(root=None) -> list[TuningFrame]:
     """The photographs of a real set (default the shipped one) as ``stripebench real`` gives them
-    to the trackers, with their references' states; ``kind`` is the photograph's source repository."""
+    to the trackers, with their references' states; ``kind`` is the photograph's rig
+    (:attr:`bench.store.realset.RealImage.rig`)."""
     from bench.store import realset
 
     out = []
     for im in realset.load_dataset(realset.SHIPPED if root is None else root):
         frame, bg, original, _ = im.load()
         cols, states = im.reference(frame.shape)
-        out.append(TuningFrame("real", im.name, im.meta.get("source_repo", "") or im.name, frame, bg, cols, states,
+        out.append(TuningFrame("real", im.name, im.rig, frame, bg, cols, states,
                                original if np.asarray(original).ndim == 3 else None, im.laser_colour,
                                im.rotate_deg))
     return out

@@ -194,7 +194,7 @@ def fallback_of(states, gap_rows: int = GAP_ROWS) -> np.ndarray:
     read by :func:`fallback_states` around them (:data:`NO_STRIPE` at least ``gap_rows`` rows from every stripe row,
     else :data:`UNSURE`). A real set whose ``NAME_ref.csv`` files have no ``state`` column is scored so
     (:func:`bench.store.realset.read_reference_states`); a prediction for such a set reads its frames' rows the same
-    way (docs/predict.md, "A set whose references give no row states").
+    way.
 
     Parameters
     ----------
@@ -224,7 +224,7 @@ def distant_states(states, truth, gap_rows: int = GAP_ROWS) -> np.ndarray:
     """``states`` with every :data:`NO_STRIPE` row nearer than ``gap_rows`` rows to a row of ``truth``
     :data:`UNSURE`: the stripe-less rows a photograph's reference without explicit states scores
     (:func:`fallback_states`). On a render they leave out the few rows where the stripe jumps at an occlusion,
-    which a photograph's reference leaves unscored (docs/predict.md, "Where the false reports are measured").
+    which a photograph's reference leaves unscored.
 
     Parameters
     ----------
@@ -394,7 +394,7 @@ def referenced_columns(frame, truth, *, half_width: int = REFERENCE_HALF_WIDTH,
     ``half_width`` px about the true column; NaN in every other row. A photograph's reference is an intensity
     centre, and a tracker is scored against it; scoring a render against these columns scores it as a photograph
     is, where the stripe's intensity centre and the laser sheet's true centre part (a clipped stripe on a slanted
-    surface; docs/predict.md, "The renders' truth and a photograph's reference").
+    surface; docs/predict.md).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""The page of ``stripebench predict``: predicted figures per tracker and the photo / matched-render contact sheet.
+"""The page of ``stripebench predict``: predicted figures per tracker and the photograph / moved-stripe contact sheet.
 
 Built from the result of :func:`bench.run.predict.run_predict` with the report toolkit
 (:mod:`bench.report.html`); writes ``report.html`` beside the prediction's CSV files.
@@ -20,10 +20,8 @@ __all__ = ["thumbnail", "build_predict_report"]
 THUMB_H = 180
 
 
-def _why_out(measures, transplant: bool) -> str:
-    """Why a photograph was left out, in words (``measures``: :attr:`bench.run.predict.Match.out_of_range`)."""
-    if not transplant:
-        return "outside what the renders show"
+def _why_out(measures) -> str:
+    """Why a photograph was left out, in words (``measures``: :attr:`bench.run.predict.Made.out_of_range`)."""
     if "width_px" in measures:
         return "(its stripe is wider than the reference window: shrink the photographs)"
     return "(too few rows of the moved stripe seen)"
@@ -91,11 +89,9 @@ def build_predict_report(result: dict) -> Path:
 
     out = Path(result["out"])
     pred = result["predicted"]
-    n_in = sum(1 for m in result["matches"].values() if not m.out_of_range)
-    n_all = len(result["matches"])
-    transplant = result["settings"].get("frames") == "transplant"
-    how = ("with their own stripe moved (two frames each) and in place" if transplant else
-           f"matched to renders ({esc(result['settings']['n_angles'])} mirror angles each)")
+    n_in = sum(1 for m in result["made"].values() if not m.out_of_range)
+    n_all = len(result["made"])
+    how = "with their own stripe moved (two frames each) and in place"
     parts = [f"<h1>Predicted: {esc(result['settings']['folder'])}</h1>",
              f"<p>{n_in} of {n_all} photographs {how}; figures pooled over their rows, 95 % bootstrap "
              "intervals over photographs "
@@ -125,35 +121,27 @@ def build_predict_report(result: dict) -> Path:
                  "best tracker predicted / measured (F1)"],
                 [[esc(g), esc(len(v["photographs"])), *_agreement(v), esc(_best(v["f1"]["table"]))]
                  for g, v in groups.items()]))
-    bad = [(n, m) for n, m in result["matches"].items() if m.out_of_range]
+    bad = [(n, m) for n, m in result["made"].items() if m.out_of_range]
     if bad:
         parts.append("<h2>Out of range (left out)</h2><ul>" + "".join(
             f"<li><code>{esc(n)}</code>: {esc(', '.join(m.out_of_range))} "
-            f"{_why_out(m.out_of_range, transplant)}</li>"
+            f"{_why_out(m.out_of_range)}</li>"
             for n, m in bad) + "</ul>")
-    what = "its stripe moved" if transplant else "matched render"
+    what = "its stripe moved"
     parts.append(f"<h2>Contact sheet: photograph and {what}</h2>")
     cells = []
     for ph in result["photos"]:
-        m = result["matches"][ph.name]
+        m = result["made"][ph.name]
         photo = ph.original if ph.original.ndim == 3 else ph.frame
         if ph.original.ndim == 3:
             photo = rotate_image(ph.original, ph.rotate_deg)
         left = png_img(_png(photo), ph.name) + f"<br><small>{esc(describe(result['conditions'][ph.name]))}</small>"
         if m.out_of_range:
             right = f"<b>out of range</b>: {esc(', '.join(m.out_of_range))}"
-        elif m.point.get("frames") == "transplant":
-            img = result["frames"][ph.name][0][0]
-            right = (png_img(_png(img), f"{ph.name} stripe moved") + f"<br><small>{esc(describe(m.conditions))}</small>"
-                     f"<br><small>its own stripe moved by {m.point['shift_px']:+d} px (and by "
-                     f"{m.point.get('shift_back_px', -m.point['shift_px']):+d} px); distance {m.distance:.2f}</small>")
         else:
             img = result["frames"][ph.name][0][0]
-            p = m.point
-            right = (png_img(_png(img), f"{ph.name} render") + f"<br><small>{esc(describe(m.conditions))}</small>"
-                     f"<br><small>{esc(p['setup'])}, line {p['line_fwhm_mrad']:g} mrad, {p['laser_power_mw']:.3g} mW, "
-                     f"{p['ambient_lux']:.4g} lux, {p['exposure_ms']:.3g} ms, filter {esc(p['filter'])}, "
-                     f"defocus {p['defocus_px']:g} px, JPEG {esc(p['jpeg_quality'])}; "
+            right = (png_img(_png(img), f"{ph.name} stripe moved") + f"<br><small>{esc(describe(m.conditions))}</small>"
+                     f"<br><small>its own stripe moved by {m.shift_px:+d} px (and by {m.shift_back_px:+d} px); "
                      f"distance {m.distance:.2f}</small>")
         cells.append([f"<code>{esc(ph.name)}</code>", left, right])
     parts.append(table(["photograph", "photo", what], cells).replace("text-align:right", ""))

@@ -298,9 +298,9 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     experiments with its mean hit rate over the photographs; where experiments
     carry a ``condition``, also matched by class (``by_class``:
     :func:`bench.evaluate.simreal.sim_to_real_by_class` against the manifest's
-    ``condition`` column); and the figures predicted for the photographs
-    (``predicted``: :func:`bench.run.real.predict_real`, into ``<run>/real/predict``)
-    beside the measured ones."""
+    ``condition`` column); and, with ``real_predict`` (``run --predict``), the figures
+    predicted for the photographs (``predicted``: :func:`bench.run.real.predict_real`,
+    into ``<run>/real/predict``) beside the measured ones."""
     from bench.evaluate import simreal
     from bench.store import realset as real
     from bench.store.realrun import load_real_run, real_run_means
@@ -332,6 +332,8 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
                      for n, g in rmet[rmet["experiment"] != "mean"].groupby("experiment")}
         image_class = {im.name: im.meta.get("condition", "") for im in real.load_dataset(dataset)}
         result["by_class"] = simreal.sim_to_real_by_class(synthetic_by_class, per_image, image_class)
+    if not config.real_predict:
+        return result
     # the same trackers' figures predicted for these photographs (each with its own stripe moved, and in place) beside the
     # measured ones, row for row: unlike the means above, both sides are the same photographs
     result["predicted"] = predict_real(dataset, rdir, specs, n_boot=min(config.n_boot, 1000), seed=config.seed,

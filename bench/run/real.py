@@ -258,8 +258,7 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     return out
 
 
-def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimate: str = "auto", grid=None,
-                 n_boot: int = 1000, seed: int = 0, say=None) -> dict:
+def predict_real(dataset, run_dir, specs, *, n_boot: int = 1000, seed: int = 0, settings=None, say=None) -> dict:
     """``real --predict``: predict a real run's figures (:func:`bench.run.predict.run_predict` into
     ``RUN/predict``) and set them beside the measured ones, pooled, per rig and per photograph.
 
@@ -271,15 +270,14 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         A finished real run (:func:`run_real`).
     specs : sequence of TrackerSpec
         Its trackers.
-    frames, estimate, grid, n_boot, seed, say
-        As :func:`bench.run.predict.run_predict` (``grid`` default :data:`~bench.run.predict.DEFAULT_GRID`;
-        ``estimate="reference"``: the stripe taken from the set's references, the ablation of docs/predict.md).
+    n_boot, seed, settings, say
+        As :func:`bench.run.predict.run_predict` (``settings`` None: the defaults).
 
     Returns
     -------
     dict
         ``result`` (``run_predict``'s, with ``comparison``, ``comparison_rigs`` and ``comparison_photos``
-        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
+        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the ``photographs`` in range,
         ``hit_rate`` and ``f1`` pooled, ``rigs`` (:attr:`bench.store.realset.RealImage.rig`; a photograph
         without one is a rig of its own; each also with its ``measured_reliability``) and ``per_photograph``, each as
         :func:`bench.evaluate.prediction.comparison_doc`, ``measured_reliability``, how repeatable the measured
@@ -293,14 +291,15 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
 
     from bench.evaluate.prediction import (RELIABILITY_MIN_PHOTOS, compare_by_group, compare_with_real,
                                           comparison_doc, rank_interval, rank_reliability)
-    from bench.run.predict import DEFAULT_GRID, run_predict
+    from bench.evaluate.predict_settings import DEFAULT
+    from bench.run.predict import run_predict
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
 
     out = Path(run_dir)
-    result = run_predict(dataset, out / "predict", specs, frames=frames, estimate=estimate,
-                         grid=DEFAULT_GRID if grid is None else grid, n_boot=n_boot, seed=seed, say=say)
-    names = [n for n, m in result["matches"].items() if not m.out_of_range]
+    result = run_predict(dataset, out / "predict", specs, n_boot=n_boot, seed=seed,
+                         settings=DEFAULT if settings is None else settings, say=say)
+    names = [n for n, m in result["made"].items() if not m.out_of_range]
     metrics = load_real_run(out)["metrics"]
     cmp = compare_with_real(result["predicted"], metrics, names)
     rig_of = {im.name: im.rig for im in real.load_dataset(dataset)}
@@ -315,8 +314,8 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         return (rank_interval(result["predicted_photos"], metrics, group, seed=seed)
                 if len(group) >= RELIABILITY_MIN_PHOTOS else None)
 
-    doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
-           "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
+    doc = {"photographs": names, "frames": "transplant", "estimate": "auto",
+           "out_of_range": {n: list(m.out_of_range) for n, m in result["made"].items() if m.out_of_range},
            **comparison_doc(cmp),
            "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"]),
                         "rank_interval": interval(v["photographs"])} for g, v in rigs.items()},

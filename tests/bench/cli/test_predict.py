@@ -1,5 +1,4 @@
-"""``stripebench predict``: tables and page on a small folder, with either source of frames; an out-of-range
-photograph named and left out."""
+"""``stripebench predict``: tables and page on a small folder; an out-of-range photograph named and left out."""
 
 import csv
 
@@ -8,51 +7,23 @@ import numpy as np
 import pytest
 
 from bench.cli import main
-from bench.run import predict as pr
+from bench.run import predict_frames as pf
 
 
 @pytest.fixture(scope="module")
 def photos(tmp_path_factory):
     d = tmp_path_factory.mktemp("photos")
-    pt = {"setup": "plane", "line_fwhm_mrad": 3.0, "laser_power_mw": 3.0, "ambient_lux": 400.0, "exposure_ms": 10.0,
-          "filter": "bandpass", "defocus_px": 0.0, "jpeg_quality": None}
-    f, img, _, _ = pr.render_point(pt, pr.SMALL_GRID, colour=False, laser="red")[0]
-    iio.imwrite(d / "board.png", f.image)
+    import scenes
+
+    scene = scenes.make("plane", material="matte", width=128, height=120, seed=0, line_fwhm_mrad=3.0,
+                        laser_power_mw=3.0, ambient_lux=400.0, exposure_ms=10.0)
+    angles = scene.default_angles()
+    iio.imwrite(d / "board.png", scene.render(float(angles[len(angles) // 2])).image)
     rng = np.random.default_rng(0)
     x = np.arange(128.0)
     wide = 30.0 + 120.0 * np.exp(-0.5 * ((x - 64.0) / 12.0) ** 2) + rng.normal(0, 2.0, (120, 128))
     iio.imwrite(d / "blurred.png", np.clip(wide, 0, 255).round().astype(np.uint8))
     return d
-
-
-def test_predict_writes_tables_and_page_and_names_the_out_of_range_photo(photos, tmp_path, capsys):
-    out = tmp_path / "pred"
-    rc = main(["predict", str(photos), "--out", str(out), "--frames", "render", "--grid", "small", "--size", "128",
-               "--trackers", "threshold,dp8", "--n-boot", "200"])
-    assert rc == 0
-    err = capsys.readouterr().err
-    assert "blurred: out of range (width_px" in err and "left out" in err
-    with open(out / "predicted.csv", newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    assert [r["tracker"] for r in rows] == ["threshold", "dp8"]
-    for r in rows:
-        assert r["n_photos"] == "1" and r["n_frames"] == str(pr.N_ANGLES)
-        assert 0.0 <= float(r["hit_rate"]) <= 1.0 and 0.0 <= float(r["f1"]) <= 1.0
-    with open(out / "conditions.csv", newline="") as fh:
-        cond = list(csv.DictReader(fh))
-    status = {(r["name"], r["side"]): r["status"] for r in cond}
-    assert status == {("board", "photo"): "matched", ("board", "render"): "matched",
-                      ("blurred", "photo"): "out of range"}
-    with open(out / "predicted_photos.csv", newline="") as fh:
-        per = list(csv.DictReader(fh))
-    assert [(r["name"], r["tracker"]) for r in per] == [("board", "threshold"), ("board", "dp8")]
-    for r in per:  # the counts are the renders' rows, and the figures agree with them
-        counts = {k: int(r[k]) for k in ("n_hit", "n_wrong", "n_missed", "n_false", "n_quiet", "n_unknown")}
-        assert sum(counts.values()) == 120 * pr.N_ANGLES
-        stripe = counts["n_hit"] + counts["n_wrong"] + counts["n_missed"]
-        assert float(r["hit_rate"]) == pytest.approx(counts["n_hit"] / stripe, abs=1e-5)
-    html = (out / "report.html").read_text()
-    assert "Contact sheet" in html and "blurred" in html and "out of range" in html and html.count("<img") == 3
 
 
 def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, capsys):
@@ -70,7 +41,7 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
         per = list(csv.DictReader(fh))
     for r in per:  # a clean board: both trackers find the moved stripe on (nearly) every row the rule sees
         counts = {k: int(r[k]) for k in ("n_hit", "n_wrong", "n_missed", "n_false", "n_quiet", "n_unknown")}
-        assert sum(counts.values()) == pr.N_FULL * 120 and counts["n_hit"] >= 100 and float(r["hit_rate"]) > 0.9
+        assert sum(counts.values()) == pf.N_FULL * 120 and counts["n_hit"] >= 100 and float(r["hit_rate"]) > 0.9
         # the false-report frames' stripe-less rows (the cut ends, 15 or more rows from the moved stripe) feed the
         # false-report rate alone
         cut = int(r["n_false_cut"]) + int(r["n_quiet_cut"])
@@ -79,8 +50,8 @@ def test_predict_by_transplant_moves_each_photo_s_own_stripe(photos, tmp_path, c
     with open(out / "conditions.csv", newline="") as fh:
         cond = list(csv.DictReader(fh))
     board = {r["side"]: r for r in cond if r["name"] == "board"}
-    assert set(board) == {"photo", "render"} and int(float(board["render"]["shift_px"])) >= 12
-    assert float(board["render"]["distance"]) < 1.0  # the moved photograph keeps the photograph's conditions
+    assert set(board) == {"photo", "moved"} and int(float(board["moved"]["shift_px"])) >= 12
+    assert float(board["moved"]["distance"]) < 1.0  # the moved photograph keeps the photograph's conditions
     html = (out / "report.html").read_text()
     assert "its stripe moved" in html and "wider than the reference window" in html and html.count("<img") == 3
 
@@ -163,7 +134,7 @@ def test_predict_refuses_a_folder_of_other_files(photos, tmp_path):
     out = tmp_path / "busy"
     out.mkdir()
     (out / "keep.txt").write_text("x")
-    assert main(["predict", str(photos), "--out", str(out), "--grid", "small", "--size", "128"]) == 2
+    assert main(["predict", str(photos), "--out", str(out)]) == 2
 
 
 def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
@@ -182,7 +153,7 @@ def test_real_predict_puts_predicted_beside_measured(photos, tmp_path, capsys):
                                      "twin,0,red,someone/rig\n")
     out = tmp_path / "run"
     rc = main(["real", str(ds), "--out", str(out), "--trackers", "threshold,dp8,centroid", "--n-boot", "100",
-               "--quiet", "--predict", "--predict-grid", "small", "--predict-size", "128"])
+               "--quiet", "--predict"])
     assert rc == 0
     printed = capsys.readouterr().out
     assert "Spearman rho" in printed and "mean |predicted - measured|" in printed
@@ -237,39 +208,6 @@ def test_real_predict_with_four_photographs_says_how_far_its_rank_correlation_re
     assert doc["rigs"]["someone/rig"]["rank_interval"] == doc["rank_interval"]  # one rig: the same photographs
 
 
-def test_real_predict_with_the_reference_estimate_and_its_refusals(photos, tmp_path, capsys):
-    """``--predict-estimate reference`` predicts with the set's references as the stripe (the ablation of
-    docs/predict.md) and says so in compare.json; ``predict --estimate reference`` refuses shrunk photographs and
-    a folder without references, each in one line with exit status 2."""
-    import json
-    import shutil
-
-    ds = tmp_path / "set"
-    ds.mkdir()
-    shutil.copy(photos / "board.png", ds / "board.png")
-    frame = iio.imread(ds / "board.png")
-    (ds / "board_ref.csv").write_text("row,col\n" + "".join(f"{r},{c:g}\n" for r, c in
-                                                              enumerate(frame.argmax(axis=1).astype(float))))
-    (ds / "manifest.csv").write_text("name,has_background,laser_colour\nboard,0,red\n")
-    out = tmp_path / "run"
-    rc = main(["real", str(ds), "--out", str(out), "--trackers", "threshold,dp8", "--n-boot", "50", "--quiet",
-               "--predict", "--predict-estimate", "reference"])
-    assert rc == 0
-    doc = json.loads((out / "predict" / "compare.json").read_text())
-    assert doc["estimate"] == "reference" and doc["photographs"] == ["board"]
-    capsys.readouterr()
-    assert main(["predict", str(ds), "--out", str(tmp_path / "p1"), "--estimate", "reference", "--downscale", "2"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["stripebench: error: --estimate reference reads the references at the photographs' own size; "
-                   "got --downscale 2"]
-    loose = tmp_path / "loose"
-    loose.mkdir()
-    shutil.copy(photos / "board.png", loose / "board.png")
-    assert main(["predict", str(loose), "--out", str(tmp_path / "p2"), "--estimate", "reference", "--quiet"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "--estimate reference needs a real set" in err[0]
-
-
 def test_a_photo_too_wide_for_the_window_is_predicted_shrunk_and_nothing_in_range_exits_2(tmp_path, capsys):
     d = tmp_path / "phone"
     d.mkdir()
@@ -292,18 +230,3 @@ def test_a_photo_too_wide_for_the_window_is_predicted_shrunk_and_nothing_in_rang
     assert '"downscale": 2' in (tmp_path / "half" / "predict.json").read_text()
 
 
-@pytest.mark.parametrize("estimate", ["covered"])
-def test_the_covered_ablation_needs_references_and_refuses_shrunk_photographs(photos, tmp_path, capsys, estimate):
-    import shutil
-
-    assert main(["predict", str(photos), "--out", str(tmp_path / "p1"), "--estimate", estimate,
-                 "--downscale", "2"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == [f"stripebench: error: --estimate {estimate} reads the references at the photographs' own size; "
-                   "got --downscale 2"]
-    loose = tmp_path / "loose"
-    loose.mkdir()
-    shutil.copy(photos / "board.png", loose / "board.png")
-    assert main(["predict", str(loose), "--out", str(tmp_path / "p2"), "--estimate", estimate, "--quiet"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and f"--estimate {estimate} needs a real set" in err[0]

@@ -75,6 +75,9 @@ SOURCES = {
     "jz_chair": ("test.jpg", 2, (2, 1012, 18, 1366)),  # the frame's black left band and top rows cut off
     **{f"fh_{side}{step}{off}": (f"{step:02d}-{'off' if off else side}.png", 3, None)
        for step in (0, 16) for side in ("left", "right") for off in ("", "_off")},
+    # chrisspen/laser-range-finder: 320x240 frames, laser on (b) and off (a); the odd samples 1-9
+    **{f"cs_{what}{off}": (f"chrisspen/sample{i}-{'a' if off else 'b'}-0.jpg", 1, None)
+       for i, what in ((1, "room"), (3, "soap"), (5, "shoe_dark"), (7, "shoe"), (9, "desk")) for off in ("", "_off")},
 }
 
 
@@ -279,8 +282,9 @@ def make_refs() -> None:
               f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)")
 
 
-def print_difference_guides(names, *, skip_cols: int = 0) -> None:
-    """Print each photograph's :func:`difference_guide` segments as ``guides.toml`` holds them."""
+def print_difference_guides(names, *, skip_cols: int = 0, min_k: float = 8.0, rival_k: float = 6.0) -> None:
+    """Print each photograph's :func:`difference_guide` segments as ``guides.toml`` holds them: rows and columns of
+    the tracker's frame (both photographs turned by the manifest's ``rotate``)."""
     from bench.store import realset as real
 
     images = {im.name: im for im in real.load_dataset(DATA)}  # the set's manifest, read and checked in one place
@@ -288,8 +292,8 @@ def print_difference_guides(names, *, skip_cols: int = 0) -> None:
         im = images.get(name)
         if im is None or im.background_path is None:
             raise SystemExit(f"make_real_set.py guides: {name!r} is not a shipped photograph with a laser-off frame")
-        segs = difference_guide(real.read_image(im.image_path), real.read_image(im.background_path), im.laser_colour,
-                                skip_cols=skip_cols)
+        on, off = (real.rotate_image(real.read_image(p), im.rotate_deg) for p in (im.image_path, im.background_path))
+        segs = difference_guide(on, off, im.laser_colour, skip_cols=skip_cols, min_k=min_k, rival_k=rival_k)
         print(f"[{name}]\nsegments = [" + ",\n            ".join(
             f"{{rows = [{g['rows'][0]}, {g['rows'][1]}], cols = [{g['cols'][0]}, {g['cols'][1]}]}}" for g in segs) + "]")
 
@@ -304,11 +308,14 @@ def main(argv=None) -> int:
     s = sub.add_parser("guides", help="print guide segments read off the laser-on minus laser-off difference")
     s.add_argument("names", nargs="+", help="photographs of the shipped set with a NAME_off.png")
     s.add_argument("--skip-cols", type=int, default=0, help="columns left of this are left out (default 0)")
+    s.add_argument("--min-k", type=float, default=8.0, help="a guided row's peak, in noise units (default 8)")
+    s.add_argument("--rival-k", type=float, default=6.0,
+                   help="no second piece 25 px or more away may reach this, in noise units (default 6)")
     args = p.parse_args(argv)
     if args.cmd == "images":
         make_images(args.src, args.names)
     elif args.cmd == "guides":
-        print_difference_guides(args.names, skip_cols=args.skip_cols)
+        print_difference_guides(args.names, skip_cols=args.skip_cols, min_k=args.min_k, rival_k=args.rival_k)
     else:
         make_refs()
     return 0

@@ -78,6 +78,9 @@ SOURCES = {
     # chrisspen/laser-range-finder: 320x240 frames, laser on (b) and off (a); the odd samples 1-9
     **{f"cs_{what}{off}": (f"chrisspen/sample{i}-{'a' if off else 'b'}-0.jpg", 1, None)
        for i, what in ((1, "room"), (3, "soap"), (5, "shoe_dark"), (7, "shoe"), (9, "desk")) for off in ("", "_off")},
+    # octopusengine/simple3dscanner: the photograph tiles of two collages (the other tiles show hardware or output)
+    "oe_skull": ("octopusengine/first-scann--it-works.jpg", 1, (0, 626, 790, 1330)),  # its top-right tile, left 540 px
+    "oe_figure": ("octopusengine/example-of-processing.jpg", 2, (0, 1114, 0, 756)),  # its left tile
 }
 
 

@@ -81,6 +81,10 @@ SOURCES = {
     # octopusengine/simple3dscanner: the photograph tiles of two collages (the other tiles show hardware or output)
     "oe_skull": ("octopusengine/first-scann--it-works.jpg", 1, (0, 626, 790, 1330)),  # its top-right tile, left 540 px
     "oe_figure": ("octopusengine/example-of-processing.jpg", 2, (0, 1114, 0, 756)),  # its left tile
+    # Agent5/3D-scanner: frames 001 and 061 (0 and 180 degrees) of each of its three 120-frame raw scans
+    **{f"a5_{what}{deg}": (f"agent5/{scan}_raw_image-{i}.png", 1, None)
+       for scan, what in (("35mm_cube", "cube"), ("ceremic_doll", "doll"), ("day_lilly", "lily"))
+       for i, deg in (("001", 0), ("061", 180))},
 }
 
 

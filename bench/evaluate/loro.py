@@ -8,7 +8,8 @@ one, and the held-out scores are pooled over the folds. A *rig* is one camera-an
 
 :func:`rig_folds` gives the folds; :func:`choose_by_fold` runs a choice on every fold from per-rig row-outcome
 counts and pools what it scores on the held-out rigs; :func:`null_prediction` is the plain baseline every
-prediction must beat: each item's mean over the other rigs.
+prediction must beat: each item's mean over the other rigs; :func:`rig_figures` gives detection figures per rig,
+with intervals over its photographs, and over all rigs with intervals over rigs.
 
 Pure functions: arrays and dicts in, numbers out.
 """
@@ -22,7 +23,8 @@ import numpy as np
 
 from bench.evaluate.outcomes import detection_figures
 
-__all__ = ["Fold", "rig_folds", "FoldChoice", "choose_by_fold", "pooled_counts", "null_prediction"]
+__all__ = ["Fold", "rig_folds", "FoldChoice", "choose_by_fold", "pooled_counts", "null_prediction", "RIG_FIGURES",
+           "rig_figures"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -210,3 +212,94 @@ def null_prediction(values: Mapping[str, np.ndarray] | np.ndarray, rigs: Sequenc
         s = np.where(fin, others, 0.0).sum(axis=0)
         out[rig] = np.where(n > 0, s / np.maximum(n, 1), np.nan)
     return out
+
+
+#: The detection figures :func:`rig_figures` gives intervals for.
+RIG_FIGURES = ("recall", "f1", "false_report_rate")
+
+
+def _figures_of(pooled: np.ndarray) -> dict:
+    """:data:`RIG_FIGURES` of pooled counts (..., 6), vectorised (NaN where undefined)."""
+    c = np.asarray(pooled, dtype=np.float64)
+    hit, wrong, missed, false, quiet = (c[..., i] for i in range(5))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        recall = hit / (hit + wrong + missed)
+        f1 = 2 * hit / (2 * hit + 2 * wrong + missed + false)
+        frr = false / (false + quiet)
+    return {"recall": recall, "f1": f1, "false_report_rate": frr}
+
+
+def rig_figures(counts, rigs, *, n_boot: int = 2000, seed: int = 0, level: float = 0.95) -> dict:
+    """Detection figures per rig and over all rigs, with percentile bootstrap intervals.
+
+    Within a rig the photographs are resampled with replacement (NaN intervals with fewer than two); over all
+    rigs the rigs are resampled, then each drawn rig's photographs: the spread a figure has from rig to rig,
+    what a user of a rig nobody measured meets.
+
+    Parameters
+    ----------
+    counts : array_like, shape (n, 6)
+        Each photograph's row-outcome counts (:data:`bench.evaluate.outcomes.OUTCOMES` order).
+    rigs : sequence of str, length n
+        Each photograph's rig.
+    n_boot : int
+        Resamples, >= 1.
+    seed : int
+    level : float
+        Interval coverage in (0, 1).
+
+    Returns
+    -------
+    dict
+        ``rigs``: rig -> ``n_photos``, :func:`bench.evaluate.outcomes.detection_figures` of its pooled rows and
+        ``<figure>_lo``, ``<figure>_hi`` for each of :data:`RIG_FIGURES`; ``all``: the same over every rig
+        (``n_rigs`` too), its intervals over rigs (NaN with fewer than two rigs).
+
+    Examples
+    --------
+    >>> c = [[9, 0, 1, 0, 0, 0], [8, 0, 2, 1, 9, 0], [5, 0, 5, 0, 0, 0]]
+    >>> r = rig_figures(c, ["a", "a", "b"], n_boot=200)
+    >>> r["rigs"]["b"]["recall"], r["rigs"]["b"]["n_photos"], bool(np.isnan(r["rigs"]["b"]["recall_lo"]))
+    (0.5, 1, True)
+    >>> r["all"]["n_rigs"], round(r["all"]["recall"], 3)
+    (2, 0.733)
+    """
+    c = np.asarray(counts, dtype=np.int64)
+    if c.ndim != 2 or c.shape[1] != 6 or c.shape[0] != len(rigs):
+        raise ValueError(f"`counts` must be (n, 6) with one rig per photograph, got {c.shape} and {len(rigs)} rigs")
+    if not (isinstance(n_boot, int) and n_boot >= 1) or not 0.0 < level < 1.0:
+        raise ValueError(f"`n_boot` must be an integer >= 1 and `level` in (0, 1), got {n_boot!r}, {level!r}")
+    r = np.asarray([str(x) for x in rigs], dtype=object)
+    names = sorted(set(r.tolist()))
+    rng = np.random.default_rng(seed)
+    q = (100 * (1 - level) / 2, 100 * (1 + level) / 2)
+
+    def summarise(pooled, boot, extra):
+        out = {**extra, **detection_figures(pooled)}
+        figs = _figures_of(boot) if boot is not None else None
+        for k in RIG_FIGURES:
+            if figs is None:
+                out[f"{k}_lo"] = out[f"{k}_hi"] = float("nan")
+                continue
+            v = figs[k][np.isfinite(figs[k])]
+            lo, hi = np.percentile(v, q) if v.size else (np.nan, np.nan)
+            out[f"{k}_lo"], out[f"{k}_hi"] = float(lo), float(hi)
+        return out
+
+    members = {name: c[r == name] for name in names}
+    by_rig = {}
+    for name in names:
+        m = members[name]
+        boot = None
+        if m.shape[0] >= 2:
+            idx = rng.integers(0, m.shape[0], size=(n_boot, m.shape[0]))
+            boot = m[idx].sum(axis=1)
+        by_rig[name] = summarise(m.sum(axis=0), boot, {"n_photos": int(m.shape[0])})
+    boot = None
+    if len(names) >= 2:
+        boot = np.zeros((n_boot, 6), dtype=np.int64)
+        for b in range(n_boot):
+            for g in rng.integers(0, len(names), size=len(names)):
+                m = members[names[g]]
+                boot[b] += m[rng.integers(0, m.shape[0], size=m.shape[0])].sum(axis=0)
+    return {"rigs": by_rig, "all": summarise(c.sum(axis=0), boot, {"n_rigs": len(names), "n_photos": int(c.shape[0])})}

@@ -74,3 +74,21 @@ def test_the_null_prediction_is_the_mean_of_the_other_rigs_each_rig_weighing_the
     assert p["c"][0] == pytest.approx((0.8 + 0.5) / 2)
     with pytest.raises(ValueError):
         null_prediction(values, ["a"])
+
+
+def test_rig_figures_pool_each_rig_and_give_the_interval_over_rigs():
+    from bench.evaluate.loro import rig_figures
+
+    counts = np.array([[90, 0, 10, 0, 0, 0], [80, 0, 20, 5, 45, 0], [50, 0, 50, 0, 0, 0], [60, 0, 40, 0, 10, 0]])
+    r = rig_figures(counts, ["a", "a", "b", "c"], n_boot=500, seed=3)
+    a = r["rigs"]["a"]
+    assert a["recall"] == pytest.approx(170 / 200) and a["false_report_rate"] == pytest.approx(5 / 50)
+    assert a["recall_lo"] <= a["recall"] <= a["recall_hi"] and a["recall_lo"] < a["recall_hi"]
+    assert np.isnan(r["rigs"]["b"]["f1_lo"])                      # one photograph: no interval
+    allr = r["all"]
+    assert allr["n_rigs"] == 3 and allr["recall"] == pytest.approx(280 / 400)
+    # over rigs the interval reaches down towards rig b's 0.5 and up towards rig a's 0.85
+    assert allr["recall_lo"] < 0.62 and allr["recall_hi"] > 0.78
+    assert np.isnan(rig_figures(counts, ["a"] * 4, n_boot=50)["all"]["recall_lo"])  # one rig: none over rigs
+    with pytest.raises(ValueError):
+        rig_figures(counts, ["a", "b"])

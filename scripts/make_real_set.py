@@ -88,6 +88,9 @@ SOURCES = {
     **{f"a5_{what}{deg}": (f"agent5/{scan}_raw_image-{i}.png", 1, None)
        for scan, what in (("35mm_cube", "cube"), ("ceremic_doll", "doll"), ("day_lilly", "lily"))
        for i, deg in (("001", 0), ("061", 180))},
+    # capopaul/3D-Scanner-Using-Laser-Triangulation: the two photographs among its slide images
+    "cp_wall": ("capopaul/no_deformation.png", 1, None),
+    "cp_box": ("capopaul/deformation.png", 1, (92, 644, 922, 1402)),  # the photograph on the slide's right
 }
 
 

@@ -91,11 +91,13 @@ SOURCES = {
     # capopaul/3D-Scanner-Using-Laser-Triangulation: the two photographs among its slide images
     "cp_wall": ("capopaul/no_deformation.png", 1, None),
     "cp_box": ("capopaul/deformation.png", 1, (92, 644, 922, 1402)),  # the photograph on the slide's right
-    # Raldir/3DScanner.RaspberryPi: the laser-on photographs of core/fotos that have a laser-off frame of the same view
+    # Raldir/3DScanner.RaspberryPi: the laser-on photographs of core/fotos that have a laser-off frame of the same view ...
     "rd_horus": ("raldir/img01.jpg", 5, None),
     "rd_horus_off": ("raldir/img00.jpg", 5, None),
     "rd_horus2": ("raldir/img1.jpg", 5, None),
     "rd_horus2_off": ("raldir/img0.jpg", 5, None),
+    # ... and frames 0, 2 and 4 of its horizontal scan in the dark (core/fotos/0.jpg .. 4.jpg)
+    **{f"rd_dark{i}": (f"raldir/core_fotos_{i}.jpg", 4, None) for i in (0, 2, 4)},
 }
 
 

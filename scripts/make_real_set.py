@@ -43,7 +43,10 @@ other row is ``unknown`` (the stripe may be there, too dim, ambiguous or occlude
 be sure: not scored). The ``none`` ranges were each checked by eye on the photograph
 and its check overlay, and declared only where the stripe is surely absent (above the
 object the laser reaches, in a gap the stripe visibly leaves); rows where the laser
-crosses clutter in a room without a visible line stay ``unknown``.
+crosses clutter in a room without a visible line stay ``unknown``. Every ``none`` row of a guide
+must also pass :func:`bench.evaluate.nonerows.doubtful_rows` (no faint continuation of the stripe's
+path, no reflection as narrow as the stripe, no ridge of the laser's colour); a row it flags is
+written ``unknown``.
 """
 
 from __future__ import annotations
@@ -240,6 +243,20 @@ def states_for(ref: np.ndarray, guide: dict) -> np.ndarray:
     return states
 
 
+def none_doubts(frame: np.ndarray, ref: np.ndarray, states: np.ndarray, original: np.ndarray, laser: str,
+                rotate_deg: int) -> np.ndarray:
+    """The guide's ``none`` rows that :func:`bench.evaluate.nonerows.doubtful_rows` finds a sign of the stripe in
+    (bool (H,)): on the reference's frame and, for a colour photograph, its laser colour's excess."""
+    from bench.evaluate.nonerows import doubtful_rows
+    from bench.evaluate.pixels import rotate_image, select_channel
+
+    o = np.asarray(original)
+    grey = o.ndim == 2 or (np.array_equal(o[..., 0], o[..., 1]) and np.array_equal(o[..., 0], o[..., 2]))
+    colour = None if grey else rotate_image(select_channel(o, "excess", laser), rotate_deg)
+    flags = doubtful_rows(frame, ref, states, colour=colour)
+    return np.logical_or.reduce(list(flags.values()))
+
+
 def state_bar(img: np.ndarray, states: np.ndarray, rotate_deg: int) -> np.ndarray:
     """``img`` (the photograph's orientation) with each tracker-frame row's state as a 6-px bar at the
     frame's left edge (green stripe, red none, grey unknown)."""
@@ -253,7 +270,7 @@ def state_bar(img: np.ndarray, states: np.ndarray, rotate_deg: int) -> np.ndarra
 def make_refs() -> None:
     import imageio.v3 as iio
 
-    from bench.evaluate.outcomes import STATE_NAMES, fallback_states
+    from bench.evaluate.outcomes import STATE_NAMES, UNSURE, fallback_states
     from bench.report.real import overlay
     from bench.store import realset as real
 
@@ -271,6 +288,8 @@ def make_refs() -> None:
                                           laser=row["laser_colour"], rotate_deg=rot)
         ref = reference_for(frame, guides[name])
         states = states_for(ref, guides[name])
+        doubt = none_doubts(frame, ref, states, original, row["laser_colour"], rot)
+        states[doubt] = UNSURE
         lines = ["row,col,state"] + [f"{i}," + ("" if np.isnan(c) else f"{c:.2f}") + f",{STATE_NAMES[int(st)]}"
                                      for i, (c, st) in enumerate(zip(ref, states))]
         (DATA / f"{name}_ref.csv").write_text("\n".join(lines) + "\n")
@@ -279,7 +298,8 @@ def make_refs() -> None:
         fb = fallback_states(ref)
         print(f"{name}: {int(np.sum(states == 1))} stripe, {int(np.sum(states == 0))} none, "
               f"{int(np.sum(states == -1))} unknown of {ref.size} rows (the fallback rule: "
-              f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)")
+              f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)"
+              + (f"; {int(doubt.sum())} none rows of the guide in doubt, written unknown" if doubt.any() else ""))
 
 
 def print_difference_guides(names, *, skip_cols: int = 0) -> None:

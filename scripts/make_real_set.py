@@ -80,6 +80,8 @@ SOURCES = {
        for step in (0, 16) for side in ("left", "right") for off in ("", "_off")},
     "hx_thin": ("hexastorm/laserline.jpg", 2, None),
     "hx_wide": ("hexastorm/laserline1.jpg", 3, None),
+    "lm_wheel": ("lasermat/C0_p240_SD.png", 6, (0, 1800, 0, 4096)),  # the rows below 1800 hold no laser light
+    "lm_gage": ("lasermat/gage.jpg", 3, None),
 }
 
 

@@ -98,6 +98,10 @@ SOURCES = {
     "rd_horus2_off": ("raldir/img0.jpg", 5, None),
     # ... and frames 0, 2 and 4 of its horizontal scan in the dark (core/fotos/0.jpg .. 4.jpg)
     **{f"rd_dark{i}": (f"raldir/core_fotos_{i}.jpg", 4, None) for i in (0, 2, 4)},
+    "hx_thin": ("hexastorm/laserline.jpg", 2, None),
+    "hx_wide": ("hexastorm/laserline1.jpg", 3, None),
+    "lm_wheel": ("lasermat/C0_p240_SD.png", 6, (0, 1800, 0, 4096)),  # the rows below 1800 hold no laser light
+    "lm_gage": ("lasermat/gage.jpg", 3, None),
 }
 
 
@@ -110,11 +114,12 @@ DRAWN_LINE = ("ag_tape",)
 def _downscale(a: np.ndarray, f: int) -> np.ndarray:
     from skimage.transform import downscale_local_mean
 
-    a = a[..., :3].astype(np.float64)
+    a = (a if a.ndim == 2 else a[..., :3]).astype(np.float64)  # a grey source stays one channel
     if f == 1:
         return np.clip(np.rint(a), 0, 255).astype(np.uint8)
     H, W = (a.shape[0] // f) * f, (a.shape[1] // f) * f
-    return np.clip(np.rint(downscale_local_mean(a[:H, :W], (f, f, 1))), 0, 255).astype(np.uint8)
+    block = (f, f) if a.ndim == 2 else (f, f, 1)
+    return np.clip(np.rint(downscale_local_mean(a[:H, :W], block)), 0, 255).astype(np.uint8)
 
 
 def make_images(src: Path, names=None) -> None:

@@ -125,8 +125,8 @@ class FoldChoice:
 
 
 def choose_by_fold(real_counts: Mapping[Hashable, Mapping[str, np.ndarray]],
-                   choose: Callable[[Callable[[Hashable], np.ndarray]], Hashable]) -> FoldChoice:
-    """Run a choice leave one rig out, from per-rig row-outcome counts of every candidate.
+                   choose: Callable[[str | None], Hashable]) -> FoldChoice:
+    """Run a choice leave one rig out, and score each fold's choice on its held-out rig.
 
     Parameters
     ----------
@@ -134,10 +134,9 @@ def choose_by_fold(real_counts: Mapping[Hashable, Mapping[str, np.ndarray]],
         candidate -> (rig -> counts (6,) in :data:`bench.evaluate.outcomes.OUTCOMES` order): what each candidate
         scores on each rig's photographs (pooled over the trackers the choice is for).
     choose : callable
-        ``choose(real_of) -> candidate``, where ``real_of(candidate)`` returns the counts (6,) of the photographs the
-        choice may see (summed over the fold's training rigs). The procedure's own rule: its objective over every
-        group of frames (the renders' and synthetic frames' counts are the procedure's own and do not change from
-        fold to fold), its eligibility and its tie rule.
+        ``choose(held_out) -> candidate``: the procedure's own rule (its objective over every group of frames, its
+        eligibility and its tie rule) with the photographs of the rig ``held_out`` left out; ``None``: with every
+        rig in. The other groups of frames (renders, synthetic) are the procedure's own and the same in every fold.
 
     Returns
     -------
@@ -149,7 +148,10 @@ def choose_by_fold(real_counts: Mapping[Hashable, Mapping[str, np.ndarray]],
     ...           "quiet": {"a": np.array([8, 0, 1, 0, 5, 0]), "b": np.array([8, 0, 1, 0, 0, 0])}}
     >>> def f1(c):
     ...     return 2 * c[0] / (2 * c[0] + 2 * c[1] + c[2] + c[3]) if c.any() else 0.0
-    >>> fc = choose_by_fold(counts, lambda real_of: max(counts, key=lambda k: f1(real_of(k))))
+    >>> def choose(held_out):
+    ...     keep = [r for r in "ab" if r != held_out]
+    ...     return max(counts, key=lambda k: f1(pooled_counts(counts[k], keep)))
+    >>> fc = choose_by_fold(counts, choose)
     >>> fc.in_sample, fc.by_rig
     ('quiet', {'a': 'loud', 'b': 'quiet'})
     >>> round(fc.loro["false_report_rate"], 2), round(fc.in_sample_figures["false_report_rate"], 2)
@@ -158,14 +160,10 @@ def choose_by_fold(real_counts: Mapping[Hashable, Mapping[str, np.ndarray]],
     rigs = sorted({r for per in real_counts.values() for r in per})
     if not rigs:
         raise ValueError("leave one rig out: no rig has counts")
-
-    def real_of(keep):
-        return lambda cand: pooled_counts(real_counts[cand], keep)
-
-    in_sample = choose(real_of(rigs))
+    in_sample = choose(None)
     by_rig, loro = {}, np.zeros(6, dtype=np.int64)
     for rig in rigs if len(rigs) > 1 else ():
-        chosen = choose(real_of([r for r in rigs if r != rig]))
+        chosen = choose(rig)
         by_rig[rig] = chosen
         loro += pooled_counts(real_counts[chosen], [rig])
     return FoldChoice(in_sample, by_rig, loro, pooled_counts(real_counts[in_sample], rigs))

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bench.evaluate.loro import choose_by_fold, null_prediction, rig_folds
+from bench.evaluate.loro import choose_by_fold, null_prediction, pooled_counts, rig_folds
 
 
 def test_no_rig_lies_on_both_sides_of_a_fold_and_every_item_is_held_out_once():
@@ -42,7 +42,11 @@ def test_a_choice_that_fits_one_planted_rig_is_caught_leave_one_rig_out():
         "plain": {"planted": np.array([600, 0, 300, 0, 300, 0]), "p": np.array([10, 0, 0, 0, 10, 0]),
                   "q": np.array([10, 0, 0, 0, 10, 0])},
     }
-    fc = choose_by_fold(counts, lambda real_of: max(sorted(counts), key=lambda k: _f1(real_of(k))))
+    def choose(held_out):
+        keep = [r for r in ("planted", "p", "q") if r != held_out]
+        return max(sorted(counts), key=lambda k: _f1(pooled_counts(counts[k], keep)))
+
+    fc = choose_by_fold(counts, choose)
     assert fc.in_sample == "fit"
     # held out, the planted rig is scored under "plain" (chosen on p and q) and p, q under "fit" (chosen with the
     # planted rig in): the pooled held-out F1 is below the in-sample one
@@ -53,17 +57,18 @@ def test_a_choice_that_fits_one_planted_rig_is_caught_leave_one_rig_out():
     assert fc.loro_counts.tolist() == expected.tolist()
 
 
-def test_a_choice_made_on_a_rig_never_sees_that_rig():
+def test_each_rig_is_held_out_once_and_scored_under_its_own_fold_s_choice():
     seen = []
-    counts = {c: {r: np.array([1, 0, 0, 0, 1, 0]) for r in "abc"} for c in (1, 2)}
+    counts = {c: {r: np.array([c, 0, 0, 0, 1, 0]) for r in "abc"} for c in (1, 2)}
 
-    def choose(real_of):
-        seen.append(real_of(1).tolist())
-        return 1
+    def choose(held_out):
+        seen.append(held_out)
+        return 2 if held_out == "b" else 1
 
-    choose_by_fold(counts, choose)
-    # in sample: three rigs' counts; each fold: two
-    assert seen == [[3, 0, 0, 0, 3, 0]] + [[2, 0, 0, 0, 2, 0]] * 3
+    fc = choose_by_fold(counts, choose)
+    assert seen == [None, "a", "b", "c"]
+    assert fc.loro_counts.tolist() == [1 + 2 + 1, 0, 0, 0, 3, 0]
+    assert fc.in_sample_counts.tolist() == [3, 0, 0, 0, 3, 0]
 
 
 def test_the_null_prediction_is_the_mean_of_the_other_rigs_each_rig_weighing_the_same():

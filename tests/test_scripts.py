@@ -103,7 +103,8 @@ def test_scripts_answer_help_from_outside_the_repository(path, tmp_path):
 
 
 def test_make_real_set_writes_the_shipped_references():
-    """The reference rule (its noise and contrast from bench.evaluate.outcomes) gives the shipped columns."""
+    """The reference rule (its noise and contrast from bench.evaluate.outcomes) gives the shipped columns, and every
+    shipped ``none`` row is a ``none`` row of its guide that passes the none-row check (bench.evaluate.nonerows)."""
     import csv
     import importlib.util
     import tomllib
@@ -120,13 +121,18 @@ def test_make_real_set_writes_the_shipped_references():
     assert len(rows) >= 12
     for row in rows:
         name, channel = row["name"], row.get("channel") or "auto"
-        frame, _ = real.load_frame(mod.DATA / f"{name}.png", channel="excess" if channel == "auto" else channel,
-                                   laser=row["laser_colour"], rotate_deg=int(row.get("rotate") or 0))
+        rot = int(row.get("rotate") or 0)
+        frame, original = real.load_frame(mod.DATA / f"{name}.png", channel="excess" if channel == "auto" else channel,
+                                          laser=row["laser_colour"], rotate_deg=rot)
         ref = mod.reference_for(frame, guides[name])
         shipped, states, _ = real.read_reference_states(mod.DATA / f"{name}_ref.csv", frame.shape)
         assert np.array_equal(np.isnan(ref), np.isnan(shipped)), name
         assert np.allclose(ref[~np.isnan(ref)], shipped[~np.isnan(shipped)], atol=0.0051), name
-        assert np.array_equal(mod.states_for(ref, guides[name]), states), name
+        want = mod.states_for(ref, guides[name])
+        doubt = mod.none_doubts(frame, ref, want, original, row["laser_colour"], rot)
+        assert not (doubt & (states == 0)).any(), name
+        want[doubt] = -1
+        assert np.array_equal(want, states), name
 
 
 def test_without_states_copies_a_real_set_with_its_references_read_by_the_fallback_rule(tmp_path, capsys):

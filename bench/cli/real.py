@@ -65,6 +65,9 @@ def _add_real(p) -> None:
     add_n_boot(p)
     add_seed(p, "bootstrap seed", default=REAL_DEFAULTS["seed"])
     p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
+    p.add_argument("--by-rig", action="store_true",
+                   help="also print F1, false-report rate and hit rate per rig (the manifest's `rig`), with 95 %% "
+                        "intervals over each rig's photographs and, for all rigs, over rigs")
     p.add_argument("--predict", action="store_true",
                    help="also predict the figures from frames made for the photographs (as `stripebench predict`, "
                         "into RUN/predict) and compare them with the measured ones")
@@ -111,10 +114,36 @@ def _real(args) -> int:
             h = s["hit_rate"]
             ci = f"[{h['lo']:.3f}, {h['hi']:.3f}]"
             print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
+    if args.by_rig:  # asked for: printed with --quiet too
+        from bench.store.realrun import load_real_run
+
+        print(by_rig_table(load_real_run(out)["summary"]))
     print(f"stripebench: report at {out / 'report.html'}")
     if args.predict:
         _predict_and_compare(args, specs, out)
     return 0
+
+
+def by_rig_table(summary: dict) -> str:
+    """``real --by-rig``'s lines: per tracker, each rig's photographs, F1, false-report rate and hit rate with their
+    intervals (``summary.json``'s ``rigs``, :func:`bench.evaluate.loro.rig_figures`), then all rigs."""
+    from bench.evaluate.formats import estimate
+
+    def cell(d, k):
+        return estimate(d[k], d[f"{k}_lo"], d[f"{k}_hi"])
+
+    lines = ["per rig (95 % intervals over the rig's photographs; over all rigs, over rigs; none from one photograph):"]
+    for lab, s in summary["trackers"].items():
+        rigs = s.get("rigs")
+        if not rigs:
+            continue
+        wide = max(len(g) for g in [*rigs["rigs"], "all rigs"]) + 2
+        lines.append(f"{lab}")
+        lines.append(f"  {'rig':<{wide}}{'photos':>7}  {'F1':<22}{'false-report rate':<24}{'hit rate':<22}")
+        for g, d in [*rigs["rigs"].items(), ("all rigs", rigs["all"])]:
+            lines.append(f"  {g:<{wide}}{d['n_photos']:>7}  {cell(d, 'f1'):<22}{cell(d, 'false_report_rate'):<24}"
+                         f"{cell(d, 'recall'):<22}")
+    return "\n".join(lines)
 
 
 def _predict_and_compare(args, specs, out) -> None:

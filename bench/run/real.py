@@ -11,7 +11,8 @@ whose outputs would collide or that lie inside the folder refused).
 ``real`` evaluates trackers on a real set (layout in :mod:`bench.store.realset`) into a
 run folder of kind ``real`` (its files: :mod:`bench.store.realrun`): per-image
 and mean metrics, the tracks and overlays of every image, ``summary.json`` with
-per-tracker means and bootstrap CIs; the command adds ``report.html``
+per-tracker means and bootstrap CIs, and detection per rig with intervals over its photographs and over rigs
+(:func:`bench.evaluate.loro.rig_figures`); the command adds ``report.html``
 (:mod:`bench.report.real`).
 """
 
@@ -21,7 +22,8 @@ import sys
 import time
 from pathlib import Path
 
-from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, row_outcomes
+from bench.evaluate.loro import rig_figures
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, outcome_counts, row_outcomes
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
 from bench.run.track import STATUS, build_trackers, track_frame
@@ -249,6 +251,8 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
                       "ms_per_frame": float(sub["ms_per_frame"].median()), "has_background": False,
                       "status": "ok" if (sub["status"] == "ok").all() else "failed",
                       "message": "; ".join(sorted(set(sub["message"]) - {""}))[:200]})
+        stats["rigs"] = rig_figures([outcome_counts(c, axis=0) for c in outcomes[lab][0]], [im.rig for im in images],
+                                    n_boot=n_boot, seed=seed + j)
     metrics = pd.concat([per_image, pd.DataFrame.from_records(means)], ignore_index=True)
     write_real_metrics(out, metrics)
     summary = build_summary("real", config=config, seed=seed, tol_px=tol_px, versions=versions(),

@@ -217,7 +217,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                             t1.add(key, n, f, t.track(f.image, background=f.background).columns)
                     scores1[(k, p, m, w)] = t1.objective(key)
         say(f"stage 1: k_sigma = {k:g} done")
-    k_best, p_best, m_best, w_best = choose_grid(t1.eligible(scores1, lambda kpmw: _key(*kpmw)), profile.tie)
+    def pick1(held, photos):
+        sc = {kpmw: t1.objective(_key(*kpmw), held_out=held, photographs=photos) for kpmw in scores1}
+        return _key(*choose_grid(t1.eligible(sc, lambda kpmw: _key(*kpmw), held_out=held, photographs=photos),
+                                 profile.tie))
+
+    judged = {"stage1": t1.judge(pick1)}
+    k_best, p_best, m_best, w_best = {_key(*kpmw): kpmw for kpmw in scores1}[judged["stage1"]["kept"]]
     family = {"k_sigma": k_best, "prominence": p_best, "min_run": m_best, "width_ratio": w_best}
     # stage 2: com_bg's frac on laser-on/off pairs
     mae2, rec2 = {}, []
@@ -246,7 +252,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                     t3.add(key, "steger", f, t.track(f.image, background=f.background).columns)
                 scores3[(k, p, m)] = t3.objective(key)
         say(f"stage 3: steger k_sigma = {k:g} done")
-    sk, sp, sm = choose_grid(t3.eligible(scores3, lambda kpm: _key(*kpm)), profile.tie)
+    def pick3(held, photos):
+        sc = {kpm: t3.objective(_key(*kpm), held_out=held, photographs=photos) for kpm in scores3}
+        return _key(*choose_grid(t3.eligible(sc, lambda kpm: _key(*kpm), held_out=held, photographs=photos),
+                                 profile.tie))
+
+    judged["stage3"] = t3.judge(pick3)
+    sk, sp, sm = {_key(*kpm): kpm for kpm in scores3}[judged["stage3"]["kept"]]
     steger = {"k_sigma": sk, "prominence": sp, "min_run": sm}
     # stage 4: the colour rule
     colour = {}
@@ -267,7 +279,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                 t4.add(key, n, f, t.track(frame).columns)
         scores4[rule] = t4.objective(key)
         say(f"stage 4: rule {rule} done")
-    rule_best = choose_listed(t4.eligible(scores4, lambda r: f"rule={r}"), profile.colour_rules, profile.tie)
+    def pick4(held, photos):
+        sc = {r: t4.objective(f"rule={r}", held_out=held, photographs=photos) for r in scores4}
+        ok = t4.eligible(sc, lambda r: f"rule={r}", held_out=held, photographs=photos)
+        return f"rule={choose_listed(ok, profile.colour_rules, profile.tie)}"
+
+    judged["stage4"] = t4.judge(pick4)
+    rule_best = {f"rule={r}": r for r in scores4}[judged["stage4"]["kept"]]
     chosen = {**family, "frac": frac_best, "steger": steger, "colour_rule": rule_best}
     figures = {}
     for name, tally, key in (("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
@@ -283,7 +301,8 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                "stage1": {_key(*kpm): s for kpm, s in scores1.items()},
                "stage2_mae_px": {f"frac={f:g}": v for f, v in mae2.items()},
                "stage3": {_key(*kpm): s for kpm, s in scores3.items()},
-               "stage4": {f"rule={r}": s for r, s in scores4.items()}, "figures": figures}
+               "stage4": {f"rule={r}": s for r, s in scores4.items()}, "figures": figures,
+               "photographs": judged}
     records = t1.records() + rec2 + t3.records() + t4.records()
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
@@ -310,7 +329,7 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     """``stripebench tune threshold``: run the procedure on the tuning profile ``profile`` (a TOML path) into
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress lines. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any work."""
-    from bench.studies.tuning import run_study
+    from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
 
@@ -322,14 +341,17 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
     print(f"stage 1: chosen {key1} (objective {summary['stage1'][key1]:.4f}; best five: {top('stage1')})")
     print("\n".join(figure_lines(summary["figures"]["stage1"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage1"])))
     print("stage 2: chosen com_bg frac = {:g} (mean |error| of hits, px: {})".format(
         chosen["frac"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage2_mae_px"].items())))
     st = chosen["steger"]
     key3 = _key(st["k_sigma"], st["prominence"], st["min_run"])
     print(f"stage 3: chosen steger {key3} (objective {summary['stage3'][key3]:.4f}; best five: {top('stage3')})")
     print("\n".join(figure_lines(summary["figures"]["stage3"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage3"])))
     print("stage 4: chosen colour rule = {} (objective: {})".format(
         chosen["colour_rule"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage4"].items())))
     print("\n".join(figure_lines(summary["figures"]["stage4"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage4"])))
     print(f"{out / 'tune.csv'}")
     return 0

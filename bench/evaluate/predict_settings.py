@@ -104,6 +104,9 @@ class PredictSettings:
     end_cut_min_rows: int = 40
     #: rows: a photograph is predicted only where the moved stripe is seen in this many rows of its two moved frames
     min_rows: int = 10
+    #: a photograph whose stripe is wider than the reference window is predicted shrunk by the least factor that
+    #: brings it in range (a coarse answer, labelled so) rather than left out
+    shrink_coarse: bool = True
 
     # -- reading the rows as a reference does (bench.evaluate.rowstates) --------------------------------------------------
     #: share of the typical height: a row standing lower is left out as unclear, as the shipped references leave it
@@ -114,6 +117,15 @@ class PredictSettings:
     glow_near_px: int = 4
     #: px: ... and at most
     glow_far_px: int = 12
+
+    # -- what predict states (bench.evaluate.predict_loro) -----------------------------------------------------------
+    #: share: the intervals' nominal coverage (split conformal over the shipped rigs' errors): wide enough to hold most
+    #: measured figures, narrow enough to tell a good tracker from a poor one (a tenth of F1)
+    interval_level: float = 0.8
+    #: share of draws: a tracker that is the best this often is tied with the pick (it may well be the best instead)
+    tie_chance: float = 0.1
+    #: draws of the photographs and a rig's errors behind the chance that the pick is best
+    pick_draws: int = 1000
 
     @property
     def guide_half_px(self) -> int:
@@ -164,7 +176,10 @@ class PredictSettings:
                 if not isinstance(v, list):
                     raise ValueError(f"prediction settings: `{f.name}` must be a list, got {v!r}")
                 v = tuple(tuple(x) if isinstance(x, list) else x for x in v)
-            elif isinstance(default, bool) or not isinstance(v, (int, float)) or isinstance(v, bool) or \
+            elif isinstance(default, bool):
+                if not isinstance(v, bool):
+                    raise ValueError(f"prediction settings: `{f.name}` must be true or false, got {v!r}")
+            elif not isinstance(v, (int, float)) or isinstance(v, bool) or \
                     (isinstance(default, int) and not isinstance(v, int)) or not math.isfinite(v):
                 raise ValueError(f"prediction settings: `{f.name}` must be a finite {type(default).__name__}, "
                                  f"got {v!r}")

@@ -37,10 +37,18 @@ from bench.evaluate import conditions as cond
 from bench.evaluate.predict_settings import DEFAULT, PredictSettings
 
 __all__ = ["ESTIMATES", "Extents", "stripe_extents", "estimate_guide", "clipped_pixels", "clipped_at", "channel_noise",
-           "argmax_pick", "window_lift", "working_frame", "tie_break", "capped_share", "out_of_range", "span_extents"]
+           "argmax_pick", "window_lift", "working_frame", "tie_break", "capped_share", "out_of_range", "span_extents",
+           "SHRINKS", "shrink_for", "LEFT_OUT", "why_left_out"]
 
 #: The ways :func:`stripe_extents` finds the stripe's guide (module docstring; the first is the default).
 ESTIMATES = ("auto", "path", "argmax")
+#: The shrink factors a photograph may be predicted at (``predict --downscale``, :func:`shrink_for`): each N x N
+#: block of pixels averaged into one.
+SHRINKS = (1, 2, 4, 8)
+#: Why a photograph has no prediction at its own size, by :func:`out_of_range`'s code (and ``visible``: its moved
+#: stripe seen in too few rows): the one wording of the reason, used by every view (:func:`why_left_out`).
+LEFT_OUT = {"width_px": "its stripe is {width:.1f} px wide, wider than the reference window's {window:g} px",
+            "visible": "its moved stripe is seen in fewer than {min_rows} rows"}
 
 
 @dataclass(frozen=True)
@@ -259,7 +267,7 @@ def channel_noise(original, *, settings: PredictSettings = DEFAULT) -> np.ndarra
     :func:`bench.evaluate.conditions.measure` reads it: the clean plate's noise (:func:`bench.evaluate.transplant.transplant`)."""
     f = np.asarray(original, dtype=np.float64)
     planes = f[..., None] if f.ndim == 2 else f
-    return np.array([cond.measure(planes[..., k], settings=settings).noise_dn for k in range(planes.shape[-1])])
+    return np.array([cond.sensor_noise(planes[..., k], settings=settings) for k in range(planes.shape[-1])])
 
 
 def argmax_pick(lift, clipped, level: float) -> np.ndarray:
@@ -383,10 +391,13 @@ def _guide(peak, strong, guide_rows: int) -> np.ndarray:
     idx = np.flatnonzero(strong)
     if idx.size == 0:
         return out
-    for r in range(H):
-        i0, i1 = np.searchsorted(idx, [r - guide_rows, r + guide_rows + 1])
-        if i1 > i0:
-            out[r] = float(np.median(peak[idx[i0:i1]]))
+    vals = np.asarray(peak, dtype=np.float64)[idx]
+    lo = np.searchsorted(idx, np.arange(H) - guide_rows)
+    hi = np.searchsorted(idx, np.arange(H) + guide_rows + 1)
+    for r in np.flatnonzero(hi > lo):  # np.median's value, without its overhead on a few numbers
+        v = np.sort(vals[lo[r]:hi[r]])
+        n = v.size
+        out[r] = v[n // 2] if n % 2 else (v[n // 2 - 1] + v[n // 2]) / 2.0
     return out
 
 
@@ -425,3 +436,30 @@ def span_extents(ext: Extents, W: int) -> tuple[np.ndarray, np.ndarray]:
                      np.rint(np.interp(faint, vis, ext.peak[vis].astype(float)))).astype(int)
         lo[faint], hi[faint] = np.clip(c - left, 0, W - 1), np.clip(c + right, 0, W - 1)
     return lo, hi
+
+
+def shrink_for(width_px: float, downscale: int = 1, *, settings: PredictSettings = DEFAULT) -> int | None:
+    """The least of :data:`SHRINKS` above ``downscale`` that brings a stripe ``width_px`` wide (FWHM, px, measured on
+    a photograph already shrunk by ``downscale``) within ``max_width_px``, or None when none does.
+
+    Examples
+    --------
+    >>> shrink_for(18.4), shrink_for(40.0), shrink_for(18.4, 2), shrink_for(400.0)
+    (2, 4, 4, None)
+    """
+    return next((n for n in SHRINKS if n > downscale and width_px * downscale / n <= settings.max_width_px), None)
+
+
+def why_left_out(codes, *, width_px: float = float("nan"), settings: PredictSettings = DEFAULT) -> str:
+    """The reason a photograph has no prediction at its own size, in words (:data:`LEFT_OUT`; ``codes``: the
+    measures that put it out of range, e.g. ``("width_px",)``, with its stripe's ``width_px`` where that is one).
+
+    Examples
+    --------
+    >>> why_left_out(("width_px",), width_px=18.66)
+    "its stripe is 18.7 px wide, wider than the reference window's 13 px"
+    >>> why_left_out(["visible"])
+    'its moved stripe is seen in fewer than 10 rows'
+    """
+    return "; ".join(LEFT_OUT[c].format(width=width_px, window=settings.max_width_px, min_rows=settings.min_rows)
+                     for c in codes)

@@ -19,8 +19,8 @@ from bench.evaluate import conditions as cond
 from bench.evaluate.predict_settings import DEFAULT, PredictSettings
 
 __all__ = ["Photo", "collect_photos", "photo_conditions", "score_frame", "transplant_frames", "photo_extents",
-           "colour_guide", "transplanted", "cut_counts", "transplant_outcomes", "N_MOVED", "N_FULL", "DOWNSCALES",
-           "downscale_for"]
+           "colour_guide", "transplanted", "cut_counts", "transplant_outcomes", "N_MOVED", "N_FULL", "PhotoFile",
+           "photo_files", "load_photo"]
 
 #: The first N_MOVED frames of :func:`transplant_frames` are the moved frames; the next is the photograph in place. Hit
 #: rate and F1 are read from those N_FULL; any after them are false-report frames (only their stripe-less rows are
@@ -29,8 +29,6 @@ __all__ = ["Photo", "collect_photos", "photo_conditions", "score_frame", "transp
 N_MOVED = 2
 N_FULL = N_MOVED + 1
 
-#: The shrink factors ``predict`` offers (``--downscale``): each N x N block of pixels averaged into one.
-DOWNSCALES = (1, 2, 4, 8)
 
 
 @dataclass
@@ -51,6 +49,10 @@ class Photo:
     (:func:`bench.evaluate.outcomes.fallback_of`: every row not scored as a stripe row, at least ``GAP_ROWS`` from
     each that is, has no stripe): set for a real set whose ``NAME_ref.csv`` files give no ``state`` column, as
     ``stripebench real`` then scores its photographs; otherwise a row the stripe crosses unseen is not scored."""
+    source: PhotoFile | None = None
+    """Its file (:func:`load_photo` reads it again at another shrink)."""
+    downscale: int = 1
+    """The shrink it was read at."""
 
     @property
     def colour(self) -> bool:
@@ -269,79 +271,125 @@ def transplant_outcomes(trackers: dict, made: list, background=None) -> dict:
     return per
 
 
+@dataclass(frozen=True)
+class PhotoFile:
+    """Where a photograph to predict for is and how it is read: its file and laser-off file, the tracker's channel, the
+    laser's colour, the turn, and its real set's reference (whose header says whether it gives row states)."""
+
+    name: str
+    path: Path
+    background_path: Path | None
+    channel: str
+    laser: str
+    rotate_deg: int
+    reference_path: Path | None = None
+
+
+def photo_files(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0, err=None) -> list:
+    """The photographs of ``folder`` (:class:`PhotoFile`): a real set's, as its manifest says (its laser, channel
+    and rotation), or every image file with the given ``channel``, ``laser`` and ``rotate_deg`` (``NAME_off.EXT``
+    paired as ``NAME``'s laser-off frame; a laser-off frame without a partner gets one line on ``err``).
+
+    Raises
+    ------
+    bench.store.realset.ImageError
+        ``folder`` is not a folder; a manifest that is not a valid real set's (a row with a bad value, a column
+        missing: one line, the first problem, as ``stripebench real`` says it); two image files that would both be
+        called ``NAME`` (``a.png`` and ``a.jpg``).
+    """
+    from bench.store import realset as real
+
+    err = sys.stderr if err is None else err
+    root = Path(folder)
+    if not root.is_dir():
+        raise real.ImageError(f"{str(root)!r}: not a folder")
+    if (root / "manifest.csv").is_file():
+        images, problems = real.validate_dataset(root)
+        if problems:
+            more = (f" (and {len(problems) - 1} more; `stripebench real DATASET --check` lists them)"
+                    if len(problems) > 1 else "")
+            raise real.ImageError(f"{str(root)!r} has a manifest.csv but is not a valid real set: {problems[0]}{more}")
+        return [PhotoFile(im.name, im.image_path, im.background_path, im.channel, im.laser_colour, im.rotate_deg,
+                          im.reference_path) for im in images]
+    files = sorted(p for p in root.iterdir() if p.is_file() and p.suffix.lower() in real.IMAGE_SUFFIXES)
+    by_stem: dict = {}
+    for p in files:
+        by_stem.setdefault(p.stem, []).append(p.name)
+    twins = {s: n for s, n in by_stem.items() if len(n) > 1}
+    if twins:
+        stem, names = next(iter(twins.items()))
+        raise real.ImageError(f"{str(root)!r}: {' and '.join(names)} would both be the photograph {stem!r}: rename "
+                              "one (a photograph is named by its file name without the extension)")
+    out = []
+    for p in files:
+        if p.stem.endswith("_off"):
+            if p.stem[:-4] not in by_stem:  # a laser-off frame is no photograph: say so when it has no partner
+                print(f"stripebench predict: {p.name}: a laser-off frame with no photograph {p.stem[:-4]}.* "
+                      "beside it: not predicted for", file=err)
+            continue
+        out.append(PhotoFile(p.stem, p, real.background_for(p), channel, laser, rotate_deg))
+    return out
+
+
+def load_photo(source: PhotoFile, *, downscale: int = 1, settings: PredictSettings = DEFAULT) -> Photo:
+    """The photograph ``source`` as the trackers see it, each ``downscale`` x ``downscale`` block of pixels averaged
+    into one (:func:`bench.store.realset.load_frame`; 1: as it is).
+
+    Raises
+    ------
+    bench.store.realset.ImageError
+        An unreadable file, a laser-off frame of another shape, or a frame smaller than ``settings.min_frame_px``.
+    """
+    from bench.store import realset as real
+
+    if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
+        raise ValueError(f"`downscale` must be an integer >= 1, got {downscale!r}")
+    s = source
+    frame, original = real.load_frame(s.path, channel=s.channel, laser=s.laser, rotate_deg=s.rotate_deg,
+                                      downscale=downscale)
+    least = settings.min_frame_px
+    if frame.shape[0] < least[0] or frame.shape[1] < least[1]:
+        raise real.ImageError(f"{str(s.path)!r}: its frame is {frame.shape[0]} x {frame.shape[1]} px, too small "
+                              f"to predict for (at least {least[0]} rows and {least[1]} columns)")
+    bg = bg_original = None
+    if s.background_path is not None:
+        bg, bg_original = real.load_frame(s.background_path, channel=s.channel, laser=s.laser,
+                                          rotate_deg=s.rotate_deg, downscale=downscale)
+        if bg.shape != frame.shape:
+            raise real.ImageError(f"{str(s.path)!r}: laser-off frame {s.background_path.name} has shape {bg.shape}, "
+                                  f"the image {frame.shape}")
+    # the states' convention from the reference's header alone, never the labels
+    given = True if s.reference_path is None else real.reference_gives_states(s.reference_path)
+    return Photo(s.name, Path(s.path), frame, bg, original, s.laser, s.rotate_deg, s.channel, bg_original,
+                 fallback_rows=not given, source=s, downscale=int(downscale))
+
+
 def collect_photos(folder, *, channel: str = "auto", laser: str = "red", rotate_deg: int = 0, downscale: int = 1,
                    err=None, settings: PredictSettings = DEFAULT) -> list[Photo]:
-    """The photographs of ``folder``: a real set's (its manifest's laser, channel and rotation; references ignored
-    but for whether they give row states, :attr:`Photo.fallback_rows`) or every image file
-    (``NAME_off.EXT`` frames paired as laser-off frames, no reference), with the given ``channel``, ``laser``
-    and ``rotate_deg``, each ``downscale`` x ``downscale`` block of pixels averaged into one
-    (:func:`bench.store.realset.load_frame`; 1: as they are). An unreadable file
-    gets one line on ``err`` and is left out, as is a frame smaller than ``settings.min_frame_px``; a file whose EXIF
-    orientation asks for a turn its ``rotate_deg`` does not give gets one line too
-    (:func:`bench.store.realset.orientation_note`: read as stored)."""
+    """The photographs of ``folder`` (:func:`photo_files`) read (:func:`load_photo`) at ``downscale``. An
+    unreadable file gets one line on ``err`` and is left out, as is a frame smaller than ``settings.min_frame_px``; a
+    file whose EXIF orientation asks for a turn its ``rotate_deg`` does not give gets one line too
+    (:func:`bench.store.realset.orientation_note`: read as stored).
+
+    Raises
+    ------
+    bench.store.realset.ImageError
+        As :func:`photo_files`.
+    """
     from bench.store import realset as real
 
     if isinstance(downscale, bool) or not isinstance(downscale, (int, np.integer)) or downscale < 1:
         raise ValueError(f"`downscale` must be an integer >= 1, got {downscale!r}")
     err = sys.stderr if err is None else err
-    root = Path(folder)
-    if not root.is_dir():
-        raise real.ImageError(f"{str(root)!r}: not a folder")
-    jobs = []
-    if (root / "manifest.csv").is_file():
-        images, _ = real.validate_dataset(root)
-        for im in images:
-            jobs.append((im.name, im.image_path, im.background_path, im.channel, im.laser_colour, im.rotate_deg,
-                         im.reference_path))
-    if not jobs:
-        files = sorted(p for p in root.iterdir() if p.is_file() and p.suffix.lower() in real.IMAGE_SUFFIXES)
-        stems = {p.stem for p in files}
-        for p in files:
-            if p.stem.endswith("_off"):
-                if p.stem[:-4] not in stems:  # a laser-off frame is no photograph: say so when it has no partner
-                    print(f"stripebench predict: {p.name}: a laser-off frame with no photograph {p.stem[:-4]}.* "
-                          "beside it: not predicted for", file=err)
-                continue
-            jobs.append((p.stem, p, real.background_for(p), channel, laser, rotate_deg, None))
     photos = []
-    for name, path, bgp, ch, las, rot, refp in jobs:
+    for source in photo_files(folder, channel=channel, laser=laser, rotate_deg=rotate_deg, err=err):
         try:
-            frame, original = real.load_frame(path, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)
-            least = settings.min_frame_px
-            if frame.shape[0] < least[0] or frame.shape[1] < least[1]:
-                raise real.ImageError(f"{str(path)!r}: its frame is {frame.shape[0]} x {frame.shape[1]} px, too small "
-                                      f"to predict for (at least {least[0]} rows and {least[1]} columns)")
-            bg = bg_original = None
-            if bgp is not None:
-                bg, bg_original = real.load_frame(bgp, channel=ch, laser=las, rotate_deg=rot, downscale=downscale)
-                if bg.shape != frame.shape:
-                    raise real.ImageError(f"{str(path)!r}: laser-off frame {bgp.name} has shape {bg.shape}, "
-                                          f"the image {frame.shape}")
-            # the states' convention from the reference's header alone, never the labels
-            given = True if refp is None else real.reference_gives_states(refp)
+            photo = load_photo(source, downscale=downscale, settings=settings)
         except (real.ImageError, real.DatasetError) as exc:
             print(f"stripebench predict: {exc}", file=err)
             continue
-        note = real.orientation_note(path, rot)
+        note = real.orientation_note(source.path, source.rotate_deg)
         if note:
             print(f"stripebench predict: {note}", file=err)
-        photos.append(Photo(name, Path(path), frame, bg, original, las, rot, ch, bg_original,
-                            fallback_rows=not given))
+        photos.append(photo)
     return photos
-
-
-#: The shrink factors ``predict`` offers (``--downscale``): each N x N block of pixels averaged into one.
-DOWNSCALES = (1, 2, 4, 8)
-
-
-def downscale_for(width_px: float, downscale: int = 1, *, settings: PredictSettings = DEFAULT) -> int | None:
-    """The least of :data:`DOWNSCALES` above ``downscale`` that brings a stripe ``width_px`` wide (FWHM, px,
-    measured on photographs already shrunk by ``downscale``) within the transplant's range (``max_width_px``), or
-    None when none does.
-
-    Examples
-    --------
-    >>> downscale_for(18.4), downscale_for(40.0), downscale_for(18.4, 2), downscale_for(400.0)
-    (2, 4, 4, None)
-    """
-    return next((n for n in DOWNSCALES if n > downscale and width_px * downscale / n <= settings.max_width_px), None)

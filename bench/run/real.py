@@ -293,6 +293,7 @@ def predict_real(dataset, run_dir, specs, *, n_boot: int = 1000, seed: int = 0, 
     """
     import json
 
+    from bench.evaluate.stripe import why_left_out
     from bench.evaluate.prediction import (RELIABILITY_MIN_PHOTOS, compare_by_group, compare_with_real,
                                           comparison_doc, rank_interval, rank_reliability)
     from bench.evaluate.predict_settings import DEFAULT
@@ -303,7 +304,7 @@ def predict_real(dataset, run_dir, specs, *, n_boot: int = 1000, seed: int = 0, 
     out = Path(run_dir)
     result = run_predict(dataset, out / "predict", specs, n_boot=n_boot, seed=seed,
                          settings=DEFAULT if settings is None else settings, say=say)
-    names = [n for n, m in result["made"].items() if not m.out_of_range]
+    names = [n for n, m in result["made"].items() if m.answered and not m.out_of_range]  # coarse answers not pooled
     metrics = load_real_run(out)["metrics"]
     cmp = compare_with_real(result["predicted"], metrics, names)
     rig_of = {im.name: im.rig for im in real.load_dataset(dataset)}
@@ -318,8 +319,12 @@ def predict_real(dataset, run_dir, specs, *, n_boot: int = 1000, seed: int = 0, 
         return (rank_interval(result["predicted_photos"], metrics, group, seed=seed)
                 if len(group) >= RELIABILITY_MIN_PHOTOS else None)
 
-    doc = {"photographs": names, "frames": "transplant", "estimate": "auto",
-           "out_of_range": {n: list(m.out_of_range) for n, m in result["made"].items() if m.out_of_range},
+    s = result["predict_settings"]
+    doc = {"photographs": names,
+           "shrunk": {n: m.shrink for n, m in result["made"].items() if m.answered and m.out_of_range},
+           "out_of_range": {n: list(m.out_of_range) for n, m in result["made"].items() if not m.answered},
+           "why": {n: why_left_out(m.out_of_range, width_px=m.width_px, settings=s)
+                   for n, m in result["made"].items() if m.out_of_range},
            **comparison_doc(cmp),
            "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"]),
                         "rank_interval": interval(v["photographs"])} for g, v in rigs.items()},

@@ -1,8 +1,11 @@
-"""The files of ``stripebench predict``: its provenance ``predict.json``, with the settings it ran with.
+"""The files of ``stripebench predict``: its provenance ``predict.json``, and the calibration it states figures by.
 
 ``predict.json`` (format :data:`SETTINGS_FORMAT`) holds what the prediction was asked (folder, trackers, channel,
 laser, rotation, shrink, seed, ...) and ``settings``, the tuned values
 (:meth:`bench.evaluate.predict_settings.PredictSettings.to_value`); :func:`read_predict_settings` reads both back.
+The calibration (format :data:`CALIBRATION_FORMAT`, shipped as :data:`CALIBRATION_PATH`, written by
+``stripebench predictloro --calibration``) holds :func:`bench.evaluate.predict_loro.calibration` of the shipped set
+with the leave-one-rig-out figures behind it and their provenance; :func:`read_calibration` reads it.
 
 Examples
 --------
@@ -23,12 +26,17 @@ from pathlib import Path
 from bench.evaluate.predict_settings import PredictSettings
 from bench.store.files import RunFolderError, atomic_write_text, check_format
 
-__all__ = ["SETTINGS_FORMAT", "SETTINGS_NAME", "write_predict_settings", "read_predict_settings"]
+__all__ = ["SETTINGS_FORMAT", "SETTINGS_NAME", "write_predict_settings", "read_predict_settings", "CALIBRATION_FORMAT",
+           "CALIBRATION_PATH", "write_calibration", "read_calibration"]
 
 #: The format of ``predict.json`` (bump when its keys change meaning).
 SETTINGS_FORMAT = 1
 #: Its name in a prediction's folder.
 SETTINGS_NAME = "predict.json"
+#: The format of the calibration file.
+CALIBRATION_FORMAT = 1
+#: The calibration ``predict`` reads by default: the shipped set's, judged leave one rig out.
+CALIBRATION_PATH = Path(__file__).resolve().parents[1] / "data" / "predict_calibration.json"
 
 
 def write_predict_settings(folder, doc: dict, settings: PredictSettings) -> Path:
@@ -58,3 +66,44 @@ def read_predict_settings(folder) -> tuple[dict, PredictSettings]:
     except ValueError as exc:
         raise RunFolderError(f"{str(path)!r}: {exc}") from None
     return doc, settings
+
+
+def write_calibration(path, doc: dict) -> Path:
+    """Write a calibration (``doc``: :func:`bench.evaluate.predict_loro.calibration` with ``loro`` and ``provenance``
+    added) to ``path``, with ``format``."""
+    from bench.store.files import atomic_write_text
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps({"format": CALIBRATION_FORMAT, **doc}, indent=1, default=float) + "\n")
+    return path
+
+
+def read_calibration(path=None) -> dict | None:
+    """The calibration at ``path`` (default :data:`CALIBRATION_PATH`), or None where there is no such file.
+
+    Raises
+    ------
+    bench.store.files.RunFolderError
+        A file that is not JSON, of another format, or without a figure's ``source``, ``half_width`` or ``null``, the
+        ``pick`` or the ``residuals`` (one line).
+    """
+    from bench.evaluate.predict_loro import FIGURES
+    from bench.store.textfiles import read_json
+
+    path = CALIBRATION_PATH if path is None else Path(path)
+    if not path.exists():
+        return None
+    doc = read_json(path, "prediction calibration", error=RunFolderError)
+    if not isinstance(doc, dict):
+        raise RunFolderError(f"{str(path)!r}: not a prediction calibration (a JSON object)")
+    check_format(doc.get("format"), (CALIBRATION_FORMAT,), "prediction calibration", path)
+    for f in FIGURES:
+        c = doc.get(f)
+        if not (isinstance(c, dict) and c.get("source") in ("method", "null") and isinstance(c.get("null"), dict)
+                and isinstance(c.get("half_width"), dict) and {"method", "null"} <= set(c["half_width"])):
+            raise RunFolderError(f"{str(path)!r}: `{f}` is not a calibrated figure (source, half_width, null)")
+    if not (isinstance(doc.get("pick"), dict) and doc["pick"].get("source") in ("method", "null")
+            and isinstance(doc.get("residuals"), dict) and isinstance(doc.get("trackers"), list)):
+        raise RunFolderError(f"{str(path)!r}: no `pick`, `residuals` or `trackers`")
+    return doc

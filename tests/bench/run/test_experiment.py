@@ -141,7 +141,7 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
         assert t["real"] == pytest.approx(rc[t["tracker"]]) and t["synthetic"] == pytest.approx(synth[t["tracker"]])
     # predicted beside measured on the same photographs: the measured side is the real run's pooled rows
     p = s["predicted"]
-    assert len(p["photographs"]) + len(p["out_of_range"]) == len(tags)
+    assert len(p["photographs"]) + len(p["shrunk"]) + len(p["out_of_range"]) == len(tags)
     pooled = real[real.experiment.isin(p["photographs"])].groupby("tracker")[["n_hit", "n_wrong", "n_missed"]].sum()
     for t in p["hit_rate"]["table"]:
         n = pooled.loc[t["tracker"]]

@@ -574,3 +574,37 @@ def test_fallback_states_read_both_sides_rows_as_a_reference_without_states(tmp_
     assert (f_pred.eval(none).to_numpy() > g_pred.eval(none).to_numpy()).any()
     with pytest.raises(ValueError, match="`states` must be one of given, fallback, got 'none'"):
         study(out=tmp_path / "bad", states="none")
+
+
+@pytest.mark.parametrize("content", ["[]", "null", '"text"', "3", "[" * 5000 + "]" * 5000, '{"cases": []}',
+                                     '{"cases": {"a": 1}, "pooled": {"f1": 2}}'])
+def test_predictscore_on_a_damaged_result_is_one_line(tmp_path, capsys, content):
+    """A predict_check.json that is a list, null, a string, a number, nested past any sense or of the wrong shape:
+    one line naming the folder, exit 2 (no AttributeError, RecursionError or TypeError)."""
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "predict_check.json").write_text(content)
+    capsys.readouterr()
+    assert main(["predictscore", str(run)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"stripebench predictscore: {str(run)!r} is not a finished predictcheck")
+    assert len(err[0]) < 400
+
+
+def test_predictcheck_refuses_to_replace_another_configuration_s_finished_check(checked, tmp_path, capsys):
+    """--out holding a finished check of another configuration (here another seed) is refused in one line before
+    anything renders; the same configuration again, or --force, writes."""
+    import shutil
+
+    out = tmp_path / "copy"
+    shutil.copytree(checked, out)
+    before = (out / "predict_check.json").read_text()
+    capsys.readouterr()
+    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                 "threshold,dp8", "--seed", "2", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "holds a finished check of another configuration (seed: 1 there, 2 here)" in err[0]
+    assert "use --force" in err[0] and (out / "predict_check.json").read_text() == before
+    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                 "threshold,dp8", "--seed", "2", "--quiet", "--force"]) == 0
+    assert json.loads((out / "predict_check.json").read_text())["seed"] == 2

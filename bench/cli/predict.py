@@ -82,7 +82,9 @@ def terminal_lines(result: dict, *, table: bool = True) -> list[str]:
     """What ``predict`` prints (:func:`bench.run.predict.run_predict`'s ``result``): the pick, its chance of being
     best and the trackers tied with it, its leave-one-rig-out regret; with ``table``, each tracker's stated figures
     with their intervals and sources, and where each source was judged."""
-    from bench.evaluate.predict_loro import FIGURES, SOURCES
+    from bench.evaluate.predict_loro import SOURCES
+
+    figures = ("f1", "false_report_rate", "hit_rate")  # the pick's figure first
 
     p, pred, calib = result["pick"], result["predicted"], result["calibration"]
     lines = []
@@ -103,18 +105,18 @@ def terminal_lines(result: dict, *, table: bool = True) -> list[str]:
         return lines
     level = f"{calib['level']:.0%} " if calib else ""
     names = {"f1": "F1", "false_report_rate": "false reports", "hit_rate": "hit rate"}
-    lines.append(f"{'tracker':<14}" + "".join(f"{names[f] + ' [' + level + 'interval]':>32}" for f in FIGURES))
+    lines.append(f"{'tracker':<14}" + "".join(f"{names[f] + ' [' + level + 'interval]':>32}" for f in figures))
     short = {SOURCES["method"]: "", SOURCES["null"]: " null", SOURCES[None]: " uncal."}
     for r in pred.to_dict("records"):
         cells = ""
-        for f in FIGURES:
+        for f in figures:
             lo, hi, src = r[f + "_lo"], r[f + "_hi"], r[f + "_source"]
             iv = "" if not np.isfinite(lo) else f" [{lo:.2f}, {hi:.2f}]"
             cells += f"{r[f]:.3f}{iv}{short[src]}".rjust(32)
         mark = "*" if r["pick"] else ("=" if r["tied"] else " ")
         lines.append(f"{mark}{r['tracker']:<13}{cells}")
     if calib:
-        for f in FIGURES:
+        for f in figures:
             c = calib[f]
             src = c["source"]
             what = ("predicted from these photographs" if src == "method" else

@@ -126,7 +126,7 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
     assert s["by_class"]["matched"] == ["colour-no-filter"]
     assert by["colour-no-filter"]["n_photographs"] == tags.count("colour-no-filter") >= 12
     assert by["turntable-saturated"]["rendered"] is False
-    assert by["turntable-saturated"]["n_photographs"] == tags.count("turntable-saturated") == 2
+    assert by["turntable-saturated"]["n_photographs"] == tags.count("turntable-saturated") >= 2
     real = pd.read_parquet(out / "real" / "metrics.parquet")
     means = real[real.experiment == "mean"].set_index("tracker")["hit_rate"]
     m = pd.read_parquet(out / "metrics.parquet")

@@ -23,9 +23,11 @@ each group weighs the same whatever its number of frames.
 
 One eligibility rule goes with it: a setting that reports nothing at all on a frame
 whose brightest pixel per row is right on at least :data:`EASY_ARGMAX` of its stripe
-rows goes *blind* where the stripe is plain to see; only the settings blind on the
-fewest such frames are eligible (:meth:`Tally.eligible`: none, where one setting
-manages that): a tracker that says "no stripe" must not say it there.
+rows goes *blind* where the stripe is plain to see. A photograph's blindness
+disqualifies: only the settings blind on the fewest photographs (none, where one
+setting manages that) are eligible, and among them those blind on the fewest such
+frames of the other groups (:meth:`Tally.eligible`): a tracker that says "no stripe"
+must not say it there, and least of all on a photograph.
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ import numpy as np
 
 from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
 
-__all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
+__all__ = ["TuningFrame", "GROUPS", "EASY_ARGMAX", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
            "objective", "group_figures", "counts_record", "Tally", "run_study", "RECORD_FIELDS", "write_records"]
 
 #: The groups of tuning frames, in the order they are reported.
@@ -88,6 +90,29 @@ class TuningFrame:
     rgb: np.ndarray | None = None
     laser: str = "red"
     rotate: int = 0
+
+    @property
+    def colour(self) -> np.ndarray | None:
+        """The colour evidence the trackers get with the frame (:func:`trackers.colour_evidence` of its
+        colour photograph, turned as the frame is), (H, W) float64 in [0, 1]; None without colour (no
+        photograph, or a grey one). Computed once."""
+        if "_colour" not in self.__dict__:
+            ev = None
+            rgb = None if self.rgb is None else np.asarray(self.rgb)
+            if rgb is not None and rgb.ndim == 3 and not (np.array_equal(rgb[..., 0], rgb[..., 1])
+                                                          and np.array_equal(rgb[..., 0], rgb[..., 2])):
+                from bench.evaluate.pixels import rotate_image
+                from trackers import colour_evidence
+
+                ev = rotate_image(colour_evidence(rgb, self.laser), self.rotate)
+                if ev.shape != self.image.shape:  # a photograph that is not the frame's pixels: no evidence
+                    ev = None
+            self.__dict__["_colour"] = ev
+        return self.__dict__["_colour"]
+
+    def track(self, tracker):
+        """``tracker``'s columns (H,) on this frame: its image, laser-off frame and colour evidence."""
+        return tracker.track(self.image, background=self.background, colour=self.colour).columns
 
     @property
     def easy(self) -> bool:
@@ -227,6 +252,7 @@ class Tally:
         self.hit_px = hit_px
         self.counts: dict = {}
         self.blind: dict = {}  # setting -> names of the plain frames on which a tracker reported nothing
+        self.blind_photos: dict = {}  # setting -> those of them that are photographs (group "real")
 
     def add(self, setting: str, tracker: str, frame, columns) -> None:
         """Count the outcomes of ``columns`` (H,) on ``frame`` under ``setting`` and ``tracker``."""
@@ -234,16 +260,29 @@ class Tally:
         c = frame_counts(columns, frame, self.hit_px)
         self.counts[key] = self.counts.get(key, 0) + c
         blind = self.blind.setdefault(setting, [])
+        photos = self.blind_photos.setdefault(setting, [])
         if np.isnan(columns).all() and frame.easy:
             blind.append(f"{tracker} on {frame.group}/{frame.name}")
+            if frame.group == "real":
+                photos.append(blind[-1])
 
     def eligible(self, scores: dict, key) -> dict:
         """``scores`` (setting -> objective) restricted to the settings that went blind on the fewest plain
-        frames (``key(setting)`` names a setting as :meth:`add` got it): none where some setting never
-        does; a frame on which every setting goes blind disqualifies none of them."""
-        blind = {s: len(self.blind.get(key(s), ())) for s in scores}
-        least = min(blind.values(), default=0)
-        return {s: v for s, v in scores.items() if blind[s] == least}
+        photographs (``key(setting)`` names a setting as :meth:`add` got it), and among those to the ones
+        blind on the fewest plain frames in all: none where some setting never is. A photograph's blindness
+        disqualifies whatever the other groups say; a frame on which every setting goes blind disqualifies
+        none of them (:meth:`unavoidable` names the photographs among those)."""
+        photos = {s: len(self.blind_photos.get(key(s), ())) for s in scores}
+        least = min(photos.values(), default=0)
+        keep = [s for s in scores if photos[s] == least]
+        blind = {s: len(self.blind.get(key(s), ())) for s in keep}
+        fewest = min(blind.values(), default=0)
+        return {s: scores[s] for s in keep if blind[s] == fewest}
+
+    def unavoidable(self, setting: str) -> list[str]:
+        """The plain photographs on which ``setting`` (as :meth:`add` got it) goes blind: for a chosen
+        setting, those on which every setting of the stage does (a procedure prints them)."""
+        return list(self.blind_photos.get(setting, ()))
 
     def objective(self, setting: str) -> float:
         """:func:`objective` of a setting, its counts pooled over its trackers."""

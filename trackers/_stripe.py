@@ -12,8 +12,8 @@ a stripe unless one of these says no (each test can be turned off):
     it is brightest, and a low quantile keeps such a distractor among the strongest rows from
     widening the measure;
 *ridge*
-    both flanks fall: on each side, the mean of the pixels between one and two stripe widths from
-    the peak lies below ``flank_level`` of the peak's contrast over its row. A step edge (a lit door
+    both flanks fall: on each side, the mean of the pixels between one and two stripe widths (at
+    least 2 and 4 px) from the peak lies below ``flank_level`` of the peak's contrast over its row. A step edge (a lit door
     edge, a table edge, a bright plateau) keeps one flank high;
 *colour* (where the frame has colour)
     somewhere in the peak's run (one pixel either side included) the light it adds over its row has
@@ -69,7 +69,8 @@ class StripeTest:
         of a tie): a distractor among the strongest rows is wider than the stripe, so a low quantile
         measures the stripe while it holds at least that share of them.
     flank_level : float or None, default 0.5
-        Highest mean level of either flank (one to two stripe widths from the peak), as a fraction of
+        Highest mean level of either flank (one to two stripe widths from the peak, at least 2 to 4 px),
+        as a fraction of
         the peak's contrast over its row: a ridge's flanks have fallen there (to under 0.1 of a
         Gaussian's); a step edge keeps one at about 1.
     colour_min : float or None, default 0.5

@@ -70,10 +70,11 @@ def _row_evidence(frame, col, peak_out, contrast, lo_out, hi_out, level_out):
 @njit(cache=True, nogil=True)
 def _flanks(frame, peak, contrast, level, ref_px, flank_out):
     """The higher of the two flanks' mean levels over the row's median, as a fraction of the peak's
-    contrast: each flank the pixels ``ref_px`` to ``2 ref_px`` columns from the peak (clipped to the
-    frame; a side with no pixel in the frame counts as 1, not fallen)."""
+    contrast: each flank the pixels ``d`` to ``2 d`` columns from the peak, ``d = max(ceil(ref_px), 2)``
+    (clipped to the frame; a side with no pixel in the frame counts as 1, not fallen). The floor of 2 px
+    keeps a 1-2 px stripe's own second pixel out of its flanks."""
     H, W = frame.shape
-    d0 = max(int(math.ceil(ref_px)), 1)
+    d0 = max(int(math.ceil(ref_px)), 2)
     for r in range(H):
         p = peak[r]
         if p < 0:

@@ -128,7 +128,7 @@ def draw_unit(seed: int, unit: int, *, width: int = 512, height: int = 480,
         if rng.random() < 0.4:
             p["defocus_px"] = float(rng.uniform(0.2, 1.0))
     if draws == 3 and rng.random() < 0.5:  # rules 3: a distractor (drawn after rules 2's draws: those stay)
-        from scenes.distractors import DISTRACTORS
+        from scenes import DISTRACTORS
 
         p["distractor"] = str(rng.choice(DISTRACTORS[1:]))
     if draws >= 2:  # drawn per frame instead (draw_photometry)

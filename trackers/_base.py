@@ -156,9 +156,11 @@ class Tracker(abc.ABC):
         colour : array_like, shape (H, W), optional
             Where the frame comes from a colour photograph: per pixel, the share
             of its light over its row that has the laser's colour, in [0, 1]
-            (:func:`trackers.colour_evidence`; NaN: none). Passed to
-            :meth:`find_stripe` of trackers whose ``uses_colour`` is True;
-            others ignore it.
+            (:func:`trackers.colour_evidence`; NaN: none). Passed, when
+            given, to :meth:`find_stripe` of trackers whose ``uses_colour`` is
+            True (``find_stripe(image, background, colour)``); others never
+            see it, and without it every tracker gets ``find_stripe(image,
+            background)``.
 
         Returns
         -------
@@ -168,7 +170,11 @@ class Tracker(abc.ABC):
         bg = check_background(background, img.shape)
         evidence = check_colour(colour, img.shape)
         self._validate_params()
-        track = self.find_stripe(img, bg, evidence) if type(self).uses_colour else self.find_stripe(img, bg)
+        # the evidence only where there is some, so a subclass's two-argument find_stripe still works without it
+        if evidence is not None and type(self).uses_colour:
+            track = self.find_stripe(img, bg, evidence)
+        else:
+            track = self.find_stripe(img, bg)
         if track.columns.shape != (img.shape[0],):
             raise RuntimeError(
                 f"{type(self).__name__} returned {track.columns.shape[0]} rows for an image of {img.shape[0]}"

@@ -240,6 +240,11 @@ def test_the_colour_check_runs_on_trackers_that_read_colour_and_catches_one_that
         Track.empty(image.shape[0]) if colour is not None else self._track(image, background))})()
     with pytest.raises(AssertionError, match="every pixel has the laser's colour changed the track"):
         check_colour_use(blind)
+    # a subclass of a built-in tracker with the two-argument hook runs as before without evidence
+    old_style = type("OldStyle", (type(trackers.make("dp4")),), {
+        "find_stripe": lambda self, image, background: trackers.make("dp4").find_stripe(image, background)})()
+    img, _ = make_stripe_image(seed=2)
+    np.testing.assert_array_equal(old_style.track(img).columns, trackers.make("dp4").track(img).columns)
     # a tracker without uses_colour never sees the evidence, and a bad one is refused all the same
     with pytest.raises(ValueError, match="`colour` must have the frame's shape"):
         _Good().track(np.zeros((4, 5)), colour=np.zeros((4, 4)))

@@ -129,7 +129,12 @@ def test_make_real_set_writes_the_shipped_references():
         assert np.array_equal(np.isnan(ref), np.isnan(shipped)), name
         assert np.allclose(ref[~np.isnan(ref)], shipped[~np.isnan(shipped)], atol=0.0051), name
         want = mod.states_for(ref, guides[name])
-        doubt = mod.none_doubts(frame, ref, want, original, row["laser_colour"], rot)
+        off = off_original = None
+        if row["has_background"] == "1":
+            off, off_original = real.load_frame(mod.DATA / f"{name}_off.png",
+                                                channel="excess" if channel == "auto" else channel,
+                                                laser=row["laser_colour"], rotate_deg=rot)
+        doubt = mod.none_doubts(frame, ref, want, original, row["laser_colour"], rot, off, off_original)
         assert not (doubt & (states == 0)).any(), name
         want[doubt] = -1
         assert np.array_equal(want, states), name

@@ -82,6 +82,10 @@ SOURCES = {
     "hx_wide": ("hexastorm/laserline1.jpg", 3, None),
     "lm_wheel": ("lasermat/C0_p240_SD.png", 6, (0, 1800, 0, 4096)),  # the rows below 1800 hold no laser light
     "lm_gage": ("lasermat/gage.jpg", 3, None),
+    # triangulation_3's frames are 640x480 (a third of triangulation_4's width): full size keeps the scale of the
+    # fh_* frames above; the left laser's half only (columns 0-312: the two lines meet on the box at 313-327)
+    **{f"fh_box{step:02d}{off}": (f"fhennecker/t3_{step + (1 if off else 0):02d}.png", 1, (0, 480, 0, 313))
+       for step in (4, 34) for off in ("", "_off")},
 }
 
 

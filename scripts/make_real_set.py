@@ -88,6 +88,10 @@ SOURCES = {
        for step in (4, 34) for off in ("", "_off")},
     "bb_small": ("b33boy/l3.jpg", 8, None),
     "bb_night": ("b33boy/l4.jpg", 8, None),
+    "hx_dash1": ("hexastorm/2021-01-22-15-11.jpg", 2, None),
+    "hx_dots1": ("hexastorm/2021-01-22-15-26.jpg", 2, None),
+    "hx_dots2": ("hexastorm/2021-01-22-15-27.jpg", 2, None),
+    "hx_dash2": ("hexastorm/2021-01-22-15-52.jpg", 2, None),
 }
 
 

@@ -102,6 +102,16 @@ SOURCES = {
     "hx_wide": ("hexastorm/laserline1.jpg", 3, None),
     "lm_wheel": ("lasermat/C0_p240_SD.png", 6, (0, 1800, 0, 4096)),  # the rows below 1800 hold no laser light
     "lm_gage": ("lasermat/gage.jpg", 3, None),
+    # triangulation_3's frames are 640x480 (a third of triangulation_4's width): full size keeps the scale of the
+    # fh_* frames above; the left laser's half only (columns 0-312: the two lines meet on the box at 313-327)
+    **{f"fh_box{step:02d}{off}": (f"fhennecker/t3_{step + (1 if off else 0):02d}.png", 1, (0, 480, 0, 313))
+       for step in (4, 34) for off in ("", "_off")},
+    "bb_small": ("b33boy/l3.jpg", 8, None),
+    "bb_night": ("b33boy/l4.jpg", 8, None),
+    "hx_dash1": ("hexastorm/2021-01-22-15-11.jpg", 2, None),
+    "hx_dots1": ("hexastorm/2021-01-22-15-26.jpg", 2, None),
+    "hx_dots2": ("hexastorm/2021-01-22-15-27.jpg", 2, None),
+    "hx_dash2": ("hexastorm/2021-01-22-15-52.jpg", 2, None),
 }
 
 

@@ -104,13 +104,14 @@ def _score(args) -> int:
 
 
 def _add_leaderboard(p) -> None:
-    from bench.report.leaderboard import RANK_BY
+    from bench.report.leaderboard import DEFAULT_RANK_BY, RANK_BY
 
     p.add_argument("runs", nargs="+", type=Path, metavar="RUN", help="finished run or scored-submission folders")
     add_out(p, "output folder (leaderboard.html, leaderboard.csv)", required=True)
-    p.add_argument("--rank-by", choices=RANK_BY, default="within",
-                   help="rank by the ±5 mm fraction of sample points (the paper's reading, default), or by F1 "
-                        "or AP over rows (detection: misses and false reports alike)")
+    p.add_argument("--rank-by", choices=RANK_BY, default=DEFAULT_RANK_BY,
+                   help="rank by F1 over rows (default: misses and false reports alike), AP over rows (the "
+                        "tracker's score ranking its reports), or the ±5 mm fraction of sample points (within: the "
+                        "paper's reading, blind to false reports); the false-report rate stands beside each")
 
 
 def _leaderboard(args) -> int:

@@ -183,7 +183,8 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
 
 def finish_run(config: Config, out: Path, records: list[dict], samples: list[dict], scan_info: list[dict],
                gallery: list, fig7, *, t_start: float, quiet: bool, render_ahead: dict, kind: str = "run",
-               submissions: tuple[str, ...] = (), extra: dict | None = None) -> Path:
+               submissions: tuple[str, ...] = (), builtins: tuple[str, ...] | None = None,
+               extra: dict | None = None) -> Path:
     """Everything a run writes after its scans: tables, gallery, Fig. 7's data, statistics, summary.
 
     Parameters
@@ -207,12 +208,15 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     submissions : tuple of str
         Labels of scored submissions: tracked beside ``config.trackers``, restored
         with the run's ``restore`` and compared with the baselines as the DP trackers are.
+    builtins : tuple of str, optional
+        The labels of ``config.trackers`` that were tracked (default all of them; ``()`` for a
+        submission scored alone): only these enter the robust figures and the summary.
     extra : dict, optional
         More summary fields.
     """
     import pandas as pd
 
-    labels = (*config.trackers, *submissions)
+    labels = (*(config.trackers if builtins is None else builtins), *submissions)
     dp = (*config.dp, *submissions)
     metrics = pd.DataFrame.from_records(records)
     samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(labels))

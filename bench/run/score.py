@@ -189,9 +189,10 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                                 "dataset": str(dataset), "dataset_config_hash": fset.meta["config_hash"],
                                 "dataset_revision": fset.meta.get("code_revision"), "split": split,
                                 "frames": sum(s["frames"] for s in scan_info),
-                                "timed": bool(any(np.isfinite(v) for v in sub.ms.values()))}}
+                                "timed": bool(any(np.isfinite(v) for v in sub.ms.values())),
+                                **({"alone": True} if alone else {})}}
         return finish_run(config, folder.path, records, samples, scan_info, gallery, fig7, t_start=t_start,
                           quiet=quiet, render_ahead={"off": "scored from an exported frame set (no rendering)"},
-                          kind="score", submissions=(label,), extra=extra)
+                          kind="score", submissions=(label,), builtins=() if alone else None, extra=extra)
     finally:
         folder.unlock()

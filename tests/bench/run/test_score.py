@@ -193,6 +193,13 @@ def test_a_submission_scored_alone(tiny_run, tiny_export, tmp_path):
     a = m.drop(columns=["tracker"]).reset_index(drop=True)
     b = run[run["tracker"] == "dp4"].drop(columns=["tracker"]).reset_index(drop=True)
     pd.testing.assert_frame_equal(a, b[a.columns])  # the same figures as dp4's in the run
+    # issue 66: the frame set's built-in trackers never ran, so neither the summary nor a board lists them
+    from bench.report.leaderboard import leaderboard_rows
+
+    s = json.loads((out / "summary.json").read_text())
+    assert s["submission"]["alone"] is True
+    assert {r["tracker"] for r in s["robust"]} == {"mine"} and {r["tracker"] for r in s["detection"]} == {"mine"}
+    assert {r["tracker"] for r in leaderboard_rows([out])} == {"mine"}
     from bench.report.run import build_report
 
     assert build_report(out, quiet=True).is_file()  # the page of a run without built-ins

@@ -37,17 +37,17 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     dict
         ``hit_rate`` (hits / reference rows; a missing detection is a miss),
         ``mae_px`` (mean ``|col - ref|`` over the hits), ``coverage`` (reference
-        rows with a detection), ``false_detections`` (rows without a reference
-        that have a detection, over such rows), ``n_ref``; then the row outcomes
+        rows with a detection), ``n_ref``; then the row outcomes
         ``n_hit`` ... ``n_unknown``, ``precision``, ``recall``, ``f1``,
-        ``false_report_rate`` (reports on rows with no stripe, over those rows) and
-        ``ap`` (NaN without ``score``), ``ap_constant``. NaN where undefined.
+        ``false_report_rate`` (reports on rows with no stripe, over those rows: a row
+        whose state is unknown is neither) and ``ap`` (NaN without ``score``),
+        ``ap_constant``. NaN where undefined.
 
     Examples
     --------
     >>> m = image_metrics([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, 5.0, np.nan], state=[1, 1, 1, 0])
-    >>> m["hit_rate"], m["mae_px"], m["coverage"], m["false_detections"]
-    (0.3333333333333333, 1.0, 0.6666666666666666, 1.0)
+    >>> m["hit_rate"], m["mae_px"], m["coverage"]
+    (0.3333333333333333, 1.0, 0.6666666666666666)
     >>> m["n_false"], m["precision"], m["false_report_rate"]
     (1, 0.3333333333333333, 1.0)
     """
@@ -64,12 +64,10 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     det = ~np.isnan(c)
     err = np.abs(c[has_ref] - r[has_ref])
     hit = hits(c[has_ref], r[has_ref], tol_px)
-    no_ref = int((~has_ref).sum())
     out = {
         "hit_rate": float(hit.sum() / n_ref) if n_ref else float("nan"),
         "mae_px": float(err[hit].mean()) if hit.any() else float("nan"),
         "coverage": float(det[has_ref].sum() / n_ref) if n_ref else float("nan"),
-        "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
         "n_ref": n_ref,
     }
     out.update(outcome_record(c, r, fallback_states(r) if state is None else state, score, tol_px))

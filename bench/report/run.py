@@ -306,10 +306,11 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
 
         parts.append(sim_to_real_html(s["sim_to_real"]).replace(
             "<h2>Renders vs photographs</h2>",
-            "<h2>Renders vs photographs</h2><p>Each tracker's hit rate (within 3 px) on the object rows of this "
-            "run, averaged over its experiments, beside its mean hit rate over the photographs of the real set "
-            f"<code>{esc(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; references "
-            "only where the stripe is visible, see docs/real.md).</p>"))
+            "<h2>Renders vs photographs</h2><p>Both halves: each tracker's hit rate (within 3 px) on the object's "
+            "stripe rows of this run, averaged over its experiments, beside its mean hit rate over the photographs "
+            f"of the real set <code>{esc(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; "
+            "references only where the stripe is visible, see docs/real.md), and its F1 over rows and false-report "
+            "rate over every row of the renders beside those over the photographs' rows of known state.</p>"))
         if s["sim_to_real"].get("predicted"):
             from bench.report.simreal import predicted_html
 
@@ -318,6 +319,8 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             from bench.report.simreal import sim_to_real_by_class_html
 
             parts.append(sim_to_real_by_class_html(s["sim_to_real"]["by_class"]))
+            for k, v in (s["sim_to_real"].get("by_class_detection") or {}).items():
+                parts.append(sim_to_real_by_class_html(v, k))
     parts.append(_improvement_tables(s))
     parts.append(_hit_table(metrics))
     if figs["bars"]:

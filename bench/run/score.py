@@ -14,7 +14,9 @@ kind ``score`` also names the submission), so the report and the gate read it.
 The submission is compared with the baselines as the DP trackers are.
 
 A built-in tracker's own output, submitted, scores byte for byte what
-``stripebench run`` gives that tracker on the same configuration
+``stripebench run`` gives that tracker on the same configuration when the frame set
+is the run's frames (a set exported with ``--test-fraction 0``; a test frame is
+rendered at an angle of its own, :func:`bench.run.export.test_frame`)
 (``tests/bench/run/test_score.py``); only the time column comes from
 ``times.csv`` instead of the harness's clock.
 """

@@ -21,3 +21,13 @@ def test_score_and_leaderboard_through_the_cli(tiny_run, tiny_export, tmp_path, 
     assert "CONFIG.toml or --profile" in capsys.readouterr().err
     assert main(["score", str(tmp_path), str(sub), "--out", str(tmp_path / "r2")]) == 2
     assert "exported frame set" in capsys.readouterr().err
+
+
+def test_export_refuses_a_bad_test_seed_in_one_line(tmp_path, capsys):
+    import pytest
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["export", "--profile", "quick", "--out", str(tmp_path / "x"), "--test-seed", "-1"])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert "argument --test-seed: must be an integer >= 0" in err[-1] and not (tmp_path / "x").exists()

@@ -8,12 +8,12 @@ from bench.report.leaderboard import LeaderboardError, build_leaderboard, leader
 
 
 @pytest.fixture(scope="module")
-def scored_run(tiny_run, tiny_export, tmp_path_factory):
+def scored_run(tiny_run, tiny_export_dev, tmp_path_factory):
     from bench.run.score import score
     from bench.store import frameset as fs
     from bench.store.checkpoint import read_checkpoint
 
-    fset = fs.read_frameset(tiny_export)
+    fset = fs.read_frameset(tiny_export_dev)
     cols = {}
     for key in dict.fromkeys(f["experiment"] for f in fset.frames):
         res, _ = read_checkpoint(tiny_run[0] / "scans" / f"{key}.npz", key)
@@ -22,7 +22,7 @@ def scored_run(tiny_run, tiny_export, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("lb")
     (tmp / "sub").mkdir()
     (tmp / "sub" / "submission.csv").write_text(fs.submission_csv(cols))
-    return score(tiny_export, tmp / "sub", tmp / "run", label="mine", trackers=None, quiet=True)
+    return score(tiny_export_dev, tmp / "sub", tmp / "run", label="mine", trackers=None, quiet=True)
 
 
 def _alone(tiny_run, tiny_export, folder, label, *, eager: bool, split: str = "all"):
@@ -49,10 +49,10 @@ def _alone(tiny_run, tiny_export, folder, label, *, eager: bool, split: str = "a
 
 
 @pytest.fixture(scope="module")
-def eager_quiet(tiny_run, tiny_export, tmp_path_factory):
+def eager_quiet(tiny_run, tiny_export_dev, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("eq")
-    return (_alone(tiny_run, tiny_export, tmp, "eager", eager=True),
-            _alone(tiny_run, tiny_export, tmp, "quiet", eager=False))
+    return (_alone(tiny_run, tiny_export_dev, tmp, "eager", eager=True),
+            _alone(tiny_run, tiny_export_dev, tmp, "quiet", eager=False))
 
 
 def test_the_default_ranking_prices_false_reports(eager_quiet):

@@ -2,9 +2,11 @@
 
 Runs are comparable when :func:`bench.run.gate.comparability` finds no
 difference among :data:`bench.run.gate.COMPARED_KEYS` (render size and spp,
-experiments, seed) and they were scored on the same frames (:func:`split_of`: a
-run and a scored submission of ``--split all`` score every frame, ``--split
-dev`` or ``test`` a part); otherwise the page is refused in one line. The runs
+experiments, seed) and they scored the same frames (:func:`frames_of`: each
+experiment's mirror angles as the summary's ``scans`` list them; a scored
+submission of ``--split dev`` or ``test`` scores a part, and a frame set's test
+frames are rendered at angles of their own, :func:`bench.run.export.test_frame`);
+otherwise the page is refused in one line. The runs
 are read in one order whatever the order of the arguments (scored submissions
 first, then by folder path: :func:`canonical_order`), so the board does not
 depend on it. Each row says where it comes from (:data:`ORIGINS`: a submission,
@@ -44,7 +46,7 @@ from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
 
 __all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS", "RANK_BY",
-           "ORIGINS", "settings_of", "split_of", "canonical_order", "DEFAULT_RANK_BY"]
+           "ORIGINS", "settings_of", "split_of", "frames_of", "canonical_order", "DEFAULT_RANK_BY"]
 
 COLUMNS = ("condition", "rank", "tied", "rank_by", "tracker", "within", "within_low", "within_high", "median_abs_mm",
            "rmse_mm", "n_gross", "n", "f1", "f1_low", "f1_high", "ap", "ap_low", "ap_high", "false_report_rate",
@@ -117,6 +119,20 @@ def split_of(summary: dict) -> tuple[str, int | None]:
     return str(sub.get("split", "all")), sub.get("frames")
 
 
+def frames_of(summary: dict) -> tuple:
+    """The frames a run scored: ``(experiment, angles)`` per scan, from its summary's ``scans``
+    (``angles_deg``; a summary written without them: its split, :func:`split_of`). Two runs of
+    comparable configurations scored the same frames when these are equal.
+
+    >>> frames_of({"kind": "run", "scans": [{"experiment": "e", "angles_deg": [1.0, 2.0]}]})
+    (('e', (1.0, 2.0)),)
+    """
+    scans = summary.get("scans") or []
+    if scans and all(isinstance(x, dict) and isinstance(x.get("angles_deg"), list) for x in scans):
+        return tuple((str(x.get("experiment")), tuple(float(a) for a in x["angles_deg"])) for x in scans)
+    return ("split",) + split_of(summary)
+
+
 def canonical_order(loaded: list) -> list:
     """``(path, summary, ...)`` tuples in the order a board reads them: scored submissions first (a board
     is about them: a built-in tracker that a submission's run re-tracked is kept with that run), then by
@@ -155,11 +171,11 @@ def leaderboard_rows(runs, rank_by: str = DEFAULT_RANK_BY, notes: list | None = 
         if diff:
             raise LeaderboardError(f"{str(path)!r} is not comparable with {str(loaded[0][0])!r}: they differ in "
                                    f"{'; '.join(diff)}")
-    splits = {split_of(s)[0] for _, s, _ in loaded}
-    if len(splits) > 1:
+    if len({frames_of(s) for _, s, _ in loaded}) > 1:
         said = "; ".join(f"{str(p)!r}: {_split_text(s)}" for p, s, _ in loaded)
         raise LeaderboardError(f"the runs scored different frames, so their figures cannot share a board ({said}); "
-                               "score every submission on the same --split")
+                               "score every submission on the same frames (the same frame set and --split; a frame set's test "
+                               "frames are not a run's, `export --test-fraction 0` exports the run's own)")
     notes = [] if notes is None else notes
     entered: dict[str, tuple[str, str]] = {}  # label -> (setting, run) of the first entry
     seen, per_cond = set(), {}
@@ -214,9 +230,13 @@ def leaderboard_rows(runs, rank_by: str = DEFAULT_RANK_BY, notes: list | None = 
     return [{k: r[k] for k in COLUMNS} for r in out]
 
 
+def _n_frames(summary: dict) -> int:
+    return sum(int(x.get("frames", 0)) for x in summary.get("scans") or [] if isinstance(x, dict))
+
+
 def _split_text(summary: dict) -> str:
-    split, n = split_of(summary)
-    return "every frame" if split == "all" else f"--split {split}" + (f" ({n} frames)" if n is not None else "")
+    what = "a run" if summary.get("kind") != "score" else f"--split {split_of(summary)[0]}"
+    return f"{what} ({_n_frames(summary)} frames)"
 
 
 def rank_with_ties(rows: list[dict], key: str = "within") -> list[dict]:
@@ -294,7 +314,7 @@ def build_leaderboard(runs, out_dir, rank_by: str = DEFAULT_RANK_BY, notes: list
            ".mark{position:absolute;top:-2px;width:2px;height:16px;background:#145}"
            ".scale{font-weight:normal;color:#666;font-size:85%}.tie{color:#a60}")
     parts = ["<h1>stripebench leaderboard</h1>",
-             f"<p>{len(list(runs))} comparable run(s), scored on {esc(_split_text(_first_summary(runs)))}. "
+             f"<p>{len(list(runs))} comparable run(s), each of the same {_n_frames(_first_summary(runs))} frames. "
              f"Ranked per condition by {_RANK_TEXT[rank_by]} "
              "(its 95 % interval drawn as a bar with the estimate marked). <span class='tie'>tie</span>: its "
              "interval overlaps that of the rank's first tracker, so it shares that rank. ±5 mm: the fraction of "

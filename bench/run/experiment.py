@@ -146,7 +146,8 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
         records += recs
         samples += samps
         failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
-        scan_info.append({"experiment": exp.key, "frames": int(len(angles)), "wall_s": wall,
+        scan_info.append({"experiment": exp.key, "frames": int(len(angles)),
+                          "angles_deg": [float(a) for a in angles], "wall_s": wall,
                           "render_s": res.render_seconds, "variant": res.variant, "failures": failures,
                           "rig": dataclasses.asdict(scene.rig),
                           "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5] for n in res.messages}})

@@ -180,7 +180,8 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                     fig7 = figure_data(exp.key, float(res.angles[i]), images[i][0], images[i][1],
                                        res.truth_columns[i], cols)
             failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
-            scan_info.append({"experiment": exp.key, "frames": len(frames), "wall_s": time.perf_counter() - t0,
+            scan_info.append({"experiment": exp.key, "frames": len(frames),
+                              "angles_deg": [float(f["angle_deg"]) for f in frames], "wall_s": time.perf_counter() - t0,
                               "render_s": 0.0, "variant": res.variant, "failures": failures, "rig": dict(meta["rig"]),
                               "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5]
                                                    for n in res.messages}})

@@ -3,7 +3,7 @@
 from bench.cli import main
 
 
-def test_score_and_leaderboard_through_the_cli(tiny_run, tiny_export, tmp_path, capsys):
+def test_score_and_leaderboard_through_the_cli(tiny_run, tiny_export, tiny_export_dev, tmp_path, capsys):
     sub = tmp_path / "bad"
     sub.mkdir()
     (sub / "submission.csv").write_text("frame,row,col\nnope,0,1\ncone-patchy-000,0,99\n")
@@ -15,7 +15,13 @@ def test_score_and_leaderboard_through_the_cli(tiny_run, tiny_export, tmp_path, 
                  "--trackers", "threshold"]) == 0
     assert main(["leaderboard", str(tmp_path / "r"), "--out", str(tmp_path / "lb")]) == 0
     assert (tmp_path / "lb" / "leaderboard.html").is_file()
-    assert main(["leaderboard", str(tmp_path / "r"), str(tiny_run[0]), "--out", str(tmp_path / "lb2")]) == 0
+    capsys.readouterr()
+    # a set with a test split: its test frames are not the run's, so the two are not one board
+    assert main(["leaderboard", str(tmp_path / "r"), str(tiny_run[0]), "--out", str(tmp_path / "lb2")]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    assert main(["score", str(tiny_export_dev), str(sub), "--out", str(tmp_path / "rd"), "--quiet", "--no-report",
+                 "--trackers", "threshold"]) == 0
+    assert main(["leaderboard", str(tmp_path / "rd"), str(tiny_run[0]), "--out", str(tmp_path / "lb2")]) == 0
     capsys.readouterr()
     assert main(["export", "--out", str(tmp_path / "x")]) == 2
     assert "CONFIG.toml or --profile" in capsys.readouterr().err

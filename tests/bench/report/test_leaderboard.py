@@ -78,12 +78,18 @@ def test_the_cli_ranks_by_f1_by_default():
 
 
 def test_runs_of_different_splits_are_refused_whatever_their_order(tiny_run, tiny_export, eager_quiet, tmp_path):
-    """Issue 66: a run of every frame and a submission scored on the test split are not one board."""
+    """Issue 66: a run of every frame, a submission scored on the test split and one scored on every frame of a
+    set with a test split (its test frames rendered at angles of their own) are not one board."""
     test_only = _alone(tiny_run, tiny_export, tmp_path, "quiet", eager=False, split="test")
-    for runs in ([eager_quiet[1], test_only], [test_only, eager_quiet[1]], [tiny_run[0], test_only]):
-        with pytest.raises(LeaderboardError, match=r"scored different frames.*--split test \(\d+ frames\)") as err:
+    with_test = _alone(tiny_run, tiny_export, tmp_path / "all", "quiet", eager=False, split="all")
+    for runs in ([eager_quiet[1], test_only], [test_only, eager_quiet[1]], [tiny_run[0], test_only],
+                 [with_test, tiny_run[0]], [with_test, test_only]):
+        with pytest.raises(LeaderboardError, match=r"scored different frames.*\(\d+ frames\)") as err:
             leaderboard_rows(runs)
         assert "\n" not in str(err.value)
+    with pytest.raises(LeaderboardError, match=r"--split test \(\d+ frames\)"):
+        leaderboard_rows([tiny_run[0], test_only])
+    assert leaderboard_rows([tiny_run[0], *eager_quiet])  # a set without a test split: the run's own frames
 
 
 def test_the_order_of_the_arguments_does_not_change_the_board(tiny_run, scored_run, eager_quiet):

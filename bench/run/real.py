@@ -30,11 +30,14 @@ from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.realrun import write_track_csv
 
-__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS"]
+__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS", "PER_IMAGE_MEANS"]
 
 #: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
 #: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
 DETECTION_KEYS = (*COUNT_KEYS, *FIGURE_KEYS, "ap")
+#: The figures of a real run's ``mean`` rows that are means over photographs (bootstrap intervals over them in
+#: ``summary.json``). Reports on stripe-less rows are priced by ``false_report_rate`` (rows of known state only).
+PER_IMAGE_MEANS = ("hit_rate", "mae_px", "coverage")
 
 
 
@@ -232,14 +235,16 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
             records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
                             "has_background": im.background_path is not None, "status": status, "message": msg})
         if not quiet:
-            hr = ", ".join(f"{r['tracker']} {r['hit_rate']:.2f}" for r in records[-len(labels):])
-            print(f"[{k + 1}/{len(images)}] {im.name}: hit rate {hr}", file=sys.stderr, flush=True)
+            hr = ", ".join(f"{r['tracker']} {r['f1']:.2f}/{r['false_report_rate']:.2f}/{r['hit_rate']:.2f}"
+                           for r in records[-len(labels):])
+            print(f"[{k + 1}/{len(images)}] {im.name}: F1/false-report rate/hit rate {hr}", file=sys.stderr,
+                  flush=True)
     per_image = pd.DataFrame.from_records(records)
     means, summary_rows = [], {}
     for j, lab in enumerate(labels):
         sub = per_image[per_image["tracker"] == lab]
         stats = {}
-        for metric in ("hit_rate", "mae_px", "coverage", "false_detections"):
+        for metric in PER_IMAGE_MEANS:
             stats[metric] = bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
         det = bootstrap_frames(*outcomes[lab], n_boot=n_boot, seed=seed + j)  # rows pooled over photographs
         stats["detection"] = det

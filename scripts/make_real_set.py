@@ -105,7 +105,7 @@ SOURCES = {
     # triangulation_3's frames are 640x480 (a third of triangulation_4's width): full size keeps the scale of the
     # fh_* frames above; the left laser's half only (columns 0-312: the two lines meet on the box at 313-327)
     **{f"fh_box{step:02d}{off}": (f"fhennecker/t3_{step + (1 if off else 0):02d}.png", 1, (0, 480, 0, 313))
-       for step in (4, 34) for off in ("", "_off")},
+       for step in (4, 34, *range(8, 49, 4)) for off in ("", "_off")},
     "bb_small": ("b33boy/l3.jpg", 8, None),
     "bb_night": ("b33boy/l4.jpg", 8, None),
     "hx_dash1": ("hexastorm/2021-01-22-15-11.jpg", 2, None),

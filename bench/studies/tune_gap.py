@@ -127,7 +127,13 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                 t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
             scores1[(o, sw)] = t1.objective(key)
         say(f"stage 1: off_rel = {o:g} done")
-    off_best, sw_best = choose(t1.eligible(scores1, lambda k: _gap_label(*k)), profile.tie)
+    def pick1(held, photos):
+        sc = {k: t1.objective(_gap_label(*k), held_out=held, photographs=photos) for k in scores1}
+        return _gap_label(*choose(t1.eligible(sc, lambda k: _gap_label(*k), held_out=held, photographs=photos),
+                                  profile.tie))
+
+    judged = {"stage1": t1.judge(pick1)}
+    off_best, sw_best = {_gap_label(*k): k for k in scores1}[judged["stage1"]["kept"]]
     t2 = tuning.Tally(2, profile.hit_px)
     rules = [(k, g, m) for k in profile.k_sigma for g in profile.max_gap for m in profile.min_run]
     for n in profile.dp_trackers:
@@ -139,7 +145,13 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                 t2.add(_rule_label(*r), n, f, t.report(*readings).columns)
         say(f"stage 2: {n} done")
     scores2 = {r: t2.objective(_rule_label(*r)) for r in rules}
-    k_best, gap_best, m_best = choose_rule(t2.eligible(scores2, lambda k: _rule_label(*k)), profile.tie)
+    def pick2(held, photos):
+        sc = {r: t2.objective(_rule_label(*r), held_out=held, photographs=photos) for r in rules}
+        return _rule_label(*choose_rule(t2.eligible(sc, lambda k: _rule_label(*k), held_out=held,
+                                                     photographs=photos), profile.tie))
+
+    judged["stage2"] = t2.judge(pick2)
+    k_best, gap_best, m_best = {_rule_label(*r): r for r in rules}[judged["stage2"]["kept"]]
     chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
               "min_run": m_best}
     # stage 3: the stripe question, with the choices above (dp_gap its off state, the others their rule)
@@ -160,9 +172,16 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
         say(f"stage 3: stripe test {key} done")
     stages = [("stage1", t1, _gap_label(off_best, sw_best)), ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
     if profile.stripe_tests:
-        best3 = choose_listed(t3.eligible(scores3, lambda i: stripe_key(profile.stripe_tests[i])),
-                              list(range(len(profile.stripe_tests))), profile.tie)
-        chosen["stripe_test"] = profile.stripe_tests[best3]
+        order = list(range(len(profile.stripe_tests)))
+
+        def pick3(held, photos):
+            sc = {i: t3.objective(stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+                  for i in scores3}
+            ok = t3.eligible(sc, lambda i: stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+            return stripe_key(profile.stripe_tests[choose_listed(ok, order, profile.tie)])
+
+        judged["stage3"] = t3.judge(pick3)
+        chosen["stripe_test"] = {stripe_key(t): t for t in profile.stripe_tests}[judged["stage3"]["kept"]]
         stages.append(("stage3", t3, stripe_key(chosen["stripe_test"])))
     figures = {}
     for name, tally, key in stages:
@@ -178,7 +197,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                "stage3": {stripe_key(profile.stripe_tests[i]): v for i, v in scores3.items()},
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
-               "figures": figures}
+               "figures": figures, "photographs": judged}
     records = t1.records() + t2.records() + t3.records()
     tuning.write_records(out, "tune_gap.csv", records, summary)
     _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
@@ -221,9 +240,8 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress bars. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any scan."""
     from bench.studies.tune_threshold import figure_lines
-    from bench.studies.tuning import run_study
-
     from bench.studies.tune_threshold import stripe_key
+    from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
     k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
@@ -239,5 +257,6 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
         print(f"{stage} ({what}): chosen {key} (objective {summary[stage][key]:.4f}; best five: "
               + ", ".join(f"{kk} {v:.4f}" for kk, v in best) + ")")
         print("\n".join(figure_lines(summary["figures"][stage])))
+        print("\n".join(judged_lines(summary["photographs"][stage])))
     print(f"{out / 'tune_gap.csv'}")
     return 0

@@ -224,7 +224,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                             t1.add(key, n, f, t.track(f.image, background=f.background).columns)
                     scores1[(k, p, m, w)] = t1.objective(key)
         say(f"stage 1: k_sigma = {k:g} done")
-    k_best, p_best, m_best, w_best = choose_grid(t1.eligible(scores1, lambda kpmw: _key(*kpmw)), profile.tie)
+    def pick1(held, photos):
+        sc = {kpmw: t1.objective(_key(*kpmw), held_out=held, photographs=photos) for kpmw in scores1}
+        return _key(*choose_grid(t1.eligible(sc, lambda kpmw: _key(*kpmw), held_out=held, photographs=photos),
+                                 profile.tie))
+
+    judged = {"stage1": t1.judge(pick1)}
+    k_best, p_best, m_best, w_best = {_key(*kpmw): kpmw for kpmw in scores1}[judged["stage1"]["kept"]]
     family = {"k_sigma": k_best, "prominence": p_best, "min_run": m_best, "width_ratio": w_best}
     # stage 2: com_bg's frac on laser-on/off pairs
     mae2, rec2 = {}, []
@@ -253,7 +259,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                     t3.add(key, "steger", f, t.track(f.image, background=f.background).columns)
                 scores3[(k, p, m)] = t3.objective(key)
         say(f"stage 3: steger k_sigma = {k:g} done")
-    sk, sp, sm = choose_grid(t3.eligible(scores3, lambda kpm: _key(*kpm)), profile.tie)
+    def pick3(held, photos):
+        sc = {kpm: t3.objective(_key(*kpm), held_out=held, photographs=photos) for kpm in scores3}
+        return _key(*choose_grid(t3.eligible(sc, lambda kpm: _key(*kpm), held_out=held, photographs=photos),
+                                 profile.tie))
+
+    judged["stage3"] = t3.judge(pick3)
+    sk, sp, sm = {_key(*kpm): kpm for kpm in scores3}[judged["stage3"]["kept"]]
     steger = {"k_sigma": sk, "prominence": sp, "min_run": sm}
     # stage 4: the colour rule
     colour = {n: trackers.make(n, **chosen_params(n, family, frac_best, steger)) for n in profile.colour_trackers}
@@ -268,7 +280,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                 t4.add(key, n, f, t.track(frame).columns)
         scores4[rule] = t4.objective(key)
         say(f"stage 4: rule {rule} done")
-    rule_best = choose_listed(t4.eligible(scores4, lambda r: f"rule={r}"), profile.colour_rules, profile.tie)
+    def pick4(held, photos):
+        sc = {r: t4.objective(f"rule={r}", held_out=held, photographs=photos) for r in scores4}
+        ok = t4.eligible(sc, lambda r: f"rule={r}", held_out=held, photographs=photos)
+        return f"rule={choose_listed(ok, profile.colour_rules, profile.tie)}"
+
+    judged["stage4"] = t4.judge(pick4)
+    rule_best = {f"rule={r}": r for r in scores4}[judged["stage4"]["kept"]]
     chosen = {**family, "frac": frac_best, "steger": steger, "colour_rule": rule_best}
     # stage 5: the stripe question, asked by the trackers at the settings chosen above
     t5 = Tally(5, profile.hit_px)
@@ -284,9 +302,16 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     stages = [("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
               ("stage4", t4, f"rule={rule_best}")]
     if profile.stripe_tests:
-        best5 = choose_listed(t5.eligible(scores5, lambda i: stripe_key(profile.stripe_tests[i])),
-                              list(range(len(profile.stripe_tests))), profile.tie)
-        chosen["stripe_test"] = profile.stripe_tests[best5]
+        order = list(range(len(profile.stripe_tests)))
+
+        def pick5(held, photos):
+            sc = {i: t5.objective(stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+                  for i in scores5}
+            ok = t5.eligible(sc, lambda i: stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+            return stripe_key(profile.stripe_tests[choose_listed(ok, order, profile.tie)])
+
+        judged["stage5"] = t5.judge(pick5)
+        chosen["stripe_test"] = {stripe_key(t): t for t in profile.stripe_tests}[judged["stage5"]["kept"]]
         stages.append(("stage5", t5, stripe_key(chosen["stripe_test"])))
     figures = {}
     for name, tally, key in stages:
@@ -305,7 +330,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                "stage5": {stripe_key(profile.stripe_tests[i]): v for i, v in scores5.items()},
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
-               "figures": figures}
+               "figures": figures, "photographs": judged}
     records = t1.records() + rec2 + t3.records() + t4.records() + t5.records()
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
@@ -357,7 +382,7 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     """``stripebench tune threshold``: run the procedure on the tuning profile ``profile`` (a TOML path) into
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress lines. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any work."""
-    from bench.studies.tuning import run_study
+    from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
 
@@ -369,20 +394,24 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
     print(f"stage 1: chosen {key1} (objective {summary['stage1'][key1]:.4f}; best five: {top('stage1')})")
     print("\n".join(figure_lines(summary["figures"]["stage1"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage1"])))
     print("stage 2: chosen com_bg frac = {:g} (mean |error| of hits, px: {})".format(
         chosen["frac"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage2_mae_px"].items())))
     st = chosen["steger"]
     key3 = _key(st["k_sigma"], st["prominence"], st["min_run"])
     print(f"stage 3: chosen steger {key3} (objective {summary['stage3'][key3]:.4f}; best five: {top('stage3')})")
     print("\n".join(figure_lines(summary["figures"]["stage3"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage3"])))
     print("stage 4: chosen colour rule = {} (objective: {})".format(
         chosen["colour_rule"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage4"].items())))
     print("\n".join(figure_lines(summary["figures"]["stage4"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage4"])))
     if "stripe_test" in chosen:
         key5 = stripe_key(chosen["stripe_test"])
         print(f"stage 5: chosen {key5} (objective {summary['stage5'][key5]:.4f}; all: "
               + ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage5"].items()) + ")")
         print("\n".join(figure_lines(summary["figures"]["stage5"])))
+        print("\n".join(judged_lines(summary["photographs"]["stage5"])))
     for stage, names in summary["unavoidable_blind_photographs"].items():
         print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
     print(f"{out / 'tune.csv'}")

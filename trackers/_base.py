@@ -73,6 +73,26 @@ class Track:
         return cls(nan, nan)
 
 
+_TAKES_COLOUR: dict = {}
+
+
+def _takes_colour(cls) -> bool:
+    """Whether ``cls.uses_colour`` and its ``find_stripe`` takes a third argument (the colour evidence)."""
+    if cls not in _TAKES_COLOUR:
+        import inspect
+
+        ok = bool(getattr(cls, "uses_colour", False))
+        if ok:
+            try:
+                params = list(inspect.signature(cls.find_stripe).parameters.values())
+            except (TypeError, ValueError):
+                params = []
+            ok = any(p.kind == p.VAR_POSITIONAL for p in params) or len(
+                [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]) >= 4
+        _TAKES_COLOUR[cls] = ok
+    return _TAKES_COLOUR[cls]
+
+
 class Tracker(abc.ABC):
     """Base class of every stripe tracker.
 
@@ -170,8 +190,9 @@ class Tracker(abc.ABC):
         bg = check_background(background, img.shape)
         evidence = check_colour(colour, img.shape)
         self._validate_params()
-        # the evidence only where there is some, so a subclass's two-argument find_stripe still works without it
-        if evidence is not None and type(self).uses_colour:
+        # the evidence only where there is some and the find_stripe called takes it: a subclass that overrides the
+        # hook with two arguments (image, background) still runs, without the evidence
+        if evidence is not None and _takes_colour(type(self)):
             track = self.find_stripe(img, bg, evidence)
         else:
             track = self.find_stripe(img, bg)

@@ -103,16 +103,11 @@ class TuningFrame:
         colour photograph, turned as the frame is), (H, W) float64 in [0, 1]; None without colour (no
         photograph, or a grey one). Computed once."""
         if "_colour" not in self.__dict__:
-            ev = None
-            rgb = None if self.rgb is None else np.asarray(self.rgb)
-            if rgb is not None and rgb.ndim == 3 and not (np.array_equal(rgb[..., 0], rgb[..., 1])
-                                                          and np.array_equal(rgb[..., 0], rgb[..., 2])):
-                from bench.evaluate.pixels import rotate_image
-                from trackers import colour_evidence
+            from bench.run.camera_view import colour_of
 
-                ev = rotate_image(colour_evidence(rgb, self.laser), self.rotate)
-                if ev.shape != self.image.shape:  # a photograph that is not the frame's pixels: no evidence
-                    ev = None
+            ev = colour_of(self.rgb, self.laser, self.rotate)
+            if ev is not None and ev.shape != self.image.shape:  # a photograph that is not the frame's pixels
+                ev = None
             self.__dict__["_colour"] = ev
         return self.__dict__["_colour"]
 

@@ -102,6 +102,16 @@ SOURCES = {
     "hx_wide": ("hexastorm/laserline1.jpg", 3, None),
     "lm_wheel": ("lasermat/C0_p240_SD.png", 6, (0, 1800, 0, 4096)),  # the rows below 1800 hold no laser light
     "lm_gage": ("lasermat/gage.jpg", 3, None),
+    # triangulation_3's frames are 640x480 (a third of triangulation_4's width): full size keeps the scale of the
+    # fh_* frames above; the left laser's half only (columns 0-312: the two lines meet on the box at 313-327)
+    **{f"fh_box{step:02d}{off}": (f"fhennecker/t3_{step + (1 if off else 0):02d}.png", 1, (0, 480, 0, 313))
+       for step in (4, 34, *range(8, 49, 4)) for off in ("", "_off")},
+    "bb_small": ("b33boy/l3.jpg", 8, None),
+    "bb_night": ("b33boy/l4.jpg", 8, None),
+    "hx_dash1": ("hexastorm/2021-01-22-15-11.jpg", 2, None),
+    "hx_dots1": ("hexastorm/2021-01-22-15-26.jpg", 2, None),
+    "hx_dots2": ("hexastorm/2021-01-22-15-27.jpg", 2, None),
+    "hx_dash2": ("hexastorm/2021-01-22-15-52.jpg", 2, None),
 }
 
 
@@ -266,16 +276,22 @@ def states_for(ref: np.ndarray, guide: dict) -> np.ndarray:
 
 
 def none_doubts(frame: np.ndarray, ref: np.ndarray, states: np.ndarray, original: np.ndarray, laser: str,
-                rotate_deg: int) -> np.ndarray:
+                rotate_deg: int, off=None, off_original=None) -> np.ndarray:
     """The guide's ``none`` rows that :func:`bench.evaluate.nonerows.doubtful_rows` finds a sign of the stripe in
-    (bool (H,)): on the reference's frame and, for a colour photograph, its laser colour's excess."""
+    (bool (H,)): on the reference's frame and, for a colour photograph, its laser colour's excess; in their
+    laser-on minus laser-off difference where the laser-off frame (``off``, read as ``frame``; ``off_original`` as
+    ``original``) is given."""
     from bench.evaluate.nonerows import doubtful_rows
     from bench.evaluate.pixels import rotate_image, select_channel
 
-    o = np.asarray(original)
-    grey = o.ndim == 2 or (np.array_equal(o[..., 0], o[..., 1]) and np.array_equal(o[..., 0], o[..., 2]))
-    colour = None if grey else rotate_image(select_channel(o, "excess", laser), rotate_deg)
-    flags = doubtful_rows(frame, ref, states, colour=colour)
+    def excess(img):
+        o = np.asarray(img)
+        grey = o.ndim == 2 or (np.array_equal(o[..., 0], o[..., 1]) and np.array_equal(o[..., 0], o[..., 2]))
+        return None if grey else rotate_image(select_channel(o, "excess", laser), rotate_deg)
+
+    colour = excess(original)
+    colour_off = None if off_original is None or colour is None else excess(off_original)
+    flags = doubtful_rows(frame, ref, states, colour=colour, background=off, colour_background=colour_off)
     return np.logical_or.reduce(list(flags.values()))
 
 
@@ -310,7 +326,12 @@ def make_refs() -> None:
                                           laser=row["laser_colour"], rotate_deg=rot)
         ref = reference_for(frame, guides[name])
         states = states_for(ref, guides[name])
-        doubt = none_doubts(frame, ref, states, original, row["laser_colour"], rot)
+        off = off_original = None
+        if (row.get("has_background") or "0").strip() == "1":
+            off, off_original = real.load_frame(DATA / f"{name}_off.png",
+                                                channel="excess" if channel == "auto" else channel,
+                                                laser=row["laser_colour"], rotate_deg=rot)
+        doubt = none_doubts(frame, ref, states, original, row["laser_colour"], rot, off, off_original)
         states[doubt] = UNSURE
         lines = ["row,col,state"] + [f"{i}," + ("" if np.isnan(c) else f"{c:.2f}") + f",{STATE_NAMES[int(st)]}"
                                      for i, (c, st) in enumerate(zip(ref, states))]

@@ -56,6 +56,26 @@ def _track(args) -> int:
     return 1 if failed else 0
 
 
+def real_table(summary: dict, labels) -> str:
+    """The console table of a real run: per tracker (in the order of ``labels``) F1 over rows with its 95 %
+    interval, the false-report rate with its false and stripe-less rows, then the hit rate with its interval,
+    MAE on the hits and coverage."""
+    def f(v, fmt=".3f"):
+        return format(v, fmt) if isinstance(v, (int, float)) and v == v else "–"
+
+    lines = [f"{'tracker':<16}{'F1':>7}{'95 % CI':>16}{'false reports':>15}{'false/none':>12}{'hit rate':>10}"
+             f"{'95 % CI':>16}{'MAE px':>8}{'coverage':>10}"]
+    for lab in labels:
+        s = summary["trackers"][lab]
+        d, h = s.get("detection") or {}, s["hit_rate"]
+        ci = f"[{f(d.get('f1_lo'))}, {f(d.get('f1_hi'))}]"
+        rows = f"{d.get('n_false', 0)}/{d.get('n_false', 0) + d.get('n_quiet', 0)}"
+        lines.append(f"{lab:<16}{f(d.get('f1')):>7}{ci:>16}{f(d.get('false_report_rate')):>15}{rows:>12}"
+                     f"{f(h['mean']):>10}{'[' + f(h['lo']) + ', ' + f(h['hi']) + ']':>16}"
+                     f"{f(s['mae_px']['mean'], '.2f'):>8}{f(s['coverage']['mean']):>10}")
+    return "\n".join(lines)
+
+
 def _add_real(p) -> None:
     p.add_argument("dataset", type=Path, help="real-set folder (e.g. bench/data/real)")
     add_out(p, "run folder (default: results/runs/real-<dataset name>)")
@@ -108,12 +128,16 @@ def _real(args) -> int:
     if not args.quiet:
         from bench.store.realrun import load_real_run
 
-        summary = load_real_run(out)["summary"]
-        print(f"{'tracker':<16}{'hit rate':>10}{'95 % CI':>18}{'MAE px':>9}{'coverage':>10}")
-        for lab, s in summary["trackers"].items():
-            h = s["hit_rate"]
-            ci = f"[{h['lo']:.3f}, {h['hi']:.3f}]"
-            print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
+        from bench.report.real import images_by_f1, ranked_trackers
+
+        saved = load_real_run(out)
+        summary = saved["summary"]
+        print(real_table(summary, ranked_trackers(summary)))
+        per = images_by_f1(saved["metrics"], list(summary["trackers"]))
+        hard = [(n, float(per.loc[n].mean())) for n in per.index[:3] if per.loc[n].notna().any()]
+        if hard:
+            print("hardest photographs (mean F1 over the trackers): "
+                  + ", ".join(f"{n} {v:.3f}" for n, v in hard))
     if args.by_rig:  # asked for: printed with --quiet too
         from bench.store.realrun import load_real_run
 

@@ -15,7 +15,8 @@ tracker's frame and, where the photograph has colour, on the laser colour's exce
     on a colour photograph, a ridge of the laser's colour as narrow as the stripe.
 
 A *ridge* is a pixel standing over the row's running median (a step edge and a wide glow do not: the median
-follows them) whose half-height run is at most a few stripe widths wide. The rows it flags are written
+follows them) whose half-height run is at most a few stripe widths wide. Where a laser-off frame of the
+same view exists the signs are looked for in the laser-on minus laser-off difference. The rows it flags are written
 ``unknown`` by ``scripts/make_real_set.py refs``; the check overlay (``docs/real/NAME_ref.png``) is the look.
 The settings are :class:`NoneRowCheck`.
 
@@ -254,7 +255,8 @@ def path_guess(cols, settings: NoneRowCheck = NoneRowCheck()) -> tuple[np.ndarra
     return centre, reach
 
 
-def doubtful_rows(frame, cols, states, *, colour=None, settings: NoneRowCheck = NoneRowCheck()) -> dict:
+def doubtful_rows(frame, cols, states, *, colour=None, background=None, colour_background=None,
+                  settings: NoneRowCheck = NoneRowCheck()) -> dict:
     """The ``none`` rows that show a sign of the stripe, per sign (module docstring).
 
     Parameters
@@ -268,6 +270,9 @@ def doubtful_rows(frame, cols, states, *, colour=None, settings: NoneRowCheck = 
     colour : array_like, shape (H, W), optional
         The laser colour's excess of a colour photograph in the frame's orientation
         (:func:`bench.evaluate.pixels.select_channel` with ``'excess'``); None on a grey photograph.
+    background, colour_background : array_like, shape (H, W), optional
+        The laser-off frame of the same view, as ``frame`` and ``colour`` are read: where given, the signs are looked
+        for in the laser-on minus laser-off difference (light that is there without the laser is not the laser's).
     settings : NoneRowCheck
 
     Returns
@@ -294,8 +299,13 @@ def doubtful_rows(frame, cols, states, *, colour=None, settings: NoneRowCheck = 
     st = np.asarray(states)
     if f.ndim != 2 or c.shape != (f.shape[0],) or st.shape != c.shape:
         raise ValueError(f"`frame` must be (H, W), `cols` and `states` (H,), got {f.shape}, {c.shape}, {st.shape}")
-    if colour is not None and np.shape(colour) != f.shape:
-        raise ValueError(f"`colour` must have the frame's shape {f.shape}, got {np.shape(colour)}")
+    for name, a in (("colour", colour), ("background", background), ("colour_background", colour_background)):
+        if a is not None and np.shape(a) != f.shape:
+            raise ValueError(f"`{name}` must have the frame's shape {f.shape}, got {np.shape(a)}")
+    if background is not None:
+        f = f - np.asarray(background, dtype=np.float64)
+    if colour is not None and colour_background is not None:
+        colour = np.asarray(colour, dtype=np.float64) - np.asarray(colour_background, dtype=np.float64)
     none = st == NO_STRIPE
     H = f.shape[0]
     out = {k: np.zeros(H, dtype=bool) for k in REASONS}

@@ -23,9 +23,11 @@ each group weighs the same whatever its number of frames.
 
 One eligibility rule goes with it: a setting that reports nothing at all on a frame
 whose brightest pixel per row is right on at least :data:`EASY_ARGMAX` of its stripe
-rows goes *blind* where the stripe is plain to see; only the settings blind on the
-fewest such frames are eligible (:meth:`Tally.eligible`: none, where one setting
-manages that): a tracker that says "no stripe" must not say it there.
+rows goes *blind* where the stripe is plain to see. A photograph's blindness
+disqualifies: only the settings blind on the fewest photographs (none, where one
+setting manages that) are eligible, and among them those blind on the fewest such
+frames of the other groups (:meth:`Tally.eligible`): a tracker that says "no stripe"
+must not say it there, and least of all on a photograph.
 
 A choice made on photographs is judged leave one rig out (:meth:`Tally.judge`, :mod:`bench.evaluate.loro`): each
 rig's photographs are scored under the choice made without them, and that figure is set against the choice made
@@ -45,9 +47,9 @@ import numpy as np
 
 from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
 
-__all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
-           "objective", "group_figures", "counts_record", "Tally", "judged_lines", "run_study", "RECORD_FIELDS",
-           "write_records"]
+__all__ = ["TuningFrame", "GROUPS", "EASY_ARGMAX", "synthetic_frames", "real_frames", "rendered_frames",
+           "frame_counts", "objective", "group_figures", "counts_record", "Tally", "judged_lines", "run_study",
+           "RECORD_FIELDS", "write_records"]
 
 #: The groups of tuning frames, in the order they are reported.
 GROUPS = ("synthetic", "renders", "real")
@@ -94,6 +96,24 @@ class TuningFrame:
     rgb: np.ndarray | None = None
     laser: str = "red"
     rotate: int = 0
+
+    @property
+    def colour(self) -> np.ndarray | None:
+        """The colour evidence the trackers get with the frame (:func:`trackers.colour_evidence` of its
+        colour photograph, turned as the frame is), (H, W) float64 in [0, 1]; None without colour (no
+        photograph, or a grey one). Computed once."""
+        if "_colour" not in self.__dict__:
+            from bench.run.camera_view import colour_of
+
+            ev = colour_of(self.rgb, self.laser, self.rotate)
+            if ev is not None and ev.shape != self.image.shape:  # a photograph that is not the frame's pixels
+                ev = None
+            self.__dict__["_colour"] = ev
+        return self.__dict__["_colour"]
+
+    def track(self, tracker):
+        """``tracker``'s columns (H,) on this frame: its image, laser-off frame and colour evidence."""
+        return tracker.track(self.image, background=self.background, colour=self.colour).columns
 
     @property
     def easy(self) -> bool:
@@ -257,13 +277,27 @@ class Tally:
 
     def eligible(self, scores: dict, key, *, held_out=None, photographs: bool = True) -> dict:
         """``scores`` (setting -> objective) restricted to the settings that went blind on the fewest plain
-        frames (``key(setting)`` names a setting as :meth:`add` got it): none where some setting never
-        does; a frame on which every setting goes blind disqualifies none of them. Frames the choice may not
-        see (``held_out``, ``photographs``: as :meth:`objective`) do not count."""
-        blind = {s: sum(self._seen(g, k, held_out, photographs) for g, k in self._blind_at.get(key(s), ()))
-                 for s in scores}
-        least = min(blind.values(), default=0)
-        return {s: v for s, v in scores.items() if blind[s] == least}
+        frames and photographs (``key(setting)`` names a setting as :meth:`add` got it), photographs first: a
+        photograph's blindness disqualifies whatever the other groups say; among the settings blind on the fewest
+        plain photographs, those blind on the fewest plain frames in all (none, where some setting never is). A
+        frame on which every setting goes blind disqualifies none of them (:meth:`unavoidable` names the
+        photographs among those). Frames the choice may not see (``held_out``, ``photographs``: as
+        :meth:`objective`) do not count."""
+        def count(s, photos_only):
+            return sum(self._seen(g, k, held_out, photographs) and (g == "real" or not photos_only)
+                       for g, k in self._blind_at.get(key(s), ()))
+
+        photos = {s: count(s, True) for s in scores}
+        least = min(photos.values(), default=0)
+        keep = [s for s in scores if photos[s] == least]
+        blind = {s: count(s, False) for s in keep}
+        fewest = min(blind.values(), default=0)
+        return {s: scores[s] for s in keep if blind[s] == fewest}
+
+    def unavoidable(self, setting: str) -> list[str]:
+        """The plain photographs on which ``setting`` (as :meth:`add` got it) goes blind: for a chosen
+        setting, those on which every setting of the stage does (a procedure prints them)."""
+        return [b for b, (g, _) in zip(self.blind.get(setting, ()), self._blind_at.get(setting, ())) if g == "real"]
 
     def objective(self, setting: str, *, held_out=None, photographs: bool = True) -> float:
         """:func:`objective` of a setting, its counts pooled over its trackers; without the photographs of the rig

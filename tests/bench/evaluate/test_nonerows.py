@@ -86,3 +86,17 @@ def test_the_stripe_profile_and_the_carried_path():
     c, reach = path_guess(cols)
     assert c[150] == pytest.approx(60.0 + 0.1 * 150, abs=0.5)       # the fitted line carried on
     assert reach[79] == 6.0 and reach[150] > reach[90]
+
+
+def test_with_a_laser_off_frame_only_the_laser_s_light_counts():
+    img, cols, states = _frame()
+    off = np.random.default_rng(5).normal(40.0, 2.0, img.shape)
+    _add_line(img, range(120, 140), 130.0, 0.0, 30.0)              # a lamp's narrow stem, lit with the laser off too
+    _add_line(off, range(120, 140), 130.0, 0.0, 30.0)
+    assert doubtful_rows(img, cols, states)["reflection"][120:140].all()
+    flags = doubtful_rows(img, cols, states, background=off)
+    assert not any(v.any() for v in flags.values())
+    _add_line(img, range(150, 160), 100.0, 0.0, 30.0)              # a glint of the laser: only in the laser-on frame
+    assert doubtful_rows(img, cols, states, background=off)["reflection"][150:160].all()
+    with pytest.raises(ValueError):
+        doubtful_rows(img, cols, states, background=off[:-1])

@@ -166,7 +166,7 @@ def run_predict(folder, out_dir, specs, *, channel: str = "auto", laser: str = "
     pooled_photos = [ph for ph in answered if not made[ph.name].out_of_range]  # coarse answers are not pooled
     per_photo, sheet = {}, {}
     for i, ph in enumerate(answered):
-        per_photo[ph.name] = transplant_outcomes(trackers, frames[ph.name], answer[ph.name].background)
+        per_photo[ph.name] = transplant_outcomes(trackers, frames[ph.name], answer[ph.name].background, ph.laser)
         sheet[ph.name] = [(rgb if rgb.ndim == 3 else image, truth) for image, truth, _, rgb, _ in frames[ph.name]]
         say(f"stripebench predict: tracked {i + 1}/{len(answered)} ({ph.name})")
     labels = list(trackers)

@@ -80,18 +80,20 @@ def photo_conditions(frame, background=None, original=None, *, rotate_deg: int =
     return cond.measure(frame, background, rgb=rgb, laser=laser, settings=settings)
 
 
-def score_frame(trackers: dict, image, truth_columns, background=None, states=None) -> dict:
+def score_frame(trackers: dict, image, truth_columns, background=None, states=None, colour=None) -> dict:
     """Label -> row outcomes (int8, shape (H,)) of each tracker on one frame with truth, scored as a
     photograph is: by default a stripe row only where the real set's reference rule sees the stripe
     in ``image`` (:func:`bench.evaluate.outcomes.referenced_states`), else not scored; rows without a
-    stripe are scored. ``states`` (shape (H,)) replaces that reading. A tracker that fails reports nothing."""
+    stripe are scored. ``states`` (shape (H,)) replaces that reading. ``colour``: the frame's colour evidence
+    (:func:`bench.run.camera_view.colour_of`), passed to the trackers as ``real`` passes a photograph's. A tracker
+    that fails reports nothing."""
     from bench.evaluate.outcomes import referenced_states, row_outcomes
     from bench.run.track import track_frame
 
     states = referenced_states(image, truth_columns) if states is None else states
     out = {}
     for lab, t in trackers.items():
-        r = track_frame(t, image, background)
+        r = track_frame(t, image, background, colour)
         cols = r.columns if r.ok else np.full(np.shape(image)[0], np.nan)
         out[lab] = row_outcomes(cols, truth_columns, states)
     return out
@@ -261,12 +263,16 @@ def cut_counts(per_frame: list) -> dict:
     return {"n_false_cut": int(counts["n_false"]), "n_quiet_cut": int(counts["n_quiet"])}
 
 
-def transplant_outcomes(trackers: dict, made: list, background=None) -> dict:
+def transplant_outcomes(trackers: dict, made: list, background=None, laser: str | None = None) -> dict:
     """Label -> row outcomes (one array per frame) of each tracker on :func:`transplant_frames`' frames
-    ``made``, each read with its own row states (:func:`score_frame`)."""
+    ``made``, each read with its own row states (:func:`score_frame`) and, with the ``laser``'s colour, given the
+    colour evidence of its photograph (:func:`bench.run.camera_view.colour_of`; none for a grey one)."""
+    from bench.run.camera_view import colour_of
+
     per = {lab: [] for lab in trackers}
-    for image, truth, states, _, _ in made:
-        for lab, codes in score_frame(trackers, image, truth, background, states).items():
+    for image, truth, states, moved, _ in made:
+        colour = None if laser is None else colour_of(moved, laser)  # the moved photograph is turned already
+        for lab, codes in score_frame(trackers, image, truth, background, states, colour).items():
             per[lab].append(codes)
     return per
 

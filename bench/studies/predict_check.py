@@ -445,7 +445,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
     from bench.evaluate.predict_settings import DEFAULT
     from bench.evaluate.prediction import compare_by_group, comparison_doc, per_group_error
     from bench.run import predict_frames as pf
-    from bench.run.camera_view import laser_colour
+    from bench.run.camera_view import colour_of, laser_colour
     from bench.run.track import build_trackers
     from bench.store.files import atomic_write_text
 
@@ -493,7 +493,8 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
                 states = fallback_of(states)
             near = distant_states(states, case.truth_columns) != states  # stripe-less rows near the stripe
             scored = scored_columns(img, case.truth_columns, states, truth)
-            for lab, codes in pf.score_frame(tr, img, scored, states=states).items():
+            colour = colour_of(case.rgb, laser)  # as a scan passes a colour frame's evidence
+            for lab, codes in pf.score_frame(tr, img, scored, states=states, colour=colour).items():
                 far = outcome_counts(np.where(near, UNKNOWN, codes))
                 meas_rows.append({"experiment": name, "tracker": lab, **outcome_counts(codes),
                                   "n_false_far": far["n_false"], "n_quiet_far": far["n_quiet"]})
@@ -507,7 +508,7 @@ def study(*, out, profile: str = DEFAULTS["profile"], seed: int = DEFAULTS["seed
             if bad:
                 say(f"stripebench predictcheck: {name}: out of range ({', '.join(bad)})")
                 continue
-            per = pf.transplant_outcomes(tr, made)
+            per = pf.transplant_outcomes(tr, made, laser=laser)
             for lab in tr:
                 pred_rows.append({"name": name, "tracker": lab,
                                   **outcome_counts(np.concatenate(per[lab][:pf.N_FULL])), **pf.cut_counts(per[lab])})

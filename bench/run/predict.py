@@ -25,7 +25,7 @@ from bench.run.predict_frames import N_FULL, collect_photos, cut_counts, load_ph
 
 __all__ = ["Made", "PREDICTED_NAMES", "run_predict", "laser_mismatch", "default_trackers"]
 
-#: The names the prediction's tables give :func:`bench.evaluate.outcomes.bootstrap_frames`' figures.
+#: The names the prediction's tables give :func:`bench.evaluate.ranking.bootstrap_frames`' figures.
 PREDICTED_NAMES = {"recall": "hit_rate", "false_report_rate": "false_report_rate", "f1": "f1"}
 
 
@@ -117,7 +117,8 @@ def run_predict(folder, out_dir, specs, *, channel: str = "auto", laser: str = "
     import pandas as pd
 
     from bench.evaluate import stripe as sp
-    from bench.evaluate.outcomes import COUNT_KEYS, bootstrap_frames, outcome_counts
+    from bench.evaluate.outcomes import COUNT_KEYS, outcome_counts
+    from bench.evaluate.ranking import bootstrap_frames
     from bench.evaluate.predict_loro import FIGURES, stated
     from bench.evaluate.prediction import predicted_figures
     from bench.run.track import build_trackers
@@ -280,7 +281,7 @@ def _pooled(per_photo: dict, answered: list, labels: list, sheet: dict, n_boot: 
     every frame."""
     import pandas as pd
 
-    from bench.evaluate.outcomes import bootstrap_frames
+    from bench.evaluate.ranking import bootstrap_frames
 
     rows = []
     for j, lab in enumerate(labels):

@@ -23,7 +23,8 @@ import time
 from pathlib import Path
 
 from bench.evaluate.loro import rig_figures
-from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, outcome_counts, row_outcomes
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, outcome_counts, row_outcomes
+from bench.evaluate.ranking import bootstrap_frames
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
 from bench.run.camera_view import colour_of
@@ -34,7 +35,7 @@ from bench.store.realrun import write_track_csv
 __all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS", "PER_IMAGE_MEANS"]
 
 #: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
-#: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
+#: (:func:`bench.evaluate.ranking.bootstrap_frames`; their intervals are in ``summary.json``).
 DETECTION_KEYS = (*COUNT_KEYS, *FIGURE_KEYS, "ap")
 #: The figures of a real run's ``mean`` rows that are means over photographs (bootstrap intervals over them in
 #: ``summary.json``). Reports on stripe-less rows are priced by ``false_report_rate`` (rows of known state only).

@@ -18,9 +18,9 @@ synthetic run folder (``<runs root>/<name>-<config hash>/`` by default)::
     metrics.csv        the same seed gives byte-identical files)
     timings.csv        ms_per_frame per tracker x experiment x region (machine dependent)
     samples.csv        the sample points, one depth-error column per tracker
-    summary.json       config, seed, versions, git revision, statistics, wall times
+    summary.json       config, seed, versions, git revision, machine, metrics.csv's sha256, statistics, wall times
     figures/*.png
-    report.html        self-contained report
+    report.html        the report (its figures linked from figures/)
 
 **One guard for every kind of run** (:data:`KINDS`: ``run``, ``real``,
 ``sweep``, ``track``, ``score``, ``export``): :meth:`RunFolder.open` locks the folder (a

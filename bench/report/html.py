@@ -1,6 +1,6 @@
 """The report toolkit: the one HTML page shell of every report (run, real run, sweep, leaderboard),
-escaping, tables, embedded images, the at-a-glance ranking, and the number formatters (re-exported from
-their home, :mod:`bench.evaluate.formats`).
+escaping, tables, embedded or linked images, folded blocks and scroll boxes, the at-a-glance ranking, and the
+number formatters (re-exported from their home, :mod:`bench.evaluate.formats`).
 
 Every string that comes from a configuration, a data set, a file name or a
 tracker goes through :func:`esc`, which also escapes quotes, so it is safe in

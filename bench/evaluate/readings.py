@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.evaluate.formats import interval, pct
+from bench.evaluate.formats import interval, pct, signed_interval, signed_pct
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM, within
 
 __all__ = ["READINGS", "PAPER_READING", "PAPER_WHY", "reading_of", "improvement_verdict", "claim_verdicts",
@@ -321,7 +321,7 @@ def _words(part: str, verdict: str, b: str, paper_improvement: float) -> str:
 def claim_sentence(entry: dict, within_mm: float = WITHIN_MM, paper_improvement: float = PAPER_IMPROVEMENT) -> str:
     """One plain-text sentence on a :func:`paper_claims` entry (not HTML: escape it to show it)."""
     f, c, b, d = entry["figures"], claims_of(entry, paper_improvement), entry["baseline"], entry["dp"]
-    ratio = f"RMSE ratio {pct(f['ratio_value'])} {interval(f['ratio_low'], f['ratio_high'])}"
+    ratio = f"RMSE ratio {signed_pct(f['ratio_value'])} {signed_interval(f['ratio_low'], f['ratio_high'])}"
     if f.get("n_missing_dp") or f.get("n_missing_baseline"):
         ratio += (f" over the {f['ratio_n']} of {f['n_samples']} pairs where both have a depth ({b} has none at "
                   f"{f['n_missing_baseline']}, {d} at {f['n_missing_dp']})")
@@ -374,6 +374,6 @@ def headline_lines(summary: dict) -> list[str]:
             f"({pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} against "
             f"{pct(f['baseline_within'])} {interval(f['baseline_within_low'], f['baseline_within_high'])}); "
             f"DP more precise: {_words('more_precise', c['more_precise'], b, claim)}; the {pct(claim)} improvement: "
-            f"{_words('improvement', c['improvement'], b, claim)} (RMSE ratio {pct(f['ratio_value'])} "
-            f"{interval(f['ratio_low'], f['ratio_high'])}{pairs})")
+            f"{_words('improvement', c['improvement'], b, claim)}; RMSE ratio {signed_pct(f['ratio_value'])} "
+            f"{signed_interval(f['ratio_low'], f['ratio_high'])}{pairs}")
     return lines

@@ -21,6 +21,7 @@ from pathlib import Path
 from bench.evaluate import readings
 from bench.report.html import (esc, folded, frame_table, interval, num, page, pct, png_link, rank_labels,
                                ranked_table, scroll, signed, table)
+from bench.evaluate.formats import signed_interval, signed_pct
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM
 from bench.report.detection import detection_glance
 from bench.report.runfigures import make_figures, tracker_readings, tracker_restore, warn
@@ -99,8 +100,8 @@ def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
             f"({d} {pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} against "
             f"{pct(f['baseline_within'])} {interval(f['baseline_within_low'], f['baseline_within_high'])}); "
             f"DP more precise <b>{_CLAIM_MARK[k['more_precise']]}</b>; the {pct(paper_improvement)} improvement "
-            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {pct(f['ratio_value'])} "
-            f"{interval(f['ratio_low'], f['ratio_high'])}{pairs}"
+            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {signed_pct(f['ratio_value'])} "
+            f"{signed_interval(f['ratio_low'], f['ratio_high'])}{pairs}"
             + ("; the interval is as wide as the claim" if k["improvement"] == "not determined" else "") + ").")
 
 

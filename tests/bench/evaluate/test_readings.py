@@ -125,8 +125,8 @@ def test_paper_claims_one_entry_per_reading_with_the_undetectable_count():
         {"condition": "the paper's condition: p", "experiments": ["p1", "p2"]}], "paper_improvement": 0.30})
     assert lines[0].startswith("The paper's claim in its condition (p; p1, p2; 100 sample points; DP = dp4)")
     assert len(lines) == 4 and lines[3].startswith("  argmax (the brightest pixel of every row), the reading the paper")
-    assert "the 30 % improvement: not determined (the interval is as wide as the 30 % claimed) (RMSE ratio 50 % " \
-           "[10, 90])" in lines[3]
+    assert "the 30 % improvement: not determined (the interval is as wide as the 30 % claimed); RMSE ratio +50 % " \
+           "[+10, +90]" in lines[3]
     assert "over 3 of 6 pairs" in lines[2] and "DP more precise: not shown (the intervals overlap)" in lines[1]
     assert "2 of argmax's 3 samples outside ±5 mm lie where the threshold detects no stripe" in by["argmax"]["sentence"]
     assert paper_claims({**config, "dp": []}, robust, improvement, verdicts, conditions) == []

@@ -89,3 +89,17 @@ def test_the_committed_copy_gives_the_same_tables(tiny_run, tmp_path, capsys):
     assert capsys.readouterr().out == whole
     assert main(["tables", str(out), "--save", str(out)]) == 2
     one_line_err(capsys, "--save must name another folder than RUN")
+
+
+def test_the_committed_paper_copy_is_the_paper_profiles_and_whole(capsys):
+    """results/paper (the README's tables) is a run of today's `paper` profile, its two files from one run."""
+    from pathlib import Path
+
+    from bench.config import profile
+
+    paper = Path(__file__).resolve().parents[3] / "results" / "paper"
+    summary = json.loads((paper / "summary.json").read_text())
+    assert summary["config"] == profile("paper").to_dict(), "the paper profile changed: regenerate results/paper"
+    assert main(["tables", str(paper), "--markdown"]) == 0
+    out = capsys.readouterr().out
+    assert f"`metrics.csv` sha256 `{summary['metrics_sha256']}`" in out and "machine: not recorded" not in out

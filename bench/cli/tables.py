@@ -12,6 +12,13 @@ __all__ = ["COMMANDS"]
 
 
 def _labels(text: str) -> list[str]:
+    """``--trackers`` / ``--ratios``: comma-separated labels, in order, each once.
+
+    Examples
+    --------
+    >>> _labels("dp4, threshold,dp4")
+    ['dp4', 'threshold']
+    """
     labels = [s.strip() for s in text.split(",")]
     if not text.strip() or not all(labels):
         raise argparse.ArgumentTypeError(f"must be comma-separated tracker labels, got {text!r}")

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import numbers
 
-__all__ = ["MISSING", "pct", "interval", "num", "signed", "fixed", "signed_pct", "signed_interval"]
+__all__ = ["MISSING", "pct", "interval", "num", "signed", "fixed", "estimate", "signed_pct", "signed_interval"]
 
 #: What a missing value is written as.
 MISSING = "–"
@@ -94,3 +94,15 @@ def signed_interval(low, high) -> str:
     ('[-2, +94]', '[–]')
     """
     return f"[{100 * low:+.0f}, {100 * high:+.0f}]" if _ok(low) and _ok(high) else f"[{MISSING}]"
+
+
+def estimate(value, low, high, fmt: str = ".3f") -> str:
+    """A value with its interval, each ``format(.., fmt)``: ``0.949 [0.882, 0.990]``; ``[–]`` when an end is missing.
+
+    Examples
+    --------
+    >>> estimate(0.9491, 0.882, 0.99), estimate(0.5, float("nan"), 0.7), estimate(None, None, None)
+    ('0.949 [0.882, 0.990]', '0.500 [–]', '– [–]')
+    """
+    ends = f"[{format(low, fmt)}, {format(high, fmt)}]" if _ok(low) and _ok(high) else f"[{MISSING}]"
+    return f"{fixed(value, fmt)} {ends}"

@@ -11,7 +11,8 @@ whose outputs would collide or that lie inside the folder refused).
 ``real`` evaluates trackers on a real set (layout in :mod:`bench.store.realset`) into a
 run folder of kind ``real`` (its files: :mod:`bench.store.realrun`): per-image
 and mean metrics, the tracks and overlays of every image, ``summary.json`` with
-per-tracker means and bootstrap CIs; the command adds ``report.html``
+per-tracker means and bootstrap CIs, and detection per rig with intervals over its photographs and over rigs
+(:func:`bench.evaluate.loro.rig_figures`); the command adds ``report.html``
 (:mod:`bench.report.real`).
 """
 
@@ -21,30 +22,36 @@ import sys
 import time
 from pathlib import Path
 
-from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, row_outcomes
+from bench.evaluate.loro import rig_figures
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, outcome_counts, row_outcomes
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
+from bench.run.camera_view import colour_of
 from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.realrun import write_track_csv
 
-__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS"]
+__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS", "PER_IMAGE_MEANS"]
 
 #: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
 #: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
 DETECTION_KEYS = (*COUNT_KEYS, *FIGURE_KEYS, "ap")
+#: The figures of a real run's ``mean`` rows that are means over photographs (bootstrap intervals over them in
+#: ``summary.json``). Reports on stripe-less rows are priced by ``false_report_rate`` (rows of known state only).
+PER_IMAGE_MEANS = ("hit_rate", "mae_px", "coverage")
 
 
 
-def _track_all(trackers: dict, frame, background):
+def _track_all(trackers: dict, frame, background, colour=None):
     """label -> (Track, ms, status, message) by :func:`bench.run.track.track_frame`: a failing
     tracker (it raised, returned columns outside the image, timed out, crashed) gives an empty
-    track and its :data:`~bench.run.track.STATUS` name; ``"ok"`` otherwise."""
+    track and its :data:`~bench.run.track.STATUS` name; ``"ok"`` otherwise. ``colour``: the photograph's
+    colour evidence (:func:`bench.run.camera_view.colour_of`), None for a grey one."""
     from trackers import Track
 
     out = {}
     for lab, t in trackers.items():
-        r = track_frame(t, frame, background)
+        r = track_frame(t, frame, background, colour)
         tr = Track(r.columns, r.score) if r.ok else Track.empty(frame.shape[0])
         out[lab] = (tr, 1e3 * r.seconds, STATUS[r.status], r.message)
     return out
@@ -139,7 +146,7 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
         note = real.orientation_note(p, rotate_deg)
         if note:
             print(f"stripebench track: {note}", file=err)
-        res = _track_all(trackers, frame, bg)
+        res = _track_all(trackers, frame, bg, colour_of(original, laser, rotate_deg))
         tracks = {lab: r[0] for lab, r in res.items()}
         name = names[p]
         inputs[name] = str(p.resolve())
@@ -216,7 +223,7 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     for k, im in enumerate(images):
         frame, bg, original, ref = im.load()
         _, states = im.reference(frame.shape)
-        res = _track_all(trackers, frame, bg)
+        res = _track_all(trackers, frame, bg, colour_of(original, im.laser_colour, im.rotate_deg))
         tracks = {lab: r[0] for lab, r in res.items()}
         write_track_csv(out / LAYOUT["tracks"] / f"{im.name}.csv", labels, tracks)
         if draw is not None:
@@ -230,14 +237,16 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
             records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
                             "has_background": im.background_path is not None, "status": status, "message": msg})
         if not quiet:
-            hr = ", ".join(f"{r['tracker']} {r['hit_rate']:.2f}" for r in records[-len(labels):])
-            print(f"[{k + 1}/{len(images)}] {im.name}: hit rate {hr}", file=sys.stderr, flush=True)
+            hr = ", ".join(f"{r['tracker']} {r['f1']:.2f}/{r['false_report_rate']:.2f}/{r['hit_rate']:.2f}"
+                           for r in records[-len(labels):])
+            print(f"[{k + 1}/{len(images)}] {im.name}: F1/false-report rate/hit rate {hr}", file=sys.stderr,
+                  flush=True)
     per_image = pd.DataFrame.from_records(records)
     means, summary_rows = [], {}
     for j, lab in enumerate(labels):
         sub = per_image[per_image["tracker"] == lab]
         stats = {}
-        for metric in ("hit_rate", "mae_px", "coverage", "false_detections"):
+        for metric in PER_IMAGE_MEANS:
             stats[metric] = bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
         det = bootstrap_frames(*outcomes[lab], n_boot=n_boot, seed=seed + j)  # rows pooled over photographs
         stats["detection"] = det
@@ -249,6 +258,8 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
                       "ms_per_frame": float(sub["ms_per_frame"].median()), "has_background": False,
                       "status": "ok" if (sub["status"] == "ok").all() else "failed",
                       "message": "; ".join(sorted(set(sub["message"]) - {""}))[:200]})
+        stats["rigs"] = rig_figures([outcome_counts(c, axis=0) for c in outcomes[lab][0]], [im.rig for im in images],
+                                    n_boot=n_boot, seed=seed + j)
     metrics = pd.concat([per_image, pd.DataFrame.from_records(means)], ignore_index=True)
     write_real_metrics(out, metrics)
     summary = build_summary("real", config=config, seed=seed, tol_px=tol_px, versions=versions(),

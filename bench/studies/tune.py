@@ -121,9 +121,9 @@ def run(profile: TuneProfile, out: pathlib.Path, *, progress: bool = True) -> tu
         for n in profile.trackers:
             t = trackers.make(n, h_weight=h)
             for f in frames:
-                tally.add(key, n, f, t.track(f.image, background=f.background).columns)
+                tally.add(key, n, f, f.track(t))
             for f in checks:
-                check.add(key, n, f, t.track(f.image, background=f.background).columns)
+                check.add(key, n, f, f.track(t))
         say(f"h_weight = {h:g} done")
     scores = {h: tally.objective(setting_label(h)) for h in profile.h_weights}
     finite = {h: s for h, s in scores.items() if np.isfinite(s)}

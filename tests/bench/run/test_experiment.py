@@ -142,7 +142,19 @@ def test_a_real_set_gives_the_sim_to_real_comparison(tiny_dict, tmp_path):
     assert set(rows) == {"threshold", "dp4"} and s["n"] == 2 and s["dataset"] == "shipped"
     for name in rows:
         assert rows[name]["real"] == pytest.approx(means[name]) and rows[name]["synthetic"] == pytest.approx(synth[name])
-    assert "Too few trackers" in s["sentences"][0]  # two trackers: no rank correlation is claimed
+    assert s["sentences"][0].startswith("hit rate: too few trackers")  # two trackers: no rank correlation is claimed
+    # both halves (issue 66): F1 and the false-report rate of every row of the renders against the photographs'
+    assert [t.split(":")[0] for t in s["sentences"]].count("F1 over rows") >= 1
+    frr = s["detection"]["false_report_rate"]["table"]
+    syn = m[m.region == "all"].groupby("tracker")["false_report_rate"].mean()
+    assert frr and all(t["synthetic"] == pytest.approx(syn[t["tracker"]]) for t in frr)
+    det = s["by_class_detection"]["f1"]
+    assert det["matched"] == ["colour-no-filter"]
+    f1c = {c["condition"]: c for c in det["classes"]}["colour-no-filter"]
+    rf = real[real.experiment.isin(f1c["photographs"])].groupby("tracker")["f1"].mean()
+    sf = m[m.region == "all"].groupby("tracker")["f1"].mean()
+    for t in f1c["table"]:
+        assert t["real"] == pytest.approx(rf[t["tracker"]]) and t["synthetic"] == pytest.approx(sf[t["tracker"]])
     rc = real[real.experiment.isin(by["colour-no-filter"]["photographs"])].groupby("tracker")["hit_rate"].mean()
     for t in by["colour-no-filter"]["table"]:
         assert t["real"] == pytest.approx(rc[t["tracker"]]) and t["synthetic"] == pytest.approx(synth[t["tracker"]])

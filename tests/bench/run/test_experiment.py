@@ -68,7 +68,7 @@ def test_report_links_its_own_figures(tiny_run):
     assert all(s.startswith("figures/") and (out / s).is_file() for s in srcs)  # every figure beside the page
     assert {p.name for p in (out / "figures").glob("*.png")} == {s.removeprefix("figures/") for s in srcs}
     for section in ("Which tracker is more precise", "The paper's condition: patchy cone", "At a glance",
-                    "Every sample (Fig. 10)", "Failure gallery", "The paper's statistic", "Hit rate and coverage"):
+                    "Every sample (Fig. 10)", "Failure gallery", "The paper's statistic", "Both halves per experiment"):
         assert section in page, section
 
 

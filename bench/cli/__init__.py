@@ -5,7 +5,7 @@ group's module (``run``: reproduce, run, report, check, compare; ``real``:
 track, real; ``submit``: export, score, leaderboard; ``sweep``; ``studies``:
 estimators, translucency, tune, loro, spread, perf {trackers, scenes, sweep, shiny,
 sampling, lit, mis}; ``info``: trackers, scenes; ``train``: trainset, train; ``predict``:
-predict, predictcheck, predictscore; ``tables``: tables; a test
+predict, predictcheck, predictloro, predictscore; ``tables``: tables; a test
 checks this list against :func:`command_groups`), built from an
 ``add_arguments(parser)`` and a ``run(args)``; a study command's ``run`` calls the
 study's plain function with the parsed options (:func:`bench.cli.common.study_command`),

@@ -6,8 +6,7 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder
-from bench.cli.options import (add_estimate, add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_tol,
-                               add_trackers)
+from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
 from bench.config.options import REAL_DEFAULTS
 
 __all__ = ["COMMANDS"]
@@ -92,12 +91,6 @@ def _add_real(p) -> None:
     p.add_argument("--predict", action="store_true",
                    help="also predict the figures from frames made for the photographs (as `stripebench predict`, "
                         "into RUN/predict) and compare them with the measured ones")
-    add_frames(p, "--predict-frames")
-    add_estimate(p, "--predict-estimate")
-    p.add_argument("--predict-size", type=int, default=256, choices=(128, 256, 512),
-                   help="render width of --predict-frames render in px (default 256)")
-    p.add_argument("--predict-grid", default="default", choices=("default", "small"),
-                   help="the renders --predict searches (as `stripebench predict --grid`)")
     add_quiet(p)
 
 
@@ -180,21 +173,16 @@ def by_rig_table(summary: dict) -> str:
 def _predict_and_compare(args, specs, out) -> None:
     """``real --predict``: the prediction into ``RUN/predict``, then predicted beside measured."""
     import math
-    from dataclasses import replace
 
-    from bench.report.predict import build_predict_report
-    from bench.run.predict import DEFAULT_GRID, SMALL_GRID
     from bench.evaluate.prediction import COMPARED
+    from bench.report.predict import build_predict_report
     from bench.run.real import predict_real
 
-    grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
-    grid = replace(grid, width=args.predict_size, height=args.predict_size * 15 // 16)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
-    res = predict_real(args.dataset, out, specs, frames=args.predict_frames, estimate=args.predict_estimate, grid=grid,
-                       n_boot=args.n_boot, seed=args.seed, say=say)
+    res = predict_real(args.dataset, out, specs, n_boot=args.n_boot, seed=args.seed, say=say)
     build_predict_report(res["result"])
     names, cmp, rigs = res["doc"]["photographs"], res["result"]["comparison"], res["result"]["comparison_rigs"]
-    print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")
+    print(f"predicted vs measured on the {len(names)} photographs in range (measured rows pooled):")
     print(f"{'tracker':<16}{'hit rate pred':>14}{'measured':>10}{'F1 pred':>9}{'measured':>10}")
     f1 = {r["tracker"]: r for r in cmp["f1"]["table"]}
     for r in cmp["hit_rate"]["table"]:

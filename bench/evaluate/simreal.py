@@ -62,7 +62,8 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     >>> m["n_false"], m["precision"], m["false_report_rate"]
     (1, 0.3333333333333333, 1.0)
     """
-    from bench.evaluate.outcomes import fallback_states, outcome_record
+    from bench.evaluate.outcomes import fallback_states
+    from bench.evaluate.ranking import outcome_record
 
     if not (isinstance(tol_px, (int, float)) and tol_px >= 0 and math.isfinite(tol_px)):
         raise ValueError(f"`tol_px` must be a finite number >= 0, got {tol_px!r}")

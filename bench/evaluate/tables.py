@@ -210,7 +210,7 @@ def detection_table(rows_by_experiment: dict, groups, *, n_boot: int, seed: int)
         ``ap_constant`` and ``false_points_per_scan`` (``n_false`` over ``n_scans``: reports on
         stripe-less rows, each a 3-D point where there is no surface).
     """
-    from bench.evaluate.outcomes import bootstrap_frames
+    from bench.evaluate.ranking import bootstrap_frames
 
     out = []
     for gi, (group, keys) in enumerate(groups):

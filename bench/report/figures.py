@@ -286,7 +286,7 @@ def fig_curves(table, key: str, path, metric: str = "hit_rate", title: str = "",
 
 def fig_pr(curves: dict, path, title: str = "") -> Path:
     """One condition's precision-recall curves over rows: per tracker, precision against recall as its
-    reports are taken in order of its score (:func:`bench.evaluate.outcomes.pr_curve`), its operating
+    reports are taken in order of its score (:func:`bench.evaluate.ranking.pr_curve`), its operating
     point (every report) as a dot, AP in the legend; a tracker whose reports all score alike is its dot."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 4.6))

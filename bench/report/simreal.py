@@ -6,6 +6,7 @@ import math
 
 from bench.report.html import esc, fixed, table
 from bench.evaluate.simreal import FIGURES, sim_to_real_headline
+from bench.evaluate.stripe import why_left_out
 
 __all__ = ["sim_to_real_html", "sim_to_real_by_class_html", "predicted_html"]
 
@@ -99,9 +100,17 @@ def predicted_html(doc: dict) -> str:
                           for k in ("hit_rate", "f1"))
 
     rigs = [[esc(g), len(v["photographs"]), *agree(v), span(v), repeat(v)] for g, v in doc.get("rigs", {}).items()]
+    why = doc.get("why") or {}
     left = doc.get("out_of_range") or {}
-    named = ", ".join(f"{n} ({', '.join(m)})" for n, m in left.items())
-    out = f" Left out (too few rows of the moved stripe seen): {esc(named)}." if left else ""
+    shrunk = doc.get("shrunk") or {}
+
+    def reason(n, codes=()):  # the one wording of why (bench.evaluate.stripe.why_left_out), as the prediction said it
+        return why.get(n) or why_left_out(codes)
+
+    out = "".join([
+        f" Predicted shrunk (a coarse answer): {esc('; '.join(f'{n} by {k} ({reason(n)})' for n, k in shrunk.items()))}."
+        if shrunk else "",
+        f" Left out: {esc('; '.join(f'{n} ({reason(n, c)})' for n, c in left.items()))}." if left else ""])
     return ("<section class='sim-to-real-predicted'><h3>Predicted beside measured, photograph by photograph</h3>"
             f"<p>The same trackers' figures predicted for {len(doc['photographs'])} of the photographs from frames "
             f"made of each (<code>{esc(doc.get('frames', ''))}</code>: the photograph with its own stripe moved to a "

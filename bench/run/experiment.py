@@ -307,8 +307,8 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     ``sentences`` says each (:func:`bench.evaluate.simreal.sim_to_real_headline`). Where experiments
     carry a ``condition``, also matched by class (``by_class``, the hit rate, and ``by_class_detection``,
     F1 and the false-report rate: :func:`bench.evaluate.simreal.sim_to_real_by_class` against the
-    manifest's ``condition`` column); and the figures predicted for the photographs
-    (``predicted``: :func:`bench.run.real.predict_real`, into ``<run>/real/predict``)
+    manifest's ``condition`` column); and, with ``real_predict`` (``run --predict``), the figures predicted
+    for the photographs (``predicted``: :func:`bench.run.real.predict_real`, into ``<run>/real/predict``)
     beside the measured ones."""
     from bench.evaluate import simreal
     from bench.store import realset as real
@@ -350,6 +350,8 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
 
         result["by_class"] = by_class(obj, "hit_rate")
         result["by_class_detection"] = {k: by_class(every, k) for k in simreal.DETECTION_FIGURES}
+    if not config.real_predict:
+        return result
     # the same trackers' figures predicted for these photographs (each with its own stripe moved, and in place) beside the
     # measured ones, row for row: unlike the means above, both sides are the same photographs
     result["predicted"] = predict_real(dataset, rdir, specs, n_boot=min(config.n_boot, 1000), seed=config.seed,

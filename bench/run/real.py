@@ -23,7 +23,8 @@ import time
 from pathlib import Path
 
 from bench.evaluate.loro import rig_figures
-from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, outcome_counts, row_outcomes
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, outcome_counts, row_outcomes
+from bench.evaluate.ranking import bootstrap_frames
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
 from bench.run.camera_view import colour_of
@@ -34,7 +35,7 @@ from bench.store.realrun import write_track_csv
 __all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS", "PER_IMAGE_MEANS"]
 
 #: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
-#: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
+#: (:func:`bench.evaluate.ranking.bootstrap_frames`; their intervals are in ``summary.json``).
 DETECTION_KEYS = (*COUNT_KEYS, *FIGURE_KEYS, "ap")
 #: The figures of a real run's ``mean`` rows that are means over photographs (bootstrap intervals over them in
 #: ``summary.json``). Reports on stripe-less rows are priced by ``false_report_rate`` (rows of known state only).
@@ -269,8 +270,7 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     return out
 
 
-def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimate: str = "auto", grid=None,
-                 n_boot: int = 1000, seed: int = 0, say=None) -> dict:
+def predict_real(dataset, run_dir, specs, *, n_boot: int = 1000, seed: int = 0, settings=None, say=None) -> dict:
     """``real --predict``: predict a real run's figures (:func:`bench.run.predict.run_predict` into
     ``RUN/predict``) and set them beside the measured ones, pooled, per rig and per photograph.
 
@@ -282,15 +282,14 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         A finished real run (:func:`run_real`).
     specs : sequence of TrackerSpec
         Its trackers.
-    frames, estimate, grid, n_boot, seed, say
-        As :func:`bench.run.predict.run_predict` (``grid`` default :data:`~bench.run.predict.DEFAULT_GRID`;
-        ``estimate="reference"``: the stripe taken from the set's references, the ablation of docs/predict.md).
+    n_boot, seed, settings, say
+        As :func:`bench.run.predict.run_predict` (``settings`` None: the defaults).
 
     Returns
     -------
     dict
         ``result`` (``run_predict``'s, with ``comparison``, ``comparison_rigs`` and ``comparison_photos``
-        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
+        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the ``photographs`` in range,
         ``hit_rate`` and ``f1`` pooled, ``rigs`` (:attr:`bench.store.realset.RealImage.rig`; a photograph
         without one is a rig of its own; each also with its ``measured_reliability``) and ``per_photograph``, each as
         :func:`bench.evaluate.prediction.comparison_doc`, ``measured_reliability``, how repeatable the measured
@@ -302,16 +301,18 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
     """
     import json
 
+    from bench.evaluate.stripe import why_left_out
     from bench.evaluate.prediction import (RELIABILITY_MIN_PHOTOS, compare_by_group, compare_with_real,
                                           comparison_doc, rank_interval, rank_reliability)
-    from bench.run.predict import DEFAULT_GRID, run_predict
+    from bench.evaluate.predict_settings import DEFAULT
+    from bench.run.predict import run_predict
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
 
     out = Path(run_dir)
-    result = run_predict(dataset, out / "predict", specs, frames=frames, estimate=estimate,
-                         grid=DEFAULT_GRID if grid is None else grid, n_boot=n_boot, seed=seed, say=say)
-    names = [n for n, m in result["matches"].items() if not m.out_of_range]
+    result = run_predict(dataset, out / "predict", specs, n_boot=n_boot, seed=seed,
+                         settings=DEFAULT if settings is None else settings, say=say)
+    names = [n for n, m in result["made"].items() if m.answered and not m.out_of_range]  # coarse answers not pooled
     metrics = load_real_run(out)["metrics"]
     cmp = compare_with_real(result["predicted"], metrics, names)
     rig_of = {im.name: im.rig for im in real.load_dataset(dataset)}
@@ -326,8 +327,12 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         return (rank_interval(result["predicted_photos"], metrics, group, seed=seed)
                 if len(group) >= RELIABILITY_MIN_PHOTOS else None)
 
-    doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
-           "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
+    s = result["predict_settings"]
+    doc = {"photographs": names,
+           "shrunk": {n: m.shrink for n, m in result["made"].items() if m.answered and m.out_of_range},
+           "out_of_range": {n: list(m.out_of_range) for n, m in result["made"].items() if not m.answered},
+           "why": {n: why_left_out(m.out_of_range, width_px=m.width_px, settings=s)
+                   for n, m in result["made"].items() if m.out_of_range},
            **comparison_doc(cmp),
            "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"]),
                         "rank_interval": interval(v["photographs"])} for g, v in rigs.items()},

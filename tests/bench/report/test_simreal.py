@@ -100,7 +100,14 @@ def test_predicted_beside_measured_is_escaped_and_names_what_was_left_out():
     html = predicted_html(doc)
     assert EVIL not in html and "&lt;b&gt;x&lt;/b&gt;" in html
     cells = _cells(html)
-    assert cells[1][:3] == ["a", "0.900", "0.800"] and "wide (visible)" in html and "someone/rig" in html
+    assert cells[1][:3] == ["a", "0.900", "0.800"] and "someone/rig" in html
+    # the reason in its one wording (bench.evaluate.stripe.why_left_out), not a hand-written one
+    from bench.evaluate.stripe import why_left_out
+
+    assert f"Left out: wide ({why_left_out(['visible'])})" in html and "too few rows seen" not in html
+    shrunk = predicted_html({**doc, "shrunk": {"big": 2}, "why": {"big": why_left_out(["width_px"], width_px=18.4)}})
+    assert "Predicted shrunk (a coarse answer): big by 2 (its stripe is 18.4 px wide, wider than the reference " \
+           "window&#x27;s 13 px)" in shrunk
     assert "How repeatable" not in html  # no reliability: fewer than 4 photographs
 
 

@@ -5,7 +5,7 @@ group's module (``run``: reproduce, run, report, check, compare; ``real``:
 track, real; ``submit``: export, score, leaderboard; ``sweep``; ``studies``:
 estimators, translucency, tune, loro, spread, perf {trackers, scenes, sweep, shiny,
 sampling, lit, mis}; ``info``: trackers, scenes; ``train``: trainset, train; ``predict``:
-predict, predictcheck, predictloro, predictscore; a test
+predict, predictcheck, predictloro, predictscore; ``tables``: tables; a test
 checks this list against :func:`command_groups`), built from an
 ``add_arguments(parser)`` and a ``run(args)``; a study command's ``run`` calls the
 study's plain function with the parsed options (:func:`bench.cli.common.study_command`),
@@ -60,10 +60,10 @@ def tracker_table() -> list[dict]:
 
 def command_groups():
     """The command groups in the order ``stripebench -h`` lists them: (module name, commands)."""
-    from bench.cli import info, predict, real, run, studies, submit, sweep, train
+    from bench.cli import info, predict, real, run, studies, submit, sweep, tables, train
 
-    return (("run", run.COMMANDS), ("real", real.COMMANDS), ("submit", submit.COMMANDS), ("sweep", sweep.COMMANDS),
-            ("studies", studies.COMMANDS), ("info", info.COMMANDS), ("train", train.COMMANDS),
+    return (("run", run.COMMANDS), ("tables", tables.COMMANDS), ("real", real.COMMANDS), ("submit", submit.COMMANDS),
+            ("sweep", sweep.COMMANDS), ("studies", studies.COMMANDS), ("info", info.COMMANDS), ("train", train.COMMANDS),
             ("predict", predict.COMMANDS))
 
 

@@ -60,6 +60,7 @@ def run_config(config, args) -> int:
     check_out_folder(args.out)
     check_real_set(config.real_set, full=True)  # a broken real set is found before any scan, not after
     out = run(config, args.out, progress=not args.quiet, quiet=args.quiet, force=args.force)
+    _print_headline(out)
     if args.no_report:
         print(f"stripebench: results in {out}")
         return 0
@@ -71,6 +72,17 @@ def run_config(config, args) -> int:
         path = build_report(out, quiet=args.quiet)
     print(f"stripebench: report at {path}")
     return 0
+
+
+def _print_headline(out) -> None:
+    """The run's headline on the terminal (:func:`bench.evaluate.readings.headline_lines`: the paper's claim per
+    reading of its method without DP, as the report leads with it)."""
+    from bench.evaluate.readings import headline_lines
+    from bench.store.runfolder import load_summary
+
+    lines = headline_lines(load_summary(out))
+    if lines:
+        print("\n".join(lines))
 
 
 def _add_reproduce(p) -> None:

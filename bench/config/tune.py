@@ -8,6 +8,9 @@ A tuning profile is a TOML document with exactly these keys (all required)::
     h_weights = [1.0, 0.5]      # finite numbers > 0, none repeated
     hit_px = 3.0                # a row is a hit within this many pixels (finite, >= 0)
     tie = 0.005                 # scores within this of the best tie (finite, >= 0)
+    seeds = [100, 101]          # the synthetic hard frames' seeds (integers >= 0; may be empty)
+    kinds = ["printed"]         # their kinds (bench.studies.hard_frames.KINDS; may be empty)
+    check_real = true           # score the shipped photographs beside the choice (never in it)
 
     [render]                    # the run's [render] keys without ambient_spp, plus n_angles
     width = 512
@@ -49,13 +52,15 @@ __all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_REN
 
 #: The committed profile of ``stripebench tune dp``.
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp.toml"
-TOP_KEYS = ("name", "seed", "trackers", "h_weights", "hit_px", "tie", "render", "experiments")
+TOP_KEYS = ("name", "seed", "trackers", "h_weights", "hit_px", "tie", "seeds", "kinds", "check_real", "render",
+            "experiments")
 #: A tuning profile's ``[render]`` table: the run's :data:`bench.config.RENDER_KEYS` but ``ambient_spp``
 #: (the scans use the scene's), plus ``n_angles`` (frames per scan).
 TUNE_RENDER_KEYS = tuple(k for k in RENDER_KEYS if k != "ambient_spp") + ("n_angles",)
 #: The numbers of a ``tune dp`` profile (of ``h_weights``: each value; the ``[render]`` sizes are integers
 #: 1 .. :data:`scenes.params.MAX_SIZE`).
-CONSTRAINTS = {"seed": Int(low=0), "h_weights": Real(low=0, low_open=True), "hit_px": Real(low=0), "tie": Real(low=0)}
+CONSTRAINTS = {"seed": Int(low=0), "h_weights": Real(low=0, low_open=True), "hit_px": Real(low=0), "tie": Real(low=0),
+               "seeds": Int(low=0), "check_real": Bool()}
 
 
 @dataclass
@@ -70,10 +75,14 @@ class TuneProfile:
     tie: float
     render: dict
     experiments: list[dict] = field(default_factory=list)
+    seeds: list[int] = field(default_factory=list)
+    kinds: list[str] = field(default_factory=list)
+    check_real: bool = False
 
 
-def parse_profile(data) -> TuneProfile:
-    """Validate a tuning profile dict (as read from TOML).
+def parse_profile(data, kinds=()) -> TuneProfile:
+    """Validate a tuning profile dict (as read from TOML); ``kinds`` are the hard-frame kinds it may
+    name (:data:`bench.studies.hard_frames.KINDS`).
 
     Raises
     ------
@@ -102,8 +111,14 @@ def parse_profile(data) -> TuneProfile:
         if not isinstance(n, str) or n not in trackers.available() or "h_weight" not in trackers.make(n).get_params():
             raise ConfigError(f"`trackers` must name trackers with an h_weight parameter, got {n!r}")
     hws = _grid(data, "h_weights", CONSTRAINTS["h_weights"])
-    for key in ("hit_px", "tie"):
+    for key in ("hit_px", "tie", "check_real"):
         require(key, data[key], CONSTRAINTS[key])
+    seeds = data["seeds"]
+    if not isinstance(seeds, list) or not all(accepts(CONSTRAINTS["seeds"], x) for x in seeds):
+        raise ConfigError(f"`seeds` must be a list of {describe(CONSTRAINTS['seeds'], plural=True)}, got {seeds!r}")
+    ks = data["kinds"]
+    if not isinstance(ks, list) or not all(accepts(Choice(tuple(kinds)), k) for k in ks):
+        raise ConfigError(f"`kinds` must be a list of {', '.join(kinds)}, got {ks!r}")
     render = data["render"]
     if not isinstance(render, dict) or set(render) != set(TUNE_RENDER_KEYS):
         raise ConfigError(f"`render` must have exactly the keys {sorted(TUNE_RENDER_KEYS)}, got {render!r}")
@@ -129,18 +144,20 @@ def parse_profile(data) -> TuneProfile:
         overrides = {k: v for k, v in e.items() if k not in ("scene", "material")}
         check_scene(f"experiments[{i}]", e["scene"], e["material"], size, overrides)
     return TuneProfile(data["name"], seed, list(names), [float(h) for h in hws], float(data["hit_px"]),
-                       float(data["tie"]), dict(render), [dict(e) for e in exps])
+                       float(data["tie"]), dict(render), [dict(e) for e in exps], [int(x) for x in seeds], list(ks),
+                       data["check_real"])
 
 
-def load_profile(path) -> TuneProfile:
-    """Read (:func:`bench.config.read_toml`: a regular UTF-8 file) and validate a tuning profile.
+def load_profile(path, kinds=()) -> TuneProfile:
+    """Read (:func:`bench.config.read_toml`: a regular UTF-8 file) and validate a tuning profile;
+    ``kinds`` as :func:`parse_profile`.
 
     Raises
     ------
     ConfigError
         Unreadable, invalid TOML, or a missing or unknown key or a bad value, named in the message.
     """
-    return parse_profile(read_toml(path, "tuning profile"))
+    return parse_profile(read_toml(path, "tuning profile"), kinds)
 
 
 # ---------------------------------------------------------------------------------------------------- dp_gap

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import numbers
 
-__all__ = ["MISSING", "pct", "interval", "num", "signed", "fixed", "estimate"]
+__all__ = ["MISSING", "pct", "interval", "num", "signed", "fixed", "estimate", "signed_pct", "signed_interval"]
 
 #: What a missing value is written as.
 MISSING = "–"
@@ -72,6 +72,28 @@ def fixed(value, fmt: str = ".3f") -> str:
     ('0.731', '12.5', '–')
     """
     return format(value, fmt) if _ok(value) else MISSING
+
+
+def signed_pct(value) -> str:
+    """A signed fraction in per cent to the unit (a ratio that may be negative).
+
+    Examples
+    --------
+    >>> signed_pct(0.864), signed_pct(-0.17), signed_pct(None)
+    ('+86 %', '-17 %', '–')
+    """
+    return f"{100 * value:+.0f} %" if _ok(value) else MISSING
+
+
+def signed_interval(low, high) -> str:
+    """``[+2, +94]``: :func:`interval` with signs, ``[–]`` when either end is missing.
+
+    Examples
+    --------
+    >>> signed_interval(-0.016, 0.94), signed_interval(0.1, float("nan"))
+    ('[-2, +94]', '[–]')
+    """
+    return f"[{100 * low:+.0f}, {100 * high:+.0f}]" if _ok(low) and _ok(high) else f"[{MISSING}]"
 
 
 def estimate(value, low, high, fmt: str = ".3f") -> str:

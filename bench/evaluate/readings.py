@@ -24,6 +24,8 @@ method (:func:`reading_of`):
 has three parts, each tested with its interval (:func:`paper_claims`): most
 samples within ±5 mm with DP, DP more precise than the method without it, and
 "a 30 % improvement in the precision" (the RMSE ratio ``1 - S_DP / S_noDP``).
+The verdict on that size (:func:`improvement_verdict`) says "not determined" where
+the ratio's interval holds the claim but is as wide as the claim itself.
 
 Pure functions: the run's tables (as in ``summary.json``) in, dicts out.
 """
@@ -32,11 +34,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.evaluate.formats import interval, pct
+from bench.evaluate.formats import interval, pct, signed_interval, signed_pct
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM, within
 
-__all__ = ["READINGS", "PAPER_READING", "PAPER_WHY", "reading_of", "claim_verdicts", "paper_claims",
-           "claim_sentence", "headline_group"]
+__all__ = ["READINGS", "PAPER_READING", "PAPER_WHY", "reading_of", "improvement_verdict", "claim_verdicts",
+           "claims_of", "paper_claims", "claim_sentence", "headline_group", "headline_lines", "CLAIM_WORDS"]
 
 READINGS = {
     "filled": "threshold, missed rows filled along the row",
@@ -93,6 +95,44 @@ def _interval_result(low: float, high: float, above: float) -> str:
     return "contains"
 
 
+def improvement_verdict(low: float, high: float, claim: float = PAPER_IMPROVEMENT,
+                        max_width: float | None = None) -> str:
+    """The verdict on the paper's size of improvement from the RMSE ratio's interval.
+
+    The rule, in order:
+
+    1. ``"undefined"``: no finite interval (fewer than 2 pairs);
+    2. ``"exceeded"``: the interval lies above ``claim`` (``low > claim``);
+    3. ``"not reproduced"``: the interval lies below ``claim`` (``high < claim``);
+    4. the interval holds ``claim``: ``"reproduced"`` only when it is narrower than
+       ``max_width`` (``high - low < max_width``; default ``claim`` itself, so that a
+       reproduced ratio also excludes no improvement at all), else ``"not determined"``:
+       an interval as wide as the claim cannot tell the claim from no improvement or
+       from twice the claim (e.g. +86 % [+3, +94] resting on one gross error).
+
+    Parameters
+    ----------
+    low, high : float
+        The ratio's 95 % interval (fractions; NaN without one).
+    claim : float
+        The paper's ratio (:data:`bench.evaluate.outcomes.PAPER_IMPROVEMENT`).
+    max_width : float, optional
+        The widest interval that still decides "reproduced" (default ``claim``).
+
+    Examples
+    --------
+    >>> improvement_verdict(0.03, 0.94), improvement_verdict(0.22, 0.41), improvement_verdict(0.98, 0.99)
+    ('not determined', 'reproduced', 'exceeded')
+    >>> improvement_verdict(-0.02, 0.28), improvement_verdict(float("nan"), float("nan"))
+    ('not reproduced', 'undefined')
+    """
+    width = claim if max_width is None else max_width
+    result = _interval_result(low, high, claim)
+    if result == "contains":
+        return "reproduced" if high - low < width else "not determined"
+    return {"above": "exceeded", "below": "not reproduced", "undefined": "undefined"}[result]
+
+
 def claim_verdicts(verdict: dict, ratio: dict | None, paper_improvement: float = PAPER_IMPROVEMENT) -> dict:
     """The paper's three claims on one (DP, baseline) pair of one group.
 
@@ -112,9 +152,8 @@ def claim_verdicts(verdict: dict, ratio: dict | None, paper_improvement: float =
     fraction lies above 1/2, "not reproduced" below, else "undecided"),
     ``more_precise`` ("reproduced": DP wins by a statistic and loses by none;
     "contradicted": the baseline wins by one and DP by none; "mixed"; "not shown":
-    both intervals overlap) and ``improvement`` ("reproduced" when the ratio's
-    interval contains ``paper_improvement``, "exceeded" above it, "not reproduced"
-    below, "undefined" without an interval).
+    both intervals overlap) and ``improvement`` (:func:`improvement_verdict` of the
+    ratio's interval).
 
     Examples
     --------
@@ -138,9 +177,25 @@ def claim_verdicts(verdict: dict, ratio: dict | None, paper_improvement: float =
     else:
         precise = "not shown"
     r = ratio or {}
-    imp = {"above": "exceeded", "below": "not reproduced", "contains": "reproduced",
-           "undefined": "undefined"}[_interval_result(r.get("low", np.nan), r.get("high", np.nan), paper_improvement)]
+    imp = improvement_verdict(r.get("low", np.nan), r.get("high", np.nan), paper_improvement)
     return {"most_within": most, "more_precise": precise, "improvement": imp}
+
+
+def claims_of(entry: dict, paper_improvement: float = PAPER_IMPROVEMENT) -> dict:
+    """The claims of a :func:`paper_claims` entry as every view shows them: the entry's own, with the
+    improvement's verdict taken again by :func:`improvement_verdict` from the ratio's interval it holds
+    (a summary written under an earlier rule shows the current one).
+
+    Examples
+    --------
+    >>> e = {"claims": {"most_within": "reproduced", "more_precise": "reproduced", "improvement": "reproduced"},
+    ...      "figures": {"ratio_low": 0.03, "ratio_high": 0.94}}
+    >>> claims_of(e)["improvement"]
+    'not determined'
+    """
+    f = entry["figures"]
+    return {**entry["claims"], "improvement": improvement_verdict(f.get("ratio_low", np.nan),
+                                                                  f.get("ratio_high", np.nan), paper_improvement)}
 
 
 def headline_group(robust: list[dict], conditions: list[dict]) -> tuple[str, list[str]] | None:
@@ -246,18 +301,32 @@ def paper_claims(config: dict, robust: list[dict], improvement: list[dict], verd
     return out
 
 
+#: The words of each verdict in the sentences and the terminal's headline (:func:`claim_sentence`,
+#: :func:`headline_lines`); ``{b}`` is the baseline, ``{claim}`` the paper's ratio.
+CLAIM_WORDS = {
+    "most_within": {"reproduced": "reproduced", "not reproduced": "not reproduced", "undecided": "undecided"},
+    "more_precise": {"reproduced": "reproduced", "contradicted": "contradicted ({b} is more precise)",
+                     "mixed": "mixed (the two statistics disagree)", "not shown": "not shown (the intervals overlap)"},
+    "improvement": {"reproduced": "reproduced", "exceeded": "exceeded (DP improves more than {claim})",
+                    "not reproduced": "not reproduced",
+                    "not determined": "not determined (the interval is as wide as the {claim} claimed)",
+                    "undefined": "undefined (too few pairs)"},
+}
+
+
+def _words(part: str, verdict: str, b: str, paper_improvement: float) -> str:
+    return CLAIM_WORDS[part][verdict].format(b=b, claim=pct(paper_improvement))
+
+
 def claim_sentence(entry: dict, within_mm: float = WITHIN_MM, paper_improvement: float = PAPER_IMPROVEMENT) -> str:
     """One plain-text sentence on a :func:`paper_claims` entry (not HTML: escape it to show it)."""
-    f, c, b, d = entry["figures"], entry["claims"], entry["baseline"], entry["dp"]
-    ratio = f"RMSE ratio {pct(f['ratio_value'])} {interval(f['ratio_low'], f['ratio_high'])}"
+    f, c, b, d = entry["figures"], claims_of(entry, paper_improvement), entry["baseline"], entry["dp"]
+    ratio = f"RMSE ratio {signed_pct(f['ratio_value'])} {signed_interval(f['ratio_low'], f['ratio_high'])}"
     if f.get("n_missing_dp") or f.get("n_missing_baseline"):
         ratio += (f" over the {f['ratio_n']} of {f['n_samples']} pairs where both have a depth ({b} has none at "
                   f"{f['n_missing_baseline']}, {d} at {f['n_missing_dp']})")
-    precise = {"reproduced": "reproduced", "contradicted": f"contradicted ({b} is more precise)",
-               "mixed": "mixed (the two statistics disagree)",
-               "not shown": "not shown (the intervals overlap)"}[c["more_precise"]]
-    imp = {"reproduced": "reproduced", "exceeded": f"exceeded (DP improves more than {pct(paper_improvement)})",
-           "not reproduced": "not reproduced", "undefined": "undefined (too few pairs)"}[c["improvement"]]
+    precise = _words("more_precise", c["more_precise"], b, paper_improvement)
+    imp = _words("improvement", c["improvement"], b, paper_improvement)
     head = f"{b} ({entry['description']})" if entry["reading"] else b
     s = (f"Against {head}: {d} puts {pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} of the "
          f"samples within ±{within_mm:g} mm (most samples: {c['most_within']}) against "
@@ -267,3 +336,44 @@ def claim_sentence(entry: dict, within_mm: float = WITHIN_MM, paper_improvement:
         s += (f" {entry['outside_undetectable']} of {b}'s {entry['outside']} samples outside ±{within_mm:g} mm lie "
               f"where the threshold detects no stripe.")
     return s
+
+
+def headline_lines(summary: dict) -> list[str]:
+    """The run's headline as plain text lines (what ``stripebench reproduce`` prints, the report's
+    headline in words): the paper's claim in its condition, one line per reading of its method
+    without DP (``summary["paper_claims"]``), each part's verdict (:func:`claims_of`) with its figures.
+    Empty without claims.
+
+    Examples
+    --------
+    >>> headline_lines({})
+    []
+    """
+    claims = summary.get("paper_claims") or []
+    if not claims:
+        return []
+    within = summary.get("within_mm", WITHIN_MM)
+    claim = summary.get("paper_improvement", PAPER_IMPROVEMENT)
+    c0 = claims[0]
+    title = next((c["condition"] for c in summary.get("conditions", [])), c0["group"])
+    if title.lower().startswith("the paper's condition: "):
+        title = title[len("the paper's condition: "):]
+    lines = [f"The paper's claim in its condition ({title}; {', '.join(c0['experiments'])}; "
+             f"{c0['figures']['n']} sample points; DP = {c0['dp']}), 95 % intervals, per reading of its "
+             "method without DP:"]
+    for e in claims:
+        f, c, b = e["figures"], claims_of(e, claim), e["baseline"]
+        who = b + (f" ({e['description']})" if e["reading"] else "")
+        if e.get("paper_reading"):
+            who += ", the reading the paper's text supports"
+        pairs = ""
+        if f.get("n_missing_dp") or f.get("n_missing_baseline"):
+            pairs = f" over {f['ratio_n']} of {f['n_samples']} pairs"
+        lines.append(
+            f"  {who}: most within ±{within:g} mm with DP: {_words('most_within', c['most_within'], b, claim)} "
+            f"({pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} against "
+            f"{pct(f['baseline_within'])} {interval(f['baseline_within_low'], f['baseline_within_high'])}); "
+            f"DP more precise: {_words('more_precise', c['more_precise'], b, claim)}; the {pct(claim)} improvement: "
+            f"{_words('improvement', c['improvement'], b, claim)}; RMSE ratio {signed_pct(f['ratio_value'])} "
+            f"{signed_interval(f['ratio_low'], f['ratio_high'])}{pairs}")
+    return lines

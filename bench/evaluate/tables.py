@@ -18,7 +18,8 @@ from bench.evaluate.triangulation import depth_cm
 
 __all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "scan_states",
            "detection_rows", "detection_table", "false_points", "draw_samples", "sample_table", "sample_columns",
-           "improvements", "robust_table", "verdicts", "worst_frames", "OBJECT_BLIND"]
+           "improvements", "robust_table", "within_winner", "ratio_winner", "verdicts", "worst_frames",
+           "OBJECT_BLIND"]
 
 #: The figures a false report moves: NaN in region ``object``, whose rows off the object are unknown
 #: (:func:`scan_states`), so no report there can be false; region ``all`` scores them over every row.
@@ -377,6 +378,49 @@ def robust_table(samples, labels, *, group_by: str | None = "experiment", within
     return out
 
 
+def within_winner(a: str, fa: dict, b: str, fb: dict) -> str:
+    """Which of two trackers puts more samples within ±5 mm, by their Wilson intervals: ``a`` or ``b``
+    when the intervals do not overlap, else ``"tie"``.
+
+    Parameters
+    ----------
+    a, b : str
+        The labels.
+    fa, fb : dict
+        Their :func:`robust_table` figures (``within_low``, ``within_high``).
+
+    Examples
+    --------
+    >>> within_winner("d", {"within_low": 0.9, "within_high": 0.99}, "b", {"within_low": 0.7, "within_high": 0.85})
+    'd'
+    >>> within_winner("d", {"within_low": 0.8, "within_high": 0.99}, "b", {"within_low": 0.7, "within_high": 0.85})
+    'tie'
+    """
+    if fa["within_low"] > fb["within_high"]:
+        return a
+    if fb["within_low"] > fa["within_high"]:
+        return b
+    return "tie"
+
+
+def ratio_winner(dp: str, baseline: str, ratio: dict | None) -> str:
+    """Which of a (DP, baseline) pair the RMSE ratio ``1 - S_DP / S_noDP`` favours: ``dp`` when its
+    bootstrap interval lies above 0, ``baseline`` below 0, else (or without an interval) ``"tie"``.
+
+    Examples
+    --------
+    >>> ratio_winner("d", "b", {"low": 0.02, "high": 0.9}), ratio_winner("d", "b", {"low": -0.2, "high": 0.1})
+    ('d', 'tie')
+    """
+    if ratio is None or not np.isfinite(ratio["low"]):
+        return "tie"
+    if ratio["low"] > 0:
+        return dp
+    if ratio["high"] < 0:
+        return baseline
+    return "tie"
+
+
 def verdicts(robust: list[dict], improvement: list[dict], dp_labels, base_labels) -> list[dict]:
     """Which of each (DP, baseline) pair is more precise, per group, by each statistic.
 
@@ -399,21 +443,9 @@ def verdicts(robust: list[dict], improvement: list[dict], dp_labels, base_labels
                 rd, rb = rob.get((group, d)), rob.get((group, b))
                 if rd is None or rb is None:
                     continue
-                if rd["within_low"] > rb["within_high"]:
-                    w = d
-                elif rb["within_low"] > rd["within_high"]:
-                    w = b
-                else:
-                    w = "tie"
+                w = within_winner(d, rd, b, rb)
                 i = imp.get((group, d, b))
-                if i is None or not np.isfinite(i["low"]):
-                    rm = "tie"
-                elif i["low"] > 0:
-                    rm = d
-                elif i["high"] < 0:
-                    rm = b
-                else:
-                    rm = "tie"
+                rm = ratio_winner(d, b, i)
                 out.append({"group": group, "dp": d, "baseline": b, "within": w, "rmse": rm,
                             "dp_figures": rd, "baseline_figures": rb, "ratio": i})
     return out

@@ -1,6 +1,6 @@
 """The report toolkit: the one HTML page shell of every report (run, real run, sweep, leaderboard),
-escaping, tables, embedded images, the at-a-glance ranking, and the number formatters (re-exported from
-their home, :mod:`bench.evaluate.formats`).
+escaping, tables, embedded or linked images, folded blocks and scroll boxes, the at-a-glance ranking, and the
+number formatters (re-exported from their home, :mod:`bench.evaluate.formats`).
 
 Every string that comes from a configuration, a data set, a file name or a
 tracker goes through :func:`esc`, which also escapes quotes, so it is safe in
@@ -16,15 +16,16 @@ from pathlib import Path
 
 from bench.evaluate.formats import MISSING, fixed, interval, num, pct, signed
 
-__all__ = ["esc", "page", "pct", "interval", "num", "signed", "fixed", "png_img", "png_file", "table", "frame_table",
-           "fraction_colour", "rank_labels", "ranked_table", "BASE_CSS"]
+__all__ = ["esc", "page", "pct", "interval", "num", "signed", "fixed", "png_img", "png_file", "png_link", "folded",
+           "scroll", "table", "frame_table", "fraction_colour", "rank_labels", "ranked_table", "BASE_CSS"]
 
 #: The style every page shares; a page adds its own rules after it.
 BASE_CSS = ("body{font-family:system-ui,sans-serif;max-width:1370px;margin:0.6em auto;padding:0 0.6em;color:#222}"
             "h1{font-size:1.4em;margin:0.3em 0}h2{font-size:1.15em;margin:0.9em 0 0.3em}"
             "table{border-collapse:collapse;font-size:12px;margin:0.5em 0}td,th{border:1px solid #ccc;"
             "padding:3px 6px;text-align:right}th{background:#f0f0f0}code{background:#f4f4f4}li{margin:0.3em 0}"
-            "details{margin:0.3em 0}summary{cursor:pointer}")
+            "details{margin:0.3em 0}summary{cursor:pointer}div.scroll{max-width:100%;overflow-x:auto}"
+            "div.scroll.tall{max-height:70vh;overflow-y:auto}")
 
 
 def esc(value) -> str:
@@ -63,6 +64,43 @@ def png_file(path, width: str = "100%") -> str:
     """
     path = Path(path)
     return png_img(path.read_bytes(), path.stem, f"max-width:{width}")
+
+
+def png_link(path, base, width: str = "100%") -> str:
+    """A PNG file shown by reference, not embedded: an ``<img>`` of ``path`` relative to the folder ``base``
+    (the page's own), loaded lazily, inside a link to the file (full size), at most ``width`` wide.
+
+    Examples
+    --------
+    >>> png_link("/run/figures/fig7.png", "/run", "49%")
+    '<a href="figures/fig7.png"><img src="figures/fig7.png" alt="fig7" loading="lazy" style="max-width:49%"></a>'
+    """
+    rel = Path(path).relative_to(Path(base)).as_posix()
+    return (f'<a href="{esc(rel)}"><img src="{esc(rel)}" alt="{esc(Path(path).stem)}" loading="lazy" '
+            f'style="max-width:{esc(width)}"></a>')
+
+
+def folded(summary: str, body: str, *, open_: bool = False) -> str:
+    """A ``<details>`` block: ``summary`` (HTML) shown, ``body`` (HTML) folded until opened.
+
+    Examples
+    --------
+    >>> folded("<b>more</b>", "<p>x</p>")
+    '<details><summary><b>more</b></summary><p>x</p></details>'
+    """
+    return f"<details{' open' if open_ else ''}><summary>{summary}</summary>{body}</details>"
+
+
+def scroll(body: str, *, tall: bool = False) -> str:
+    """``body`` (HTML, e.g. a wide table) in a box that scrolls sideways instead of widening the page;
+    ``tall``: also at most 70 % of the window high, scrolling down.
+
+    Examples
+    --------
+    >>> scroll("<table></table>")
+    "<div class='scroll'><table></table></div>"
+    """
+    return f"<div class='scroll{' tall' if tall else ''}'>{body}</div>"
 
 
 def table(head, rows) -> str:

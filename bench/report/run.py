@@ -1,9 +1,9 @@
-"""The run report: one self-contained HTML page of a run's saved results, its sentences and tables.
+"""The run report: one HTML page of a run's saved results, its sentences and tables, its figures linked.
 
 ``stripebench report RUN`` calls :func:`build_report` on a finished run folder;
 it needs only the saved files (no rendering). Its figures are
-:func:`bench.report.runfigures.make_figures`; its toolkit (escaping, tables, images,
-formatters) is :mod:`bench.report.html`.
+:func:`bench.report.runfigures.make_figures` (``figures/*.png`` beside the page, linked from it);
+its toolkit (escaping, tables, images, formatters) is :mod:`bench.report.html`.
 
 The page leads with the answer: per condition (the configuration's first
 condition is the paper's), which tracker of each DP / baseline pair is more
@@ -19,8 +19,9 @@ import json
 from pathlib import Path
 
 from bench.evaluate import readings
-from bench.report.html import (esc, frame_table, interval, num, page, pct, png_file, rank_labels, ranked_table,
-                               signed, table)
+from bench.report.html import (esc, folded, frame_table, interval, num, page, pct, png_link, rank_labels,
+                               ranked_table, scroll, signed, table)
+from bench.evaluate.formats import signed_interval, signed_pct
 from bench.evaluate.outcomes import PAPER_IMPROVEMENT, WITHIN_MM
 from bench.report.detection import detection_glance
 from bench.report.runfigures import make_figures, tracker_readings, tracker_restore, warn
@@ -81,12 +82,12 @@ def verdict_sentence(v: dict, within_mm: float = 5.0) -> str:
 
 _CLAIM_MARK = {"reproduced": "✔ reproduced", "exceeded": "▲ exceeded", "not reproduced": "✘ not reproduced",
                "contradicted": "✘ contradicted", "mixed": "± mixed", "not shown": "– not shown",
-               "undecided": "– undecided", "undefined": "– undefined"}
+               "undecided": "– undecided", "undefined": "– undefined", "not determined": "? not determined"}
 
 
 def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
     """One headline sentence (HTML, escaped) on a :func:`bench.evaluate.readings.paper_claims` entry."""
-    f, k = c["figures"], c["claims"]
+    f, k = c["figures"], readings.claims_of(c, paper_improvement)
     d, b = esc(c["dp"]), esc(c["baseline"])
     pairs = ""
     if f.get("n_missing_dp") or f.get("n_missing_baseline"):
@@ -99,8 +100,9 @@ def _claim_line(c: dict, within_mm: float, paper_improvement: float) -> str:
             f"({d} {pct(f['dp_within'])} {interval(f['dp_within_low'], f['dp_within_high'])} against "
             f"{pct(f['baseline_within'])} {interval(f['baseline_within_low'], f['baseline_within_high'])}); "
             f"DP more precise <b>{_CLAIM_MARK[k['more_precise']]}</b>; the {pct(paper_improvement)} improvement "
-            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {pct(f['ratio_value'])} "
-            f"{interval(f['ratio_low'], f['ratio_high'])}{pairs}).")
+            f"<b>{_CLAIM_MARK[k['improvement']]}</b> (RMSE ratio {signed_pct(f['ratio_value'])} "
+            f"{signed_interval(f['ratio_low'], f['ratio_high'])}{pairs}"
+            + ("; the interval is as wide as the claim" if k["improvement"] == "not determined" else "") + ").")
 
 
 def claims_html(summary) -> str:
@@ -230,10 +232,10 @@ def _improvement_tables(summary) -> str:
     for stat, title in (("rmse", "RMSE"), ("mae", "MAE"), ("std", "standard deviation")):
         rows = [[esc("pooled over unlike conditions" if g == "all" else g)]
                 + [cell(by.get((g, d, b, stat))) for d, b in pairs] for g in groups]
-        out.append(f"<h3>by {title}</h3>" + table(head, rows))
+        out.append(folded(f"by {title} ({len(groups)} groups x {len(pairs)} pairs)", scroll(table(head, rows))))
     return ("<h2>The paper's statistic: 1 - S_DP / S_noDP</h2><p>Over the sample points' depth errors on the restored "
             "surfaces, S = RMSE, MAE or standard deviation, with a paired bootstrap 95 % confidence interval. The paper "
-            f"reports about {int(100 * summary['paper_improvement'])} %. Negative: the method without DP was more "
+            f"reports about {pct(summary['paper_improvement'])}. Negative: the method without DP was more "
             "precise. The ratio rests on the largest errors: read it beside the table above.</p>" + "".join(out))
 
 
@@ -246,27 +248,44 @@ def _hit_table(metrics) -> str:
     hit = m.pivot_table(index="experiment", columns="tracker", values="hit_rate", sort=False)
     cov = m.pivot_table(index="experiment", columns="tracker", values="coverage", sort=False)
     a = metrics[metrics["region"] == "all"]
-    out = ("<h2>Both halves per experiment</h2><p>Hit rate: the object's lit rows where the tracker "
+    out = ("<p>Hit rate: the object's lit rows where the tracker "
            "reports a column within 3 px of the truth (a missed row is a miss). Coverage: rows with any "
            "detection. Both are the stripe half: a report where there is no stripe moves neither. F1 and the "
            "false-report rate are over every row of the frames (a report on a row with no stripe is a false one)."
-           "</p><h3>hit rate (object rows)</h3>" + frame_table(hit, ".2f") + "<h3>coverage (object rows)</h3>"
-           + frame_table(cov, ".2f"))
+           "</p><h3>hit rate (object rows)</h3>" + scroll(frame_table(hit, ".2f")) + "<h3>coverage (object rows)</h3>"
+           + scroll(frame_table(cov, ".2f")))
     for key, title in (("f1", "F1 (every row)"), ("false_report_rate", "false-report rate (every row)")):
         if key in a and a[key].notna().any():
-            out += f"<h3>{title}</h3>" + frame_table(
-                a.pivot_table(index="experiment", columns="tracker", values=key, sort=False, dropna=False), ".2f")
+            out += f"<h3>{title}</h3>" + scroll(frame_table(
+                a.pivot_table(index="experiment", columns="tracker", values=key, sort=False, dropna=False), ".2f"))
     if "false_lock_rate" in a and a["false_lock_rate"].notna().any():
         lock = a[a["false_lock_rate"].notna()].pivot_table(index="experiment", columns="tracker",
                                                              values="false_lock_rate", sort=False)
         out += ("<h3>false-lock rate (shiny materials, every row)</h3><p>Among the rows where the tracker reports "
                 "a column, the fraction within 3 px of a false stripe (the sheet mirrored by the object) and not "
-                "within 3 px of the truth.</p>" + frame_table(lock, ".2f"))
+                "within 3 px of the truth.</p>" + scroll(frame_table(lock, ".2f")))
     return out
 
 
+def _figures(paths, run_dir, width: str = "100%") -> str:
+    """The figures ``paths`` linked from the page (files of ``run_dir/figures``, not embedded)."""
+    return "".join(png_link(p, run_dir, width) for p in paths)
+
+
+def _split_first_condition(summary, paths, key_of) -> tuple[list, list]:
+    """``paths`` of the first condition's experiments (the paper's), and the others; ``key_of(path)`` is
+    a figure's experiment key."""
+    first = set(summary["conditions"][0]["experiments"]) if summary.get("conditions") else set()
+    return [p for p in paths if key_of(p) in first], [p for p in paths if key_of(p) not in first]
+
+
 def build_report(run_dir, *, quiet: bool = False) -> Path:
-    """Write ``figures/*.png`` and ``report.html`` for a finished run."""
+    """Write ``figures/*.png`` and ``report.html`` for a finished run.
+
+    The page links its figures (``figures/*.png`` beside it, not embedded) and folds what the headline
+    does not need (``<details>``): the other conditions' Fig. 10 and precision-recall curves, the
+    failure gallery, the ratio, hit-rate and metrics tables; every wide table scrolls in its own box.
+    """
     run_dir = Path(run_dir)
     data = load_run(run_dir, say=warn)
     figs = make_figures(run_dir, quiet=quiet, data=data)
@@ -276,11 +295,13 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
     parts = [f"<h1>stripebench run <code>{esc(run_dir.name)}</code></h1>", claims_html(s), glance_table(s),
              detection_glance(s)]
     if figs["pr"]:
-        parts.append("<h2>Precision and recall over rows, per condition</h2><p>Each tracker's reports taken in "
+        first, rest = figs["pr"][:1], figs["pr"][1:]
+        parts.append("<h2>Precision and recall over rows</h2><p>Each tracker's reports taken in "
                      "the order of its own score (its per-row confidence): precision (reports that are hits) "
                      "against recall (stripe rows hit), the dot its operating point (every report it makes). A "
-                     "curve above and to the right ranks better; recall ends where the tracker stops reporting."
-                     "</p>" + "".join(png_file(p, "49%") for p in figs["pr"]))
+                     "curve above and to the right ranks better; recall ends where the tracker stops reporting. "
+                     "The first condition's curves; the others folded.</p>" + _figures(first, run_dir, "60%")
+                     + (folded(f"the other {len(rest)} condition(s)", _figures(rest, run_dir, "49%")) if rest else ""))
     parts.append("<h2>Which tracker is more precise, per condition</h2><p>A statistic decides only when its 95 % "
                  "intervals do: the ±5 mm fractions' Wilson intervals must not overlap; the RMSE ratio's bootstrap "
                  "interval must exclude 0. Open a condition to read its verdicts.</p>" + _verdicts_folded(s))
@@ -291,50 +312,63 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                  + "".join(f", <code>{esc(k)}</code>: <code>{esc(v)}</code>" for k, v in own.items())
                  + f". Versions: {esc(', '.join(f'{k} {v}' for k, v in s['versions'].items()))}.</p>")
     if figs["samples"]:
+        first, rest = _split_first_condition(s, figs["samples"], lambda p: p.stem.removeprefix("fig10_"))
+        if not first:
+            first, rest = rest[:1], rest[1:]
         parts.append("<h2>Every sample (Fig. 10)</h2><p>Depth error of each sample point with and without DP; the "
                      "axis is linear within ±10 mm and logarithmic beyond, so no error is hidden (beyond "
-                     "±1000 mm points sit at the edge, marked and counted).</p>"
-                     + "".join(png_file(p) for p in figs["samples"]))
+                     "±1000 mm points sit at the edge, marked and counted). The paper's condition; the other "
+                     "experiments folded.</p>" + _figures(first, run_dir)
+                     + (folded(f"Fig. 10 of the other {len(rest)} experiment(s)", _figures(rest, run_dir))
+                        if rest else ""))
     if figs["gallery"]:
-        parts.append("<h2>Failure gallery</h2><p>Per experiment, the frames where the trackers fail most (mean "
-                     "over trackers of the rows that fail: stripe rows not within 3 px, and stripe-less rows with a "
-                     "report). Markers every 4th row, offset per tracker; the truth dashed red; every report on a "
-                     "row with no stripe (a false 3-D point) in magenta.</p>"
-                     + "".join(png_file(p, "49%") for p in figs["gallery"]))
+        parts.append("<h2>Failure gallery</h2>" + folded(
+            f"the {len(figs['gallery'])} frames where the trackers fail most", "<p>Per experiment, the frames where "
+            "the trackers fail most (mean over trackers of the rows that fail: stripe rows not within 3 px, and "
+            "stripe-less rows with a report). Markers every 4th row, offset per tracker; the truth dashed red; every "
+            "report on a row with no stripe (a false 3-D point) in magenta.</p>" + _figures(figs["gallery"], run_dir,
+                                                                                            "49%")))
     if s.get("sim_to_real"):
         from bench.report.simreal import sim_to_real_html
 
-        parts.append(sim_to_real_html(s["sim_to_real"]).replace(
+        parts.append(scroll(sim_to_real_html(s["sim_to_real"]).replace(
             "<h2>Renders vs photographs</h2>",
             "<h2>Renders vs photographs</h2><p>Both halves: each tracker's hit rate (within 3 px) on the object's "
             "stripe rows of this run, averaged over its experiments, beside its mean hit rate over the photographs "
             f"of the real set <code>{esc(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; "
             "references only where the stripe is visible, see docs/real.md), and its F1 over rows and false-report "
-            "rate over every row of the renders beside those over the photographs' rows of known state.</p>"))
+            "rate over every row of the renders beside those over the photographs' rows of known state.</p>")))
         if s["sim_to_real"].get("predicted"):
             from bench.report.simreal import predicted_html
 
-            parts.append(predicted_html(s["sim_to_real"]["predicted"]))
+            parts.append(scroll(predicted_html(s["sim_to_real"]["predicted"])))
         if s["sim_to_real"].get("by_class"):
             from bench.report.simreal import sim_to_real_by_class_html
 
-            parts.append(sim_to_real_by_class_html(s["sim_to_real"]["by_class"]))
+            parts.append(scroll(sim_to_real_by_class_html(s["sim_to_real"]["by_class"])))
             for k, v in (s["sim_to_real"].get("by_class_detection") or {}).items():
-                parts.append(sim_to_real_by_class_html(v, k))
+                parts.append(scroll(sim_to_real_by_class_html(v, k)))
     parts.append(_improvement_tables(s))
-    parts.append(_hit_table(metrics))
-    if figs["bars"]:
-        parts.append("".join(png_file(p) for p in figs["bars"]))
+    hits = _hit_table(metrics)
+    if hits or figs["bars"]:
+        parts.append("<h2>Both halves per experiment</h2>" + folded(
+            "per experiment and tracker (tables and bars)", hits + _figures(figs["bars"], run_dir)))
     if figs["curves"]:
-        parts.append("<h2>Sweeps</h2>" + "".join(png_file(p, "70%") for p in figs["curves"]))
+        parts.append("<h2>Sweeps</h2>" + _figures(figs["curves"], run_dir, "70%"))
     if figs["tracking"]:
-        parts.append("<h2>Tracking one frame (Fig. 7)</h2>" + "".join(png_file(p) for p in figs["tracking"]))
+        parts.append("<h2>Tracking one frame (Fig. 7)</h2>" + _figures(figs["tracking"], run_dir))
     if figs["shapes"]:
+        from bench.report.runfigures import shape_labels
+
+        shown, left = shape_labels(s)
+        drawn = ", ".join(f"<code>{esc(n)}</code>" for n in shown)
+        out = ("; left out (see the tables): " + ", ".join(f"<code>{esc(n)}</code>" for n in left)) if left else ""
         parts.append("<h2>Restored shapes (Fig. 8, 9)</h2><p>The ground truth coloured by depth R, and each "
                      "tracker's restored surface coloured by its depth error (mm, saturating at ±10 mm); its false "
                      "3-D points (reports on rows with no stripe, triangulated as if they were the stripe) in "
-                     "magenta.</p>"
-                     + "".join(png_file(p) for p in figs["shapes"]))
+                     f"magenta. Drawn, one panel each: {drawn} (the first DP settings, every reading of the "
+                     f"paper's method without DP, every scored submission){out}.</p>"
+                     + _figures(figs["shapes"], run_dir))
     cols = [c for c in ["experiment", "tracker", "region", "hit_rate", "coverage", "precision", "f1",
                         "false_report_rate", "n_false", "ap", "px_mae", "px_rmse", "px_p95",
                         "depth_mae_mm", "depth_rmse_mm", "depth_p95_mm", "outlier_rate",
@@ -347,18 +381,21 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                  "points); ap = average precision of the tracker's score. Region <i>all</i> scores every row of the "
                  "frames; region <i>object</i> keeps the rows whose true point lies on the object, every other row "
                  "unknown, so no report there can be false: its precision, F1, false-report rate, AP and "
-                 "false detections are blank (the stripe half only).</p>" + full)
+                 "false detections are blank (the stripe half only). Also in <code>metrics.csv</code>.</p>"
+                 + folded(f"every experiment, tracker and region ({len(metrics)} rows)", scroll(full, tall=True)))
     fails = [(sc["experiment"], n, c, sc["failure_messages"][n]) for sc in s["scans"]
              for n, c in sc["failures"].items() if c]
     if fails:
         parts.append("<h2>Tracker failures</h2><ul>" + "".join(
             f"<li><b>{esc(n)}</b> on {esc(e)}: {c} frame(s) failed: "
             f"{esc('; '.join(m))}</li>" for e, n, c, m in fails) + "</ul>")
-    parts.append("<h2>Configuration</h2><pre>" + esc(json.dumps(cfg, indent=2)) + "</pre>")
+    parts.append("<h2>Configuration</h2>" + folded("the run's configuration (JSON)",
+                                                   "<pre>" + esc(json.dumps(cfg, indent=2)) + "</pre>"))
     html_page = page("stripebench report", "\n".join(p for p in parts if p), css=(
         "ul.claims{font-size:14px;margin:0.3em 0;padding-left:1.2em}p.why,p.note{font-size:12px;color:#444;"
         "margin:0.3em 0}p.lead{margin:0.2em 0}table.glance{width:100%;table-layout:fixed}table.glance td{line-height:1.2;"
-        "padding:2px 4px}table.glance span.w{white-space:nowrap}table.glance small{font-size:10px}"))
+        "padding:2px 4px}table.glance span.w{white-space:nowrap}table.glance small{font-size:10px}"
+        "img{vertical-align:top}"))
     path = run_dir / "report.html"
     atomic_write_text(path, html_page)
     return path

@@ -20,7 +20,7 @@ from bench.report.detection import condition_groups, pr_curves
 from bench.store.runfolder import load_run
 
 __all__ = ["make_figures", "figure_workers", "FIGURE_WORKERS_MIN_JOBS", "tracker_readings", "tracker_restore",
-           "warn"]
+           "warn", "shape_labels", "SHAPE_DP"]
 
 
 def tracker_readings(cfg: dict) -> dict[str, str | None]:
@@ -34,6 +34,42 @@ def tracker_restore(summary, label: str) -> str:
     summary's ``restore_by_tracker``; a label it lacks: the run's ``restore``)."""
     by_label = summary.get("restore_by_tracker") or {}
     return restore_of(by_label, label) if label in by_label else summary.get("restore", "rows")
+
+
+#: How many DP labels the 3-D shapes figure draws (the configuration's first ones: the headline's DP first).
+SHAPE_DP = 2
+
+
+def shape_labels(summary) -> tuple[list[str], list[str]]:
+    """Which trackers the 3-D shapes figure (Fig. 8/9) draws, one panel each, and which it leaves out.
+
+    Drawn, in this order: the first :data:`SHAPE_DP` DP labels, every baseline that is a reading of
+    the paper's method without DP (:func:`bench.evaluate.readings.reading_of`; the other baselines
+    too when none is), and every scored submission (``summary["submission"]``); a run with none of
+    these draws its first four trackers. Every other tracker of the run is left out (the caption
+    names them).
+
+    Returns
+    -------
+    shown, left_out : list of str
+
+    Examples
+    --------
+    >>> cfg = {"trackers": ["dp4", "dp8", "centroid", "threshold", {"label": "argmax", "name": "threshold",
+    ...        "params": {"threshold": -1.0}}, "dp4_iso"], "dp": ["dp4", "dp8", "dp4_iso"],
+    ...        "baselines": ["threshold", "argmax", "centroid"]}
+    >>> shape_labels({"config": cfg, "submission": {"label": "mine"}})
+    (['dp4', 'dp8', 'threshold', 'argmax', 'mine'], ['centroid', 'dp4_iso'])
+    """
+    cfg = summary.get("config", {})
+    kinds = tracker_readings(cfg)
+    bases = list(cfg.get("baselines", []))
+    read = [b for b in bases if kinds.get(b)] or bases
+    sub = (summary.get("submission") or {}).get("label")
+    labels = list(kinds) + ([sub] if sub and sub not in kinds else [])
+    shown = list(dict.fromkeys([*cfg.get("dp", [])[:SHAPE_DP], *read, *([sub] if sub else [])]))
+    shown = [n for n in shown if n in labels] or labels[:4]
+    return shown, [n for n in labels if n not in shown]
 
 
 def warn(msg: str) -> None:
@@ -195,7 +231,8 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
             later("samples", figures.fig_samples,
                   g, dp0, bases, figdir / f"fig10_{key}.png", title=f"{key}: {len(g)} samples", stat=st, robust=r,
                   within_mm=summary.get("within_mm", 5.0), undetectable=und,
-                  readings={b: readings.READINGS[kinds[b]] for b in bases if kinds.get(b)})
+                  readings={b: readings.READINGS[kinds[b]] for b in bases if kinds.get(b)},
+                  paper_improvement=summary["paper_improvement"])
     gal = data.get("gallery")
     if gal is not None:
         for k, g in enumerate(gal):
@@ -225,9 +262,7 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
     def shapes():
         """3-D restored shapes (VTK, in this process): the first experiment of each scene."""
         done = set()
-        # the first two DP settings and the first two baselines (each surface costs about 1 s of off-screen
-        # rendering)
-        show = list(cfg["dp"])[:2] + list(cfg["baselines"])[:2] or list(config.trackers)[:4]
+        show, _ = shape_labels(summary)  # each surface costs about 1 s of off-screen rendering
         for exp in config.experiments:
             if exp.scene in done or exp.key not in data["scans"]:
                 continue

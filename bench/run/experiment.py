@@ -23,12 +23,13 @@ from bench.run.camera_view import tracker_images
 from bench.config import Config
 from bench.store.checkpoint import STATUS
 from bench.store.figdata import FigData, GalleryFrame
-from bench.store.runfolder import (RunFolder, default_run_dir, load_run, write_figdata, write_gallery, write_summary,
-                        write_tables)
+from bench.store.runfolder import (LAYOUT, RunFolder, default_run_dir, load_run, write_figdata, write_gallery,
+                                   write_summary, write_tables)
 from bench.store.summary import build_summary
 from bench.run.scan import pending_frames, run_scan
 from bench.run.track import build_trackers
-from bench.store.provenance import code_fingerprint, git_revision, versions
+from bench.store.provenance import code_fingerprint, git_revision, machine, versions
+from bench.store.files import file_sha256
 from bench.evaluate.outcomes import GROSS_MM, PAPER_IMPROVEMENT, WITHIN_MM
 
 __all__ = ["run", "scan_tables", "finish_run", "default_run_dir", "load_run", "distinct_trackers", "PAPER_IMPROVEMENT"]
@@ -245,7 +246,8 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
                                    paper_improvement=PAPER_IMPROVEMENT, within_mm=WITHIN_MM)
     summary = build_summary(
         kind, config=config.to_dict(), config_source=config.source, seed=config.seed,
-        versions=versions(), git_revision=git_revision(), run_dir=str(out),
+        versions=versions(), git_revision=git_revision(), machine=machine(),
+        metrics_sha256=file_sha256(out / LAYOUT["metrics_csv"]), run_dir=str(out),
         variants=sorted({s["variant"] for s in scan_info}), renderer=_renderer(scan_info), scans=scan_info,
         improvement=stats, paper_improvement=PAPER_IMPROVEMENT, restore=config.restore,
         restore_by_tracker={**config.restore_by_label(), **{n: config.restore for n in submissions}},
@@ -285,7 +287,6 @@ def _detection(config: Config, out: Path, conditions: list[dict]) -> list[dict]:
     bootstrap intervals over frames, per condition and pooled (``all``), from the run's checkpoints
     (:func:`bench.evaluate.tables.detection_table`)."""
     from bench.store.checkpoint import read_checkpoint
-    from bench.store.runfolder import LAYOUT
 
     rows = {}
     for e in config.experiments:

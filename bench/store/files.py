@@ -22,7 +22,7 @@ import numpy as np
 from bench.errors import StripebenchError
 
 __all__ = ["RunFolderError", "os_error", "atomic_write_bytes", "atomic_write_text", "write_table", "save_npz",
-           "load_npz", "read_npz", "read_json", "array_checksum", "json_checksum", "clear_non_file", "remove_path",
+           "load_npz", "read_npz", "read_json", "array_checksum", "json_checksum", "file_sha256", "clear_non_file", "remove_path",
            "non_file_kind", "non_file_reason", "check_format", "config_hash", "runs_root"]
 
 
@@ -183,6 +183,25 @@ def json_checksum(doc: Any) -> str:
     """
     blob = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=True)
     return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def file_sha256(path) -> str:
+    """Hex SHA-256 of a file's bytes (read in 1 MiB blocks).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = Path(d) / "m.csv"
+    ...     _ = p.write_bytes(b"abc")
+    ...     file_sha256(p)[:16]
+    'ba7816bf8f01cfea'
+    """
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
 
 
 def non_file_kind(path) -> str | None:

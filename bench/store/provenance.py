@@ -13,7 +13,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
-__all__ = ["versions", "git_revision", "source_fingerprint", "tracker_source_files", "code_fingerprint"]
+__all__ = ["versions", "git_revision", "machine", "source_fingerprint", "tracker_source_files", "code_fingerprint"]
 
 
 def versions() -> dict[str, str]:
@@ -37,6 +37,32 @@ def git_revision() -> str:
         return out.stdout.strip() or "unknown"
     except (OSError, subprocess.SubprocessError):
         return "unknown"
+
+
+def machine() -> dict:
+    """The machine a result was made on: ``cpu`` (the model name of ``/proc/cpuinfo``, else
+    ``platform.processor()``, else ``unknown``), ``cores`` (the CPU cores this process may use),
+    ``system`` and ``arch`` (``platform.system()``, ``platform.machine()``).
+
+    Examples
+    --------
+    >>> sorted(machine())
+    ['arch', 'cores', 'cpu', 'system']
+    """
+    import os
+
+    cpu = ""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                if line.lower().startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return {"cpu": cpu or platform.processor() or "unknown", "cores": cores, "system": platform.system(),
+            "arch": platform.machine()}
 
 
 def source_fingerprint(packages=("trackers", "scenes")) -> str:

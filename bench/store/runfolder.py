@@ -18,9 +18,9 @@ synthetic run folder (``<runs root>/<name>-<config hash>/`` by default)::
     metrics.csv        the same seed gives byte-identical files)
     timings.csv        ms_per_frame per tracker x experiment x region (machine dependent)
     samples.csv        the sample points, one depth-error column per tracker
-    summary.json       config, seed, versions, git revision, statistics, wall times
+    summary.json       config, seed, versions, git revision, machine, metrics.csv's sha256, statistics, wall times
     figures/*.png
-    report.html        self-contained report
+    report.html        the report (its figures linked from figures/)
 
 **One guard for every kind of run** (:data:`KINDS`: ``run``, ``real``,
 ``sweep``, ``track``, ``score``, ``export``): :meth:`RunFolder.open` locks the folder (a
@@ -53,7 +53,8 @@ from bench.store.summary import read_summary
 
 __all__ = ["FORMAT", "KINDS", "LAYOUT", "RunFolderError", "RunFolder", "default_run_dir", "named_run_dir",
            "safe_dir_name", "read_npz", "save_npz", "write_tables", "write_summary", "write_figdata", "write_gallery",
-           "load_summary", "load_metrics", "load_run", "METRIC_KEYS", "TIMING_COLUMNS", "write_metrics"]
+           "load_summary", "load_metrics", "load_run", "METRIC_KEYS", "TIMING_COLUMNS", "write_metrics",
+           "metrics_sha256"]
 
 FORMAT = 2  # run.json: 1 had no `kind` (every such folder is a synthetic run)
 _READS = (1, 2)
@@ -421,6 +422,34 @@ def load_summary(run_dir) -> dict:
     if not path.exists():
         raise RunFolderError(f"RUN must be a finished run folder (with summary.json), got {str(run_dir)!r}")
     return read_summary(path, kind=("run", "real", "score"))
+
+
+def metrics_sha256(run_dir, summary: dict) -> str:
+    """The sha256 of a run's ``metrics.csv``, checked against the one its summary recorded (runs that
+    recorded none: unchecked). A run's committed copy (``results/paper/``) needs only ``summary.json``
+    and ``metrics.csv``.
+
+    Raises
+    ------
+    RunFolderError
+        ``metrics.csv`` missing or unreadable, or not the file the summary was written with.
+    """
+    from bench.store.files import file_sha256
+
+    path = Path(run_dir) / LAYOUT["metrics_csv"]
+    kind = non_file_kind(path)
+    if kind is not None or not path.exists():
+        raise RunFolderError(f"RUN must hold the run's {LAYOUT['metrics_csv']}, got {str(path)!r} "
+                             f"({kind or 'missing'})")
+    try:
+        digest = file_sha256(path)
+    except OSError as exc:
+        raise os_error("read", path, exc) from None
+    recorded = summary.get("metrics_sha256")
+    if isinstance(recorded, str) and recorded != digest:
+        raise RunFolderError(f"{str(path)!r} is not the metrics file of this run's summary (sha256 {digest[:12]}, "
+                             f"the summary recorded {recorded[:12]}): copy both files from one run")
+    return digest
 
 
 def load_metrics(run_dir, *, timings: bool = False):

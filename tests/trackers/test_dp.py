@@ -213,7 +213,7 @@ def test_dp_path_accessor():
     assert total == pytest.approx(expected, rel=1e-9)
     rows, cols, total = DP8Tracker().path(img)  # the default h_weight: the shortest_path of the same costs
     assert total == pytest.approx(shortest_path(node_cost(img), 8, h_weight=DEFAULT_H_WEIGHT)[2], rel=1e-12)
-    assert DP8Tracker().get_params()["h_weight"] == DEFAULT_H_WEIGHT == 0.25
+    assert DP8Tracker().get_params()["h_weight"] == DEFAULT_H_WEIGHT == 0.05
 
 
 @pytest.mark.parametrize(

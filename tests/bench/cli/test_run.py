@@ -406,3 +406,26 @@ def test_a_full_disk_during_the_report_names_the_figure(tiny_run, tmp_path, caps
     monkeypatch.setattr(runfigures, "figure_workers", lambda n, workers=None: 0)  # drawn here, where the patch is
     assert main(["report", str(run_dir), "--quiet"]) == 2
     one_line_err(capsys, "no space left on the device", str(run_dir / "figures"), ".png")
+
+
+def test_a_run_prints_its_headline_with_the_verdicts(tiny_run, tmp_path, capsys, monkeypatch):
+    """`reproduce` / `run` end with the paper's claim per reading, as the report's headline gives it."""
+    import shutil
+
+    from bench.evaluate.readings import claims_of
+    from bench.run import experiment
+    from cli_helpers import TOML
+
+    out, _ = tiny_run
+    copy = tmp_path / "done"
+    shutil.copytree(out, copy)
+    monkeypatch.setattr(experiment, "run", lambda *a, **k: copy)  # the run itself: the finished tiny run
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(TOML)
+    assert main(["run", str(cfg), "--out", str(tmp_path / "new"), "--no-report", "--quiet"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    summary = json.loads((copy / "summary.json").read_text())
+    claim = summary["paper_claims"][0]
+    assert lines[0].startswith("The paper's claim in its condition (patchy cone; cone-patchy;")
+    assert lines[1].startswith(f"  {claim['baseline']} (") and lines[-1] == f"stripebench: results in {copy}"
+    assert f"the 30 % improvement: {claims_of(claim)['improvement']}" in lines[1]

@@ -5,6 +5,7 @@ import pytest
 from bench.config import RENDER_KEYS, ConfigError
 from bench.config.tune import DEFAULT_PROFILE, TUNE_RENDER_KEYS, load_profile, parse_profile
 from bench.store.textfiles import loads_toml
+from bench.studies.hard_frames import KINDS
 
 
 def _profile(**changes):
@@ -16,7 +17,7 @@ def _profile(**changes):
 
 
 def test_the_committed_profile_is_valid():
-    p = load_profile(DEFAULT_PROFILE)
+    p = load_profile(DEFAULT_PROFILE, KINDS)
     assert p.seed != 0 and p.render["n_angles"] >= 2
 
 
@@ -35,7 +36,7 @@ def test_the_render_table_is_the_runs_without_ambient_spp():
 ])
 def test_bad_values_raise_config_error_naming_the_key(changes, message):
     with pytest.raises(ConfigError, match=message):
-        parse_profile(_profile(**changes))
+        parse_profile(_profile(**changes), KINDS)
 
 
 def test_an_unreadable_profile_is_a_config_error(tmp_path):

@@ -84,7 +84,8 @@ def test_frame_record_false_lock_rate_needs_false_stripe_truth():
 def test_every_hit_rate_of_the_harness_uses_the_one_hit_rule():
     from bench.evaluate.metrics import HIT_PX, hit_rate, hits
     from bench.evaluate.simreal import image_metrics
-    from bench.studies.tune import hit_fraction
+    from bench.evaluate.outcomes import truth_states
+    from bench.studies.tuning import TuningFrame, frame_counts
 
     rng = np.random.default_rng(5)
     truth = rng.uniform(0, 100, 400)
@@ -93,5 +94,7 @@ def test_every_hit_rate_of_the_harness_uses_the_one_hit_rule():
     want = hits(pred, truth)[~np.isnan(truth)].mean()
     assert hit_rate(pred, truth) == pytest.approx(want)
     assert image_metrics(pred, truth)["hit_rate"] == pytest.approx(want)
-    assert hit_fraction(pred, truth, np.ones(400, bool), HIT_PX)[0] == pytest.approx(want)
+    frame = TuningFrame("renders", "f", "k", np.zeros((400, 1)), None, truth, truth_states(truth))
+    counts = frame_counts(pred, frame, HIT_PX)  # the tuning procedures' row outcomes: hits first
+    assert counts[0] / (~np.isnan(truth)).sum() == pytest.approx(want)
     assert 0.3 < want < 0.9

@@ -66,3 +66,39 @@ def test_fig10_of_two_readings_side_by_side_marks_where_the_threshold_sees_nothi
     assert "argmax where the threshold detects no stripe: 2, 2 outside ±5 mm" in labels[0]
     assert "threshold where the threshold detects no stripe: 2, 0 outside ±5 mm" in labels[1]
     assert "without DP: argmax (the brightest pixel of every row)" in titles[0] and "= 90 %" in titles[0]
+
+
+def test_fig10_names_the_papers_ratio_from_its_one_home(tmp_path, monkeypatch):
+    import matplotlib.axes
+
+    from bench.evaluate.outcomes import PAPER_IMPROVEMENT
+
+    titles = []
+    real_legend = matplotlib.axes.Axes.legend
+
+    def spy(self, *a, **k):
+        titles.append(self.get_title())
+        return real_legend(self, *a, **k)
+
+    monkeypatch.setattr(matplotlib.axes.Axes, "legend", spy)
+    s = pd.DataFrame({"error_mm_dp": [0.1, 0.2], "error_mm_th": [0.2, 9.0]})
+    stat = {"value": 0.9, "low": 0.8, "high": 0.95, "n": 2, "n_samples": 2}
+    figures.fig_samples(s, "dp", "th", tmp_path / "a.png", stat=stat)
+    figures.fig_samples(s, "dp", "th", tmp_path / "b.png", stat=stat, paper_improvement=0.25)
+    assert titles[0].endswith(f"paper: {100 * PAPER_IMPROVEMENT:.0f} %") and titles[1].endswith("paper: 25 %")
+
+
+def test_the_shapes_figure_draws_every_reading_and_every_submission():
+    from bench.config import profile
+    from bench.report.runfigures import shape_labels
+
+    cfg = profile("paper").to_dict()
+    shown, left = shape_labels({"config": cfg})
+    assert {"threshold", "threshold_gaps", "argmax"} <= set(shown)  # every reading of the paper's baseline
+    assert shown[0] == cfg["dp"][0] and "centroid" not in shown  # the headline's DP first; not a reading
+    assert set(shown) | set(left) == {t if isinstance(t, str) else t["label"] for t in cfg["trackers"]}
+    assert not set(shown) & set(left)
+    shown, _ = shape_labels({"config": cfg, "submission": {"label": "mine"}})
+    assert shown[-1] == "mine"
+    alone = {**cfg, "trackers": [], "baselines": [], "dp": []}  # score --alone: the submission only
+    assert shape_labels({"config": alone, "submission": {"label": "mine"}}) == (["mine"], [])

@@ -228,3 +228,57 @@ def test_figures_are_drawn_here_when_no_worker_process_starts(tiny_run, tmp_path
     assert figs["gallery"] and all(p.is_file() for p in figs["gallery"])
     assert "figures drawn in this process: the worker processes failed (OSError: no semaphores here)" in \
         capsys.readouterr().err
+
+
+def test_the_headline_says_not_determined_where_the_interval_is_as_wide_as_the_claim():
+    from bench.report.run import claims_html
+
+    figures = {"dp_within": 0.99, "dp_within_low": 0.97, "dp_within_high": 0.99, "baseline_within": 0.98,
+               "baseline_within_low": 0.95, "baseline_within_high": 0.99, "n": 300, "ratio_value": 0.86,
+               "ratio_low": 0.03, "ratio_high": 0.94, "ratio_n": 300, "n_samples": 300, "n_missing_dp": 0,
+               "n_missing_baseline": 0}
+    entry = {"baseline": "threshold", "reading": "filled", "description": "threshold, missed rows filled",
+             "paper_reading": False, "dp": "dp4_oneframe", "group": "condition:p", "experiments": ["a"],
+             "claims": {"most_within": "reproduced", "more_precise": "reproduced", "improvement": "reproduced"},
+             "figures": figures, "sentence": ""}
+    page = claims_html({"paper_claims": [entry], "conditions": [{"condition": "p", "experiments": ["a"]}]})
+    assert "? not determined" in page and "as wide as the claim" in page and "✔ reproduced</b> (RMSE" not in page
+    narrow = dict(entry, figures={**figures, "ratio_low": 0.22, "ratio_high": 0.41})
+    page = claims_html({"paper_claims": [narrow], "conditions": [{"condition": "p", "experiments": ["a"]}]})
+    assert "improvement <b>✔ reproduced</b>" in page and "not determined" not in page
+
+
+def test_the_page_links_its_figures_folds_the_rest_and_scrolls_wide_tables(tiny_run):
+    from html.parser import HTMLParser
+
+    out, _ = tiny_run
+    page = (out / "report.html").read_text()
+
+    class Walk(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.stack, self.loose, self.tables, self.folded_tables = [], [], 0, 0
+
+        def handle_starttag(self, tag, attrs):
+            a = dict(attrs)
+            if tag == "table":
+                self.tables += 1
+                boxed = any(t == "div" and "scroll" in (c or "").split() for t, c in self.stack)
+                if not boxed and "glance" not in (a.get("class") or ""):
+                    self.loose.append(a)
+                self.folded_tables += any(t == "details" for t, _ in self.stack)
+            if tag not in ("img", "br", "col", "meta", "input", "hr"):
+                self.stack.append((tag, a.get("class")))
+
+        def handle_endtag(self, tag):
+            while self.stack:
+                if self.stack.pop()[0] == tag:
+                    break
+
+    w = Walk()
+    w.feed(page)
+    assert w.tables > 5 and w.loose == []  # every table but the glance tables (fixed width) scrolls in a box
+    assert w.folded_tables >= 4  # the ratio, hit-rate and metrics tables are folded
+    assert "data:image" not in page and "<h2>Failure gallery</h2><details><summary>the " in page
+    assert "Drawn, one panel each: <code>dp4</code>, <code>dp8</code>, <code>threshold</code>" in page
+    assert "left out (see the tables): <code>centroid</code>" in page

@@ -2,6 +2,7 @@
 
 import csv
 import filecmp
+import hashlib
 import json
 
 import numpy as np
@@ -46,6 +47,8 @@ def test_summary_has_statistics_versions_and_revision(tiny_run):
     out, cfg = tiny_run
     s = json.loads((out / "summary.json").read_text())
     assert s["seed"] == 1 and s["paper_improvement"] == 0.30
+    assert s["metrics_sha256"] == hashlib.sha256((out / "metrics.csv").read_bytes()).hexdigest()
+    assert set(s["machine"]) == {"cpu", "cores", "system", "arch"} and s["machine"]["cores"] >= 1
     assert {"numpy", "mitsuba", "drjit", "numba"} <= set(s["versions"]) and s["git_revision"]
     groups = {(i["group"], i["dp"], i["baseline"], i["statistic"]) for i in s["improvement"]}
     assert ("all", "dp4", "threshold", "rmse") in groups and ("cone-patchy", "dp8", "threshold", "std") in groups
@@ -55,12 +58,17 @@ def test_summary_has_statistics_versions_and_revision(tiny_run):
     assert s["coverage"] and all(0 <= c["coverage"] <= 1 for c in s["coverage"] if c["coverage"] == c["coverage"])
 
 
-def test_report_is_self_contained(tiny_run):
+def test_report_links_its_own_figures(tiny_run):
+    import re
+
     out, _ = tiny_run
     page = (out / "report.html").read_text()
-    assert page.count("data:image/png;base64,") >= 4 and "src=\"http" not in page
+    srcs = re.findall(r'<img src="([^"]+)"', page)
+    assert len(srcs) >= 4 and "data:image" not in page and "src=\"http" not in page
+    assert all(s.startswith("figures/") and (out / s).is_file() for s in srcs)  # every figure beside the page
+    assert {p.name for p in (out / "figures").glob("*.png")} == {s.removeprefix("figures/") for s in srcs}
     for section in ("Which tracker is more precise", "The paper's condition: patchy cone", "At a glance",
-                    "Every sample (Fig. 10)", "Failure gallery", "The paper's statistic", "Hit rate and coverage"):
+                    "Every sample (Fig. 10)", "Failure gallery", "The paper's statistic", "Both halves per experiment"):
         assert section in page, section
 
 

@@ -16,6 +16,9 @@ trackers = ["dp4"]
 h_weights = [1.0, 0.1]
 hit_px = 3.0
 tie = 0.005
+seeds = [100]
+kinds = ["plain"]
+check_real = false
 [render]
 width = 64
 height = 60
@@ -34,11 +37,13 @@ def test_docstring_examples():
 
 def test_the_committed_profile_follows_the_rules():
     p = tune.load_profile(tune.DEFAULT_PROFILE)
-    assert p.seed != 0
-    assert {e["scene"] for e in p.experiments} == {"sphere", "plane"}
-    assert {e["material"] for e in p.experiments} == {"matte", "patchy", "absorbing", "glossy"}
+    assert p.seed != 0 and 0 not in p.seeds
+    assert {e["scene"] for e in p.experiments} == {"sphere", "plane"}  # never the paper's cone or hand
+    assert {"matte", "patchy", "absorbing", "glossy", "specular"} <= {e["material"] for e in p.experiments}
+    assert {e.get("background") for e in p.experiments} == {None, "none"}  # both geometries
     assert p.render["width"] == 512 and p.render["height"] == 480
-    assert set(p.trackers) == {"dp4", "dp8"} and 1.0 in p.h_weights
+    assert set(p.trackers) == {"dp4", "dp8"} and 1.0 in p.h_weights and 0.25 in p.h_weights
+    assert p.kinds and p.seeds and p.check_real
 
 
 @pytest.mark.parametrize(
@@ -52,6 +57,10 @@ def test_the_committed_profile_follows_the_rules():
         (("hit_px = 3.0\n", ""), r"`profile` lacks the key 'hit_px'"),
         (("spp = 2\n", ""), r"`render` must have exactly the keys"),
         (('material = "matte"\n', ""), r"`experiments` entries need `scene` and `material`"),
+        (('kinds = ["plain"]', 'kinds = ["nope"]'), r"`kinds` must be a list of printed, "),
+        (("seeds = [100]", "seeds = [-1]"), r"`seeds` must be a list of integers >= 0"),
+        (("check_real = false", "check_real = 1"), r"`check_real` must be"),
+        (("check_real = false\n", ""), r"`profile` lacks the key 'check_real'"),
     ],
 )
 def test_bad_profiles_name_the_key(tmp_path, edit, message):
@@ -69,40 +78,56 @@ def test_a_missing_profile_is_one_line_and_status_2(tmp_path, capsys):
     assert len(err) == 1 and "cannot read tuning profile" in err[0] and "no such file" in err[0]
 
 
-def test_hit_fraction_counts_missed_rows_as_misses():
-    truth = np.array([[10.0, 20.0, 30.0, np.nan], [5.0, 5.0, 5.0, 5.0]])
-    on = np.array([[True, True, True, True], [False, True, False, False]])
-    cols = np.array([[13.0, np.nan, 33.5, 1.0], [50.0, 2.5, 5.0, 5.0]])
-    # lit rows: (0,0) hit at 3 px, (0,1) missed, (0,2) 3.5 px off, (1,1) 2.5 px: hit; (0,3) has no truth
-    assert tune.hit_fraction(cols, truth, on, 3.0) == (0.5, 4)
-    assert np.isnan(tune.hit_fraction(cols, truth, np.zeros_like(on), 3.0)[0])
-
-
 def test_ties_go_to_the_larger_h_weight():
     assert tune.choose({1.0: 0.5, 0.5: 0.7, 0.25: 0.704, 0.1: 0.69}, tie=0.005) == 0.5
     assert tune.choose({1.0: 0.5, 0.5: 0.7, 0.25: 0.71}, tie=0.005) == 0.25
     assert tune.choose({1.0: 0.5, 0.5: 0.7, 0.25: 0.71}, tie=0.0) == 0.25
 
 
-@pytest.mark.slow
-def test_a_small_run_writes_its_outputs_and_resumes(tmp_path, capsys):
+def test_the_choice_is_the_objective_over_renders_and_synthetic_frames(tmp_path):
+    """Both halves: each h_weight's score is the tuning objective of its pooled row outcomes (a false
+    report lowers it as a miss does), the photographs are scored beside and never move it."""
+    from bench.evaluate.outcomes import COUNT_KEYS, detection_figures
+    from bench.studies import tuning
+
     path = tmp_path / "p.toml"
-    path.write_text(TINY + '\n[[experiments]]\nscene = "plane"\nmaterial = "absorbing"\nambient_lux = 200\n')
-    out = tmp_path / "out"
-    assert _main(["tune", "dp", "--profile", str(path), "--out", str(out), "--quiet"]) == 0
-    line = capsys.readouterr().out.strip().splitlines()
-    assert len(line) == 1 and line[0].startswith("chosen h_weight = ")
-    rows = (out / "tune.csv").read_text().strip().splitlines()
-    assert rows[0] == "h_weight,tracker,experiment,hit_fraction,rows" and len(rows) == 1 + 2 * 2
-    assert "plane-absorbing_ambient_lux=200" in (out / "tune.csv").read_text()
-    assert (out / "tune_dp.png").stat().st_size > 1000
-    ckpts = sorted(p.name for p in (out / "checkpoints").iterdir())
-    assert ckpts == ["plane-absorbing_ambient_lux=200.npz", "sphere-matte.npz"]
-    stamps = {p: p.stat().st_mtime_ns for p in (out / "checkpoints").iterdir()}
-    chosen, scores, _ = tune.run(tune.load_profile(path), out, progress=False)
-    assert chosen in (1.0, 0.1) and set(scores) == {1.0, 0.1}
-    # resumed from the checkpoints: nothing re-rendered, the checkpoints rewritten with the same content
-    assert all(pathlib.Path(p).exists() for p in stamps)
+    path.write_text(TINY)
+    profile = tune.load_profile(path)
+    chosen, summary, records = tune.run(profile, tmp_path / "a", progress=False)
+    assert set(summary["scores"]) == {"h_weight=1", "h_weight=0.1"} and summary["objective_groups"] == [
+        "renders", "synthetic"]
+    for key, figs in summary["figures"].items():
+        assert set(figs) == {"renders", "synthetic"}
+        counts = {g: np.array([f[k] for k in COUNT_KEYS]) for g, f in figs.items()}
+        assert summary["scores"][key] == pytest.approx(tuning.objective(counts))
+        for g, f in figs.items():
+            assert f["false_report_rate"] == detection_figures(counts[g])["false_report_rate"]
+            assert f["n_false"] + f["n_quiet"] > 0  # the frames have stripe-less rows: the false half is priced
+    # the records are the figures' counts split by tracker and kind
+    for key in summary["figures"]:
+        for g in ("renders", "synthetic"):
+            assert sum(r["n_false"] for r in records if r["setting"] == key and r["group"] == g) == \
+                summary["figures"][key][g]["n_false"]
+    eligible = {float(k.split("=")[1]): summary["scores"][k] for k in summary["eligible"]}
+    assert chosen == tune.choose(eligible, profile.tie)
+    head = (tmp_path / "a" / "tune.csv").read_text().splitlines()[0]
+    assert head == ",".join(tuning.RECORD_FIELDS)
+    assert (tmp_path / "a" / "tune_dp.png").stat().st_size > 1000
+    # a pretend photograph group: scored beside (its own figures), the scores and the choice unchanged
+    photo = tuning.TuningFrame("real", "p", "rig", np.full((40, 30), 10, np.uint8), None,
+                               np.r_[np.full(20, 15.0), np.full(20, np.nan)],
+                               np.r_[np.ones(20, np.int8), np.zeros(20, np.int8)])
+    photo.image[:20, 15] = 200
+    photo.image[20:, 3] = 90  # a bright line where there is no stripe: a report there is false
+    import unittest.mock as mock
+
+    with mock.patch.object(tuning, "real_frames", return_value=[photo]):
+        profile.check_real = True
+        chosen2, summary2, _ = tune.run(profile, tmp_path / "b", progress=False)
+    assert chosen2 == chosen and summary2["scores"] == summary["scores"]
+    assert all("real" in figs for figs in summary2["figures"].values())
+    lines = tune.table_lines(summary2, [1.0, 0.1], 0.1)
+    assert "real (beside, not in the objective)" in lines[0] and len(lines) == 3
 
 
 def test_stripebench_tune_dp_runs_the_procedure(tmp_path, capsys):
@@ -111,6 +136,8 @@ def test_stripebench_tune_dp_runs_the_procedure(tmp_path, capsys):
     path = tmp_path / "p.toml"
     path.write_text(TINY)
     assert main(["tune", "dp", "--profile", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
-    assert capsys.readouterr().out.startswith("chosen h_weight = ")
+    out = capsys.readouterr().out.strip().splitlines()
+    assert out[0].startswith("frames: synthetic 1, renders 3, real 0; objective: the mean over renders, synthetic")
+    assert out[-1].startswith("chosen h_weight = ") and "recall" in out[2] and "false reports" in out[2]
     assert (tmp_path / "o" / "tune.csv").is_file()
     assert main(["tune", "dp", "--profile", str(tmp_path / "nope.toml"), "--out", str(tmp_path / "o")]) == 2

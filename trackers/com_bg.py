@@ -14,7 +14,7 @@ __all__ = ["ComBgTracker", "DEFAULT_FRAC"]
 
 #: Default threshold-to-zero level as a fraction of each row's peak contrast
 #: (chosen by ``stripebench tune threshold``).
-DEFAULT_FRAC = 0.25
+DEFAULT_FRAC = 0.1
 
 
 class ComBgTracker(WindowedPeakTracker):

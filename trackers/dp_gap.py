@@ -36,7 +36,7 @@ __all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_
 #: ``dp_gap``'s default off level, as a fraction of the way from the frame's
 #: background to its typical row maximum (chosen by ``stripebench tune dp_gap``, stage 1: the mean
 #: over renders, synthetic frames and photographs of F1 over rows).
-DEFAULT_OFF_REL = 0.2
+DEFAULT_OFF_REL = 0.5
 #: ``dp_gap``'s default switch cost, in rows of the off cost (chosen by
 #: ``stripebench tune dp_gap``, stage 1).
 DEFAULT_SWITCH_ROWS = 3.0

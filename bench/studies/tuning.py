@@ -395,7 +395,8 @@ def judged_lines(judged: dict) -> list[str]:
                if judged["kept"] == judged["in_sample"] and judged["in_sample"] != judged["renders_only"] else
                "the renders' choice is the same" if judged["in_sample"] == judged["renders_only"] else
                "the photographs do not improve on the renders' choice leave one rig out: kept the renders' choice")
-    return [f"  on the photographs ({len(judged['rigs'])} rigs): in sample {fig('in_sample')}; "
+    named = "" if judged["in_sample"] == judged["kept"] else f" ({judged['in_sample']})"
+    return [f"  on the photographs ({len(judged['rigs'])} rigs): in sample{named} {fig('in_sample')}; "
             f"leave one rig out {fig('loro')} ({folds})",
             f"  chosen on renders and synthetic frames alone: {judged['renders_only']}, {fig('renders_only')}; "
             f"{verdict}"]

@@ -38,9 +38,8 @@ for _name, _target in {
 del _name, _target
 # another program as a tracker: it needs its `command`, so it is not in the default list
 _REGISTRY.register("external", "trackers.external:ExternalTracker", listed=False)
-# the network trained on renders (trackers/models/learned.npz): unlisted (the `field` profile names it), so that
-# `trackers = []` (every listed tracker) keeps its results
-_REGISTRY.register("learned", "trackers.learned:LearnedTracker", listed=False)
+# the network trained on renders only (trackers/models/learned.npz, docs/learned.md)
+_REGISTRY.register("learned", "trackers.learned:LearnedTracker")
 
 
 def available(*, unlisted: bool = False) -> list[str]:

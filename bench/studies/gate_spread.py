@@ -118,7 +118,7 @@ REFERENCE = "here"
 GATE_ENV = {"STRIPEBENCH_LLVM_TARGET": "portable"}
 
 #: The trackers of the real-photograph gate (``.ci/run`` passes the same list; a test checks it).
-REAL_TRACKERS = "blais_rioux,centroid,com_bg,dp4,dp8,dp8_subpixel,dp_gap,gauss3,parabolic,steger,threshold"
+REAL_TRACKERS = "blais_rioux,centroid,com_bg,dp4,dp8,dp8_subpixel,dp_gap,gauss3,learned,parabolic,steger,threshold"
 #: gate -> (CLI arguments of its run before ``--out``, baseline file name)
 GATES: dict[str, tuple[tuple[str, ...], str]] = {
     "ci": (("run", "--profile", "ci", "--force", "--quiet"), "ci.json"),

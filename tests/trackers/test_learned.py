@@ -149,3 +149,38 @@ def test_numpy_forward_equals_flax_and_a_tiny_training_run_learns_a_stripe(jax_c
     best = table[choose_threshold(table)]
     # held-out synthetic frames: at least 95 % of the stripe rows hit, at most 2 % false reports
     assert best["hit_rate"] >= 0.95 and best["false_report_rate"] <= 0.02, best
+
+
+def test_frames_in_other_units_reach_the_network_in_8_bit_dn():
+    img, _ = make_stripe_image(seed=2)
+    f = img.astype(np.float64)
+    same, _ = lk.in_dn(f)
+    assert np.array_equal(same, f)  # 8-bit values pass unchanged (the shipped set's results stay byte for byte)
+    view = f * 0.7 + 0.25  # a colour view of an 8-bit photograph: [0, 255], not whole numbers
+    assert np.array_equal(lk.in_dn(view)[0], view)
+    for other in (img.astype(np.uint16) * 257, f - 300, f * 1e300, f * 1e-300, (f - f.min()) / np.ptp(f)):
+        got, _ = lk.in_dn(other)
+        assert got.min() == 0 and got.max() == 255
+        assert np.allclose(got, (f - f.min()) * 255 / np.ptp(f), rtol=0, atol=1e-9)
+    on, off = lk.in_dn(f * 1000, f * 500)  # one map for the pair: the difference keeps its sign
+    assert on.max() == 255 and off.min() == 0 and np.all(on >= off)
+    blank, bg = lk.in_dn(np.full((4, 5), 7e5), np.full((4, 5), 7e5))
+    assert not blank.any() and not bg.any()
+    assert np.all(np.isnan(LearnedTracker().track(np.full((40, 50), 1e-300)).columns))
+
+
+def test_border_candidates_leave_the_inner_ones_unchanged(monkeypatch):
+    img, _ = make_stripe_image(seed=4)
+    img[:, 0] = 250  # a sharp line on the first column
+    feats, cols, base = lk.features(img, None)
+    assert feats.shape[1] == lk.K + 2 and np.all(cols[:, lk.K] == 0) and np.all(base[:, lk.K] == 0)
+    monkeypatch.setattr(lk, "BORDER_RUN_PX", -1)  # no border candidate at all
+    f0, c0, b0 = lk.features(img, None)
+    assert np.all(c0[:, lk.K:] == -1)
+    # the inner candidates and their features do not depend on the border ones (8-bit results stay as they were)
+    assert np.array_equal(c0[:, :lk.K], cols[:, :lk.K]) and np.array_equal(f0[:, :lk.K], feats[:, :lk.K])
+    assert np.array_equal(b0[:, :lk.K], base[:, :lk.K], equal_nan=True)
+    monkeypatch.undo()
+    wide = make_stripe_image(seed=4)[0]
+    wide[:, :lk.BORDER_RUN_PX + 1] = 250  # a bright band wider than BORDER_RUN_PX at the border: no candidate
+    assert np.all(lk.features(wide, None)[1][:, lk.K] == -1)

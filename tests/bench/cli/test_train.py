@@ -65,3 +65,39 @@ def test_trainset_then_train_writes_weights_the_tracker_reads(tmp_path, capsys, 
     assert main(["train", str(ts), "--from-weights", str(tmp_path / "none.npz"), "--out", str(again)]) == 2
     err = capsys.readouterr().err.strip()
     assert "cannot read learned weights" in err and "\n" not in err
+
+
+def test_damaged_weights_stop_run_track_and_train_in_one_line_before_any_work(tmp_path, capsys):
+    from trackers.learned import DEFAULT_WEIGHTS
+
+    bad = tmp_path / "w.npz"
+    bad.write_bytes(DEFAULT_WEIGHTS.read_bytes()[:5000])  # truncated
+    spec = f'{{name="learned",params={{weights="{bad}"}}}}'
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(f'name = "x"\ntrackers = [{spec}]\n')
+    image = str(next(p for p in sorted((DEFAULT_WEIGHTS.parents[2] / "bench" / "data" / "real").glob("*.png"))))
+    out = tmp_path / "out"
+    for argv in (["run", str(cfg), "--out", str(out)],
+                 ["run", "--profile", "ci", "--trackers", spec, "--out", str(out)],
+                 ["track", image, "--out", str(out), "--trackers", spec],
+                 ["train", str(tmp_path), "--from-weights", str(bad), "--out", str(out / "w.npz")]):
+        try:
+            code = main(argv)
+        except SystemExit as exc:
+            code = exc.code
+        err = capsys.readouterr().err.strip()
+        assert code == 2, argv
+        assert "learned weights" in err and str(bad) in err and "not a readable .npz archive" in err, err
+        assert "\n" not in err and not out.exists(), argv
+
+
+def test_train_writes_under_the_runs_folder_by_default_never_over_the_shipped_weights(tmp_path, monkeypatch):
+    from bench.cli import build_parser
+    from bench.cli.train import default_weights_out
+    from trackers.learned import DEFAULT_WEIGHTS
+
+    monkeypatch.setenv("STRIPEBENCH_RUNS", str(tmp_path / "runs"))
+    args = build_parser().parse_args(["train", str(tmp_path / "ts-a"), "--seed", "3"])
+    assert args.out is None
+    out = default_weights_out(args.trainset, args.seed)
+    assert out == tmp_path / "runs" / "learned" / "ts-a-seed3.npz" and out.resolve() != DEFAULT_WEIGHTS

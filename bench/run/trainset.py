@@ -284,7 +284,9 @@ def _execute(units, root, *, workers: int | None, scheduler: str | None, say) ->
         return {"engine": "sync", "workers": 0}
     import logging
 
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import Client, as_completed
+
+    from bench.run.cluster import local_cluster
 
     from scenes import variant as _variant
 
@@ -294,8 +296,7 @@ def _execute(units, root, *, workers: int | None, scheduler: str | None, say) ->
         client = Client(scheduler, timeout=30)
     else:
         env = {_variant.ENV_VARIANT: _variant.choose()}
-        cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=None, env=env, silence_logs=logging.ERROR)
+        cluster = local_cluster(int(workers), env)
         client = Client(cluster, timeout=30)
     try:
         futs = [client.submit(render_unit, u, str(root), pure=False, key=f"trainset-{u['unit']}-{time.time_ns()}")

@@ -37,7 +37,9 @@ class OneLineParser(argparse.ArgumentParser):
     """argparse with one-line errors (``stripebench: error: ...``, exit status 2)."""
 
     def error(self, message):
-        self.exit(2, f"stripebench: error: {message} (see `{self.prog} -h`)\n")
+        from bench.errors import one_line
+
+        self.exit(2, f"stripebench: error: {one_line(message)} (see `{self.prog} -h`)\n")
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):

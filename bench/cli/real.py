@@ -90,8 +90,10 @@ def _real(args) -> int:
     if extra:  # sets made elsewhere carry more columns: listed once, then ignored
         print(f"stripebench real: manifest.csv: ignored column(s): {', '.join(extra)}", file=sys.stderr)
     if args.check:  # one line per problem
+        from bench.errors import one_line
+
         for line in problems:
-            print(f"stripebench real: {line}", file=sys.stderr)
+            print(f"stripebench real: {one_line(line)}", file=sys.stderr)
         if problems:
             return 2
         print(f"stripebench real: {dataset} is a valid real set")

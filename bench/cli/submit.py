@@ -87,8 +87,10 @@ def _score(args) -> int:
                     trackers=() if args.alone else args.trackers,
                     split=args.split, quiet=args.quiet, force=args.force)
     except SubmissionError as exc:
+        from bench.errors import one_line
+
         for line in exc.problems:
-            print(f"stripebench score: {line}", file=sys.stderr)
+            print(f"stripebench score: {one_line(line)}", file=sys.stderr)
         return 2
     if args.no_report:
         print(f"stripebench: results in {out}")

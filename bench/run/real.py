@@ -21,6 +21,7 @@ import sys
 import time
 from pathlib import Path
 
+from bench.errors import one_line
 from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, row_outcomes
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
@@ -133,12 +134,12 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
             if bg is not None and bg.shape != frame.shape:
                 raise real.ImageError(f"{str(p)!r}: background {bg_name} has shape {bg.shape}, the image {frame.shape}")
         except real.ImageError as exc:
-            print(f"stripebench track: {exc}", file=err)
+            print(f"stripebench track: {one_line(exc)}", file=err)
             failed += 1
             continue
         note = real.orientation_note(p, rotate_deg)
         if note:
-            print(f"stripebench track: {note}", file=err)
+            print(f"stripebench track: {one_line(note)}", file=err)
         res = _track_all(trackers, frame, bg)
         tracks = {lab: r[0] for lab, r in res.items()}
         name = names[p]

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.errors import quoted
 from bench.store.files import RunFolderError, atomic_write_bytes, atomic_write_text, check_format
 from bench.store.textfiles import loads_csv
 
@@ -289,18 +290,18 @@ def read_frameset(root) -> FrameSet:
             raise FrameSetError(f"{str(fpath)!r} line {n}: angle_deg, height or width is not a number") from None
         if f["split"] not in SPLITS or f["experiment"] not in keys or f["frame"] in index:
             raise FrameSetError(f"{str(fpath)!r} line {n}: bad split, unknown experiment or repeated frame "
-                                f"{f['frame']!r}")
+                                f"{quoted(f['frame'])}")
         if not (1 <= f["height"] <= MAX_SIDE and 1 <= f["width"] <= MAX_SIDE):
             raise FrameSetError(f"{str(fpath)!r} line {n}: height and width must be 1..{MAX_SIDE}, got "
                                 f"{f['height']}x{f['width']}")
         if sizes.setdefault(f["experiment"], (f["height"], f["width"])) != (f["height"], f["width"]):
-            raise FrameSetError(f"{str(fpath)!r} line {n}: frame {f['frame']!r} is {f['height']}x{f['width']}, but "
+            raise FrameSetError(f"{str(fpath)!r} line {n}: frame {quoted(f['frame'])} is {f['height']}x{f['width']}, but "
                                 f"experiment {f['experiment']!r} is {'x'.join(map(str, sizes[f['experiment']]))}")
         for col in ("image", "background"):
             rel = Path(f[col])
             inside = not rel.is_absolute() and top in (top / rel).resolve().parents
             if not inside:
-                raise FrameSetError(f"{str(fpath)!r} line {n}: {col} {f[col]!r} must be a path inside the frame set")
+                raise FrameSetError(f"{str(fpath)!r} line {n}: {col} {quoted(f[col])} must be a path inside the frame set")
         index[f["frame"]] = f
         frames.append(f)
     return FrameSet(root, meta, frames, index)
@@ -396,7 +397,7 @@ def _csv_reader(path: Path, columns, expected: str, digest, tag: bytes = b""):
     missing = [c for c in columns if c not in header]
     if missing:
         return None, None, (f"{path} line 1: missing header column(s) {', '.join(missing)} "
-                            f"(expected {expected}, got {','.join(header)!r})")
+                            f"(expected {expected}, got {quoted(','.join(header))})")
     return header, reader, None
 
 
@@ -449,24 +450,24 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
         fr, row_s, col_s = (line[at[c]].strip() for c in SUBMISSION_COLUMNS)
         meta = frameset.index.get(fr)
         if meta is None:
-            problems.append(f"{where}: unknown frame {fr!r}")
+            problems.append(f"{where}: unknown frame {quoted(fr)}")
             continue
         try:
             row = int(row_s)
         except ValueError:
-            problems.append(f"{where}: row {row_s!r} is not an integer")
+            problems.append(f"{where}: row {quoted(row_s)} is not an integer")
             continue
         if not 0 <= row < meta["height"]:
-            problems.append(f"{where}: row {row} out of range [0, {meta['height']}) of frame {fr!r}")
+            problems.append(f"{where}: row {row} out of range [0, {meta['height']}) of frame {quoted(fr)}")
             continue
         if (fr, row) in seen:
-            problems.append(f"{where}: duplicate row {row} of frame {fr!r}")
+            problems.append(f"{where}: duplicate row {row} of frame {quoted(fr)}")
             continue
         seen.add((fr, row))
         if col_s:
             c = _finite(col_s)
             if c is None:
-                problems.append(f"{where}: col {col_s!r} is not a finite number")
+                problems.append(f"{where}: col {quoted(col_s)} is not a finite number")
                 continue
             if c < -0.5 or c > meta["width"] - 0.5:
                 problems.append(f"{where}: col {c!r} outside the image (-0.5 to {meta['width'] - 0.5!r})")
@@ -475,7 +476,7 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
         if "score" in at and line[at["score"]].strip():
             s = _finite(line[at["score"]].strip())
             if s is None:
-                problems.append(f"{where}: score {line[at['score']].strip()!r} is not a finite number")
+                problems.append(f"{where}: score {quoted(line[at['score']].strip())} is not a finite number")
                 continue
             scores[fr][row] = s
     ms = {f: float("nan") for f in frameset.index}
@@ -489,11 +490,11 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
             for where, line in _csv_lines(tpath, th, treader, problems):
                 fr, v = line[th.index("frame")].strip(), line[th.index("ms")].strip()
                 if fr not in frameset.index:
-                    problems.append(f"{where}: unknown frame {fr!r}")
+                    problems.append(f"{where}: unknown frame {quoted(fr)}")
                 elif fr in tseen:
-                    problems.append(f"{where}: duplicate frame {fr!r}")
+                    problems.append(f"{where}: duplicate frame {quoted(fr)}")
                 elif _finite(v) is None or float(v) < 0:
-                    problems.append(f"{where}: ms {v!r} is not a finite number >= 0")
+                    problems.append(f"{where}: ms {quoted(v)} is not a finite number >= 0")
                 else:
                     tseen.add(fr)
                     ms[fr] = float(v)

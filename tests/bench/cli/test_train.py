@@ -101,3 +101,36 @@ def test_train_writes_under_the_runs_folder_by_default_never_over_the_shipped_we
     assert args.out is None
     out = default_weights_out(args.trainset, args.seed)
     assert out == tmp_path / "runs" / "learned" / "ts-a-seed3.npz" and out.resolve() != DEFAULT_WEIGHTS
+
+
+@pytest.mark.parametrize("damage, message", [
+    (lambda p: p.write_text("{not json"), "is not valid JSON"),
+    (lambda p: p.write_bytes(b"\xff\xfe"), "is not UTF-8 text"),
+    (lambda p: p.mkdir(), "is not a regular file (a folder)"),
+    (lambda p: __import__("os").mkfifo(p), "is not a regular file (a FIFO)"),
+    (lambda p: p.write_text("[" * 100000), "nested too deeply"),
+    (lambda p: p.write_text('["x"]'), "holds a training set of other settings"),
+])
+def test_trainset_over_a_damaged_identity_file_is_one_line(tmp_path, capsys, damage, message):
+    out = tmp_path / "ts"
+    out.mkdir()
+    (out / "images").mkdir()
+    damage(out / "trainset.identity.json")
+    assert main(["trainset", "--out", str(out), "--units", "1", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "trainset.identity.json" in err and "\n" not in err, err
+
+
+def test_train_over_a_damaged_training_set_is_one_line(tmp_path, capsys):
+    from bench.run.trainset import FORMAT, read_trainset
+    from bench.errors import InputError
+
+    ts = tmp_path / "ts"
+    ts.mkdir()
+    (ts / "trainset.json").write_text("[1, 2]")
+    (ts / "frames.csv").write_text("frame\nx\n")
+    with pytest.raises(InputError, match="is not a training set of format"):
+        read_trainset(ts)
+    (ts / "trainset.json").write_text(f'{{"kind": "stripebench-trainset", "format": {FORMAT}}}')
+    with pytest.raises(InputError, match="no column 'image'"):
+        read_trainset(ts)

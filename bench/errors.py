@@ -70,7 +70,7 @@ def one_line(text, limit: int = LINE_CHARS) -> str:
 
     Examples
     --------
-    >>> one_line("first\nsecond")
+    >>> one_line("first\\nsecond")
     'first second'
     >>> one_line("y" * 50, limit=10)
     'yyyyyyyyyy... (50 characters)'

@@ -108,6 +108,12 @@ def main(argv=None) -> int:
     except OSError as exc:
         print(f"stripebench: error: {one_line(_os_message(exc))}", file=sys.stderr)
         return 2
+    except RuntimeError as exc:  # Python < 3.13: Path.resolve() on a symbolic link that points at itself
+        if not str(exc).startswith("Symlink loop from "):
+            raise
+        print(f"stripebench: error: cannot use {one_line(str(exc)[len('Symlink loop from '):])}: a symbolic link "
+              "loop", file=sys.stderr)
+        return 2
     except MemoryError:
         print("stripebench: error: out of memory; use fewer or smaller frames (see docs/errors.md)", file=sys.stderr)
         return 2

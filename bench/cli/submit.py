@@ -48,9 +48,10 @@ def _export(args) -> int:
     check_env()
     check_out_folder(args.out)
     if args.participants is not None:
+        from bench.run.export import check_bundle_folder
+
         check_out_folder(args.participants, "--participants")
-        if args.participants.resolve() == args.out.resolve():
-            raise UsageError("--participants must be another folder than --out")
+        check_bundle_folder(args.out, args.participants)
     out = export(config, args.out, test_fraction=args.test_fraction, quiet=args.quiet, force=args.force)
     print(f"stripebench: frame set at {out}")
     if args.participants is not None:

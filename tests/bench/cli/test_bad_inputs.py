@@ -29,3 +29,18 @@ def test_export_refuses_a_bundle_inside_or_around_the_frame_set_before_rendering
     assert main(["export", str(config_file), "--out", "out", "--participants", bundle, "--quiet"]) == 2
     assert "must be a folder apart from the frame set" in _one_line(capsys)
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("member", ["manifest.csv", "ag_tape_ref.csv"])
+def test_a_fifo_in_a_real_set_is_refused_without_waiting(tmp_path, capsys, member):
+    import shutil
+
+    from bench.store.realset import SHIPPED
+
+    real = tmp_path / "real"
+    shutil.copytree(SHIPPED, real)
+    (real / member).unlink()
+    os.mkfifo(real / member)
+    assert main(["real", str(real), "--check"]) == 2  # would block forever on open() of the FIFO
+    err = capsys.readouterr().err
+    assert ("no manifest.csv" in err) if member == "manifest.csv" else ("missing reference ag_tape_ref.csv" in err)

@@ -42,7 +42,7 @@ import numpy as np
 
 from bench.errors import quoted
 from bench.store.files import RunFolderError, atomic_write_bytes, atomic_write_text, check_format
-from bench.store.textfiles import loads_csv
+from bench.store.textfiles import loads_csv, read_text
 
 __all__ = ["FORMAT", "SPLITS", "FRAME_COLUMNS", "TRUTH_COLUMNS", "SUBMISSION_COLUMNS", "TIMES_COLUMNS",
            "FrameSetError", "FrameSet", "Submission", "frame_id", "split_of", "png_bytes", "truth_csv",
@@ -384,11 +384,11 @@ def _csv_reader(path: Path, columns, expected: str, digest, tag: bytes = b""):
     must hold ``columns`` (``expected`` spells the header in the message). Returns (header, reader
     of the lines after it, None), or (None, None, the problem: one line naming the file)."""
     try:
-        data = path.read_bytes()
-        digest.update(tag + data)
-        text = data.decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        return None, None, f"{path}: cannot read it ({type(exc).__name__})"
+        data = read_text(path, path.name, error=ValueError).encode("utf-8")  # a regular file, bounded, UTF-8
+    except ValueError as exc:
+        return None, None, f"{path}: {str(exc).replace(f' {str(path)!r}', '')}"
+    digest.update(tag + data)
+    text = data.decode("utf-8")
     try:
         reader = iter(loads_csv(text, str(path), error=ValueError, header=False))
     except ValueError as exc:
@@ -436,7 +436,7 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
     sub = folder / "submission.csv"
     if not folder.is_dir():
         return None, [f"SUBMISSION must be a folder with submission.csv, got {str(folder)!r}"]
-    if not sub.is_file():
+    if not sub.exists():
         return None, [f"{sub}: missing (a submission folder holds submission.csv and optionally times.csv)"]
     digest = hashlib.sha256()
     header, reader, problem = _csv_reader(sub, SUBMISSION_COLUMNS, "frame,row,col[,score]", digest)
@@ -481,7 +481,9 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
             scores[fr][row] = s
     ms = {f: float("nan") for f in frameset.index}
     tpath = folder / "times.csv"
-    if tpath.is_file():
+    if tpath.exists() and not tpath.is_file():
+        problems.append(f"{tpath}: not a regular file (times.csv is optional; remove it or make it a CSV file)")
+    elif tpath.is_file():
         th, treader, problem = _csv_reader(tpath, TIMES_COLUMNS, "frame,ms", digest, b"\0times\0")
         if problem is not None:
             problems.append(problem)

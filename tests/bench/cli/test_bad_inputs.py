@@ -44,3 +44,22 @@ def test_a_fifo_in_a_real_set_is_refused_without_waiting(tmp_path, capsys, membe
     assert main(["real", str(real), "--check"]) == 2  # would block forever on open() of the FIFO
     err = capsys.readouterr().err
     assert ("no manifest.csv" in err) if member == "manifest.csv" else ("missing reference ag_tape_ref.csv" in err)
+
+
+@pytest.mark.parametrize("member, kind, message", [
+    ("times.csv", "dir", "times.csv: not a regular file"),
+    ("times.csv", "fifo", "times.csv: not a regular file"),
+    ("submission.csv", "fifo", "submission.csv: submission.csv is not a regular file (a FIFO)"),
+    ("submission.csv", "dir", "submission.csv: submission.csv is not a regular file (a folder)"),
+])
+def test_score_refuses_a_submission_file_that_is_not_a_regular_file(tiny_export, tmp_path, capsys, member, kind,
+                                                                     message):
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    if member == "times.csv":
+        (sub / "submission.csv").write_text("frame,row,col\n")
+    target = sub / member
+    target.mkdir() if kind == "dir" else os.mkfifo(target)
+    assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "run"), "--alone", "--quiet"]) == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()

@@ -42,7 +42,7 @@ import numpy as np
 
 from bench.errors import quoted
 from bench.store.files import RunFolderError, atomic_write_bytes, atomic_write_text, check_format
-from bench.store.textfiles import loads_csv, read_text
+from bench.store.textfiles import loads_csv, read_json, read_text
 
 __all__ = ["FORMAT", "SPLITS", "FRAME_COLUMNS", "TRUTH_COLUMNS", "SUBMISSION_COLUMNS", "TIMES_COLUMNS",
            "FrameSetError", "FrameSet", "Submission", "frame_id", "split_of", "png_bytes", "truth_csv",
@@ -230,13 +230,7 @@ EXPERIMENT_KEYS = {"key": str, "rig": dict, "variant": str, "false_stripes": boo
 def _csv_rows(path: Path, what: str = "") -> list:
     """The rows after the header of the CSV file ``path``; ``FrameSetError`` naming it (after ``what``,
     e.g. ``truth``) when it cannot be read, is not UTF-8 text or is malformed."""
-    label = f"{what} {str(path)!r}".lstrip()
-    try:
-        return loads_csv(path.read_text(encoding="utf-8"), str(path), error=FrameSetError)[1]
-    except OSError as exc:
-        raise FrameSetError(f"cannot read {label}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise FrameSetError(f"{label}: not UTF-8 text (byte {exc.start})") from None
+    return loads_csv(read_text(path, what or "file", error=FrameSetError), str(path), error=FrameSetError)[1]
 
 
 def _check_meta(meta: dict, jpath) -> None:
@@ -266,10 +260,7 @@ def read_frameset(root) -> FrameSet:
     jpath = root / "dataset.json"
     if not jpath.is_file():
         raise FrameSetError(f"DATASET must be an exported frame set (with dataset.json), got {str(root)!r}")
-    try:
-        meta = json.loads(jpath.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise FrameSetError(f"cannot read {str(jpath)!r}: {str(exc).splitlines()[0][:160]}") from None
+    meta = read_json(jpath, "frame set description", error=FrameSetError)  # bounded: size, depth, integers
     if not isinstance(meta, dict) or meta.get("kind") != "stripebench-frames":
         raise FrameSetError(f"{str(jpath)!r} is not a stripebench frame set")
     check_format(meta.get("format"), (FORMAT,), "frame set", jpath)
@@ -436,7 +427,7 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
     sub = folder / "submission.csv"
     if not folder.is_dir():
         return None, [f"SUBMISSION must be a folder with submission.csv, got {str(folder)!r}"]
-    if not sub.exists():
+    if not (sub.exists() or sub.is_symlink()):
         return None, [f"{sub}: missing (a submission folder holds submission.csv and optionally times.csv)"]
     digest = hashlib.sha256()
     header, reader, problem = _csv_reader(sub, SUBMISSION_COLUMNS, "frame,row,col[,score]", digest)
@@ -481,7 +472,7 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
             scores[fr][row] = s
     ms = {f: float("nan") for f in frameset.index}
     tpath = folder / "times.csv"
-    if tpath.exists() and not tpath.is_file():
+    if (tpath.exists() or tpath.is_symlink()) and not tpath.is_file():
         problems.append(f"{tpath}: not a regular file (times.csv is optional; remove it or make it a CSV file)")
     elif tpath.is_file():
         th, treader, problem = _csv_reader(tpath, TIMES_COLUMNS, "frame,ms", digest, b"\0times\0")

@@ -63,3 +63,30 @@ def test_score_refuses_a_submission_file_that_is_not_a_regular_file(tiny_export,
     assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "run"), "--alone", "--quiet"]) == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[" * 100000 + "]" * 100000, "is nested too deeply"),
+    ("[" + "9" * 500 + "]", "holds an integer of 500 digits"),
+    ("{not json", "is not valid JSON"),
+])
+def test_score_on_a_frame_set_with_a_damaged_description_is_one_line(tiny_export, tmp_path, capsys, text, message):
+    import shutil
+
+    fs = tmp_path / "fs"
+    shutil.copytree(tiny_export, fs)
+    (fs / "dataset.json").write_text(text)
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    (sub / "submission.csv").write_text("frame,row,col\n")
+    assert main(["score", str(fs), str(sub), "--out", str(tmp_path / "run"), "--alone", "--quiet"]) == 2
+    assert message in _one_line(capsys)
+
+
+def test_score_refuses_a_times_csv_that_is_a_symbolic_link_loop(tiny_export, tmp_path, capsys):
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    (sub / "submission.csv").write_text("frame,row,col\n")
+    os.symlink("times.csv", sub / "times.csv")
+    assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "run"), "--alone", "--quiet"]) == 2
+    assert "times.csv: not a regular file" in capsys.readouterr().err

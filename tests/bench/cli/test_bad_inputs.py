@@ -90,3 +90,25 @@ def test_score_refuses_a_times_csv_that_is_a_symbolic_link_loop(tiny_export, tmp
     os.symlink("times.csv", sub / "times.csv")
     assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "run"), "--alone", "--quiet"]) == 2
     assert "times.csv: not a regular file" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind, message", [
+    ("fifo", "is not a regular file (a FIFO)"),
+    ("deep", "is nested too deeply"),
+    ("list", "not a file of `stripebench perf sampling --save` (TypeError"),
+    ("null", "not a file of `stripebench perf sampling --save` (TypeError"),
+])
+def test_perf_sampling_from_a_damaged_file_is_one_line(tmp_path, capsys, kind, message):
+    p = tmp_path / "saved.json"
+    if kind == "fifo":
+        os.mkfifo(p)
+    else:
+        p.write_text({"deep": "[" * 100000 + "]" * 100000, "list": "[1, 2]", "null": "null"}[kind])
+    assert main(["perf", "sampling", "--from", str(p)]) == 2
+    assert message in _one_line(capsys)
+
+
+def test_perf_lit_refuses_an_empty_list_of_sizes(capsys):
+    with pytest.raises(SystemExit) as exit:
+        main(["perf", "lit", "--sizes", ","])
+    assert exit.value.code == 2 and "--sizes: must name at least one WIDTHxHEIGHT" in _one_line(capsys)

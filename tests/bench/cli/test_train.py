@@ -134,3 +134,19 @@ def test_train_over_a_damaged_training_set_is_one_line(tmp_path, capsys):
     (ts / "trainset.json").write_text(f'{{"kind": "stripebench-trainset", "format": {FORMAT}}}')
     with pytest.raises(InputError, match="no column 'image'"):
         read_trainset(ts)
+
+
+def test_train_on_a_training_set_too_small_to_split_is_one_line(tmp_path, capsys):
+    import sys
+
+    from bench.run.trainset import FORMAT, FRAME_COLUMNS
+
+    ts = tmp_path / "ts"
+    ts.mkdir()
+    (ts / "trainset.json").write_text(f'{{"kind": "stripebench-trainset", "format": {FORMAT}}}')
+    row = {c: "1" for c in FRAME_COLUMNS} | {"image": "images/a.png", "background": "images/a_off.png"}
+    (ts / "frames.csv").write_text(",".join(FRAME_COLUMNS) + "\n" + ",".join(row[c] for c in FRAME_COLUMNS) + "\n")
+    assert main(["train", str(ts), "--out", str(tmp_path / "w.npz"), "--holdout", "0.5", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "left no training or no held-out frames (1 frames of 1 units, holdout 0.5)" in err and "\n" not in err
+    assert "jax" not in sys.modules  # refused before any training

@@ -105,7 +105,7 @@ def _real(args) -> int:
         from bench.store.files import runs_root
 
         args.out = runs_root() / f"real-{dataset.resolve().name}"
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("DATASET", dataset)])
     from bench.report.real import build_real_report, overlay_png
 
     out = run_real(dataset, args.out, specs, tol_px=args.tol, n_boot=args.n_boot, seed=args.seed, quiet=args.quiet,

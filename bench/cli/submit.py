@@ -46,7 +46,7 @@ def _export(args) -> int:
     if args.seed is not None:
         config = with_overrides(config, seed=args.seed)
     check_env()
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("CONFIG", args.config)])
     if args.participants is not None:
         from bench.run.export import check_bundle_folder
 
@@ -80,7 +80,7 @@ def _score(args) -> int:
     from bench.run.score import SubmissionError, score
 
     check_env()
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("DATASET", args.dataset), ("SUBMISSION", args.submission)])
     if args.alone and args.trackers is not None:
         raise UsageError("--alone and --trackers exclude each other: --alone runs no built-in tracker")
     try:

@@ -112,3 +112,31 @@ def test_perf_lit_refuses_an_empty_list_of_sizes(capsys):
     with pytest.raises(SystemExit) as exit:
         main(["perf", "lit", "--sizes", ","])
     assert exit.value.code == 2 and "--sizes: must name at least one WIDTHxHEIGHT" in _one_line(capsys)
+
+
+def test_an_output_folder_that_holds_an_input_is_refused_before_any_work(tiny_export, tmp_path, capsys, config_file):
+    """With --force such a folder would be cleared: the real set, frame set, submission or configuration gone."""
+    import shutil
+
+    from bench.store.realset import SHIPPED
+
+    real = tmp_path / "real"
+    shutil.copytree(SHIPPED, real)
+    fs = tmp_path / "fs"
+    shutil.copytree(tiny_export, fs)
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    (sub / "submission.csv").write_text("frame,row,col\n")
+    cases = [
+        (["real", str(real), "--out", str(real), "--force", "--trackers", "threshold", "--quiet"], "DATASET", real),
+        (["real", str(real), "--out", str(tmp_path), "--force", "--trackers", "threshold", "--quiet"], "DATASET", real),
+        (["score", str(fs), str(sub), "--out", str(fs), "--force", "--alone", "--quiet"], "DATASET", fs),
+        (["score", str(fs), str(sub), "--out", str(sub), "--force", "--alone", "--quiet"], "SUBMISSION", sub),
+        (["run", str(config_file), "--out", str(tmp_path), "--force", "--quiet"], "CONFIG", config_file),
+        (["export", str(config_file), "--out", str(tmp_path), "--force", "--quiet"], "CONFIG", config_file),
+    ]
+    for argv, what, kept in cases:
+        before = sorted(p.name for p in kept.iterdir()) if kept.is_dir() else kept.read_bytes()
+        assert main(argv) == 2, argv
+        assert f"{what} '" in _one_line(capsys) and kept.exists()
+        assert (sorted(p.name for p in kept.iterdir()) if kept.is_dir() else kept.read_bytes()) == before

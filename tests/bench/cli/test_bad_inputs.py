@@ -140,3 +140,11 @@ def test_an_output_folder_that_holds_an_input_is_refused_before_any_work(tiny_ex
         assert main(argv) == 2, argv
         assert f"{what} '" in _one_line(capsys) and kept.exists()
         assert (sorted(p.name for p in kept.iterdir()) if kept.is_dir() else kept.read_bytes()) == before
+
+
+def test_spread_refuses_a_write_folder_that_is_a_file_before_any_run(tmp_path, capsys):
+    f = tmp_path / "f"
+    f.write_text("x")
+    assert main(["spread", "--out", str(tmp_path / "out"), "--write", str(f)]) == 2
+    assert capsys.readouterr().err.strip() == f"gate_spread: `--write` must be a folder, got '{f}' (not a folder)"
+    assert not (tmp_path / "out").exists()

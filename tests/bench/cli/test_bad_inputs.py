@@ -148,3 +148,12 @@ def test_spread_refuses_a_write_folder_that_is_a_file_before_any_run(tmp_path, c
     assert main(["spread", "--out", str(tmp_path / "out"), "--write", str(f)]) == 2
     assert capsys.readouterr().err.strip() == f"gate_spread: `--write` must be a folder, got '{f}' (not a folder)"
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("tol", ["1e30", "101"])
+def test_real_refuses_a_tolerance_that_counts_every_report_a_hit(tol, capsys):
+    from bench.store.realset import SHIPPED
+
+    with pytest.raises(SystemExit) as exit:
+        main(["real", str(SHIPPED), "--check", "--tol", tol])
+    assert exit.value.code == 2 and "--tol: must be a finite number > 0 and <= 100" in _one_line(capsys)

@@ -10,6 +10,7 @@ the modules of :data:`PUBLIC_MODULES`; every other module is the package's own.
 
 from .backend import LoadedScene
 from .colour_camera import jpeg_round_trip
+from .distractors import DISTRACTORS
 from .frame import PARTS, Frame, Truth
 from .laser import profile as laser_profile
 from .materials import MATERIALS
@@ -23,7 +24,7 @@ from .sensor import SensorModel
 
 __all__ = ["available", "make", "Scene", "Frame", "Truth", "Rig", "SensorModel", "MATERIALS", "DEFAULTS", "MAX_SIZE",
            "RENDER_KEYS", "PARTS", "OBJECTS", "SceneObject", "render_pass", "LoadedScene", "laser_profile",
-           "jpeg_round_trip", "PUBLIC_MODULES"]
+           "jpeg_round_trip", "DISTRACTORS", "PUBLIC_MODULES"]
 
 #: The modules bench may import besides ``__all__``: the renderer's choice (``variant``), the render cache
 #: (``cache``), the sample-count tables (``sampling``), the materials, the rig's geometry (``rig``), and what

@@ -45,6 +45,14 @@ Camera (:mod:`scenes.colour_camera`; :data:`CAMERA_KEYS`, applied after renderin
 * ``jpeg_quality``: None (default: lossless) or an integer 1-95;
 * ``defocus_px``: pillbox defocus radius in [0, 20] px, default 0.
 
+Distractors (:mod:`scenes.distractors`; :data:`DISTRACTOR_KEYS`, applied after the render cache, so never in
+its key):
+
+* ``distractor``: one of :data:`scenes.distractors.DISTRACTORS`, default ``"none"`` (the frame as rendered):
+  a lit door edge, a lamp, LED clusters, a window, a lit sphere in front, a grey frame and line drawn on the
+  recording, or ``"short"``; each cuts the stripe from the top or the bottom rows (the object is short) and
+  stands mostly in those rows. Placed from ``seed``; the truth loses the rows whose stripe they remove.
+
 Sample counts: ``spp`` (every laser pass, default 16) and ``ambient_spp`` (default 8) are integers
 >= 1 or ``"auto"``: the per-material, per-pass counts that the committed procedure chose
 (:mod:`scenes.sampling`; the experiment profiles use it).
@@ -70,6 +78,7 @@ from typing import Any, Dict
 
 from . import _checks, radiometry
 from .colour_camera import CAMERAS, FILTERS
+from .distractors import DISTRACTORS
 from .materials import BACKDROP_ALBEDO, MATERIALS, SUPPORT_ALBEDO, SUPPORT_FINISHES, TEXTURABLE, TRANSLUCENCY
 from .textures import TEXTURES
 from .objects import BACKDROP_DISTANCE_CM, BACKGROUNDS, SUPPORTS
@@ -77,7 +86,8 @@ from .rig import Rig
 from .sampling import AUTO
 from .sensor import SensorModel
 
-__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "TEXTURE_KEYS", "CAMERA_KEYS", "MAX_SIZE",
+__all__ = ["DEFAULTS", "RENDER_KEYS", "SCALE_KEYS", "SENSOR_KEYS", "TEXTURE_KEYS", "CAMERA_KEYS", "DISTRACTOR_KEYS",
+           "MAX_SIZE",
            "MAX_SAMPLES", "MAX_DEFOCUS_PX", "MAX_TEXTURE_SCALE_CM", "validate", "textured"]
 
 # upper bounds that keep Mitsuba and memory sane: image sides, spp, and the
@@ -95,6 +105,7 @@ SCALE_KEYS = ("ambient_lux", "ambient_illuminant", "laser_power_mw", "laser_wave
 TEXTURE_KEYS = ("support_texture", "background_texture", "object_texture", "texture_scale_cm", "texture_seed",
                 "support_finish")
 CAMERA_KEYS = ("camera", "filter", "jpeg_quality", "defocus_px")
+DISTRACTOR_KEYS = ("distractor",)
 TEXTURED = ("support_texture", "background_texture", "object_texture")
 MAX_DEFOCUS_PX = 20.0
 MAX_TEXTURE_SCALE_CM = 100.0
@@ -136,6 +147,7 @@ DEFAULTS: Dict[str, Any] = {
     "jpeg_quality": None,
     "defocus_px": 0.0,
     "translucency": "volpath",
+    "distractor": "none",
     "cache": True,
     "cache_dir": None,
 }
@@ -233,6 +245,7 @@ def validate(params: Dict[str, Any]) -> Dict[str, Any]:
     p["jpeg_quality"] = None if q is None else int(q)
     p["defocus_px"] = _checks.in_range("defocus_px", p["defocus_px"], 0.0, MAX_DEFOCUS_PX)
     p["translucency"] = _choice("translucency", p["translucency"], TRANSLUCENCY)
+    p["distractor"] = _choice("distractor", p["distractor"], DISTRACTORS)
     if p["camera"] == "rgb" and (p["width"] % 2 or p["height"] % 2):
         raise ValueError(f"`camera` \"rgb\" needs an even `width` and `height` (a whole Bayer pattern), "
                          f"got {p['width']}x{p['height']}")

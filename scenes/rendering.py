@@ -28,7 +28,8 @@ from typing import Any, Callable, Dict, Optional
 
 import numpy as np
 
-from . import _checks, cache as _cache, colour_camera, description, masks, materials, radiometry, sampling, subsurface
+from . import _checks, cache as _cache, colour_camera, description, distractors, masks, materials, radiometry, sampling
+from . import subsurface
 from . import variant as _variant
 from .frame import Frame, Truth
 from .laser import profile as laser_profile
@@ -226,10 +227,13 @@ def render(name: str, params: Dict[str, Any], rig: Rig, mirror_angle_deg: float,
               np.asarray(unit["on_object"], bool), np.asarray(unit["part"], np.int8), false)
     rng_image = np.random.Generator(np.random.PCG64(seeds[2]))
     rng_background = np.random.Generator(np.random.PCG64(seeds[3]))
+    extra = distractors.for_scene(params)  # None: the frame as rendered (scenes.distractors)
+    t = distractors.truth_without(t, extra)
     if camera is not None:
-        return _colour_frame(unit, params, camera, rng_image, rng_background, t, theta)
+        return _colour_frame(unit, params, camera, rng_image, rng_background, t, theta, extra)
     laser = (unit["laser"].astype(np.float64) * laser_power_inband_w(params)).astype(np.float32)
     ambient = (unit["ambient"].astype(np.float64) * sky_radiance_inband(params)).astype(np.float32)
+    laser, ambient = distractors.apply(extra, laser, ambient, np.array([distractors.dn_radiance(sensor)]))
     radiance = (ambient.astype(np.float64) + laser).astype(np.float32)
     blur, q = params["defocus_px"], params["jpeg_quality"]
     seen, seen_ambient = ((radiance, ambient) if blur == 0 else
@@ -238,21 +242,26 @@ def render(name: str, params: Dict[str, Any], rig: Rig, mirror_angle_deg: float,
     background = sensor.capture(seen_ambient, rng_background)
     if q is not None:
         image, background = colour_camera.jpeg_round_trip(image, q), colour_camera.jpeg_round_trip(background, q)
+    image, background = distractors.draw(extra, image), distractors.draw(extra, background)
     return Frame(image=image, background=background, radiance=radiance, laser_radiance=laser, truth=t,
                  mirror_angle_deg=theta, variant=_variant.active_variant())
 
 
-def _colour_frame(unit, params, camera, rng_image, rng_background, t: Truth, theta: float) -> Frame:
+def _colour_frame(unit, params, camera, rng_image, rng_background, t: Truth, theta: float,
+                  extra: Optional[distractors.Distractor] = None) -> Frame:
     """The colour camera's frame from the unit renders (one ambient band shared by the channels,
-    or three)."""
+    or three), with the scene's distractor ``extra`` (None: none)."""
     laser = (unit["laser"].astype(np.float64)[..., None] * channel_laser_power_w(params)).astype(np.float32)
     amb = unit["ambient"].astype(np.float64)
     if amb.ndim == 2:
         amb = amb[..., None]
     ambient = (amb * channel_sky_radiance(params)).astype(np.float32)
+    if extra is not None:
+        per_dn = camera.sensor.gain_e_per_dn / camera.electrons_per_radiance()
+        laser, ambient = distractors.apply(extra, laser, ambient, per_dn)
     radiance = (ambient.astype(np.float64) + laser).astype(np.float32)
-    rgb = camera.capture(radiance, rng_image)
-    rgb_background = camera.capture(ambient, rng_background)
+    rgb = distractors.draw(extra, camera.capture(radiance, rng_image))
+    rgb_background = distractors.draw(extra, camera.capture(ambient, rng_background))
     return Frame(image=colour_camera.luma(rgb), background=colour_camera.luma(rgb_background), radiance=radiance,
                  laser_radiance=laser, truth=t, mirror_angle_deg=theta, variant=_variant.active_variant(),
                  rgb=rgb, rgb_background=rgb_background)

@@ -43,7 +43,10 @@ other row is ``unknown`` (the stripe may be there, too dim, ambiguous or occlude
 be sure: not scored). The ``none`` ranges were each checked by eye on the photograph
 and its check overlay, and declared only where the stripe is surely absent (above the
 object the laser reaches, in a gap the stripe visibly leaves); rows where the laser
-crosses clutter in a room without a visible line stay ``unknown``.
+crosses clutter in a room without a visible line stay ``unknown``. Every ``none`` row of a guide
+must also pass :func:`bench.evaluate.nonerows.doubtful_rows` (no faint continuation of the stripe's
+path, no reflection as narrow as the stripe, no ridge of the laser's colour); a row it flags is
+written ``unknown``.
 """
 
 from __future__ import annotations
@@ -75,6 +78,40 @@ SOURCES = {
     "jz_chair": ("test.jpg", 2, (2, 1012, 18, 1366)),  # the frame's black left band and top rows cut off
     **{f"fh_{side}{step}{off}": (f"{step:02d}-{'off' if off else side}.png", 3, None)
        for step in (0, 16) for side in ("left", "right") for off in ("", "_off")},
+    # chrisspen/laser-range-finder: 320x240 frames, laser on (b) and off (a); the odd samples 1-9
+    **{f"cs_{what}{off}": (f"chrisspen/sample{i}-{'a' if off else 'b'}-0.jpg", 1, None)
+       for i, what in ((1, "room"), (3, "soap"), (5, "shoe_dark"), (7, "shoe"), (9, "desk")) for off in ("", "_off")},
+    # octopusengine/simple3dscanner: the photograph tiles of two collages (the other tiles show hardware or output)
+    "oe_skull": ("octopusengine/first-scann--it-works.jpg", 1, (0, 626, 790, 1330)),  # its top-right tile, left 540 px
+    "oe_figure": ("octopusengine/example-of-processing.jpg", 2, (0, 1114, 0, 756)),  # its left tile
+    # Agent5/3D-scanner: frames 001 and 061 (0 and 180 degrees) of each of its three 120-frame raw scans
+    **{f"a5_{what}{deg}": (f"agent5/{scan}_raw_image-{i}.png", 1, None)
+       for scan, what in (("35mm_cube", "cube"), ("ceremic_doll", "doll"), ("day_lilly", "lily"))
+       for i, deg in (("001", 0), ("061", 180))},
+    # capopaul/3D-Scanner-Using-Laser-Triangulation: the two photographs among its slide images
+    "cp_wall": ("capopaul/no_deformation.png", 1, None),
+    "cp_box": ("capopaul/deformation.png", 1, (92, 644, 922, 1402)),  # the photograph on the slide's right
+    # Raldir/3DScanner.RaspberryPi: the laser-on photographs of core/fotos that have a laser-off frame of the same view ...
+    "rd_horus": ("raldir/img01.jpg", 5, None),
+    "rd_horus_off": ("raldir/img00.jpg", 5, None),
+    "rd_horus2": ("raldir/img1.jpg", 5, None),
+    "rd_horus2_off": ("raldir/img0.jpg", 5, None),
+    # ... and frames 0, 2 and 4 of its horizontal scan in the dark (core/fotos/0.jpg .. 4.jpg)
+    **{f"rd_dark{i}": (f"raldir/core_fotos_{i}.jpg", 4, None) for i in (0, 2, 4)},
+    "hx_thin": ("hexastorm/laserline.jpg", 2, None),
+    "hx_wide": ("hexastorm/laserline1.jpg", 3, None),
+    "lm_wheel": ("lasermat/C0_p240_SD.png", 6, (0, 1800, 0, 4096)),  # the rows below 1800 hold no laser light
+    "lm_gage": ("lasermat/gage.jpg", 3, None),
+    # triangulation_3's frames are 640x480 (a third of triangulation_4's width): full size keeps the scale of the
+    # fh_* frames above; the left laser's half only (columns 0-312: the two lines meet on the box at 313-327)
+    **{f"fh_box{step:02d}{off}": (f"fhennecker/t3_{step + (1 if off else 0):02d}.png", 1, (0, 480, 0, 313))
+       for step in (4, 34, *range(8, 49, 4)) for off in ("", "_off")},
+    "bb_small": ("b33boy/l3.jpg", 8, None),
+    "bb_night": ("b33boy/l4.jpg", 8, None),
+    "hx_dash1": ("hexastorm/2021-01-22-15-11.jpg", 2, None),
+    "hx_dots1": ("hexastorm/2021-01-22-15-26.jpg", 2, None),
+    "hx_dots2": ("hexastorm/2021-01-22-15-27.jpg", 2, None),
+    "hx_dash2": ("hexastorm/2021-01-22-15-52.jpg", 2, None),
 }
 
 
@@ -87,11 +124,12 @@ DRAWN_LINE = ("ag_tape",)
 def _downscale(a: np.ndarray, f: int) -> np.ndarray:
     from skimage.transform import downscale_local_mean
 
-    a = a[..., :3].astype(np.float64)
+    a = (a if a.ndim == 2 else a[..., :3]).astype(np.float64)  # a grey source stays one channel
     if f == 1:
         return np.clip(np.rint(a), 0, 255).astype(np.uint8)
     H, W = (a.shape[0] // f) * f, (a.shape[1] // f) * f
-    return np.clip(np.rint(downscale_local_mean(a[:H, :W], (f, f, 1))), 0, 255).astype(np.uint8)
+    block = (f, f) if a.ndim == 2 else (f, f, 1)
+    return np.clip(np.rint(downscale_local_mean(a[:H, :W], block)), 0, 255).astype(np.uint8)
 
 
 def make_images(src: Path, names=None) -> None:
@@ -237,6 +275,26 @@ def states_for(ref: np.ndarray, guide: dict) -> np.ndarray:
     return states
 
 
+def none_doubts(frame: np.ndarray, ref: np.ndarray, states: np.ndarray, original: np.ndarray, laser: str,
+                rotate_deg: int, off=None, off_original=None) -> np.ndarray:
+    """The guide's ``none`` rows that :func:`bench.evaluate.nonerows.doubtful_rows` finds a sign of the stripe in
+    (bool (H,)): on the reference's frame and, for a colour photograph, its laser colour's excess; in their
+    laser-on minus laser-off difference where the laser-off frame (``off``, read as ``frame``; ``off_original`` as
+    ``original``) is given."""
+    from bench.evaluate.nonerows import doubtful_rows
+    from bench.evaluate.pixels import rotate_image, select_channel
+
+    def excess(img):
+        o = np.asarray(img)
+        grey = o.ndim == 2 or (np.array_equal(o[..., 0], o[..., 1]) and np.array_equal(o[..., 0], o[..., 2]))
+        return None if grey else rotate_image(select_channel(o, "excess", laser), rotate_deg)
+
+    colour = excess(original)
+    colour_off = None if off_original is None or colour is None else excess(off_original)
+    flags = doubtful_rows(frame, ref, states, colour=colour, background=off, colour_background=colour_off)
+    return np.logical_or.reduce(list(flags.values()))
+
+
 def state_bar(img: np.ndarray, states: np.ndarray, rotate_deg: int) -> np.ndarray:
     """``img`` (the photograph's orientation) with each tracker-frame row's state as a 6-px bar at the
     frame's left edge (green stripe, red none, grey unknown)."""
@@ -250,7 +308,7 @@ def state_bar(img: np.ndarray, states: np.ndarray, rotate_deg: int) -> np.ndarra
 def make_refs() -> None:
     import imageio.v3 as iio
 
-    from bench.evaluate.outcomes import STATE_NAMES, fallback_states
+    from bench.evaluate.outcomes import STATE_NAMES, UNSURE, fallback_states
     from bench.report.real import overlay
     from bench.store import realset as real
 
@@ -268,6 +326,13 @@ def make_refs() -> None:
                                           laser=row["laser_colour"], rotate_deg=rot)
         ref = reference_for(frame, guides[name])
         states = states_for(ref, guides[name])
+        off = off_original = None
+        if (row.get("has_background") or "0").strip() == "1":
+            off, off_original = real.load_frame(DATA / f"{name}_off.png",
+                                                channel="excess" if channel == "auto" else channel,
+                                                laser=row["laser_colour"], rotate_deg=rot)
+        doubt = none_doubts(frame, ref, states, original, row["laser_colour"], rot, off, off_original)
+        states[doubt] = UNSURE
         lines = ["row,col,state"] + [f"{i}," + ("" if np.isnan(c) else f"{c:.2f}") + f",{STATE_NAMES[int(st)]}"
                                      for i, (c, st) in enumerate(zip(ref, states))]
         (DATA / f"{name}_ref.csv").write_text("\n".join(lines) + "\n")
@@ -276,11 +341,13 @@ def make_refs() -> None:
         fb = fallback_states(ref)
         print(f"{name}: {int(np.sum(states == 1))} stripe, {int(np.sum(states == 0))} none, "
               f"{int(np.sum(states == -1))} unknown of {ref.size} rows (the fallback rule: "
-              f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)")
+              f"{int(np.sum(fb == 0))} none, {int(np.sum(fb == -1))} unknown)"
+              + (f"; {int(doubt.sum())} none rows of the guide in doubt, written unknown" if doubt.any() else ""))
 
 
-def print_difference_guides(names, *, skip_cols: int = 0) -> None:
-    """Print each photograph's :func:`difference_guide` segments as ``guides.toml`` holds them."""
+def print_difference_guides(names, *, skip_cols: int = 0, min_k: float = 8.0, rival_k: float = 6.0) -> None:
+    """Print each photograph's :func:`difference_guide` segments as ``guides.toml`` holds them: rows and columns of
+    the tracker's frame (both photographs turned by the manifest's ``rotate``)."""
     from bench.store import realset as real
 
     images = {im.name: im for im in real.load_dataset(DATA)}  # the set's manifest, read and checked in one place
@@ -288,8 +355,8 @@ def print_difference_guides(names, *, skip_cols: int = 0) -> None:
         im = images.get(name)
         if im is None or im.background_path is None:
             raise SystemExit(f"make_real_set.py guides: {name!r} is not a shipped photograph with a laser-off frame")
-        segs = difference_guide(real.read_image(im.image_path), real.read_image(im.background_path), im.laser_colour,
-                                skip_cols=skip_cols)
+        on, off = (real.rotate_image(real.read_image(p), im.rotate_deg) for p in (im.image_path, im.background_path))
+        segs = difference_guide(on, off, im.laser_colour, skip_cols=skip_cols, min_k=min_k, rival_k=rival_k)
         print(f"[{name}]\nsegments = [" + ",\n            ".join(
             f"{{rows = [{g['rows'][0]}, {g['rows'][1]}], cols = [{g['cols'][0]}, {g['cols'][1]}]}}" for g in segs) + "]")
 
@@ -304,11 +371,14 @@ def main(argv=None) -> int:
     s = sub.add_parser("guides", help="print guide segments read off the laser-on minus laser-off difference")
     s.add_argument("names", nargs="+", help="photographs of the shipped set with a NAME_off.png")
     s.add_argument("--skip-cols", type=int, default=0, help="columns left of this are left out (default 0)")
+    s.add_argument("--min-k", type=float, default=8.0, help="a guided row's peak, in noise units (default 8)")
+    s.add_argument("--rival-k", type=float, default=6.0,
+                   help="no second piece 25 px or more away may reach this, in noise units (default 6)")
     args = p.parse_args(argv)
     if args.cmd == "images":
         make_images(args.src, args.names)
     elif args.cmd == "guides":
-        print_difference_guides(args.names, skip_cols=args.skip_cols)
+        print_difference_guides(args.names, skip_cols=args.skip_cols, min_k=args.min_k, rival_k=args.rival_k)
     else:
         make_refs()
     return 0

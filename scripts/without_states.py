@@ -3,9 +3,8 @@
 Every file of ``SRC`` is copied to ``DST`` (which must not exist); each ``NAME_ref.csv`` keeps its ``row,col``
 columns and loses its ``state`` column, so ``stripebench real`` reads its rows by the fallback rule
 (:func:`bench.evaluate.outcomes.fallback_states`: a row without a reference, 15 or more rows from every row with one,
-has no stripe) and ``stripebench predict`` reads its frames so too (``bench.run.predict.Photo.fallback_rows``). The
-columns are copied as written, byte for byte. Used for docs/predict.md ("A set whose references give no row
-states"):
+has no stripe) and ``stripebench predict`` reads its frames so too (``bench.run.predict_frames.Photo.fallback_rows``). The
+columns are copied as written, byte for byte:
 
     python scripts/without_states.py bench/data/real results/runs/real-without-states
     stripebench real results/runs/real-without-states --predict --out results/runs/real-ws

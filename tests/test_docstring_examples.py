@@ -33,15 +33,15 @@ MODULES = [m for m in ALL_MODULES if ">>> " in _source(m)]
 #: render). The list is checked both ways: a new module without an example, or an example added to one
 #: listed here, fails ``test_the_modules_without_examples_are_the_listed_ones`` until the list is updated.
 WITHOUT_EXAMPLES = {
-    "trackers._base", "trackers._dp_gap", "trackers._dp_kernels", "trackers._dp_rows", "trackers._peak",
+    "trackers._base", "trackers._stripe_kernels", "trackers._dp_gap", "trackers._dp_kernels", "trackers._dp_rows", "trackers._peak",
     "trackers._registry", "trackers._stats", "trackers._subpixel", "trackers.centroid", "trackers.dp_subpixel",
     "trackers.processes", "scenes", "scenes._checks", "scenes.contact_sheet", "scenes.laser", "scenes.params",
     "scenes.radiometry", "scenes.registry", "scenes.rows", "scenes.truth", "bench", "bench.api", "bench.cli",
     "bench.cli.common", "bench.cli.field_sheet", "bench.cli.gate_spread", "bench.cli.perf", "bench.cli.predict",
     "bench.cli.translucency_profile", "bench.cli.tune", "bench.cli.info", "bench.cli.real", "bench.cli.run", "bench.cli.studies", "bench.cli.submit",
-    "bench.cli.sweep", "bench.cli.train", "bench.config.profiles", "bench.config.tune", "bench.evaluate", "bench.evaluate._ap_kernel",
-    "bench.evaluate.triangulation", "bench.report", "bench.report.real", "bench.report.simreal", "bench.report.sweep",
-    "bench.run", "bench.run.export", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",
+    "bench.cli.sweep", "bench.cli.train", "bench.config.profiles", "bench.evaluate", "bench.evaluate._ap_kernel",
+    "bench.evaluate.triangulation", "bench.report", "bench.report.simreal", "bench.report.sweep",
+    "bench.run", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",
     "bench.run.sweep", "bench.store", "bench.store.figdata", "bench.studies",
     "bench.studies.estimators", "bench.studies.field_sheet", "bench.studies.perf", "bench.studies.perf.lit",
     "bench.studies.perf.mis", "bench.studies.perf.scenes", "bench.studies.perf.shiny", "bench.studies.perf.sweep",

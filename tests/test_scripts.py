@@ -103,7 +103,8 @@ def test_scripts_answer_help_from_outside_the_repository(path, tmp_path):
 
 
 def test_make_real_set_writes_the_shipped_references():
-    """The reference rule (its noise and contrast from bench.evaluate.outcomes) gives the shipped columns."""
+    """The reference rule (its noise and contrast from bench.evaluate.outcomes) gives the shipped columns, and every
+    shipped ``none`` row is a ``none`` row of its guide that passes the none-row check (bench.evaluate.nonerows)."""
     import csv
     import importlib.util
     import tomllib
@@ -120,13 +121,23 @@ def test_make_real_set_writes_the_shipped_references():
     assert len(rows) >= 12
     for row in rows:
         name, channel = row["name"], row.get("channel") or "auto"
-        frame, _ = real.load_frame(mod.DATA / f"{name}.png", channel="excess" if channel == "auto" else channel,
-                                   laser=row["laser_colour"], rotate_deg=int(row.get("rotate") or 0))
+        rot = int(row.get("rotate") or 0)
+        frame, original = real.load_frame(mod.DATA / f"{name}.png", channel="excess" if channel == "auto" else channel,
+                                          laser=row["laser_colour"], rotate_deg=rot)
         ref = mod.reference_for(frame, guides[name])
         shipped, states, _ = real.read_reference_states(mod.DATA / f"{name}_ref.csv", frame.shape)
         assert np.array_equal(np.isnan(ref), np.isnan(shipped)), name
         assert np.allclose(ref[~np.isnan(ref)], shipped[~np.isnan(shipped)], atol=0.0051), name
-        assert np.array_equal(mod.states_for(ref, guides[name]), states), name
+        want = mod.states_for(ref, guides[name])
+        off = off_original = None
+        if row["has_background"] == "1":
+            off, off_original = real.load_frame(mod.DATA / f"{name}_off.png",
+                                                channel="excess" if channel == "auto" else channel,
+                                                laser=row["laser_colour"], rotate_deg=rot)
+        doubt = mod.none_doubts(frame, ref, want, original, row["laser_colour"], rot, off, off_original)
+        assert not (doubt & (states == 0)).any(), name
+        want[doubt] = -1
+        assert np.array_equal(want, states), name
 
 
 def test_without_states_copies_a_real_set_with_its_references_read_by_the_fallback_rule(tmp_path, capsys):
@@ -276,7 +287,8 @@ def test_drawn_line_reads_a_real_set_and_names_an_unknown_photograph(capsys, tmp
 
 def test_make_real_set_reads_the_fh_guides_off_the_laser_off_difference():
     """``make_real_set.py guides``: the shipped ``fh_*`` guides are what :func:`difference_guide` reads off each
-    frame's laser-on minus laser-off difference (the window's columns left out), segment for segment."""
+    frame's laser-on minus laser-off difference (the ``triangulation_4`` frames' window columns left out; the
+    ``fh_box*`` halves of ``triangulation_3`` whole), segment for segment."""
     import tomllib
 
     from bench.store import realset as real
@@ -284,10 +296,11 @@ def test_make_real_set_reads_the_fh_guides_off_the_laser_off_difference():
     mod = _script("make_real_set")
     guides = tomllib.loads((mod.DATA / "guides.toml").read_text())
     names = [n for n in guides if n.startswith("fh_")]
-    assert len(names) == 4
+    skip = {n: 0 if n.startswith("fh_box") else 70 for n in names}
+    assert sorted(skip.values()) == [0] * 13 + [70] * 4
     for name in names:
         on, off = (real.read_image(mod.DATA / f"{name}{s}.png") for s in ("", "_off"))
-        assert mod.difference_guide(on, off, "red", skip_cols=70) == guides[name]["segments"], name
+        assert mod.difference_guide(on, off, "red", skip_cols=skip[name]) == guides[name]["segments"], name
     on = real.read_image(mod.DATA / "fh_left0.png")
     assert mod.difference_guide(on, on, "red") == []  # no difference, no guide
 

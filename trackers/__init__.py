@@ -15,9 +15,10 @@ pyvista; built-in trackers are imported when first made, third-party ones
 from ._base import Track, Tracker
 from ._params import Bool, Choice, Int, Real, StrList
 from ._registry import ENTRY_POINT_GROUP, Registry
+from ._stripe import StripeAnswer, StripeTest, ask, colour_evidence
 
 __all__ = ["Track", "Tracker", "available", "make", "register", "unregister", "ENTRY_POINT_GROUP",
-           "Real", "Int", "Choice", "Bool", "StrList"]
+           "Real", "Int", "Choice", "Bool", "StrList", "StripeTest", "StripeAnswer", "ask", "colour_evidence"]
 
 _REGISTRY = Registry(ENTRY_POINT_GROUP)
 for _name, _target in {

@@ -9,7 +9,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ._validation import check_background, check_image
+from ._validation import check_background, check_colour, check_image
 
 __all__ = ["Track", "Tracker"]
 
@@ -73,6 +73,26 @@ class Track:
         return cls(nan, nan)
 
 
+_TAKES_COLOUR: dict = {}
+
+
+def _takes_colour(cls) -> bool:
+    """Whether ``cls.uses_colour`` and its ``find_stripe`` takes a third argument (the colour evidence)."""
+    if cls not in _TAKES_COLOUR:
+        import inspect
+
+        ok = bool(getattr(cls, "uses_colour", False))
+        if ok:
+            try:
+                params = list(inspect.signature(cls.find_stripe).parameters.values())
+            except (TypeError, ValueError):
+                params = []
+            ok = any(p.kind == p.VAR_POSITIONAL for p in params) or len(
+                [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]) >= 4
+        _TAKES_COLOUR[cls] = ok
+    return _TAKES_COLOUR[cls]
+
+
 class Tracker(abc.ABC):
     """Base class of every stripe tracker.
 
@@ -99,11 +119,17 @@ class Tracker(abc.ABC):
         conformance suite then also checks it with one: an ambient
         distractor present in both frames must not be tracked, and a
         laser-off frame equal to the laser-on frame leaves nothing to find).
+    uses_colour : bool
+        Whether the tracker reads the frame's colour evidence (``track``'s
+        ``colour``); its :meth:`find_stripe` then takes it as a third
+        argument. Trackers without it never see it (the conformance suite
+        checks that evidence carrying no information changes nothing).
     """
 
     name: ClassVar[str] = ""
     subpixel: ClassVar[bool] = False
     uses_background: ClassVar[bool] = False
+    uses_colour: ClassVar[bool] = False
     #: parameter name -> its constraint (:class:`trackers._params.Real`, ``Int``, ``Choice``,
     #: ``Bool``): checked by :meth:`validate_params`, and by the conformance suite for every
     #: tracker that declares it (each parameter must have one; each constraint's invalid values
@@ -137,7 +163,7 @@ class Tracker(abc.ABC):
         args = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items())
         return f"{type(self).__name__}({args})"
 
-    def track(self, image, *, background=None) -> Track:
+    def track(self, image, *, background=None, colour=None) -> Track:
         """Find the stripe in one frame.
 
         Parameters
@@ -147,6 +173,14 @@ class Tracker(abc.ABC):
             vertical (one crossing per row). Never modified.
         background : array_like, shape (H, W), optional
             A laser-off frame of the same scene; a tracker may use or ignore it.
+        colour : array_like, shape (H, W), optional
+            Where the frame comes from a colour photograph: per pixel, the share
+            of its light over its row that has the laser's colour, in [0, 1]
+            (:func:`trackers.colour_evidence`; NaN: none). Passed, when
+            given, to :meth:`find_stripe` of trackers whose ``uses_colour`` is
+            True (``find_stripe(image, background, colour)``); others never
+            see it, and without it every tracker gets ``find_stripe(image,
+            background)``.
 
         Returns
         -------
@@ -154,8 +188,14 @@ class Tracker(abc.ABC):
         """
         img = check_image(image)
         bg = check_background(background, img.shape)
+        evidence = check_colour(colour, img.shape)
         self._validate_params()
-        track = self.find_stripe(img, bg)
+        # the evidence only where there is some and the find_stripe called takes it: a subclass that overrides the
+        # hook with two arguments (image, background) still runs, without the evidence
+        if evidence is not None and _takes_colour(type(self)):
+            track = self.find_stripe(img, bg, evidence)
+        else:
+            track = self.find_stripe(img, bg)
         if track.columns.shape != (img.shape[0],):
             raise RuntimeError(
                 f"{type(self).__name__} returned {track.columns.shape[0]} rows for an image of {img.shape[0]}"

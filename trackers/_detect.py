@@ -293,7 +293,7 @@ def noise_level(noise, peak, bg, integral: bool, quantum=None) -> np.ndarray:
 
 
 def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=None, *, min_run: int = 1,
-                width_ratio=None, quantum=None) -> RowDetection:
+                width_ratio=None, quantum=None, ask=None) -> RowDetection:
     """Decide per row whether its brightest pixel is a stripe.
 
     A row is a *candidate* iff its peak's contrast over the row's background,
@@ -344,6 +344,11 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
         The frame's quantisation step (image units, >= 0); None: 1 where every
         sampled pixel is a whole number (an 8- or 16-bit frame, a float copy of one,
         a difference of two), else 0.
+    ask : callable or None
+        The stripe question (:func:`trackers._stripe.ask`, bound to the frame):
+        ``ask(columns) -> (H,) bool`` for the candidates' columns (``mid``, NaN
+        elsewhere); a candidate it says no to is not one (before the chain). None:
+        not asked. Not used with an explicit ``threshold``.
 
     Returns
     -------
@@ -378,6 +383,8 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
         if width_ratio is not None and hit.any():
             width = hi - lo + 1
             hit &= width <= width_ratio * max(float(np.median(width[hit])), 2.0)
+        if ask is not None and hit.any():
+            hit &= ask(np.where(hit, mid.astype(np.float64), np.nan))
         run = min(int(min_run), H)  # a chain through every row of a short frame is as long as it can be
         if run > 1:
             keep = np.empty(H, np.bool_)

@@ -23,7 +23,7 @@ DETECTION_DOC = """
 
     Parameters
     ----------
-    threshold, k_sigma, prominence, min_run, width_ratio
+    threshold, k_sigma, prominence, min_run, width_ratio, stripe_test
         As for :class:`~trackers.threshold.ThresholdTracker`.
 """
 
@@ -45,8 +45,8 @@ class PeakTracker(ThresholdTracker):
     def _estimator_args(self) -> tuple[float, int]:
         return 0.0, 0
 
-    def find_stripe(self, image, background):
-        d = self.detect(image)
+    def find_stripe(self, image, background, colour=None):
+        d = self.detect(image, background=background, colour=colour)
         H = image.shape[0]
         columns = np.empty(H)
         ok = np.empty(H, dtype=np.bool_)
@@ -65,9 +65,9 @@ class WindowedPeakTracker(PeakTracker):
     """
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=0.5,
-                 half_window=7, min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO):
+                 half_window=7, min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO, stripe_test=None):
         super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run,
-                         width_ratio=width_ratio)
+                         width_ratio=width_ratio, stripe_test=stripe_test)
         self.frac = frac
         self.half_window = half_window
 

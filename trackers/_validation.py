@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_image", "check_background"]
+__all__ = ["check_image", "check_background", "check_colour"]
 
 
 def check_image(image, name: str = "image") -> np.ndarray:
@@ -64,3 +64,29 @@ def check_background(background, shape: tuple[int, int]) -> np.ndarray | None:
     if bg.shape != tuple(shape):
         raise ValueError(f"`background` must have the shape of `image` {tuple(shape)}, got {bg.shape}")
     return bg
+
+
+def check_colour(colour, shape) -> np.ndarray | None:
+    """A frame's colour evidence, checked: None, or a real (H, W) array the frame's ``shape`` with values
+    in [0, 1] (NaN allowed: no evidence there), as float64.
+
+    Raises
+    ------
+    ValueError
+        Another shape, a non-real array, or values outside [0, 1] (one line naming ``colour``).
+    """
+    if colour is None:
+        return None
+    try:
+        c = np.asarray(colour)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"`colour` must be a real array, got {type(colour).__name__}: {exc}") from None
+    if c.dtype.kind not in "uif":
+        raise ValueError(f"`colour` must be a real array, got dtype {c.dtype}")
+    if c.shape != tuple(shape):
+        raise ValueError(f"`colour` must have the frame's shape {tuple(shape)}, got {c.shape}")
+    c = np.asarray(c, np.float64)
+    fin = c[np.isfinite(c)]
+    if np.isinf(c).any() or (fin.size and (fin.min() < 0 or fin.max() > 1)):
+        raise ValueError("`colour` must hold laser shares in [0, 1] (NaN: none), got values outside")
+    return c

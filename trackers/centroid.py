@@ -23,7 +23,7 @@ class CentroidTracker(WindowedPeakTracker):
 
     Parameters
     ----------
-    threshold, k_sigma, prominence, min_run, width_ratio
+    threshold, k_sigma, prominence, min_run, width_ratio, stripe_test
         As for :class:`~trackers.threshold.ThresholdTracker`.
     frac : float, default 0.5
         Level inside the peak, as a fraction of the peak's contrast

@@ -51,8 +51,9 @@ class ComBgTracker(WindowedPeakTracker):
     ----------
     threshold : float or None, default None
         Explicit threshold in units of ``D``; ``None``: the per-row rule.
-    k_sigma, prominence, min_run, width_ratio
-        As for :class:`~trackers.threshold.ThresholdTracker`, applied to ``D``.
+    k_sigma, prominence, min_run, width_ratio, stripe_test
+        As for :class:`~trackers.threshold.ThresholdTracker`, applied to ``D`` (the stripe
+        question's laser-off test compares the image with the laser-off frame).
     frac : float, default :data:`DEFAULT_FRAC`
         Threshold-to-zero level as a fraction of each row's peak contrast, in [0, 1).
     half_window : int, default 5
@@ -82,18 +83,18 @@ class ComBgTracker(WindowedPeakTracker):
     _estimator = "com"
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE, frac=DEFAULT_FRAC,
-                 half_window=5, min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO):
+                 half_window=5, min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO, stripe_test=None):
         super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, frac=frac,
-                         half_window=half_window, min_run=min_run, width_ratio=width_ratio)
+                         half_window=half_window, min_run=min_run, width_ratio=width_ratio, stripe_test=stripe_test)
 
-    def find_stripe(self, image, background):
+    def find_stripe(self, image, background, colour=None):
         if background is None:  # a flat laser-off frame: each row's own level
-            d = self.detect(image)
+            d = self.detect(image, colour=colour)
             diff = np.subtract(image, d.bg[:, None], dtype=np.float64)
             base = np.zeros(image.shape[0])
         else:
             diff = np.subtract(image, background, dtype=np.float64)
-            d = self.detect(diff)
+            d = self.detect(diff, raw=image, background=background, colour=colour)
             base = d.bg
         H = image.shape[0]
         columns = np.empty(H)

@@ -43,7 +43,9 @@ import numpy as np
 from . import _dp_kernels as K
 from . import _dp_rows as R
 from ._base import Track, Tracker
+from ._dp_report import reporting_rule as _reporting_rule
 from ._params import Bool, Choice, Int, Real, check_real
+from ._stripe import StripeSettings, answer
 from ._validation import check_background, check_image
 
 #: The row rules a DP tracker's ``row_rule`` names (the kernel's codes, :mod:`trackers._dp_rows`).
@@ -334,53 +336,6 @@ def shortest_path_reference(cost, connectivity: int = 4, max_iter: int | None = 
     return rows, cols, total
 
 
-def _reporting_rule(image, contrast, side_sd, span, tracker):
-    """The reporting rule of the DP trackers (and ``dp_gap``) on a path's row readings.
-
-    ``contrast`` and ``side_sd`` (H,) are each row's contrast of the path's column and the
-    spread of its sides, ``span`` (H,) the columns the path walks in the row. A row
-    *supports* the path when its contrast is above ``tracker.k_sigma`` times the frame's
-    median side spread; too few supporting rows (``tracker.min_support``) mean no stripe
-    (None). Otherwise the rows from the first to the last supporting one are reported,
-    less gaps of unsupported rows longer than ``tracker.max_gap``, less stretches (runs of
-    reported rows) with fewer than ``tracker.min_run`` supporting rows, and less rows
-    walking more than ``tracker.max_walk`` columns. Returns ``(z, support, report)``, all (H,).
-    """
-    H = image.shape[0]
-    vmax = float(image.max())
-    vmin = float(image.min())
-    finite_sd = side_sd[np.isfinite(side_sd)]
-    s = float(np.median(finite_sd)) if finite_sd.size else 0.0
-    s = max(s, 1e-3 * (vmax - vmin), np.finfo(np.float64).tiny)
-    z = contrast / s
-    support = z > tracker.k_sigma
-    if int(np.count_nonzero(support)) < max(3, tracker.min_support * H):
-        return None
-    first = int(np.argmax(support))
-    last = H - 1 - int(np.argmax(support[::-1]))
-    report = np.zeros(H, dtype=bool)
-    report[first : last + 1] = True
-    if tracker.max_gap is not None:
-        gap_start = None
-        for r in range(first, last + 1):
-            if not support[r]:
-                if gap_start is None:
-                    gap_start = r
-            elif gap_start is not None:
-                if r - gap_start > tracker.max_gap:
-                    report[gap_start:r] = False
-                gap_start = None
-    run = min(tracker.min_run, len(report))  # a frame shorter than min_run needs support on every row
-    if run > 1:
-        edges = np.flatnonzero(np.diff(np.r_[0, report.astype(np.int8), 0]))
-        for a, b in zip(edges[::2], edges[1::2]):  # each stretch report[a:b]
-            if int(np.count_nonzero(support[a:b])) < run:
-                report[a:b] = False
-    if tracker.max_walk is not None:
-        report &= span <= tracker.max_walk
-    return z, support, report
-
-
 def _marked_readings(tracker, image, mark, rows, cols):
     """Each row's column by ``tracker.row_rule``, contrast, side spread and span from the labelled
     optimal-path nodes ``mark`` (their ``rows``, ``cols``): :func:`trackers._dp_rows.marked_rows`."""
@@ -447,6 +402,11 @@ class DPTracker(Tracker):
     ``score`` is the contrast ``(I_p - b_r) / s`` in noise units (low or
     negative in bridged rows).
 
+    *The stripe question* (``stripe_test``, :class:`trackers.StripeTest`; None: not
+    asked): it is asked of the supporting rows' columns on the frame the DP sees (with
+    the laser-off frame and the colour evidence where given); a supporting row it says
+    no to does not support the path and is not reported (:func:`_reporting_rule`).
+
     *Background*: given a laser-off frame (``background``) and with
     ``use_background`` (the default), the tracker works on the difference
     ``image - background`` (float64, signed) instead of the frame: node
@@ -491,14 +451,19 @@ class DPTracker(Tracker):
     max_walk : int or None, default None
         Rows whose optimal-path nodes span more than ``max_walk`` columns are
         not reported (None: any span; >= 0).
+    stripe_test : dict or None, default None
+        The stripe question's settings (see *The stripe question* above; ``{}``:
+        its defaults).
     """
 
     connectivity = 4
     uses_background = True
+    uses_colour = True
 
     def __init__(self, eps=1.0, k_sigma=DEFAULT_REPORT["k_sigma"], min_support=0.05,
                  max_gap=DEFAULT_REPORT["max_gap"], side_inner=4, side_outer=12, h_weight=DEFAULT_H_WEIGHT,
-                 use_background=True, row_rule="crossing", max_walk=None, min_run=DEFAULT_REPORT["min_run"]):
+                 use_background=True, row_rule="crossing", max_walk=None, min_run=DEFAULT_REPORT["min_run"],
+                 stripe_test=None):
         self.eps = eps
         self.h_weight = h_weight
         self.k_sigma = k_sigma
@@ -510,13 +475,14 @@ class DPTracker(Tracker):
         self.use_background = use_background
         self.row_rule = row_rule
         self.max_walk = max_walk
+        self.stripe_test = stripe_test
 
     parameter_constraints = {"eps": Real(low=0, low_open=True), "k_sigma": Real(low=0),
                              "min_support": Real(low=0, high=1), "max_gap": Int(low=0, optional=True),
                              "side_inner": Int(low=1), "side_outer": Int(low=1),
                              "h_weight": Real(low=0, low_open=True), "use_background": Bool(),
                              "row_rule": Choice(frozenset(ROW_RULES)), "max_walk": Int(low=0, optional=True),
-                             "min_run": Int(low=1)}
+                             "min_run": Int(low=1), "stripe_test": StripeSettings()}
 
     def validate_params(self):
         """The parameters' constraints (:attr:`parameter_constraints`), then ``side_outer >= side_inner``."""
@@ -584,16 +550,30 @@ class DPTracker(Tracker):
 
     def report(self, frame, col, contrast, side_sd, span) -> Track:
         """The reporting rule (see the class notes) on the readings of :meth:`readings`, with this
-        tracker's ``k_sigma``, ``min_support``, ``max_gap``, ``min_run`` and ``max_walk``."""
-        rule = _reporting_rule(frame, contrast, side_sd, span, self)
+        tracker's ``k_sigma``, ``min_support``, ``max_gap``, ``min_run`` and ``max_walk`` (the
+        stripe question, asked of ``frame`` alone: no laser-off frame, no colour)."""
+        rule = _reporting_rule(frame, contrast, side_sd, span, self, self._asker(frame, col))
         if rule is None:
             return Track.empty(frame.shape[0])
         z, _, rep = rule
         rep = rep & ~np.isnan(col)
         return Track(np.where(rep, col, np.nan), np.where(rep, z, np.nan))
 
-    def _path_rows(self, image):
-        """The reporting rule's pieces for one frame.
+    def _asker(self, frame, col, image=None, background=None, colour=None):
+        """The stripe question for :func:`_reporting_rule` (None when ``stripe_test`` is None): the
+        supporting rows (H,) bool -> the rows whose peak at ``col`` on ``frame`` is a stripe; ``image``,
+        ``background`` and ``colour`` as for :func:`trackers._stripe.ask`."""
+        if self.stripe_test is None:
+            return None
+
+        def ask(support):
+            columns = np.where(support, col, np.nan)
+            return answer(self.stripe_test, frame, columns, image=image, background=background, colour=colour).yes
+        return ask
+
+    def _path_rows(self, image, raw=None, background=None, colour=None):
+        """The reporting rule's pieces for one frame (the one the DP sees; ``raw``, ``background`` and
+        ``colour``: the laser-on and laser-off frames and the colour evidence, for the stripe question).
 
         Returns ``None`` when the frame has no stripe (too few supporting
         rows), else ``(col, z, support, report)``, all (H,): each row's
@@ -601,14 +581,14 @@ class DPTracker(Tracker):
         supporting the path, the rows to report.
         """
         col, contrast, side_sd, span = self._readings(image)
-        rule = _reporting_rule(image, contrast, side_sd, span, self)
+        rule = _reporting_rule(image, contrast, side_sd, span, self, self._asker(image, col, raw, background, colour))
         if rule is None:
             return None
         z, support, report = rule
         return col, z, support, report & ~np.isnan(col)
 
-    def find_stripe(self, image, background):
-        rows = self._path_rows(self.seen_frame(image, background))
+    def find_stripe(self, image, background, colour=None):
+        rows = self._path_rows(self.seen_frame(image, background), image, background, colour)
         if rows is None:
             return Track.empty(image.shape[0])
         mean_col, z, _, report = rows

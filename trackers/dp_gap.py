@@ -200,8 +200,9 @@ class DPGapTracker(DPTracker):
 
     Parameters
     ----------
-    eps, k_sigma, min_support, max_gap, min_run, side_inner, side_outer, h_weight, use_background, row_rule, max_walk
-        As for :class:`~trackers.dp.DPTracker`, except that ``k_sigma``, ``max_gap`` and ``min_run``
+    eps, k_sigma, min_support, max_gap, min_run, side_inner, side_outer, h_weight, use_background, row_rule, max_walk, stripe_test
+        As for :class:`~trackers.dp.DPTracker` (a row on the path whose peak the stripe question says no to
+        is off, as a row the path leaves out), except that ``k_sigma``, ``max_gap`` and ``min_run``
         default to the paper's bridging (:data:`trackers.dp.PAPER_REPORT`): the off state is
         what leaves rows out.
     connectivity : {4, 8}, default 8
@@ -226,10 +227,11 @@ class DPGapTracker(DPTracker):
                  side_inner=4, side_outer=12,
                  h_weight=DEFAULT_H_WEIGHT, use_background=True, connectivity=8, off_rel=DEFAULT_OFF_REL,
                  switch_rows=DEFAULT_SWITCH_ROWS, row_rule="crossing", max_walk=None,
-                 min_run=PAPER_REPORT["min_run"]):
+                 min_run=PAPER_REPORT["min_run"], stripe_test=None):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
-                         use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run)
+                         use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run,
+                         stripe_test=stripe_test)
         self.connectivity = connectivity
         self.off_rel = off_rel
         self.switch_rows = switch_rows

@@ -63,10 +63,11 @@ class DPSubpixelTracker(DPTracker):
     def __init__(self, eps=1.0, k_sigma=DEFAULT_REPORT["k_sigma"], min_support=0.05, max_gap=DEFAULT_REPORT["max_gap"],
                  side_inner=4, side_outer=12, estimator="blais_rioux", search=2, frac=0.5, half_window=7,
                  h_weight=DEFAULT_H_WEIGHT, use_background=True, row_rule="crossing", max_walk=None,
-                 min_run=DEFAULT_REPORT["min_run"]):
+                 min_run=DEFAULT_REPORT["min_run"], stripe_test=None):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
-                         use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run)
+                         use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run,
+                         stripe_test=stripe_test)
         self.estimator = estimator
         self.search = search
         self.frac = frac
@@ -76,10 +77,11 @@ class DPSubpixelTracker(DPTracker):
                              "search": Int(low=0), "frac": Real(low=0, high=1, high_open=True),
                              "half_window": Int(low=0)}
 
-    def find_stripe(self, image, background):
+    def find_stripe(self, image, background, colour=None):
+        raw = image
         image = self.seen_frame(image, background)
         H = image.shape[0]
-        rows = self._path_rows(image)
+        rows = self._path_rows(image, raw, background, colour)
         if rows is None:
             return Track.empty(H)
         mean_col, z, support, report = rows

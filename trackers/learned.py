@@ -33,6 +33,7 @@ import numpy as np
 
 from ._base import Track, Tracker
 from ._params import Int, Real
+from ._stripe import StripeSettings, answer
 
 __all__ = ["LearnedTracker", "FORMAT_VERSION", "DEFAULT_WEIGHTS", "WeightsError", "load_weights", "check_weights",
            "weights_info", "PARAM_KEYS", "WEIGHT_SCALARS", "MAX_WEIGHTS_BYTES", "MAX_ARRAY_BYTES", "MAX_HIDDEN",
@@ -356,6 +357,11 @@ class LearnedTracker(Tracker):
         together, :func:`choose`); None: the weights' own (0 when the file has none).
     switch_cost : float or None, default None
         Logit units per change between a reported row and an unreported one; None: the weights' own.
+    stripe_test : dict or None, default None
+        The stripe question's settings (:class:`trackers.StripeTest`; ``{}``: its defaults), asked of
+        the rows it would report, on the frame (laser-on minus laser-off where a laser-off frame is
+        given) with the laser-off frame and the colour evidence where given; a row it says no to
+        reports nothing. None: not asked.
 
     Notes
     -----
@@ -378,15 +384,18 @@ class LearnedTracker(Tracker):
     name = "learned"
     subpixel = True
     uses_background = True
+    uses_colour = True
 
-    def __init__(self, threshold=None, weights=None, jump_cost=None, switch_cost=None):
+    def __init__(self, threshold=None, weights=None, jump_cost=None, switch_cost=None, stripe_test=None):
         self.threshold = threshold
         self.weights = weights
         self.jump_cost = jump_cost
         self.switch_cost = switch_cost
+        self.stripe_test = stripe_test
 
     parameter_constraints = {"threshold": Real(low=0, high=1, optional=True), "weights": _WeightsPath(),
-                             "jump_cost": Real(low=0, optional=True), "switch_cost": Real(low=0, optional=True)}
+                             "jump_cost": Real(low=0, optional=True), "switch_cost": Real(low=0, optional=True),
+                             "stripe_test": StripeSettings()}
 
     def validate_params(self) -> None:
         """The parameters' table, then the weights file, checked whole (:func:`load_weights`; a
@@ -395,7 +404,7 @@ class LearnedTracker(Tracker):
         super().validate_params()
         load_weights(self.weights)
 
-    def find_stripe(self, image, background):
+    def find_stripe(self, image, background, colour=None):
         net = load_weights(self.weights)
         thr = net["threshold"] if self.threshold is None else float(self.threshold)
         jc = net["jump_cost"] if self.jump_cost is None else float(self.jump_cost)
@@ -403,4 +412,9 @@ class LearnedTracker(Tracker):
         col, prob, ok = choose(*candidates(image, background, net), thr, jc, sc)
         W = image.shape[1]
         col = np.clip(col, -0.5, W - 0.5)
+        if self.stripe_test is not None:
+            frame = image if background is None else np.subtract(image, background, dtype=np.float64)
+            said = answer(self.stripe_test, frame, np.where(ok, col, np.nan), image=image, background=background,
+                          colour=colour)
+            ok = ok & said.yes
         return Track(np.where(ok, col, np.nan), np.where(ok, prob, np.nan))

@@ -296,6 +296,11 @@ class StegerTracker(ThresholdTracker):
         (0, 256]; ``None``: measured on each frame.
     max_tilt : float, default 60.0
         Largest angle between the ridge and the vertical, in degrees.
+    stripe_test : dict or None, default None
+        The stripe question's settings (:class:`trackers.StripeTest`; ``{}``: its
+        defaults), asked of the reported rows on the frame the detector sees
+        (with the laser-off frame and the colour evidence where given); a row it
+        says no to reports nothing. None: not asked.
 
     Notes
     -----
@@ -310,8 +315,9 @@ class StegerTracker(ThresholdTracker):
     subpixel = True
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_STEGER["k_sigma"], prominence=DEFAULT_STEGER["prominence"],
-                 sigma=None, width=None, max_tilt=60.0, min_run=DEFAULT_STEGER["min_run"]):
-        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run)
+                 sigma=None, width=None, max_tilt=60.0, min_run=DEFAULT_STEGER["min_run"], stripe_test=None):
+        super().__init__(threshold=threshold, k_sigma=k_sigma, prominence=prominence, min_run=min_run,
+                         stripe_test=stripe_test)
         self.sigma = sigma
         self.width = width
         self.max_tilt = max_tilt
@@ -333,8 +339,9 @@ class StegerTracker(ThresholdTracker):
             return max(0.6, default_sigma(FALLBACK_WIDTH))
         return max(0.6, SCALE_PER_WIDTH * estimate_width(image, float(self.k_sigma), float(self.prominence), quantum))
 
-    def find_stripe(self, image, background):
+    def find_stripe(self, image, background, colour=None):
         from ._detect import detect_rows
+        from ._stripe import answer
 
         H, W = image.shape
         if background is not None:
@@ -363,4 +370,8 @@ class StegerTracker(ThresholdTracker):
         min_nx = math.cos(math.radians(float(self.max_tilt)))
         ridge_rows(f, d, best_col, ds.hit, img_thr, min_nx, acceptance(sigma), columns, score)
         np.clip(columns, -0.5, W - 0.5, out=columns)
+        said = answer(self.stripe_test, f, columns, image=image, background=background, colour=colour)
+        if said is not None:
+            columns[~said.yes] = np.nan
+            score[~said.yes] = np.nan
         return Track(columns, score * top)

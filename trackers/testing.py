@@ -30,7 +30,7 @@ from ._base import Track, Tracker
 
 __all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "make_ambient_pair",
            "make_score_image", "stripe_profile", "check_background_use", "check_parameter_constraints",
-           "check_score_meaning", "check_pixel_range", "check_border_stripe", "PIXEL_RANGES"]
+           "check_score_meaning", "check_colour_use", "check_pixel_range", "check_border_stripe", "PIXEL_RANGES"]
 
 
 def stripe_profile(centre, width: int, sigma_px: float, peak: float) -> np.ndarray:
@@ -447,6 +447,28 @@ def check_background_use(tracker: Tracker) -> None:
     )
 
 
+def check_colour_use(tracker: Tracker) -> None:
+    """With colour evidence (trackers whose ``uses_colour`` is True): evidence that carries no
+    information (every pixel fully laser-coloured) changes nothing, with or without a laser-off frame;
+    evidence of another shape is refused with a ``ValueError`` naming ``colour``; and the tracker's
+    :meth:`~trackers.Tracker.find_stripe` takes the evidence as its third argument."""
+    img, _ = make_stripe_image(seed=8)
+    on, off, _ = make_ambient_pair(seed=9)
+    full = np.ones(img.shape)
+    a, b = tracker.track(img), tracker.track(img, colour=full)
+    assert _same(a.columns, b.columns) and _same(a.score, b.score), (
+        f"{_name(tracker)}: colour evidence that says every pixel has the laser's colour changed the track")
+    a, b = tracker.track(on, background=off), tracker.track(on, background=off, colour=np.ones(on.shape))
+    assert _same(a.columns, b.columns), (
+        f"{_name(tracker)}: uninformative colour evidence changed the track of a frame pair")
+    try:
+        tracker.track(img, colour=np.ones((img.shape[0], img.shape[1] + 1)))
+    except ValueError as exc:
+        assert "`colour`" in str(exc), f"{_name(tracker)}: a bad `colour` was refused without naming it: {exc}"
+    else:
+        raise AssertionError(f"{_name(tracker)}: colour evidence of the wrong shape was accepted")
+
+
 _CHECKS: tuple[Callable[[Tracker], None], ...] = (
     check_output_types,
     check_blank_image,
@@ -466,6 +488,7 @@ _CHECKS: tuple[Callable[[Tracker], None], ...] = (
 #: Checks that apply only to trackers with a property, chosen by it (scikit-learn's tags).
 _TAGGED: tuple[tuple[Callable[[Tracker], bool], Callable[[Tracker], None]], ...] = (
     (lambda t: bool(getattr(t, "uses_background", False)), check_background_use),
+    (lambda t: bool(getattr(t, "uses_colour", False)), check_colour_use),
     (lambda t: bool(type(t).parameter_constraints), check_parameter_constraints),
 )
 

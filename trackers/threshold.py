@@ -6,6 +6,7 @@ import numpy as np
 
 from ._base import Track, Tracker
 from ._params import Int, Real
+from ._stripe import StripeSettings, answer
 
 __all__ = ["ThresholdTracker", "DEFAULT_K_SIGMA", "DEFAULT_PROMINENCE", "DEFAULT_MIN_RUN", "DEFAULT_WIDTH_RATIO"]
 
@@ -61,6 +62,12 @@ class ThresholdTracker(Tracker):
     width_ratio : float or None, default :data:`DEFAULT_WIDTH_RATIO`
         Widest half-contrast run of a stripe, in medians of the frame's rows
         that pass (>= 1; None: any); not used with an explicit ``threshold``.
+    stripe_test : dict or None, default None
+        The stripe question's settings (:class:`trackers.StripeTest`; ``{}``:
+        its defaults): a row whose peak it says is not a stripe is not a
+        candidate (before the chain). It reads the laser-off frame and the
+        colour evidence where given. None: not asked (the rule above alone);
+        not used with an explicit ``threshold``.
 
     Notes
     -----
@@ -79,28 +86,38 @@ class ThresholdTracker(Tracker):
 
     name = "threshold"
     subpixel = False
+    uses_colour = True
 
     def __init__(self, threshold=None, k_sigma=DEFAULT_K_SIGMA, prominence=DEFAULT_PROMINENCE,
-                 min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO):
+                 min_run=DEFAULT_MIN_RUN, width_ratio=DEFAULT_WIDTH_RATIO, stripe_test=None):
         self.threshold = threshold
         self.k_sigma = k_sigma
         self.prominence = prominence
         self.min_run = min_run
         self.width_ratio = width_ratio
+        self.stripe_test = stripe_test
 
     parameter_constraints = {"threshold": Real(optional=True), "k_sigma": Real(low=0, high=1e6),
                              "prominence": Real(low=0, high=1e6), "min_run": Int(low=1, high=100000),
-                             "width_ratio": Real(low=1, high=1e6, optional=True)}
+                             "width_ratio": Real(low=1, high=1e6, optional=True), "stripe_test": StripeSettings()}
 
-    def detect(self, image):
-        """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`)."""
+    def detect(self, image, *, raw=None, background=None, colour=None):
+        """The per-row decision on a validated frame (:class:`trackers._detect.RowDetection`).
+
+        ``raw``, ``background`` and ``colour`` feed the stripe question (``stripe_test``): the
+        laser-on frame (default ``image``), the laser-off frame and the colour evidence, each or None.
+        """
         from ._detect import detect_rows
 
+        question = None
+        if self.stripe_test is not None:
+            def question(columns):
+                return answer(self.stripe_test, image, columns, image=raw, background=background, colour=colour).yes
         return detect_rows(image, float(self.k_sigma), float(self.prominence), self.threshold,
-                           min_run=int(self.min_run), width_ratio=self.width_ratio)
+                           min_run=int(self.min_run), width_ratio=self.width_ratio, ask=question)
 
-    def find_stripe(self, image, background):
-        d = self.detect(image)
+    def find_stripe(self, image, background, colour=None):
+        d = self.detect(image, background=background, colour=colour)
         columns = np.where(d.hit, d.mid.astype(np.float64), np.nan)
         score = np.where(d.hit, d.score, np.nan)
         return Track(columns, score)

@@ -48,12 +48,15 @@ class RunTables:
     metrics : pandas.DataFrame
         One row per experiment x tracker x region. Keys: ``experiment``, ``scene``,
         ``material``, ``condition``, ``tracker`` (the label), ``region`` (``"all"``: every
-        lit row; ``"object"``: the object's rows only). Pixel errors against the truth
+        row; ``"object"``: the object's stripe rows, every other row unknown, so its
+        detection figures that a false report moves are NaN,
+        :data:`bench.evaluate.tables.OBJECT_BLIND`). Pixel errors against the truth
         (px, detected lit rows): ``px_mae``, ``px_rmse``, ``px_p95``; depth errors on the
         restored surface (mm): ``depth_mae_mm``, ``depth_rmse_mm``, ``depth_p95_mm``;
         fractions in [0, 1]: ``coverage``, ``hit_rate`` (within 3 px,
         :data:`bench.evaluate.metrics.HIT_PX`), ``false_lock_rate``, ``outlier_rate``,
-        ``filled_fraction``; counts: ``false_detections``, ``n_rows``, ``n_lit``,
+        ``filled_fraction``, ``false_detections`` (reports among the rows with no stripe);
+        the row outcomes and detection figures (docs/detection.md); counts: ``n_rows``, ``n_lit``,
         ``n_detected``, ``failed_frames``, ``frames``; timing: ``ms_per_frame`` (wall
         ms per frame on the machine that ran it). NaN where a value is undefined
         (no lit rows in the region).

@@ -3,9 +3,9 @@
 Every command is a :class:`bench.cli.common.Command` in the ``COMMANDS`` of its
 group's module (``run``: reproduce, run, report, check, compare; ``real``:
 track, real; ``submit``: export, score, leaderboard; ``sweep``; ``studies``:
-estimators, translucency, tune, spread, perf {trackers, scenes, sweep, shiny,
+estimators, translucency, tune, loro, spread, perf {trackers, scenes, sweep, shiny,
 sampling, lit, mis}; ``info``: trackers, scenes; ``train``: trainset, train; ``predict``:
-predict, predictcheck, predictscore; a test
+predict, predictcheck, predictloro, predictscore; a test
 checks this list against :func:`command_groups`), built from an
 ``add_arguments(parser)`` and a ``run(args)``; a study command's ``run`` calls the
 study's plain function with the parsed options (:func:`bench.cli.common.study_command`),

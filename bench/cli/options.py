@@ -110,32 +110,6 @@ def add_tol(parser) -> None:
                         help=f"hit tolerance in px (> 0 and <= {MAX_TOL_PX:g}; default {REAL_DEFAULTS['tol_px']:g})")
 
 
-def add_frames(parser, flag: str = "--frames") -> None:
-    """``--frames {transplant,render}``: where a prediction's frames with truth come from
-    (:data:`bench.run.predict.FRAMES`)."""
-    from bench.run.predict import FRAMES
-
-    parser.add_argument(flag, default=FRAMES[0], choices=FRAMES,
-                        help="the frames with truth the prediction scores: transplant (each photograph with its own "
-                             "stripe moved to a known place, and in place) or render (renders matched to its "
-                             "conditions); "
-                             f"default {FRAMES[0]}")
-
-
-def add_estimate(parser, flag: str = "--estimate") -> None:
-    """``--estimate {auto,path,argmax,reference,covered}``: how a transplant finds a photograph's stripe
-    (:data:`bench.run.predict.ESTIMATES`)."""
-    from bench.run.predict import ESTIMATES
-
-    parser.add_argument(flag, default=ESTIMATES[0], choices=ESTIMATES,
-                        help="how the transplant finds the stripe: auto (argmax for a stripe at most 3 px wide "
-                             "or a nearly noiseless frame, else path; on a colour photograph seen in the laser-colour "
-                             "blend, found where the laser's colour is; default), path (the most continuous bright "
-                             "path), argmax (each row's maximum, kept where its neighbours agree); two ablations on a "
-                             "real set: reference (its references: what a perfect stripe estimate would predict) or "
-                             "covered (auto, in the rows its references cover only); docs/predict.md")
-
-
 def plain(text: str) -> str:
     """Docstring text for a terminal: reStructuredText roles and literals removed.
 

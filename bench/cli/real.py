@@ -6,8 +6,7 @@ import sys
 from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_out_folder
-from bench.cli.options import (add_estimate, add_force, add_frames, add_n_boot, add_out, add_quiet, add_seed, add_tol,
-                               add_trackers)
+from bench.cli.options import add_force, add_n_boot, add_out, add_quiet, add_seed, add_tol, add_trackers
 from bench.config.options import REAL_DEFAULTS
 
 __all__ = ["COMMANDS"]
@@ -57,6 +56,26 @@ def _track(args) -> int:
     return 1 if failed else 0
 
 
+def real_table(summary: dict, labels) -> str:
+    """The console table of a real run: per tracker (in the order of ``labels``) F1 over rows with its 95 %
+    interval, the false-report rate with its false and stripe-less rows, then the hit rate with its interval,
+    MAE on the hits and coverage."""
+    def f(v, fmt=".3f"):
+        return format(v, fmt) if isinstance(v, (int, float)) and v == v else "–"
+
+    lines = [f"{'tracker':<16}{'F1':>7}{'95 % CI':>16}{'false reports':>15}{'false/none':>12}{'hit rate':>10}"
+             f"{'95 % CI':>16}{'MAE px':>8}{'coverage':>10}"]
+    for lab in labels:
+        s = summary["trackers"][lab]
+        d, h = s.get("detection") or {}, s["hit_rate"]
+        ci = f"[{f(d.get('f1_lo'))}, {f(d.get('f1_hi'))}]"
+        rows = f"{d.get('n_false', 0)}/{d.get('n_false', 0) + d.get('n_quiet', 0)}"
+        lines.append(f"{lab:<16}{f(d.get('f1')):>7}{ci:>16}{f(d.get('false_report_rate')):>15}{rows:>12}"
+                     f"{f(h['mean']):>10}{'[' + f(h['lo']) + ', ' + f(h['hi']) + ']':>16}"
+                     f"{f(s['mae_px']['mean'], '.2f'):>8}{f(s['coverage']['mean']):>10}")
+    return "\n".join(lines)
+
+
 def _add_real(p) -> None:
     p.add_argument("dataset", type=Path, help="real-set folder (e.g. bench/data/real)")
     add_out(p, "run folder (default: results/runs/real-<dataset name>)")
@@ -66,15 +85,12 @@ def _add_real(p) -> None:
     add_n_boot(p)
     add_seed(p, "bootstrap seed", default=REAL_DEFAULTS["seed"])
     p.add_argument("--check", action="store_true", help="only validate the dataset (one line per problem, exit 2)")
+    p.add_argument("--by-rig", action="store_true",
+                   help="also print F1, false-report rate and hit rate per rig (the manifest's `rig`), with 95 %% "
+                        "intervals over each rig's photographs and, for all rigs, over rigs")
     p.add_argument("--predict", action="store_true",
                    help="also predict the figures from frames made for the photographs (as `stripebench predict`, "
                         "into RUN/predict) and compare them with the measured ones")
-    add_frames(p, "--predict-frames")
-    add_estimate(p, "--predict-estimate")
-    p.add_argument("--predict-size", type=int, default=256, choices=(128, 256, 512),
-                   help="render width of --predict-frames render in px (default 256)")
-    p.add_argument("--predict-grid", default="default", choices=("default", "small"),
-                   help="the renders --predict searches (as `stripebench predict --grid`)")
     add_quiet(p)
 
 
@@ -114,36 +130,61 @@ def _real(args) -> int:
     if not args.quiet:
         from bench.store.realrun import load_real_run
 
-        summary = load_real_run(out)["summary"]
-        print(f"{'tracker':<16}{'hit rate':>10}{'95 % CI':>18}{'MAE px':>9}{'coverage':>10}")
-        for lab, s in summary["trackers"].items():
-            h = s["hit_rate"]
-            ci = f"[{h['lo']:.3f}, {h['hi']:.3f}]"
-            print(f"{lab:<16}{h['mean']:>10.3f}{ci:>18}{s['mae_px']['mean']:>9.2f}{s['coverage']['mean']:>10.3f}")
+        from bench.report.real import images_by_f1, ranked_trackers
+
+        saved = load_real_run(out)
+        summary = saved["summary"]
+        print(real_table(summary, ranked_trackers(summary)))
+        per = images_by_f1(saved["metrics"], list(summary["trackers"]))
+        hard = [(n, float(per.loc[n].mean())) for n in per.index[:3] if per.loc[n].notna().any()]
+        if hard:
+            print("hardest photographs (mean F1 over the trackers): "
+                  + ", ".join(f"{n} {v:.3f}" for n, v in hard))
+    if args.by_rig:  # asked for: printed with --quiet too
+        from bench.store.realrun import load_real_run
+
+        print(by_rig_table(load_real_run(out)["summary"]))
     print(f"stripebench: report at {out / 'report.html'}")
     if args.predict:
         _predict_and_compare(args, specs, out)
     return 0
 
 
+def by_rig_table(summary: dict) -> str:
+    """``real --by-rig``'s lines: per tracker, each rig's photographs, F1, false-report rate and hit rate with their
+    intervals (``summary.json``'s ``rigs``, :func:`bench.evaluate.loro.rig_figures`), then all rigs."""
+    from bench.evaluate.formats import estimate
+
+    def cell(d, k):
+        return estimate(d[k], d[f"{k}_lo"], d[f"{k}_hi"])
+
+    lines = ["per rig (95 % intervals over the rig's photographs; over all rigs, over rigs; none from one photograph):"]
+    for lab, s in summary["trackers"].items():
+        rigs = s.get("rigs")
+        if not rigs:
+            continue
+        wide = max(len(g) for g in [*rigs["rigs"], "all rigs"]) + 2
+        lines.append(f"{lab}")
+        lines.append(f"  {'rig':<{wide}}{'photos':>7}  {'F1':<22}{'false-report rate':<24}{'hit rate':<22}")
+        for g, d in [*rigs["rigs"].items(), ("all rigs", rigs["all"])]:
+            lines.append(f"  {g:<{wide}}{d['n_photos']:>7}  {cell(d, 'f1'):<22}{cell(d, 'false_report_rate'):<24}"
+                         f"{cell(d, 'recall'):<22}")
+    return "\n".join(lines)
+
+
 def _predict_and_compare(args, specs, out) -> None:
     """``real --predict``: the prediction into ``RUN/predict``, then predicted beside measured."""
     import math
-    from dataclasses import replace
 
-    from bench.report.predict import build_predict_report
-    from bench.run.predict import DEFAULT_GRID, SMALL_GRID
     from bench.evaluate.prediction import COMPARED
+    from bench.report.predict import build_predict_report
     from bench.run.real import predict_real
 
-    grid = SMALL_GRID if args.predict_grid == "small" else DEFAULT_GRID
-    grid = replace(grid, width=args.predict_size, height=args.predict_size * 15 // 16)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
-    res = predict_real(args.dataset, out, specs, frames=args.predict_frames, estimate=args.predict_estimate, grid=grid,
-                       n_boot=args.n_boot, seed=args.seed, say=say)
+    res = predict_real(args.dataset, out, specs, n_boot=args.n_boot, seed=args.seed, say=say)
     build_predict_report(res["result"])
     names, cmp, rigs = res["doc"]["photographs"], res["result"]["comparison"], res["result"]["comparison_rigs"]
-    print(f"predicted vs measured on the {len(names)} matched photographs (measured rows pooled):")
+    print(f"predicted vs measured on the {len(names)} photographs in range (measured rows pooled):")
     print(f"{'tracker':<16}{'hit rate pred':>14}{'measured':>10}{'F1 pred':>9}{'measured':>10}")
     f1 = {r["tracker"]: r for r in cmp["f1"]["table"]}
     for r in cmp["hit_rate"]["table"]:

@@ -26,6 +26,10 @@ def add_run_options(p) -> None:
     add_seed(p)
     add_quiet(p)
     p.add_argument("--no-report", action="store_true", help="write the results only, not figures and report.html")
+    p.add_argument("--predict", action="store_true",
+                   help="with a real set (the configuration's real_set), also predict the trackers' figures on its "
+                        "photographs beside the measured ones (the configuration key real_predict = true; "
+                        "docs/predict.md)")
     p.add_argument("--no-render-ahead", action="store_true",
                    help="render every frame in this process only, no helper process (the same results; "
                         "the configuration key render_ahead = false)")
@@ -46,6 +50,10 @@ def run_config(config, args) -> int:
         changes["seed"] = args.seed
     if args.no_render_ahead:
         changes["render_ahead"] = False
+    if args.predict:
+        if not config.real_set:
+            raise UsageError("--predict needs a configuration with a real set (real_set = \"shipped\" or a folder)")
+        changes["real_predict"] = True
     if changes:
         config = with_overrides(config, **changes)
     check_env()

@@ -1,4 +1,4 @@
-"""The study commands: ``estimators``, ``translucency``, ``tune``, ``spread``, ``perf {trackers,scenes,sweep,shiny,sampling,lit,mis}``.
+"""The study commands: ``estimators``, ``translucency``, ``tune``, ``loro``, ``spread``, ``perf {trackers,scenes,sweep,shiny,sampling,lit,mis}``.
 
 Each command's options are defined here (``tune``: :mod:`bench.cli.tune`, ``perf``:
 :mod:`bench.cli.perf`); its work is a study's plain function (``study(...)`` of its module
@@ -124,12 +124,41 @@ def field_sheet_options(parser) -> None:
 SPREAD = study_command("spread", "the gated metrics' spread across machine configurations, and the gate's tolerances "
                                  "from it", spread_options, "bench.studies.gate_spread:study", renders=True)
 
+def loro_options(parser) -> None:
+    """The options of ``stripebench loro``."""
+    from bench.studies.loro import DEFAULT_OUT, DEFAULT_TUNING
+
+    def names(name, text):
+        import trackers
+
+        known = trackers.available(unlisted=True)
+        out = [t.strip() for t in text.split(",") if t.strip()]
+        bad = [t for t in out if t not in known]
+        if not out or bad:
+            raise ValueError(f"{name}: unknown tracker(s) {', '.join(bad) or '(none given)'} "
+                             f"(known: {', '.join(known)})")
+        return out
+
+    parser.add_argument("--dataset", type=Path, default=None, metavar="DIR",
+                        help="real set whose manifest names each photograph's rig (default: the shipped one)")
+    parser.add_argument("--threshold", type=Path, default=DEFAULT_TUNING["threshold"], metavar="JSON",
+                        help=f"summary.json of `stripebench tune threshold` (default {DEFAULT_TUNING['threshold']})")
+    parser.add_argument("--gap", type=Path, default=DEFAULT_TUNING["dp_gap"], metavar="JSON",
+                        help=f"summary.json of `stripebench tune dp_gap` (default {DEFAULT_TUNING['dp_gap']})")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, metavar="CSV", help=f"the table (default {DEFAULT_OUT})")
+    parser.add_argument("--trackers", type=arg_type(names, "--trackers"), metavar="LIST",
+                        help="comma-separated tracker names (default: every listed tracker)")
+    add_quiet(parser, "no progress lines")
+
+
 COMMANDS = (
     study_command("estimators", "the sub-pixel estimator study on analytic stripes", estimators_options,
                   "bench.studies.estimators:study"),
     study_command("translucency", "the subsurface-scattering bias study", translucency_options,
                   "bench.studies.translucency:study", renders=True),
     tune.COMMAND,
+    study_command("loro", "the default trackers on photographs leave one rig out, from the tuning procedures' "
+                          "choices: results/real_loro.csv", loro_options, "bench.studies.loro:study"),
     SPREAD,
     perf.COMMAND,
 )

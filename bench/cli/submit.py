@@ -12,7 +12,7 @@ from pathlib import Path
 
 from bench.cli.common import Command, UsageError, check_env, check_out_folder
 from bench.cli.options import add_force, add_out, add_quiet, add_seed, add_trackers, arg_type
-from bench.config.options import finite_float
+from bench.config.options import finite_float, seed_value
 
 __all__ = ["COMMANDS"]
 
@@ -29,6 +29,9 @@ def _add_export(p) -> None:
                    default=0.3, metavar="F",
                    help="share of frames in the test split (truth in truth_test/; 0 .. 1, default 0.3)")
     add_seed(p, "seed for renders and the split")
+    p.add_argument("--test-seed", type=arg_type(seed_value, "--test-seed"), metavar="N",
+                   help="seed of the test frames' angles and renders (default: a fresh secret one, kept in "
+                        "truth_test/withheld.json; give that one to write the same frame set again)")
     p.add_argument("--participants", type=Path, metavar="DIR",
                    help="also write a participants' bundle to DIR: the frame set without the test split's truth "
                         "(hand it out; keep --out to score the submissions)")
@@ -52,7 +55,8 @@ def _export(args) -> int:
 
         check_out_folder(args.participants, "--participants")
         check_bundle_folder(args.out, args.participants)
-    out = export(config, args.out, test_fraction=args.test_fraction, quiet=args.quiet, force=args.force)
+    out = export(config, args.out, test_fraction=args.test_fraction, test_seed=args.test_seed, quiet=args.quiet,
+                 force=args.force)
     print(f"stripebench: frame set at {out}")
     if args.participants is not None:
         from bench.run.export import participants_bundle
@@ -107,13 +111,14 @@ def _score(args) -> int:
 
 
 def _add_leaderboard(p) -> None:
-    from bench.report.leaderboard import RANK_BY
+    from bench.report.leaderboard import DEFAULT_RANK_BY, RANK_BY
 
     p.add_argument("runs", nargs="+", type=Path, metavar="RUN", help="finished run or scored-submission folders")
     add_out(p, "output folder (leaderboard.html, leaderboard.csv)", required=True)
-    p.add_argument("--rank-by", choices=RANK_BY, default="within",
-                   help="rank by the ±5 mm fraction of sample points (the paper's reading, default), or by F1 "
-                        "or AP over rows (detection: misses and false reports alike)")
+    p.add_argument("--rank-by", choices=RANK_BY, default=DEFAULT_RANK_BY,
+                   help="rank by F1 over rows (default: misses and false reports alike), AP over rows (the "
+                        "tracker's score ranking its reports), or the ±5 mm fraction of sample points (within: the "
+                        "paper's reading, blind to false reports); the false-report rate stands beside each")
 
 
 def _leaderboard(args) -> int:

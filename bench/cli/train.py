@@ -62,9 +62,10 @@ def _add_trainset(p) -> None:
     p.add_argument("--noise-draws", type=arg_type(_count, "--noise-draws"), default=2,
                    help="sensor-noise draws per angle (default 2)")
     add_seed(p, "seed of the draws", default=1)
-    p.add_argument("--draws", type=int, choices=(1, 2), default=2,
+    p.add_argument("--draws", type=int, choices=(1, 2, 3), default=2,
                    help="draw rules (bench.run.trainset.DRAW_RULES): 1 the first weights' (one level per scene), "
-                        "2 per-frame levels with saturated stripes and wide lines (default 2)")
+                        "2 per-frame levels with saturated stripes and wide lines (default 2), 3 as 2 with a "
+                        "distractor in half the units (scenes.distractors)")
     p.add_argument("--size", type=arg_type(size_value, "--size"), default=(512, 480), metavar="WxH",
                    help="WIDTHxHEIGHT (default 512x480)")
     p.add_argument("--workers", type=arg_type(workers_value, "--workers"), default=None,

@@ -13,6 +13,7 @@ A configuration is a TOML document::
     n_boot = 2000             # bootstrap resamples for the confidence intervals
     restore = "rows"          # how missed rows are filled before sampling: "rows" or "none" (bench.evaluate.restore)
     real_set = ""             # also evaluate the trackers on photographs: "shipped" or a folder (sim-to-real)
+    real_predict = false      # with real_set: also predict their figures on those photographs (`run --predict`)
     render_ahead = true       # a helper process renders later frames into the render cache meanwhile
                               # (bench.run.renderahead; results are the same either way)
     llvm_target = ""          # the LLVM target of the renders: "" (Dr.Jit's native choice), "portable"
@@ -80,6 +81,7 @@ CONSTRAINTS = {
     "n_boot": Int(low=MIN_N_BOOT, high=MAX_N_BOOT),
     "restore": Choice(METHODS),
     "render_ahead": Bool(),
+    "real_predict": Bool(),
 }
 #: An experiment's numbers (its ``n_angles`` also at most :data:`scenes.params.MAX_SIZE`; each of its
 #: ``angles`` a mirror angle within +-:data:`MAX_ANGLE_DEG`; ``[render]`` sizes are integers >= 1 within
@@ -135,6 +137,9 @@ class Config:
     source: str = "<dict>"
     restore: str = "rows"
     real_set: str = ""  # "" none, "shipped" (bench/data/real) or a folder: the sim-to-real comparison
+    # with a real set, also predict its figures (bench.run.real.predict_real; `run --predict`): part of the identity,
+    # written only when set (OPTIONAL_KEYS)
+    real_predict: bool = False
     tracker_specs: tuple[TrackerSpec, ...] = ()
     # a helper process renders frames ahead into the render cache while the run tracks (bench.run.renderahead);
     # how a run executes, not what it computes: not part of the run's identity (:meth:`identity`)
@@ -196,7 +201,7 @@ class Config:
 
 _NOT_KEYS = {"source", "tracker_specs"}
 EXECUTION_KEYS = ("render_ahead",)  # how a run executes, never what it computes (see Config.identity)
-OPTIONAL_KEYS = ("llvm_target",)  # written by Config.to_dict only when set, so that older hashes stay
+OPTIONAL_KEYS = ("llvm_target", "real_predict")  # written by Config.to_dict only when set, so that older hashes stay
 _TOP = {f.name for f in fields(Config)} - _NOT_KEYS
 _EXP_KEYS = {f.name for f in fields(Experiment)} - {"overrides"}
 
@@ -271,13 +276,15 @@ def parse(data: dict[str, Any], source: str = "<dict>", *, machine: bool = True)
     render_ahead = require("render_ahead", data.get("render_ahead", _default("render_ahead")),
                            CONSTRAINTS["render_ahead"])
     llvm_target = _llvm_target(data.get("llvm_target", _default("llvm_target")))
+    real_predict = require("real_predict", data.get("real_predict", _default("real_predict")),
+                           CONSTRAINTS["real_predict"])
     render = _render(data.get("render", _default("render")))
     exps = _experiments(data.get("experiments"), render, machine)
     if machine:
         _check_memory(exps, render, len(specs))
     return Config(name, seed, tuple(s.label for s in specs), baselines, dp, n_samples, n_boot, render, exps, source,
                   restore=restore, real_set=real_set, tracker_specs=specs, render_ahead=render_ahead,
-                  llvm_target=llvm_target)
+                  llvm_target=llvm_target, real_predict=real_predict)
 
 
 def _groups(data: dict, labels: tuple[str, ...]) -> tuple[tuple[str, ...], tuple[str, ...]]:

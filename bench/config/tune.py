@@ -25,6 +25,11 @@ experiment) and the numbers with the trackers' constraint types (:data:`CONSTRAI
 :data:`GAP_CONSTRAINTS`, :data:`THRESHOLD_CONSTRAINTS`; :mod:`bench.config.checks`);
 every problem raises :class:`bench.config.ConfigError` with one line.
 The procedure itself is :mod:`bench.studies.tune`.
+
+The ``tune threshold`` and ``tune dp_gap`` profiles may also hold the stripe question's stage
+(:func:`stripe_stage`): ``stripe_trackers`` (the trackers it scores) and ``stripe_tests`` (the
+candidates, in order of preference: ``"none"``, the question not asked, or a table of
+:class:`trackers.StripeTest` settings, ``"none"`` for a test not asked); both or neither.
 """
 
 from __future__ import annotations
@@ -39,8 +44,8 @@ from bench.config.schema import RENDER_KEYS, scene_override_keys
 from bench.errors import ConfigError
 
 __all__ = ["TuneProfile", "load_profile", "parse_profile", "TOP_KEYS", "TUNE_RENDER_KEYS", "DEFAULT_PROFILE",
-           "GapProfile", "load_gap_profile", "GAP_TOP_KEYS", "GAP_DEFAULT_PROFILE", "TuneThresholdProfile",
-           "load_threshold_profile", "THRESHOLD_TOP_KEYS"]
+           "GapProfile", "load_gap_profile", "GAP_TOP_KEYS", "STRIPE_KEYS", "stripe_stage", "GAP_DEFAULT_PROFILE",
+           "TuneThresholdProfile", "load_threshold_profile", "THRESHOLD_TOP_KEYS"]
 
 #: The committed profile of ``stripebench tune dp``.
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp.toml"
@@ -142,6 +147,8 @@ def load_profile(path) -> TuneProfile:
 
 #: The committed profile of ``stripebench tune dp_gap``.
 GAP_DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp_gap.toml"
+#: The optional keys of the stripe question's stage (:func:`stripe_stage`), in the threshold and dp_gap profiles.
+STRIPE_KEYS = {"stripe_trackers", "stripe_tests"}
 GAP_TOP_KEYS = {"name", "seed", "tracker", "off_rel", "switch_rows", "hit_px", "tie", "render", "experiments",
                 "seeds", "kinds", "real", "dp_trackers", "k_sigma", "max_gap", "min_run"}
 GAP_RENDER_KEYS = {"width", "height", "spp", "n_angles"}
@@ -171,6 +178,8 @@ class GapProfile:
     k_sigma: list[float] = field(default_factory=list)
     max_gap: list = field(default_factory=list)
     min_run: list[int] = field(default_factory=list)
+    stripe_trackers: list[str] = field(default_factory=list)
+    stripe_tests: list = field(default_factory=list)
 
 
 def _fail(msg: str):
@@ -207,7 +216,7 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
     bench.config.ConfigError
         A missing or unknown key or a bad value, named in the message (one line).
     """
-    data = _read_profile(path, GAP_TOP_KEYS)
+    data = _read_profile(path, GAP_TOP_KEYS | STRIPE_KEYS)
     for key in sorted(GAP_TOP_KEYS):
         if key not in data:
             _fail(f"`profile` lacks the key {key!r}")
@@ -237,7 +246,8 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
     render, exps = _render_experiments(data)
     return GapProfile(str(data["name"]), seed, name, off, sw, float(data["hit_px"]), float(data["tie"]), render, exps,
                       [int(x) for x in seeds], list(ks), data["real"], list(dps), _grid(data, "k_sigma", c["k_sigma"]),
-                      _none_int_grid(data, "max_gap", c["max_gap"]), _int_grid(data, "min_run", c["min_run"]))
+                      _none_int_grid(data, "max_gap", c["max_gap"]), _int_grid(data, "min_run", c["min_run"]),
+                      *stripe_stage(data))
 
 
 # ---------------------------------------------------------------------------------------------------- threshold
@@ -281,6 +291,60 @@ class TuneThresholdProfile:
     seed: int
     render: dict
     renders: list[dict] = field(default_factory=list)
+    stripe_trackers: list[str] = field(default_factory=list)
+    stripe_tests: list = field(default_factory=list)
+
+
+def stripe_stage(data) -> tuple[list[str], list]:
+    """The stripe question's stage of a profile: ``(stripe_trackers, stripe_tests)``, both empty where the
+    profile has neither key (no such stage). ``stripe_tests`` come back as None (not asked) or dicts of
+    :class:`trackers.StripeTest` settings (a tracker's ``stripe_test`` parameter; ``"none"`` read as None).
+
+    Raises
+    ------
+    bench.config.ConfigError
+        One key without the other, a tracker without a ``stripe_test`` parameter, a candidate that is not
+        ``"none"`` or a table of valid settings, or a repeated candidate (one line).
+
+    Examples
+    --------
+    >>> stripe_stage({"stripe_trackers": ["dp4"], "stripe_tests": ["none", {}, {"colour_min": "none"}]})
+    (['dp4'], [None, {}, {'colour_min': None}])
+    """
+    have = STRIPE_KEYS & set(data)
+    if not have:
+        return [], []
+    if have != STRIPE_KEYS:
+        _fail(f"`{sorted(STRIPE_KEYS - have)[0]}` must be given with `{sorted(have)[0]}`")
+    import trackers
+    from trackers._stripe import as_test
+
+    names = data["stripe_trackers"]
+    known = set(trackers.available(unlisted=True)) - {"external"}  # `external` needs its command
+    if (not isinstance(names, list) or not names or not all(isinstance(n, str) and n in known for n in names)
+            or any("stripe_test" not in trackers.make(n).get_params() for n in names)):
+        _fail(f"`stripe_trackers` must list trackers with a stripe_test parameter, got {names!r}")
+    tests = data["stripe_tests"]
+    if not isinstance(tests, list) or not tests:
+        _fail(f"`stripe_tests` must be a non-empty list of 'none' or tables of stripe-question settings, "
+              f"got {tests!r}")
+    out = []
+    for i, t in enumerate(tests):
+        if t == "none":
+            out.append(None)
+            continue
+        if not isinstance(t, dict):
+            _fail(f"`stripe_tests[{i}]` must be 'none' or a table of stripe-question settings, got {t!r}")
+        value = {k: (None if v == "none" else v) for k, v in t.items()}
+        try:
+            as_test(value)
+        except ValueError as exc:
+            _fail(f"`stripe_tests[{i}]`: {exc}")
+        out.append(value)
+    keys = [None if t is None else as_test(t) for t in out]
+    if len(set(keys)) != len(keys):
+        _fail(f"`stripe_tests` must not repeat a candidate, got {tests!r}")
+    return list(names), out
 
 
 def _int_grid(data, key, constraint: Int):
@@ -339,7 +403,7 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     bench.config.ConfigError
         A missing or unknown key or a bad value, named in the message (one line).
     """
-    data = _read_profile(path, THRESHOLD_TOP_KEYS)
+    data = _read_profile(path, THRESHOLD_TOP_KEYS | STRIPE_KEYS)
     missing = sorted(THRESHOLD_TOP_KEYS - set(data))
     if missing:
         raise ConfigError(f"`profile` lacks the key(s) {missing}")
@@ -376,4 +440,4 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
         _none_real_grid(data, "width_ratio", c["width_ratio"]), _grid(data, "frac", c["frac"]),
         list(data["colour_trackers"]), [r if isinstance(r, str) else float(r) for r in rules],
         _grid(data, "steger_k_sigma", c["steger_k_sigma"]), _grid(data, "steger_prominence", c["steger_prominence"]),
-        _int_grid(data, "steger_min_run", c["steger_min_run"]), seed, render, renders)
+        _int_grid(data, "steger_min_run", c["steger_min_run"]), seed, render, renders, *stripe_stage(data))

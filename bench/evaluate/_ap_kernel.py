@@ -1,4 +1,4 @@
-"""The loop behind :func:`bench.evaluate.outcomes.bootstrap_frames`'s AP intervals (numba).
+"""The loop behind :func:`bench.evaluate.ranking.bootstrap_frames`'s AP intervals (numba).
 
 Imported only when a bootstrap of AP runs, so that ``bench.evaluate.outcomes`` stays light.
 """

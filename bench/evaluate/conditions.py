@@ -19,9 +19,9 @@ measure           unit       what
                              (1: a flat surface; 5: texture five times the noise)
 ``rival``         ratio      the brightest off-stripe ridge over the row's median, relative to the
                              stripe's own contrast (median over visible rows; 0: none, 1: as bright)
-``visible``       fraction   rows whose peak stands at least :data:`VISIBLE_K` noise units above
+``visible``       fraction   rows whose peak stands at least ``visible_k`` noise units above
                              the row's median
-``jumps``         fraction   adjacent visible rows whose peaks are more than :data:`JUMP_PX` px apart
+``jumps``         fraction   adjacent visible rows whose peaks are more than ``jump_px`` px apart
 ``gaps``          per row    runs of invisible rows between the first and last visible row, per
                              100 rows
 ``laser_share``   fraction   the laser channel's share of the stripe's excess over its row's
@@ -32,18 +32,18 @@ measure           unit       what
 
 **The stripe estimate** is the per-row argmax of the working image (the frame minus its
 laser-off frame where one is given, smoothed by ``[1, 2, 1] / 4`` along the row); a row has a
-visible stripe when that peak is :data:`VISIBLE_K` noise units above the row's median.
+visible stripe when that peak is ``visible_k`` noise units above the row's median.
 
 **The noise** is read where the frame is flattest: the horizontal adjacent-pixel differences of
-the frame (not the difference image) are cut into :data:`TILE_PX`-square tiles away from the
-stripe (:data:`BAND_PX` px either side of each row's argmax), clipped and black pixels left out;
+the frame (not the difference image) are cut into ``tile_px``-square tiles away from the
+stripe (``band_px`` px either side of each row's argmax), clipped and black pixels left out;
 each tile's RMS difference / sqrt(2) is its noise, and ``noise_dn`` is the 10th percentile of the
-tiles (at least :data:`NOISE_FLOOR_DN`, the 8-bit quantisation). ``texture`` is the median tile
+tiles (at least ``noise_floor_dn``, the 8-bit quantisation). ``texture`` is the median tile
 over ``noise_dn``.
 
 :func:`distance` compares two vectors in normalised condition space (each measure divided by
-its :data:`SCALES` entry, after the transforms of :data:`TRANSFORMS`); :func:`out_of_range`
-names the measures of one vector that lie outside a set of others.
+its ``condition_scales`` entry, after the transforms of :data:`TRANSFORMS`). The tuned values are fields of
+:class:`bench.evaluate.predict_settings.PredictSettings` (``settings``).
 
 Pure functions: arrays in, numbers out.
 
@@ -64,23 +64,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-__all__ = ["Conditions", "MEASURES", "MATCHED", "SCALES", "TRANSFORMS", "VISIBLE_K", "JUMP_PX", "BAND_PX", "TILE_PX",
-           "NOISE_FLOOR_DN", "NOISE_PERCENTILE", "measure", "normalised", "distance", "out_of_range", "describe",
-           "row_smoothed", "ACROSS_JUMPS", "ACROSS_SEEN", "runs_across", "OTHER_LASER_CONTRAST", "likelier_laser"]
+from bench.evaluate.predict_settings import DEFAULT, PredictSettings
 
-#: A row's stripe is visible when its peak stands this many noise units above the row's median.
-VISIBLE_K = 6.0
-#: Adjacent visible rows whose peaks are further apart than this (px) make a jump.
-JUMP_PX = 4.0
-#: Pixels this close (px) to a row's argmax belong to the stripe's band (noise, texture, rival and
-#: the background level leave them out; at least twice the measured width is left out).
-BAND_PX = 6
-#: The side of the noise tiles (px).
-TILE_PX = 16
-#: The percentile of the tiles' noise that is the sensor's (the flat quarter of the frame).
-NOISE_PERCENTILE = 25.0
-#: The least noise (DN): the quantisation of an 8-bit frame, 1/sqrt(12).
-NOISE_FLOOR_DN = 1.0 / math.sqrt(12.0)
+__all__ = ["Conditions", "MEASURES", "MATCHED", "TRANSFORMS", "measure", "sensor_noise", "distance", "describe",
+           "row_smoothed", "runs_across", "likelier_laser"]
 
 #: Every measure, in the order of :class:`Conditions`.
 MEASURES = ("contrast", "width_px", "saturated", "background", "texture", "rival", "visible", "jumps", "gaps",
@@ -92,11 +79,6 @@ MATCHED = MEASURES[:-1]
 TRANSFORMS = {"contrast": "log10", "width_px": "log10", "saturated": "lin", "background": "lin",
               "texture": "log10", "rival": "lin", "visible": "lin", "jumps": "lin", "gaps": "lin",
               "laser_share": "lin", "noise_dn": "log10"}
-#: One unit of difference per measure, after its transform: ``contrast`` 0.15 (a factor 1.4),
-#: ``width_px`` 0.12 (a factor 1.3), ``texture`` 0.15, ``background`` 0.05 of full scale, ``gaps`` 1
-#: run per 100 rows, the fractions 0.1 (``jumps`` 0.05).
-SCALES = {"contrast": 0.15, "width_px": 0.12, "saturated": 0.1, "background": 0.05, "texture": 0.15, "rival": 0.1,
-          "visible": 0.1, "jumps": 0.05, "gaps": 1.0, "laser_share": 0.1, "noise_dn": 0.15}
 
 
 @dataclass(frozen=True)
@@ -140,13 +122,13 @@ def _band_mask(shape, cols, half) -> np.ndarray:
     return np.abs(j - cols[:, None]) <= half
 
 
-def _noise_tiles(raw: np.ndarray, band: np.ndarray, sat: float) -> np.ndarray:
+def _noise_tiles(raw: np.ndarray, band: np.ndarray, sat: float, tile_px: int) -> np.ndarray:
     """Each tile's RMS horizontal difference / sqrt(2) (DN), away from the band, clipped and black pixels."""
     d = np.diff(raw, axis=1)
     ok = ~(band[:, 1:] | band[:, :-1])
     ok &= (raw[:, 1:] < sat) & (raw[:, :-1] < sat) & (raw[:, 1:] > 0) & (raw[:, :-1] > 0)
     H, W = d.shape
-    t = TILE_PX
+    t = tile_px
     nh, nw = H // t, W // t
     if nh == 0 or nw == 0:
         return np.zeros(0)
@@ -194,7 +176,35 @@ def row_smoothed(work) -> np.ndarray:
     return sm
 
 
-def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=None) -> Conditions:
+def _noise(raw: np.ndarray, cols: np.ndarray, sat: float, s: PredictSettings) -> float:
+    """The sensor noise (DN) of ``raw`` (H, W) away from the band around each row's peak ``cols`` (module docstring)."""
+    band = _band_mask(raw.shape, cols, s.band_px)
+    tiles = _noise_tiles(raw, band, sat, s.tile_px)
+    # the 25th percentile of pure-noise tiles lies 0.674 standard errors below the noise: undone
+    unbias = 1.0 - 0.674 / math.sqrt(2.0 * s.tile_px * (s.tile_px - 1))
+    noise = float(np.percentile(tiles, s.noise_percentile)) / unbias if tiles.size else s.noise_floor_dn
+    return max(noise, s.noise_floor_dn)
+
+
+def sensor_noise(frame, *, settings: PredictSettings = DEFAULT) -> float:
+    """``measure(frame).noise_dn`` alone (DN), without the other measures' cost.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> f = 20.0 + rng.normal(0, 2.0, (64, 96)); f[:, 40] += 150.0
+    >>> sensor_noise(f) == measure(f).noise_dn
+    True
+    """
+    raw = np.asarray(frame, dtype=np.float64)
+    if raw.ndim != 2 or raw.shape[0] < 2 or raw.shape[1] < 3:
+        raise ValueError(f"`frame` must be 2-D, at least 2x3, got shape {raw.shape}")
+    cols = np.argmax(row_smoothed(raw), axis=1)
+    return _noise(raw, cols, _sat_level(np.asarray(frame), None), settings)
+
+
+def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=None,
+            settings: PredictSettings = DEFAULT) -> Conditions:
     """The image conditions of one frame (module docstring).
 
     Parameters
@@ -211,6 +221,9 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
     saturation : float, optional
         The clipping level of ``frame`` (DN); default the integer dtype's maximum, else 255
         for a float frame whose values fit in 8 bits (else its maximum).
+    settings : PredictSettings
+        The tuned values (``visible_k``, ``jump_px``, ``band_px``, ``tile_px``, ``noise_percentile``,
+        ``noise_floor_dn``).
 
     Returns
     -------
@@ -240,14 +253,10 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
     med = np.median(work, axis=1)
     peak = work[rows, cols]
 
-    band = _band_mask((H, W), cols, BAND_PX)
-    tiles = _noise_tiles(raw, band, sat)
-    # the 25th percentile of pure-noise tiles lies 0.674 standard errors below the noise: undone
-    unbias = 1.0 - 0.674 / math.sqrt(2.0 * TILE_PX * (TILE_PX - 1))
-    noise = float(np.percentile(tiles, NOISE_PERCENTILE)) / unbias if tiles.size else NOISE_FLOOR_DN
-    noise = max(noise, NOISE_FLOOR_DN)
+    s = settings
+    noise = _noise(raw, cols, sat, s)
     k = (peak - med) / noise
-    vis = k >= VISIBLE_K
+    vis = k >= s.visible_k
     nv = int(vis.sum())
     use = vis if nv else np.ones(H, bool)
 
@@ -273,7 +282,7 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
         clipped = raw[r_idx, cols[r_idx]] >= sat
     saturated = float(np.mean(clipped)) if nv else 0.0
 
-    half = max(BAND_PX, int(math.ceil(2.0 * width)) if math.isfinite(width) else BAND_PX)
+    half = max(s.band_px, int(math.ceil(2.0 * width)) if math.isfinite(width) else s.band_px)
     band = _band_mask((H, W), cols, half)
     off = ~band
     if rgb is not None:  # the scene's light, not what the channel rule leaves of it
@@ -281,7 +290,7 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
         background_level = float(np.median(level[off])) / _sat_level(np.asarray(rgb), None) if off.any() else float("nan")
     else:
         background_level = float(np.median(raw[off])) / sat if off.any() else float("nan")
-    tiles = _noise_tiles(raw, band, sat)
+    tiles = _noise_tiles(raw, band, sat, s.tile_px)
     texture = float(np.median(tiles)) / noise if tiles.size else 1.0
     texture = max(texture, 1.0)
 
@@ -298,7 +307,7 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
 
     visible = nv / H
     pairs = vis[1:] & vis[:-1]
-    jumps = float(np.mean(np.abs(np.diff(cols))[pairs] > JUMP_PX)) if pairs.any() else 0.0
+    jumps = float(np.mean(np.abs(np.diff(cols))[pairs] > s.jump_px)) if pairs.any() else 0.0
     if nv:
         first, last = np.flatnonzero(vis)[[0, -1]]
         inner = ~vis[first:last + 1]
@@ -323,44 +332,21 @@ def measure(frame, background=None, *, rgb=None, laser: str = "red", saturation=
                       laser_share=laser_share, noise_dn=noise)
 
 
-def _vector(c, keys) -> np.ndarray:
+def _vector(c, keys, settings: PredictSettings) -> np.ndarray:
     d = c.as_dict() if isinstance(c, Conditions) else dict(c)
     out = []
     for k in keys:
         v = float(d[k])
         if TRANSFORMS[k] == "log10":
             v = math.log10(max(v, 1e-3)) if math.isfinite(v) else float("nan")
-        out.append(v / SCALES[k])
+        out.append(v / settings.scale(k))
     return np.array(out)
 
 
-def normalised(c, keys=MATCHED) -> np.ndarray:
-    """The measures ``keys`` of ``c`` (a :class:`Conditions` or a mapping) transformed
-    (:data:`TRANSFORMS`) and divided by their :data:`SCALES`: one unit is one scale.
-
-    Examples
-    --------
-    >>> normalised({"contrast": 100.0, "gaps": 2.0}, keys=("contrast", "gaps")).round(2).tolist()
-    [13.33, 2.0]
-    """
-    return _vector(c, tuple(keys))
-
-
-#: :func:`runs_across`: a frame's stripe seems to run across it where, turned a quarter, its peaks jump at most
-#: 1 / ACROSS_JUMPS as often between adjacent visible rows (``jumps``) and it is narrower. Set from the shipped set's 20
-#: photographs, whose frames as given jump 1.3-25 times less often than turned (least: ``al_room6``, 0.22 against
-#: 0.29), and two of them turned a quarter, which jump 3.3 and 3.8 times as often as turned back. It only words a
-#: note (``stripebench predict``): no photograph is left out by it.
-ACROSS_JUMPS = 2.0
-#: ... or where the stripe is visible in under this share of the rows it is visible in turned, and turned jumps no
-#: more often (a stripe along the rows is seen in no row: its rows' medians are the stripe).
-ACROSS_SEEN = 0.5
-
-
-def runs_across(frame, background=None, measured=None) -> bool:
+def runs_across(frame, background=None, measured=None, *, settings: PredictSettings = DEFAULT) -> bool:
     """Whether the stripe of ``frame`` seems to run across it (left to right) rather than down it, as a horizontal
     stripe given without ``--rotate`` does: turned a quarter (:func:`measure` there), its peaks jump at most
-    1 / :data:`ACROSS_JUMPS` as often and it is narrower, or it is seen in :data:`ACROSS_SEEN` as many rows or more
+    1 / ``across_jumps`` as often and it is narrower, or it is seen in ``across_seen`` as many rows or more
     and jumps no more often. ``measured``: the frame's own conditions, when the caller has them. A cue for a note,
     not a measure: the trackers read one column per row whatever it says.
 
@@ -378,26 +364,19 @@ def runs_across(frame, background=None, measured=None) -> bool:
     True
     """
     raw = np.asarray(frame, dtype=np.float64)
-    own = measure(raw, background) if measured is None else measured
-    turned = measure(np.ascontiguousarray(np.rot90(raw)),
-                     None if background is None else np.ascontiguousarray(np.rot90(np.asarray(background))))
-    if own.jumps > 0 and ACROSS_JUMPS * turned.jumps <= own.jumps and turned.width_px < own.width_px:
+    own = measure(raw, background, settings=settings) if measured is None else measured
+    turned_bg = None if background is None else np.ascontiguousarray(np.rot90(np.asarray(background)))
+    turned = measure(np.ascontiguousarray(np.rot90(raw)), turned_bg, settings=settings)
+    if own.jumps > 0 and settings.across_jumps * turned.jumps <= own.jumps and turned.width_px < own.width_px:
         return True
-    return bool(turned.jumps <= own.jumps and own.visible < ACROSS_SEEN * turned.visible)
+    return bool(turned.jumps <= own.jumps and own.visible < settings.across_seen * turned.visible)
 
 
-#: :func:`likelier_laser`: another laser colour's excess shows the stripe at least this many times the contrast of the
-#: given colour's, peaks jumping no more often. On the shipped set's 17 colour photographs no other colour comes near
-#: the laser's own (at most 0.91 times its contrast: ``ag_tape``'s blue); read as red, the ten green ones' green
-#: stands 2.0-10.7 times higher. It only words a note (``stripebench predict``).
-OTHER_LASER_CONTRAST = 2.0
-
-
-def likelier_laser(rgb, laser: str = "red") -> str | None:
+def likelier_laser(rgb, laser: str = "red", *, settings: PredictSettings = DEFAULT) -> str | None:
     """The laser colour whose excess (:func:`bench.evaluate.pixels.select_channel` ``excess``) shows the stripe of a
     colour photograph ``rgb`` (H, W, 3; DN, stripe running down) far more clearly than ``laser``'s, or None: a
     photograph of a green laser given as red (the default) has its stripe hidden in the red excess. Clearer: a
-    contrast at least :data:`OTHER_LASER_CONTRAST` times as high (:func:`measure`), peaks jumping no more often.
+    contrast at least ``other_laser_contrast`` times as high (:func:`measure`), peaks jumping no more often.
 
     Examples
     --------
@@ -413,19 +392,19 @@ def likelier_laser(rgb, laser: str = "red") -> str | None:
         raise ValueError(f"`rgb` must be a colour image (H, W, 3), got shape {rgb.shape}")
     if laser not in LASERS:
         raise ValueError(f"`laser` must be one of {', '.join(LASERS)}, got {laser!r}")
-    seen = {c: measure(select_channel(rgb, "excess", c)) for c in LASERS}
+    seen = {c: measure(select_channel(rgb, "excess", c), settings=settings) for c in LASERS}
     own = seen[laser]
     best = max((c for c in LASERS if c != laser), key=lambda c: seen[c].contrast)
     other = seen[best]
-    if other.contrast >= OTHER_LASER_CONTRAST * max(own.contrast, 0.0) and other.jumps <= own.jumps \
+    if other.contrast >= settings.other_laser_contrast * max(own.contrast, 0.0) and other.jumps <= own.jumps \
             and other.visible > 0:
         return best
     return None
 
 
-def distance(a, b, keys=MATCHED) -> float:
+def distance(a, b, keys=MATCHED, *, settings: PredictSettings = DEFAULT) -> float:
     """The root-mean-square difference of two condition vectors in scale units
-    (:func:`normalised`), over the measures finite on both sides (NaN when none is).
+    (each measure transformed by :data:`TRANSFORMS` and divided by its ``condition_scales`` entry), over the measures finite on both sides (NaN when none is).
 
     Examples
     --------
@@ -434,37 +413,11 @@ def distance(a, b, keys=MATCHED) -> float:
     >>> round(distance(a, b, keys=("contrast", "visible", "laser_share")), 3)
     1.414
     """
-    x, y = _vector(a, keys), _vector(b, keys)
+    x, y = _vector(a, keys, settings), _vector(b, keys, settings)
     ok = np.isfinite(x) & np.isfinite(y)
     if not ok.any():
         return float("nan")
     return float(np.sqrt(np.mean((x[ok] - y[ok]) ** 2)))
-
-
-def out_of_range(c, others, keys=MATCHED, margin: float = 1.0) -> list[str]:
-    """The measures of ``c`` that lie outside what ``others`` show: below their least or
-    above their largest value by more than ``margin`` scale units (after the transforms).
-
-    A measure that is NaN in ``c`` is never out of range; one finite in ``c`` but NaN in
-    every one of ``others`` (a colour photograph, grey renders) is.
-
-    Examples
-    --------
-    >>> grid = [{"contrast": 10.0, "visible": 0.8}, {"contrast": 50.0, "visible": 1.0}]
-    >>> out_of_range({"contrast": 400.0, "visible": 0.9}, grid, keys=("contrast", "visible"))
-    ['contrast']
-    """
-    keys = tuple(keys)
-    x = _vector(c, keys)
-    ys = np.array([_vector(o, keys) for o in others]) if len(others) else np.full((0, len(keys)), np.nan)
-    bad = []
-    for i, k in enumerate(keys):
-        if not math.isfinite(x[i]):
-            continue
-        col = ys[:, i][np.isfinite(ys[:, i])] if ys.size else np.zeros(0)
-        if col.size == 0 or x[i] < col.min() - margin or x[i] > col.max() + margin:
-            bad.append(k)
-    return bad
 
 
 def describe(c) -> str:

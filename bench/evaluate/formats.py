@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import numbers
 
-__all__ = ["MISSING", "pct", "interval", "num", "signed", "fixed"]
+__all__ = ["MISSING", "pct", "interval", "num", "signed", "fixed", "estimate"]
 
 #: What a missing value is written as.
 MISSING = "–"
@@ -72,3 +72,15 @@ def fixed(value, fmt: str = ".3f") -> str:
     ('0.731', '12.5', '–')
     """
     return format(value, fmt) if _ok(value) else MISSING
+
+
+def estimate(value, low, high, fmt: str = ".3f") -> str:
+    """A value with its interval, each ``format(.., fmt)``: ``0.949 [0.882, 0.990]``; ``[–]`` when an end is missing.
+
+    Examples
+    --------
+    >>> estimate(0.9491, 0.882, 0.99), estimate(0.5, float("nan"), 0.7), estimate(None, None, None)
+    ('0.949 [0.882, 0.990]', '0.500 [–]', '– [–]')
+    """
+    ends = f"[{format(low, fmt)}, {format(high, fmt)}]" if _ok(low) and _ok(high) else f"[{MISSING}]"
+    return f"{fixed(value, fmt)} {ends}"

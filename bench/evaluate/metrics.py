@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.evaluate.outcomes import HIT_PX, hits, outcome_record
+from bench.evaluate.outcomes import HIT_PX, hits
+from bench.evaluate.ranking import outcome_record
 
 __all__ = ["error_stats", "coverage", "hit_rate", "outlier_rate", "false_detection_rate", "false_lock_rate",
            "frame_record", "hits", "OUTLIER_PX", "HIT_PX"]

@@ -35,7 +35,7 @@ def predicted_figures(counts: dict) -> dict:
     """A prediction's figures from its row-outcome counts: :func:`bench.evaluate.outcomes.detection_figures` of
     the counts of the moved frames and the photograph in place (``n_hit`` ...), with the false-report rate also
     counting the false-report frames' stripe-less rows (``n_false_cut``, ``n_quiet_cut``, when given:
-    :func:`bench.run.predict.cut_counts`), which only that figure reads (docs/predict.md).
+    :func:`bench.run.predict_frames.cut_counts`), which only that figure reads (docs/predict.md).
 
     Examples
     --------
@@ -148,8 +148,7 @@ def comparison_doc(result: dict) -> dict:
 def per_group_error(groups: dict) -> dict:
     """Per figure (:data:`COMPARED`), the mean over the groups of :func:`compare_by_group`'s ``mean_abs_diff``
     (groups whose figure has no tracker are left out; NaN when none has one): the error a user of one group (one
-    rig, one case) meets, where the pooled comparison lets errors of unlike groups cancel (docs/predict.md, "The
-    per-case objective").
+    rig, one case) meets, where the pooled comparison lets errors of unlike groups cancel.
 
     Examples
     --------
@@ -202,7 +201,7 @@ def rank_reliability(real_metrics, names, *, n_splits: int = RELIABILITY_SPLITS,
         photographs; NaN where the halves do not agree) and ``n_splits`` (the splits that ranked). Read as test-retest
         reliability: a prediction of the trackers' true figures is expected to correlate with the measured ranks by
         about ``sqrt(full_set)`` (one made from the same photographs shares their particulars and may do better on
-        them, not on other photographs; docs/predict.md, "How repeatable the measured ranks are").
+        them, not on other photographs; docs/predict.md).
 
     Examples
     --------

@@ -1,7 +1,10 @@
-"""Sim-to-real numbers: one tracker on one photograph, and synthetic against real hit rates across trackers.
+"""Sim-to-real numbers: one tracker on one photograph, and synthetic against real figures across trackers.
 
 Pure functions (arrays and dicts in, numbers out). The hit rule is
 :data:`bench.evaluate.outcomes.HIT_PX` (:func:`bench.evaluate.outcomes.hits`), the one every table uses.
+Renders and photographs are compared on :data:`FIGURES`: the hit rate (the stripe half, on the
+object's stripe rows), and F1 over rows and the false-report rate (both halves, every row of known
+state), each by :func:`sim_to_real`, :func:`sim_to_real_headline` and :func:`sim_to_real_by_class`.
 """
 
 from __future__ import annotations
@@ -12,7 +15,15 @@ import numpy as np
 
 from bench.evaluate.outcomes import HIT_PX, hits
 
-__all__ = ["image_metrics", "sim_to_real", "sim_to_real_sentences", "class_real_hit_rates", "sim_to_real_by_class"]
+__all__ = ["image_metrics", "sim_to_real", "sim_to_real_sentences", "sim_to_real_headline", "class_real_hit_rates",
+           "sim_to_real_by_class", "FIGURES", "DETECTION_FIGURES"]
+
+#: The figures renders and photographs are compared on -> their name in sentences: the hit rate (stripe rows; a
+#: synthetic run's ``object`` region), and F1 over rows and the false-report rate (:data:`DETECTION_FIGURES`:
+#: a synthetic run's ``all`` region, the photographs' rows of known state), which see a false report.
+FIGURES = {"hit_rate": "hit rate", "f1": "F1 over rows", "false_report_rate": "false-report rate"}
+#: The figures of :data:`FIGURES` that price a false report.
+DETECTION_FIGURES = ("f1", "false_report_rate")
 
 
 def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, score=None) -> dict[str, float]:
@@ -37,21 +48,22 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     dict
         ``hit_rate`` (hits / reference rows; a missing detection is a miss),
         ``mae_px`` (mean ``|col - ref|`` over the hits), ``coverage`` (reference
-        rows with a detection), ``false_detections`` (rows without a reference
-        that have a detection, over such rows), ``n_ref``; then the row outcomes
+        rows with a detection), ``n_ref``; then the row outcomes
         ``n_hit`` ... ``n_unknown``, ``precision``, ``recall``, ``f1``,
-        ``false_report_rate`` (reports on rows with no stripe, over those rows) and
-        ``ap`` (NaN without ``score``), ``ap_constant``. NaN where undefined.
+        ``false_report_rate`` (reports on rows with no stripe, over those rows: a row
+        whose state is unknown is neither) and ``ap`` (NaN without ``score``),
+        ``ap_constant``. NaN where undefined.
 
     Examples
     --------
     >>> m = image_metrics([10.0, 14.0, np.nan, 3.0], [11.0, 10.0, 5.0, np.nan], state=[1, 1, 1, 0])
-    >>> m["hit_rate"], m["mae_px"], m["coverage"], m["false_detections"]
-    (0.3333333333333333, 1.0, 0.6666666666666666, 1.0)
+    >>> m["hit_rate"], m["mae_px"], m["coverage"]
+    (0.3333333333333333, 1.0, 0.6666666666666666)
     >>> m["n_false"], m["precision"], m["false_report_rate"]
     (1, 0.3333333333333333, 1.0)
     """
-    from bench.evaluate.outcomes import fallback_states, outcome_record
+    from bench.evaluate.outcomes import fallback_states
+    from bench.evaluate.ranking import outcome_record
 
     if not (isinstance(tol_px, (int, float)) and tol_px >= 0 and math.isfinite(tol_px)):
         raise ValueError(f"`tol_px` must be a finite number >= 0, got {tol_px!r}")
@@ -64,12 +76,10 @@ def image_metrics(columns, reference, tol_px: float = HIT_PX, *, state=None, sco
     det = ~np.isnan(c)
     err = np.abs(c[has_ref] - r[has_ref])
     hit = hits(c[has_ref], r[has_ref], tol_px)
-    no_ref = int((~has_ref).sum())
     out = {
         "hit_rate": float(hit.sum() / n_ref) if n_ref else float("nan"),
         "mae_px": float(err[hit].mean()) if hit.any() else float("nan"),
         "coverage": float(det[has_ref].sum() / n_ref) if n_ref else float("nan"),
-        "false_detections": float(det[~has_ref].sum() / no_ref) if no_ref else float("nan"),
         "n_ref": n_ref,
     }
     out.update(outcome_record(c, r, fallback_states(r) if state is None else state, score, tol_px))
@@ -122,21 +132,26 @@ def sim_to_real(synthetic_hit_rates: dict, real_hit_rates: dict) -> dict:
     return {"table": table, "spearman_rho": rho, "spearman_p": p, "n": len(labels)}
 
 
-def sim_to_real_sentences(result: dict, *, margin: float = 0.10) -> list[str]:
+def sim_to_real_sentences(result: dict, *, margin: float = 0.10, figure: str | None = None) -> list[str]:
     """Plain sentences on a :func:`sim_to_real` result: the rank agreement, then
-    the trackers whose real hit rate lies more than ``margin`` below (renders
-    over-predict) or above (under-predict) the synthetic one.
+    the trackers whose real figure lies more than ``margin`` below (renders
+    over-predict) or above (under-predict) the synthetic one. ``figure`` (a name of
+    :data:`FIGURES`) starts each sentence; without it the figure is the hit rate.
 
     Examples
     --------
     >>> r = sim_to_real({"a": 0.9, "b": 0.5, "c": 0.7}, {"a": 0.6, "b": 0.45, "c": 0.7})
     >>> sim_to_real_sentences(r)[1]
     'The renders over-predict a (synthetic 0.90, real 0.60).'
+    >>> sim_to_real_sentences(r, figure="F1 over rows")[1]
+    'F1 over rows: the renders over-predict a (synthetic 0.90, real 0.60).'
     """
+    if figure is not None:
+        return [f"{figure}: {t[0].lower()}{t[1:]}" for t in sim_to_real_sentences(result, margin=margin)]
     out = []
     rho, n = result["spearman_rho"], result["n"]
     if n < 3 or math.isnan(rho):
-        out.append(f"Too few trackers with distinct hit rates ({n}) for a rank correlation.")
+        out.append(f"Too few trackers with distinct figures ({n}) for a rank correlation.")
     else:
         word = "agree" if rho >= 0.7 else "partly agree" if rho >= 0.3 else "do not agree"
         out.append(f"Synthetic and real rankings of {n} trackers {word} (Spearman's rho = {rho:.2f}).")
@@ -151,17 +166,36 @@ def sim_to_real_sentences(result: dict, *, margin: float = 0.10) -> list[str]:
     if under:
         out.append(f"The renders under-predict {fmt(under)}.")
     if not over and not under and result["table"]:
-        out.append(f"Every tracker's real hit rate lies within {margin:.2f} of the synthetic one.")
+        out.append(f"Every tracker's real figure lies within {margin:.2f} of the synthetic one.")
+    return out
+
+
+def sim_to_real_headline(result: dict, *, margin: float = 0.10) -> list[str]:
+    """The sentences of a run's sim-to-real comparison, both halves: those of the hit rates
+    (:func:`sim_to_real_sentences` of ``result``, each starting ``hit rate:``), then those of each
+    figure of ``result["detection"]`` (F1 over rows, the false-report rate: :data:`DETECTION_FIGURES`).
+
+    Examples
+    --------
+    >>> r = sim_to_real({"a": 0.9, "b": 0.5, "c": 0.7}, {"a": 0.85, "b": 0.5, "c": 0.7})
+    >>> r["detection"] = {"false_report_rate": sim_to_real({"a": 0.0, "b": 0.1, "c": 0.3}, {"a": 0.4, "b": 0.1, "c": 0.3})}
+    >>> sim_to_real_headline(r)[-1]
+    'false-report rate: the renders under-predict a (synthetic 0.00, real 0.40).'
+    """
+    out = sim_to_real_sentences(result, margin=margin, figure=FIGURES["hit_rate"])
+    for k, r in (result.get("detection") or {}).items():
+        out += sim_to_real_sentences(r, margin=margin, figure=FIGURES.get(k, k))
     return out
 
 
 def class_real_hit_rates(real_by_image: dict, image_class: dict) -> dict:
-    """Each class's real hit rate per tracker: the mean over its photographs.
+    """Each class's real figure per tracker (a hit rate, or any figure of :data:`FIGURES`): the mean over
+    its photographs where it is defined.
 
     Parameters
     ----------
     real_by_image : dict
-        Photograph name -> {tracker label -> hit rate in [0, 1] (NaN: no reference rows)}.
+        Photograph name -> {tracker label -> figure in [0, 1] (NaN: undefined, e.g. no reference rows)}.
     image_class : dict
         Photograph name -> class (a manifest's ``condition``; ``""`` = untagged, left out).
 
@@ -196,7 +230,7 @@ def class_real_hit_rates(real_by_image: dict, image_class: dict) -> dict:
 
 
 def sim_to_real_by_class(synthetic_by_class: dict, real_by_image: dict, image_class: dict) -> dict:
-    """Synthetic against real hit rates, matched by class of condition.
+    """Synthetic against real hit rates (or any one figure of :data:`FIGURES`), matched by class of condition.
 
     A class is a rendered experiment's ``condition`` and a photograph's manifest
     ``condition``; a class is compared where both sides have it. Per class the

@@ -18,7 +18,12 @@ from bench.evaluate.triangulation import depth_cm
 
 __all__ = ["true_depth_cm", "tracker_depth_cm", "restore_of", "restored_points", "scan_records", "scan_states",
            "detection_rows", "detection_table", "false_points", "draw_samples", "sample_table", "sample_columns",
-           "improvements", "robust_table", "verdicts", "worst_frames"]
+           "improvements", "robust_table", "verdicts", "worst_frames", "OBJECT_BLIND"]
+
+#: The figures a false report moves: NaN in region ``object``, whose rows off the object are unknown
+#: (:func:`scan_states`), so no report there can be false; region ``all`` scores them over every row.
+#: The object region keeps the stripe half (hit rate, recall, coverage, the errors) and the counts.
+OBJECT_BLIND = ("precision", "f1", "false_report_rate", "ap", "false_detections")
 
 
 def true_depth_cm(scan) -> np.ndarray:
@@ -111,7 +116,9 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="r
 
     Adds ``scene``, ``material``, ``experiment``, ``tracker``, ``ms_per_frame``
     (mean over frames of the tracker's own time), ``failed_frames``,
-    ``filled_fraction`` (lit rows the restoration had to fill) and ``region``.
+    ``filled_fraction`` (lit rows the restoration had to fill) and ``region``
+    (``"object"`` with ``object_only``: the stripe rows on the object, every other row unknown,
+    so the figures of :data:`OBJECT_BLIND` are NaN there; ``"all"``: every row).
     """
     truth = scan.truth_columns.copy()
     r_true = true_depth_cm(scan)
@@ -132,6 +139,8 @@ def scan_records(scan, rig, experiment, *, object_only: bool = False, restore="r
             state=state,
             score=scan.scores.get(name),
         )
+        if object_only:  # no row of this region can hold a false report: nothing here prices one
+            rec.update({k: float("nan") for k in OBJECT_BLIND})
         _, filled = restore_depth_map(r_pred, restore_of(restore, name))
         rec.update(
             experiment=experiment.key, scene=experiment.scene, material=experiment.material, tracker=name,
@@ -200,7 +209,7 @@ def detection_table(rows_by_experiment: dict, groups, *, n_boot: int, seed: int)
         ``ap_constant`` and ``false_points_per_scan`` (``n_false`` over ``n_scans``: reports on
         stripe-less rows, each a 3-D point where there is no surface).
     """
-    from bench.evaluate.outcomes import bootstrap_frames
+    from bench.evaluate.ranking import bootstrap_frames
 
     out = []
     for gi, (group, keys) in enumerate(groups):

@@ -73,7 +73,8 @@ def pr_curves(scans: dict, keys, labels=None) -> dict:
     labels : sequence of str, optional
         The trackers (default every tracker of the first scan).
     """
-    from bench.evaluate.outcomes import average_precision, detection_figures, outcome_counts, pr_curve
+    from bench.evaluate.outcomes import detection_figures, outcome_counts
+    from bench.evaluate.ranking import average_precision, pr_curve
     from bench.evaluate.tables import detection_rows
 
     rows = [detection_rows(scans[k]) for k in keys if k in scans]

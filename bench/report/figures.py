@@ -231,13 +231,15 @@ def fig_samples(samples, dp: str, baseline, path, title: str = "", stat=None, ro
     return save(fig, path, 90)
 
 
-def fig_bars(metrics, path, metric: str = "hit_rate", title: str = "") -> Path:
-    """One bar per tracker and experiment of an object-region metric (linear axis).
+def fig_bars(metrics, path, metric: str = "hit_rate", title: str = "", region: str = "object") -> Path:
+    """One bar per tracker and experiment of a metric of one region (linear axis): ``object`` for the stripe
+    half on the object (hit rate, coverage), ``all`` for figures that price false reports too (F1, the
+    false-report rate: every row, :data:`bench.evaluate.tables.OBJECT_BLIND`).
 
     Experiments are identified by their key (two experiments of one scene and
     material, e.g. a lux sweep, are two groups of bars)."""
     plt = _plt()
-    m = metrics[metrics["region"] == "object"]
+    m = metrics[metrics["region"] == region]
     exps = list(dict.fromkeys(m["experiment"]))
     names = sorted(m["tracker"].unique())
     fig, ax = plt.subplots(figsize=(max(8.0, 0.9 * len(exps) + 3), 4.0), constrained_layout=True)
@@ -248,11 +250,12 @@ def fig_bars(metrics, path, metric: str = "hit_rate", title: str = "") -> Path:
     for k, name in enumerate(names):
         ax.bar(x + k * width, table[name].to_numpy(float), width, color=tracker_colour(name), label=name)
     ax.set_xticks(x + 0.4 - width / 2, exps, rotation=30, ha="right", fontsize=8)
-    ax.set_ylabel(f"{metric} (object rows)")
-    if metric in ("hit_rate", "coverage"):
+    where = "object rows" if region == "object" else "every row"
+    ax.set_ylabel(f"{metric} ({where})")
+    if metric in ("hit_rate", "coverage", "f1", "precision", "recall", "false_report_rate"):
         ax.set_ylim(0, 1.02)
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    ax.set_title(title or f"{metric} on the object, per experiment")
+    ax.set_title(title or f"{metric} on the {'object' if region == 'object' else 'frame'}, per experiment")
     return save(fig, path, 90)
 
 
@@ -280,7 +283,7 @@ def fig_curves(table, key: str, path, metric: str = "hit_rate", title: str = "",
 
 def fig_pr(curves: dict, path, title: str = "") -> Path:
     """One condition's precision-recall curves over rows: per tracker, precision against recall as its
-    reports are taken in order of its score (:func:`bench.evaluate.outcomes.pr_curve`), its operating
+    reports are taken in order of its score (:func:`bench.evaluate.ranking.pr_curve`), its operating
     point (every report) as a dot, AP in the legend; a tracker whose reports all score alike is its dot."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 4.6))

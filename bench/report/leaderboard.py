@@ -2,19 +2,28 @@
 
 Runs are comparable when :func:`bench.run.gate.comparability` finds no
 difference among :data:`bench.run.gate.COMPARED_KEYS` (render size and spp,
-experiments, seed); otherwise the page is refused in one line. Each row says
-where it comes from (:data:`ORIGINS`: a submission, a built-in tracker of a scored
-submission's run, a built-in tracker of a run). Every distinct tracker setting enters
-once: a label whose setting (name, parameters, restore; a submission's checksum) was
-already entered by an earlier run is dropped, and a label that another run used for
-another setting enters again as ``label [run]``; each such decision, and a run that
-contributes nothing (no conditions in its summary), is one line of ``notes``. Per condition, trackers
-are ranked (``rank_by``, :data:`RANK_BY`) by the fraction of sample points within
-±5 mm (``within``, the paper's reading, missing points counted as misses) with its
-Wilson 95 % interval, or by detection over rows (:mod:`bench.evaluate.outcomes`):
-``f1`` or ``ap`` (the average precision of the tracker's score), with their bootstrap
-intervals over frames; the false-report rate and the false 3-D points per scan
-stand beside them whatever the ranking. A tracker whose
+experiments, seed) and they scored the same frames (:func:`frames_of`: each
+experiment's mirror angles as the summary's ``scans`` list them; a scored
+submission of ``--split dev`` or ``test`` scores a part, and a frame set's test
+frames are rendered at angles of their own, :func:`bench.run.export.test_frame`);
+otherwise the page is refused in one line. The runs
+are read in one order whatever the order of the arguments (scored submissions
+first, then by folder path: :func:`canonical_order`), so the board does not
+depend on it. Each row says where it comes from (:data:`ORIGINS`: a submission,
+a built-in tracker of a scored submission's run, a built-in tracker of a run).
+Every distinct tracker setting enters once: a label whose setting (name,
+parameters, restore; a submission's checksum) was already entered by an earlier
+run is dropped, and a label that another run used for another setting enters
+again as ``label [run]``; each such decision, and a run that contributes nothing
+(no conditions in its summary), is one line of ``notes``. Per condition,
+trackers are ranked (``rank_by``, :data:`RANK_BY`) by default by F1 over rows
+(:mod:`bench.evaluate.outcomes`: hits against misses, wrong columns and false
+reports alike, every row of the frames), or by ``ap`` (the average precision of
+the tracker's score), each with its bootstrap interval over frames, or by the
+fraction of sample points within ±5 mm (``within``, the paper's reading, missing
+points counted as misses) with its Wilson 95 % interval. ``within`` cannot see a
+false report (its sample points lie on the object's stripe), so the false-report
+rate and the false 3-D points per scan stand beside every ranking. A tracker whose
 interval overlaps that of the first tracker of the rank above it (the rank's
 leader) is marked tied and shares that rank (the report's rule: intervals
 overlap => tie; comparing with the leader, not the neighbour, keeps ties from
@@ -37,15 +46,18 @@ from bench.store.files import atomic_write_text
 from bench.store.runfolder import RunFolderError, load_metrics, load_summary
 
 __all__ = ["LeaderboardError", "leaderboard_rows", "build_leaderboard", "rank_with_ties", "COLUMNS", "RANK_BY",
-           "ORIGINS", "settings_of"]
+           "ORIGINS", "settings_of", "split_of", "frames_of", "canonical_order", "DEFAULT_RANK_BY"]
 
 COLUMNS = ("condition", "rank", "tied", "rank_by", "tracker", "within", "within_low", "within_high", "median_abs_mm",
            "rmse_mm", "n_gross", "n", "f1", "f1_low", "f1_high", "ap", "ap_low", "ap_high", "false_report_rate",
            "false_points_per_scan", "ms_per_frame", "run", "kind", "origin", "git_revision")
 #: Where a row comes from.
 ORIGINS = ("submission", "built-in (scored run)", "built-in (run)")
-#: What a leaderboard can rank by: the ±5 mm fraction (the paper's reading), F1 or AP over rows.
-RANK_BY = ("within", "f1", "ap")
+#: What a leaderboard can rank by: F1 or AP over rows (both halves of detection), or the ±5 mm fraction of
+#: sample points (the paper's reading, blind to false reports).
+RANK_BY = ("f1", "ap", "within")
+#: The default ranking: F1 over rows, which prices a miss and a false report alike.
+DEFAULT_RANK_BY = "f1"
 _NAN = float("nan")
 
 
@@ -81,28 +93,64 @@ def settings_of(summary: dict) -> dict[str, tuple[str, str]]:
 
     origin = "built-in (scored run)" if summary.get("kind") == "score" else "built-in (run)"
     out = {}
-    for t in (summary.get("config") or {}).get("trackers", []):
+    sub = summary.get("submission")
+    alone = summary.get("kind") == "score" and isinstance(sub, dict) and sub.get("alone")
+    for t in [] if alone else (summary.get("config") or {}).get("trackers", []):  # alone: none of them ran
         spec = {"label": t, "name": t} if isinstance(t, str) else dict(t)
         label = spec.get("label", spec.get("name"))
         spec.pop("timeout_s", None), spec.pop("isolate", None)  # how it runs, not what it computes
         spec["label"] = label
         out[label] = (origin, json.dumps(spec, sort_keys=True))
-    sub = summary.get("submission")
     if summary.get("kind") == "score" and isinstance(sub, dict):
         out[sub.get("label")] = ("submission", json.dumps({"submission": sub.get("checksum")}))
     return out
 
 
-def leaderboard_rows(runs, rank_by: str = "within", notes: list | None = None) -> list[dict]:
+def split_of(summary: dict) -> tuple[str, int | None]:
+    """Which frames a run scored: ``("all", None)`` for a run, else a scored submission's ``--split``
+    and its number of frames.
+
+    >>> split_of({"kind": "run"}), split_of({"kind": "score", "submission": {"split": "test", "frames": 12}})
+    (('all', None), ('test', 12))
+    """
+    sub = summary.get("submission") if summary.get("kind") == "score" else None
+    if not isinstance(sub, dict):
+        return "all", None
+    return str(sub.get("split", "all")), sub.get("frames")
+
+
+def frames_of(summary: dict) -> tuple:
+    """The frames a run scored: ``(experiment, angles)`` per scan, from its summary's ``scans``
+    (``angles_deg``; a summary written without them: its split, :func:`split_of`). Two runs of
+    comparable configurations scored the same frames when these are equal.
+
+    >>> frames_of({"kind": "run", "scans": [{"experiment": "e", "angles_deg": [1.0, 2.0]}]})
+    (('e', (1.0, 2.0)),)
+    """
+    scans = summary.get("scans") or []
+    if scans and all(isinstance(x, dict) and isinstance(x.get("angles_deg"), list) for x in scans):
+        return tuple((str(x.get("experiment")), tuple(float(a) for a in x["angles_deg"])) for x in scans)
+    return ("split",) + split_of(summary)
+
+
+def canonical_order(loaded: list) -> list:
+    """``(path, summary, ...)`` tuples in the order a board reads them: scored submissions first (a board
+    is about them: a built-in tracker that a submission's run re-tracked is kept with that run), then by
+    resolved folder path. The board is the same whatever the order of the arguments."""
+    return sorted(loaded, key=lambda x: (x[1].get("kind") != "score", str(Path(x[0]).resolve())))
+
+
+def leaderboard_rows(runs, rank_by: str = DEFAULT_RANK_BY, notes: list | None = None) -> list[dict]:
     """One row per condition x tracker of the runs (:data:`COLUMNS`), ranked by ``rank_by`` (:data:`RANK_BY`).
 
     ``notes`` (a list), if given, receives one line per setting dropped or renamed and per run
-    that contributes nothing, with the reason.
+    that contributes nothing, with the reason. The runs are read in :func:`canonical_order`.
 
     Raises
     ------
     LeaderboardError
-        A run is not a finished run or scored submission, or two runs are not comparable.
+        A run is not a finished run or scored submission, two runs are not comparable, or they
+        scored different frames (:func:`split_of`).
     """
     if rank_by not in RANK_BY:
         raise LeaderboardError(f"--rank-by must be one of {', '.join(RANK_BY)}, got {rank_by!r}")
@@ -116,12 +164,18 @@ def leaderboard_rows(runs, rank_by: str = "within", notes: list | None = None) -
             raise LeaderboardError(f"{str(r)!r} is a {s['kind']} run; a leaderboard ranks runs and scored "
                                    "submissions of synthetic frames")
         loaded.append((Path(r), s, load_metrics(r, timings=True)))
+    loaded = canonical_order(loaded)
     first = loaded[0][1]["config"]
     for path, s, _ in loaded[1:]:
         diff = gate.comparability(first, s["config"])
         if diff:
             raise LeaderboardError(f"{str(path)!r} is not comparable with {str(loaded[0][0])!r}: they differ in "
                                    f"{'; '.join(diff)}")
+    if len({frames_of(s) for _, s, _ in loaded}) > 1:
+        said = "; ".join(f"{str(p)!r}: {_split_text(s)}" for p, s, _ in loaded)
+        raise LeaderboardError(f"the runs scored different frames, so their figures cannot share a board ({said}); "
+                               "score every submission on the same frames (the same frame set and --split; a frame set's test "
+                               "frames are not a run's, `export --test-fraction 0` exports the run's own)")
     notes = [] if notes is None else notes
     entered: dict[str, tuple[str, str]] = {}  # label -> (setting, run) of the first entry
     seen, per_cond = set(), {}
@@ -176,6 +230,15 @@ def leaderboard_rows(runs, rank_by: str = "within", notes: list | None = None) -
     return [{k: r[k] for k in COLUMNS} for r in out]
 
 
+def _n_frames(summary: dict) -> int:
+    return sum(int(x.get("frames", 0)) for x in summary.get("scans") or [] if isinstance(x, dict))
+
+
+def _split_text(summary: dict) -> str:
+    what = "a run" if summary.get("kind") != "score" else f"--split {split_of(summary)[0]}"
+    return f"{what} ({_n_frames(summary)} frames)"
+
+
 def rank_with_ties(rows: list[dict], key: str = "within") -> list[dict]:
     """``rows`` sorted by ``key`` (best first, then by ``tracker``), each with ``rank`` and ``tied``.
 
@@ -211,7 +274,8 @@ def rank_with_ties(rows: list[dict], key: str = "within") -> list[dict]:
 
 
 _RANK_HEAD = {"within": "±5 mm", "f1": "F1", "ap": "AP"}
-_RANK_TEXT = {"within": "the fraction of sample points within ±5 mm (the paper's reading)",
+_RANK_TEXT = {"within": "the fraction of sample points within ±5 mm (the paper's reading; its points lie on the "
+                        "object's stripe, so it cannot see a false report: read the false reports beside it)",
               "f1": "F1 over rows (hits against misses, wrong columns and false reports alike)",
               "ap": "AP over rows (the tracker's score ranking its reports)"}
 
@@ -220,7 +284,11 @@ def _ok(v) -> bool:
     return isinstance(v, (int, float)) and math.isfinite(v)
 
 
-def build_leaderboard(runs, out_dir, rank_by: str = "within", notes: list | None = None) -> Path:
+def _first_summary(runs) -> dict:
+    return load_summary(list(runs)[0])
+
+
+def build_leaderboard(runs, out_dir, rank_by: str = DEFAULT_RANK_BY, notes: list | None = None) -> Path:
     """Write ``leaderboard.html`` and ``leaderboard.csv`` into ``out_dir``, ranked by ``rank_by``
     (:data:`RANK_BY`); returns the page. ``notes``: as :func:`leaderboard_rows` (also on the page).
 
@@ -246,7 +314,8 @@ def build_leaderboard(runs, out_dir, rank_by: str = "within", notes: list | None
            ".mark{position:absolute;top:-2px;width:2px;height:16px;background:#145}"
            ".scale{font-weight:normal;color:#666;font-size:85%}.tie{color:#a60}")
     parts = ["<h1>stripebench leaderboard</h1>",
-             f"<p>{len(list(runs))} comparable run(s). Ranked per condition by {_RANK_TEXT[rank_by]} "
+             f"<p>{len(list(runs))} comparable run(s), each of the same {_n_frames(_first_summary(runs))} frames. "
+             f"Ranked per condition by {_RANK_TEXT[rank_by]} "
              "(its 95 % interval drawn as a bar with the estimate marked). <span class='tie'>tie</span>: its "
              "interval overlaps that of the rank's first tracker, so it shares that rank. ±5 mm: the fraction of "
              "sample points within ±5 mm (Wilson interval; missing points count as misses). F1 and AP over "

@@ -1,4 +1,4 @@
-"""The page of ``stripebench predict``: predicted figures per tracker and the photo / matched-render contact sheet.
+"""The page of ``stripebench predict``: predicted figures per tracker and the photograph / moved-stripe contact sheet.
 
 Built from the result of :func:`bench.run.predict.run_predict` with the report toolkit
 (:mod:`bench.report.html`); writes ``report.html`` beside the prediction's CSV files.
@@ -20,13 +20,6 @@ __all__ = ["thumbnail", "build_predict_report"]
 THUMB_H = 180
 
 
-def _why_out(measures, transplant: bool) -> str:
-    """Why a photograph was left out, in words (``measures``: :attr:`bench.run.predict.Match.out_of_range`)."""
-    if not transplant:
-        return "outside what the renders show"
-    if "width_px" in measures:
-        return "(its stripe is wider than the reference window: shrink the photographs)"
-    return "(too few rows of the moved stripe seen)"
 
 
 def thumbnail(image, height: int = THUMB_H) -> np.ndarray:
@@ -60,7 +53,13 @@ def _png(img) -> bytes:
 
 
 def _iv(row, key) -> str:
-    return f"{pct(row[key])} {interval(row[f'{key}_lo'], row[f'{key}_hi'])}"
+    """A stated figure with its interval and, where it is not the method's own, its source."""
+    from bench.evaluate.predict_loro import SOURCES
+
+    src = row[f"{key}_source"]
+    label = "" if src == SOURCES["method"] else f" <small>({esc(src)})</small>"
+    lo, hi = row[f"{key}_lo"], row[f"{key}_hi"]
+    return f"{pct(row[key])} {interval(lo, hi) if math.isfinite(lo) else ''}{label}"
 
 
 def _agreement(v: dict) -> list[str]:
@@ -91,20 +90,29 @@ def build_predict_report(result: dict) -> Path:
 
     out = Path(result["out"])
     pred = result["predicted"]
-    n_in = sum(1 for m in result["matches"].values() if not m.out_of_range)
-    n_all = len(result["matches"])
-    transplant = result["settings"].get("frames") == "transplant"
-    how = ("with their own stripe moved (two frames each) and in place" if transplant else
-           f"matched to renders ({esc(result['settings']['n_angles'])} mirror angles each)")
+    n_in = sum(1 for m in result["made"].values() if m.answered)
+    n_all = len(result["made"])
+    calib = result.get("calibration")
+    pick = result.get("pick") or {}
+    how = "with their own stripe moved (two frames each) and in place"
+    level = f"{calib['level']:.0%} intervals calibrated leave one rig out on the shipped set" if calib else \
+        "no calibration: the method's own figures, without intervals"
     parts = [f"<h1>Predicted: {esc(result['settings']['folder'])}</h1>",
-             f"<p>{n_in} of {n_all} photographs {how}; figures pooled over their rows, 95 % bootstrap "
-             "intervals over photographs "
-             "(docs/predict.md). Hit rate: stripe rows found within the hit rule; false-report rate: "
-             "stripe-less rows given a column; F1 over rows.</p>"]
-    rows = [[esc(r["tracker"]), _iv(r, "hit_rate"), _iv(r, "false_report_rate"), _iv(r, "f1"), esc(r["n_photos"])]
+             f"<p>{n_in} of {n_all} photographs {how}; figures pooled over their rows; {level} "
+             "(docs/predict.md). F1 over rows; false-report rate: stripe-less rows given a column; hit rate: stripe "
+             "rows found within the hit rule.</p>"]
+    if pick.get("tracker"):
+        tied = ", ".join(pick["tied"]) or "none"
+        reg = pick.get("loro_regret")
+        judged = (f" Judged leave one rig out, the pick's mean regret is {reg['method']:.3f} F1 (the null's pick: "
+                  f"{reg['null']:.3f})." if reg else "")
+        parts.append(f"<p><b>Use <code>{esc(pick['tracker'])}</code></b>: the best in {pick['chance']:.0%} of draws "
+                     f"of these photographs with a shipped rig's errors; tied with it: {esc(tied)}.{judged}</p>")
+    rows = [[esc(("* " if r["pick"] else "= " if r["tied"] else "") + r["tracker"]), _iv(r, "f1"),
+             _iv(r, "false_report_rate"), _iv(r, "hit_rate"), f"{r['chance_best']:.0%}", esc(r["n_photos"])]
             for r in pred.to_dict("records")]
-    parts.append("<h2>Predicted figures</h2>" + table(["tracker", "hit rate", "false-report rate", "F1",
-                                                       "photographs"], rows))
+    parts.append("<h2>Stated figures</h2>" + table(["tracker", "F1", "false-report rate", "hit rate",
+                                                    "chance it is best", "photographs"], rows))
     cmp = result.get("comparison")
     if cmp:  # stripebench real --predict
         f1 = {r["tracker"]: r for r in cmp["f1"]["table"]}
@@ -125,35 +133,31 @@ def build_predict_report(result: dict) -> Path:
                  "best tracker predicted / measured (F1)"],
                 [[esc(g), esc(len(v["photographs"])), *_agreement(v), esc(_best(v["f1"]["table"]))]
                  for g, v in groups.items()]))
-    bad = [(n, m) for n, m in result["matches"].items() if m.out_of_range]
+    bad = [(n, m) for n, m in result["made"].items() if m.out_of_range]
     if bad:
-        parts.append("<h2>Out of range (left out)</h2><ul>" + "".join(
-            f"<li><code>{esc(n)}</code>: {esc(', '.join(m.out_of_range))} "
-            f"{_why_out(m.out_of_range, transplant)}</li>"
+        from bench.evaluate.stripe import why_left_out
+
+        s = result["predict_settings"]
+        parts.append("<h2>Not predicted at their own size</h2><ul>" + "".join(
+            f"<li><code>{esc(n)}</code>: {esc(why_left_out(m.out_of_range, width_px=m.width_px, settings=s))}: "
+            + (f"predicted shrunk by {m.shrink} (a coarse answer, for trackers run on the shrunk photograph)"
+               if m.answered else "left out") + "</li>"
             for n, m in bad) + "</ul>")
-    what = "its stripe moved" if transplant else "matched render"
+    what = "its stripe moved"
     parts.append(f"<h2>Contact sheet: photograph and {what}</h2>")
     cells = []
     for ph in result["photos"]:
-        m = result["matches"][ph.name]
+        m = result["made"][ph.name]
         photo = ph.original if ph.original.ndim == 3 else ph.frame
         if ph.original.ndim == 3:
             photo = rotate_image(ph.original, ph.rotate_deg)
         left = png_img(_png(photo), ph.name) + f"<br><small>{esc(describe(result['conditions'][ph.name]))}</small>"
-        if m.out_of_range:
+        if not m.answered:
             right = f"<b>out of range</b>: {esc(', '.join(m.out_of_range))}"
-        elif m.point.get("frames") == "transplant":
-            img = result["frames"][ph.name][0][0]
-            right = (png_img(_png(img), f"{ph.name} stripe moved") + f"<br><small>{esc(describe(m.conditions))}</small>"
-                     f"<br><small>its own stripe moved by {m.point['shift_px']:+d} px (and by "
-                     f"{m.point.get('shift_back_px', -m.point['shift_px']):+d} px); distance {m.distance:.2f}</small>")
         else:
             img = result["frames"][ph.name][0][0]
-            p = m.point
-            right = (png_img(_png(img), f"{ph.name} render") + f"<br><small>{esc(describe(m.conditions))}</small>"
-                     f"<br><small>{esc(p['setup'])}, line {p['line_fwhm_mrad']:g} mrad, {p['laser_power_mw']:.3g} mW, "
-                     f"{p['ambient_lux']:.4g} lux, {p['exposure_ms']:.3g} ms, filter {esc(p['filter'])}, "
-                     f"defocus {p['defocus_px']:g} px, JPEG {esc(p['jpeg_quality'])}; "
+            right = (png_img(_png(img), f"{ph.name} stripe moved") + f"<br><small>{esc(describe(m.conditions))}</small>"
+                     f"<br><small>its own stripe moved by {m.shift_px:+d} px (and by {m.shift_back_px:+d} px); "
                      f"distance {m.distance:.2f}</small>")
         cells.append([f"<code>{esc(ph.name)}</code>", left, right])
     parts.append(table(["photograph", "photo", what], cells).replace("text-align:right", ""))

@@ -11,11 +11,14 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.report.html import esc, interval, page, pct, png_img, table
+from bench.report.html import esc, fixed, interval, page, pct, png_img, table
 from bench.report.palette import REFERENCE_COLOUR, tracker_colour, tracker_rgb
 from bench.store import realset as real
 
-__all__ = ["overlay", "overlay_png", "legend", "build_real_report"]
+__all__ = ["overlay", "overlay_png", "legend", "build_real_report", "ranked_trackers", "images_by_f1", "RANK_KEY"]
+
+#: What a real run's tables rank by: F1 over rows (a miss and a false report priced alike).
+RANK_KEY = "f1"
 
 
 def _display_rgb(original: np.ndarray) -> np.ndarray:
@@ -118,47 +121,83 @@ def _img_tag(path: Path, max_w: int = 360) -> str:
     return png_img(_png_bytes(small), path.name, "")
 
 
+def ranked_trackers(summary: dict) -> list[str]:
+    """A real run's tracker labels by pooled F1 over rows (:data:`RANK_KEY`), best first (NaN last,
+    then by label).
+
+    >>> ranked_trackers({"trackers": {"a": {"detection": {"f1": 0.5}}, "b": {"detection": {"f1": 0.9}},
+    ...                               "c": {"detection": {"f1": float("nan")}}}})
+    ['b', 'a', 'c']
+    """
+    def key(lab):
+        v = (summary["trackers"][lab].get("detection") or {}).get(RANK_KEY, float("nan"))
+        return (-v if np.isfinite(v) else np.inf, lab)
+
+    return sorted(summary["trackers"], key=key)
+
+
+def images_by_f1(metrics, labels):
+    """The per-photograph F1 (:data:`RANK_KEY`) of each tracker, one row per photograph, the photographs ordered
+    by their mean F1 over the trackers, lowest (hardest) first; a photograph with no row of known state (F1
+    NaN for every tracker) last."""
+    per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values=RANK_KEY)
+    per = per[list(labels)]
+    mean = per.mean(axis=1, skipna=True)
+    order = sorted(per.index, key=lambda n: (not np.isfinite(mean[n]), mean[n] if np.isfinite(mean[n]) else 0.0, n))
+    return per.loc[order]
+
+
 def _report(out: Path, metrics, summary: dict, labels: list[str], images) -> None:
     e = esc
     rows = []
+    labels = ranked_trackers(summary)
     for lab in labels:
         s = summary["trackers"][lab]
         h, m, c = s["hit_rate"], s["mae_px"], s["coverage"]
         d = s.get("detection") or {}
         det = "".join(f"<td>{pct(d.get(k))} <small>{interval(d.get(k + '_lo'), d.get(k + '_hi'))}</small></td>"
                       for k in ("precision", "recall", "f1", "false_report_rate", "ap"))
-        rows.append(f"<tr><td>{e(lab)}</td><td><b>{h['mean']:.3f}</b> [{h['lo']:.3f}, {h['hi']:.3f}]</td>"
-                    f"<td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td>{det}"
-                    f"<td>{d.get('n_false', '–')} / {d.get('n_false', 0) + d.get('n_quiet', 0)}</td></tr>")
-    per = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker", values="hit_rate")
-    per = per[labels]
+        rows.append(f"<tr><td>{e(lab)}</td>{det}<td>{d.get('n_false', '–')} / "
+                    f"{d.get('n_false', 0) + d.get('n_quiet', 0)}</td><td>{h['mean']:.3f} [{h['lo']:.3f}, "
+                    f"{h['hi']:.3f}]</td><td>{m['mean']:.2f}</td><td>{c['mean']:.3f}</td></tr>")
+    per = images_by_f1(metrics, labels)
+    frr = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker",
+                                                         values="false_report_rate").reindex(per.index)[labels]
+    hit = metrics[metrics["experiment"] != "mean"].pivot(index="experiment", columns="tracker",
+                                                         values="hit_rate").reindex(per.index)[labels]
     per_image = table(["image"] + [e(lab) for lab in labels],
-                      [[e(str(name))] + [f"{v:.2f}" for v in r] for name, r in zip(per.index, per.to_numpy())])
+                      [[e(str(name))] + [f"<b>{fixed(f, '.2f')}</b> <small>{fixed(q, '.2f')} · {fixed(hr, '.2f')}</small>"
+                                         for f, q, hr in zip(per.loc[name], frr.loc[name], hit.loc[name])]
+                       for name in per.index])
     key = " ".join(f"<span style='background:{tracker_colour(lab)};padding:0 6px'>&nbsp;</span> {e(lab)}"
                    for lab in labels)
     key += f" <span style='background:{REFERENCE_COLOUR};padding:0 6px'>&nbsp;</span> reference"
     worst = []
     for lab in labels:
-        col = per[lab].sort_values()
+        col = per[lab].sort_values(na_position="last", kind="stable")
         names = [n for n in col.index[:2]]
-        tags = "".join(f"<figure>{_img_tag(out / 'overlays' / f'{n}.png')}<figcaption>{e(n)}: hit rate "
-                       f"{col[n]:.2f}</figcaption></figure>" for n in names)
+        tags = "".join(f"<figure>{_img_tag(out / 'overlays' / f'{n}.png')}<figcaption>{e(n)}: F1 "
+                       f"{fixed(col[n], '.2f')}, false reports {fixed(frr.loc[n, lab], '.2f')}, hit rate "
+                       f"{fixed(hit.loc[n, lab], '.2f')}"
+                       f"</figcaption></figure>" for n in names)
         worst.append(f"<h3>{e(lab)}</h3><div class='row'>{tags}</div>")
     notes = table(["image", "source", "license", "notes"],
                   [[e(im.name), e(im.meta.get("source_repo", "")), e(im.meta.get("license", "")),
                     e(im.meta.get("notes", ""))] for im in images])
     body = f"""<h1>Real photographs: {summary['n_images']} images, tolerance {summary['tol_px']:g} px</h1>
-<p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']};
-hit rate, MAE and coverage: means over images with 95 % bootstrap intervals over images. Detection, both
-halves: every row of every photograph with a known state (stripe, no stripe; the references' own states, or
-the fallback rule: a row without a reference at least 15 rows from any stripe row has no stripe) is a hit,
-wrong, missed, false (a report where there is no stripe) or quiet; precision, recall, F1, the false-report
-rate and AP (the tracker's score ranking its reports) pooled over the photographs' rows, with 95 % bootstrap
-intervals over photographs.</p>
-<table><tr><th>tracker</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th><th>precision</th>
-<th>recall</th><th>F1</th><th>false reports</th><th>AP</th><th>false / stripe-less rows</th></tr>{''.join(rows)}</table>
-<h2>Hit rate per image</h2>{per_image}
-<h2>The worst images per tracker</h2><p>{key}</p>{''.join(worst)}
+<p>Dataset {e(summary['config']['dataset'])}; git {e(summary['git_revision'])}; seed {summary['seed']}.
+Trackers ranked by F1 over rows. Detection, both halves: every row of every photograph with a known state
+(stripe, no stripe; the references' own states, or the fallback rule: a row without a reference at least 15
+rows from any stripe row has no stripe; every other row is unknown and not scored) is a hit, wrong, missed,
+false (a report where there is no stripe) or quiet; precision, recall, F1, the false-report rate and AP (the
+tracker's score ranking its reports) pooled over the photographs' rows, with 95 % bootstrap intervals over
+photographs. Hit rate (the stripe half alone), MAE and coverage: means over images with 95 % bootstrap
+intervals over images.</p>
+<table><tr><th>tracker</th><th>precision</th><th>recall</th><th>F1</th><th>false reports</th><th>AP</th>
+<th>false / stripe-less rows</th><th>hit rate</th><th>MAE on hits (px)</th><th>coverage</th></tr>{''.join(rows)}</table>
+<h2>F1 per image</h2><p>Each cell: F1 over the photograph's rows, then its false-report rate and hit rate (–: no
+row of that kind). Hardest photographs (lowest mean F1 over the trackers) first.</p>{per_image}
+<h2>The worst images per tracker (lowest F1)</h2><p>{key}</p>{''.join(worst)}
 <h2>Images</h2>{notes}
 """
     from bench.store.files import atomic_write_text

@@ -238,15 +238,24 @@ def _improvement_tables(summary) -> str:
 
 
 def _hit_table(metrics) -> str:
+    """Both halves per experiment: the stripe half on the object (hit rate, coverage), and F1 and the
+    false-report rate over every row (region ``all``: the object region cannot see a false report)."""
     m = metrics[metrics["region"] == "object"]
     if m.empty or "hit_rate" not in m:
         return ""
     hit = m.pivot_table(index="experiment", columns="tracker", values="hit_rate", sort=False)
     cov = m.pivot_table(index="experiment", columns="tracker", values="coverage", sort=False)
-    out = ("<h2>Hit rate and coverage on the object</h2><p>Hit rate: the object's lit rows where the tracker "
-           "reports a column within 3 px of the truth (a missed row is a miss). Coverage: rows with any "
-           "detection.</p><h3>hit rate</h3>" + frame_table(hit, ".2f") + "<h3>coverage</h3>" + frame_table(cov, ".2f"))
     a = metrics[metrics["region"] == "all"]
+    out = ("<h2>Both halves per experiment</h2><p>Hit rate: the object's lit rows where the tracker "
+           "reports a column within 3 px of the truth (a missed row is a miss). Coverage: rows with any "
+           "detection. Both are the stripe half: a report where there is no stripe moves neither. F1 and the "
+           "false-report rate are over every row of the frames (a report on a row with no stripe is a false one)."
+           "</p><h3>hit rate (object rows)</h3>" + frame_table(hit, ".2f") + "<h3>coverage (object rows)</h3>"
+           + frame_table(cov, ".2f"))
+    for key, title in (("f1", "F1 (every row)"), ("false_report_rate", "false-report rate (every row)")):
+        if key in a and a[key].notna().any():
+            out += f"<h3>{title}</h3>" + frame_table(
+                a.pivot_table(index="experiment", columns="tracker", values=key, sort=False, dropna=False), ".2f")
     if "false_lock_rate" in a and a["false_lock_rate"].notna().any():
         lock = a[a["false_lock_rate"].notna()].pivot_table(index="experiment", columns="tracker",
                                                              values="false_lock_rate", sort=False)
@@ -297,10 +306,11 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
 
         parts.append(sim_to_real_html(s["sim_to_real"]).replace(
             "<h2>Renders vs photographs</h2>",
-            "<h2>Renders vs photographs</h2><p>Each tracker's hit rate (within 3 px) on the object rows of this "
-            "run, averaged over its experiments, beside its mean hit rate over the photographs of the real set "
-            f"<code>{esc(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; references "
-            "only where the stripe is visible, see docs/real.md).</p>"))
+            "<h2>Renders vs photographs</h2><p>Both halves: each tracker's hit rate (within 3 px) on the object's "
+            "stripe rows of this run, averaged over its experiments, beside its mean hit rate over the photographs "
+            f"of the real set <code>{esc(s['sim_to_real'].get('dataset', ''))}</code> (other people's rigs; "
+            "references only where the stripe is visible, see docs/real.md), and its F1 over rows and false-report "
+            "rate over every row of the renders beside those over the photographs' rows of known state.</p>"))
         if s["sim_to_real"].get("predicted"):
             from bench.report.simreal import predicted_html
 
@@ -309,6 +319,8 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
             from bench.report.simreal import sim_to_real_by_class_html
 
             parts.append(sim_to_real_by_class_html(s["sim_to_real"]["by_class"]))
+            for k, v in (s["sim_to_real"].get("by_class_detection") or {}).items():
+                parts.append(sim_to_real_by_class_html(v, k))
     parts.append(_improvement_tables(s))
     parts.append(_hit_table(metrics))
     if figs["bars"]:
@@ -332,8 +344,10 @@ def build_report(run_dir, *, quiet: bool = False) -> Path:
                  "(mm) of R from eq. (3); coverage = detected / lit rows; hit rate = lit rows within 3 px / lit rows; "
                  "outliers = |error| &gt; 3 px among detected lit rows; precision = hits / reports; f1 over rows; "
                  "false-report rate = reports / rows with no stripe (<code>n_false</code> of them: false 3-D "
-                 "points); ap = average precision of the tracker's score; region <i>object</i> keeps the rows "
-                 "whose true point lies on the object (its stripe-less rows are not scored).</p>" + full)
+                 "points); ap = average precision of the tracker's score. Region <i>all</i> scores every row of the "
+                 "frames; region <i>object</i> keeps the rows whose true point lies on the object, every other row "
+                 "unknown, so no report there can be false: its precision, F1, false-report rate, AP and "
+                 "false detections are blank (the stripe half only).</p>" + full)
     fails = [(sc["experiment"], n, c, sc["failure_messages"][n]) for sc in s["scans"]
              for n, c in sc["failures"].items() if c]
     if fails:

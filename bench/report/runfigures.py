@@ -210,7 +210,10 @@ def make_figures(run_dir, *, quiet: bool = False, data: dict | None = None,
             later("pr", figures.fig_pr, curves, figdir / f"pr_{k:02d}.png",
                   title=f"{title}: precision-recall over rows ({len(keys)} scan(s))")
     if len(metrics):
-        later("bars", figures.fig_bars, metrics, figdir / "bars_hit_rate.png", "hit_rate")
+        later("bars", figures.fig_bars, metrics, figdir / "bars_hit_rate.png", "hit_rate",
+              "hit rate on the object's stripe rows, per experiment")
+        later("bars", figures.fig_bars, metrics, figdir / "bars_f1.png", "f1",
+              "F1 over every row (misses and false reports alike), per experiment", region="all")
         for title, key, keys in _sweeps(cfg):
             m = metrics[(metrics["region"] == "object") & metrics["experiment"].isin(keys)]
             val = {e.key: e.overrides[key] for e in config.experiments if e.key in keys}

@@ -5,22 +5,24 @@ from __future__ import annotations
 import math
 
 from bench.report.html import esc, fixed, table
-from bench.evaluate.simreal import sim_to_real_sentences
+from bench.evaluate.simreal import FIGURES, sim_to_real_headline
+from bench.evaluate.stripe import why_left_out
 
 __all__ = ["sim_to_real_html", "sim_to_real_by_class_html", "predicted_html"]
 
 
 def sim_to_real_html(result: dict) -> str:
-    """An HTML fragment: the sentences and the table of :func:`sim_to_real`."""
+    """An HTML fragment: the sentences of both halves (:func:`bench.evaluate.simreal.sim_to_real_headline`),
+    the hit rates' table of :func:`sim_to_real` and the detection table (F1, false-report rate)."""
     rows = [[esc(t["tracker"]), f"{t['synthetic']:.3f}", f"{t['real']:.3f}", f"{t['delta']:+.3f}",
              f"{t['rank_synthetic']:g}", f"{t['rank_real']:g}"] for t in result["table"]]
-    text = "".join(f"<p>{esc(s)}</p>" for s in sim_to_real_sentences(result))
+    text = "".join(f"<p>{esc(s)}</p>" for s in sim_to_real_headline(result))
     head = ["tracker", "synthetic hit rate", "real hit rate", "real - synthetic", "rank (synthetic)", "rank (real)"]
     return (f"<section class='sim-to-real'><h2>Renders vs photographs</h2>{text}{table(head, rows)}"
             f"{_detection_html(result.get('detection') or {})}</section>")
 
 
-_DETECTION_NAMES = {"f1": "F1 over rows", "false_report_rate": "false-report rate"}
+_DETECTION_NAMES = FIGURES
 
 
 def _detection_html(detection: dict) -> str:
@@ -39,14 +41,16 @@ def _detection_html(detection: dict) -> str:
             "</p>" + table(head, body))
 
 
-def sim_to_real_by_class_html(by_class: dict) -> str:
-    """An HTML fragment from :func:`bench.evaluate.simreal.sim_to_real_by_class`:
+def sim_to_real_by_class_html(by_class: dict, figure: str = "hit_rate") -> str:
+    """An HTML fragment from :func:`bench.evaluate.simreal.sim_to_real_by_class` of one figure
+    (``figure``, a key of :data:`bench.evaluate.simreal.FIGURES`):
     per class the photographs and Spearman's rho, a tracker x class table of
-    synthetic / real hit rates, the overall rho and each tracker's mean
+    synthetic / real figures, the overall rho and each tracker's mean
     ``|synthetic - real|``. Empty when no class has both renders and photographs."""
     matched = by_class.get("matched", [])
     if not matched:
         return ""
+    name = FIGURES.get(figure, figure)
     cls_rows = [[esc(c["condition"]), "yes" if c["rendered"] else "no", c["n_photographs"],
                  esc(", ".join(c["photographs"])), c["n"], fixed(c["spearman_rho"], ".2f")] for c in by_class["classes"]]
     rates = {c["condition"]: {t["tracker"]: t for t in c["table"]} for c in by_class["classes"] if c["condition"] in matched}
@@ -61,7 +65,8 @@ def sim_to_real_by_class_html(by_class: dict) -> str:
     o = by_class["overall"]
     rho = ("too few trackers with distinct rates for a rank correlation" if math.isnan(o["spearman_rho"])
            else f"Spearman's rho = {o['spearman_rho']:.2f} across {o['n']} trackers")
-    return (f"<section class='sim-to-real-by-class'><h3>Matched by class of condition</h3><p>Each experiment's "
+    return (f"<section class='sim-to-real-by-class'><h3>Matched by class of condition: {esc(name)}</h3><p>Each "
+            f"experiment's "
             f"<code>condition</code> against the photographs whose manifest <code>condition</code> is the same; "
             f"matched classes: {esc(', '.join(matched))}. Over the matched classes (each class weighs the same): "
             f"{esc(rho)}.</p>"
@@ -95,9 +100,17 @@ def predicted_html(doc: dict) -> str:
                           for k in ("hit_rate", "f1"))
 
     rigs = [[esc(g), len(v["photographs"]), *agree(v), span(v), repeat(v)] for g, v in doc.get("rigs", {}).items()]
+    why = doc.get("why") or {}
     left = doc.get("out_of_range") or {}
-    named = ", ".join(f"{n} ({', '.join(m)})" for n, m in left.items())
-    out = f" Left out (too few rows of the moved stripe seen): {esc(named)}." if left else ""
+    shrunk = doc.get("shrunk") or {}
+
+    def reason(n, codes=()):  # the one wording of why (bench.evaluate.stripe.why_left_out), as the prediction said it
+        return why.get(n) or why_left_out(codes)
+
+    out = "".join([
+        f" Predicted shrunk (a coarse answer): {esc('; '.join(f'{n} by {k} ({reason(n)})' for n, k in shrunk.items()))}."
+        if shrunk else "",
+        f" Left out: {esc('; '.join(f'{n} ({reason(n, c)})' for n, c in left.items()))}." if left else ""])
     return ("<section class='sim-to-real-predicted'><h3>Predicted beside measured, photograph by photograph</h3>"
             f"<p>The same trackers' figures predicted for {len(doc['photographs'])} of the photographs from frames "
             f"made of each (<code>{esc(doc.get('frames', ''))}</code>: the photograph with its own stripe moved to a "

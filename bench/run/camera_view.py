@@ -1,4 +1,5 @@
-"""What a tracker sees of a rendered frame: the mono image, or one channel of a colour photograph.
+"""What a tracker sees of a rendered frame or a photograph: the mono image, or one channel of a colour photograph,
+and the laser colour's evidence of a colour one.
 
 A mono-camera frame (``scenes`` parameter ``camera = "mono"``) goes to the trackers as it is.
 A colour-camera frame (``camera = "rgb"``) carries ``frame.rgb`` (and ``frame.rgb_background``);
@@ -11,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["laser_colour", "tracker_images"]
+__all__ = ["laser_colour", "tracker_images", "colour_of", "frame_colour"]
 
 
 def laser_colour(wavelength_nm: float) -> str:
@@ -61,3 +62,45 @@ def tracker_images(frame, params=None, channel: str = "auto") -> tuple[np.ndarra
                          f"{None if params is None else sorted(params)!r}")
     laser = laser_colour(params["laser_wavelength_nm"])
     return select_channel(frame.rgb, channel, laser), select_channel(frame.rgb_background, channel, laser)
+
+
+def colour_of(rgb, laser: str, rotate_deg: int = 0) -> np.ndarray | None:
+    """The colour evidence a tracker gets with a colour photograph (:func:`trackers.colour_evidence`), turned
+    as the tracker's frame is; None for no photograph or a grey one (three equal channels): the one home of what
+    every run (renders, photographs, tuning frames) passes as ``colour``.
+
+    Parameters
+    ----------
+    rgb : array_like, shape (H0, W0, 3), or None
+        The photograph in its own orientation (DN).
+    laser : {'red', 'green', 'blue'}
+    rotate_deg : int
+        The turn (counter-clockwise, degrees) that gives the tracker's frame.
+
+    Returns
+    -------
+    ndarray of float64, shape (H, W), in [0, 1], or None
+
+    Examples
+    --------
+    >>> px = np.zeros((2, 3, 3)); px[:, 1] = [200.0, 20.0, 20.0]
+    >>> colour_of(px, "red", 90).shape, colour_of(px[..., 0], "red")
+    ((3, 2), None)
+    """
+    if rgb is None:
+        return None
+    a = np.asarray(rgb)
+    if a.ndim != 3 or (np.array_equal(a[..., 0], a[..., 1]) and np.array_equal(a[..., 0], a[..., 2])):
+        return None
+    from bench.evaluate.pixels import rotate_image
+    from trackers import colour_evidence
+
+    return rotate_image(colour_evidence(a, laser), rotate_deg)
+
+
+def frame_colour(frame, params=None) -> np.ndarray | None:
+    """The colour evidence of a rendered :class:`scenes.Frame` (:func:`colour_of` of ``frame.rgb``); None for a
+    mono-camera frame."""
+    if getattr(frame, "rgb", None) is None or params is None or "laser_wavelength_nm" not in params:
+        return None
+    return colour_of(frame.rgb, laser_colour(params["laser_wavelength_nm"]))

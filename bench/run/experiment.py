@@ -146,7 +146,8 @@ def _scan_all(config, plan, folder, tracker_objs, progress, quiet, helper, recor
         records += recs
         samples += samps
         failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
-        scan_info.append({"experiment": exp.key, "frames": int(len(angles)), "wall_s": wall,
+        scan_info.append({"experiment": exp.key, "frames": int(len(angles)),
+                          "angles_deg": [float(a) for a in angles], "wall_s": wall,
                           "render_s": res.render_seconds, "variant": res.variant, "failures": failures,
                           "rig": dataclasses.asdict(scene.rig),
                           "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5] for n in res.messages}})
@@ -183,7 +184,8 @@ def _run_locked(config, folder, tracker_objs, t_start, progress, quiet) -> Path:
 
 def finish_run(config: Config, out: Path, records: list[dict], samples: list[dict], scan_info: list[dict],
                gallery: list, fig7, *, t_start: float, quiet: bool, render_ahead: dict, kind: str = "run",
-               submissions: tuple[str, ...] = (), extra: dict | None = None) -> Path:
+               submissions: tuple[str, ...] = (), builtins: tuple[str, ...] | None = None,
+               extra: dict | None = None) -> Path:
     """Everything a run writes after its scans: tables, gallery, Fig. 7's data, statistics, summary.
 
     Parameters
@@ -207,12 +209,15 @@ def finish_run(config: Config, out: Path, records: list[dict], samples: list[dic
     submissions : tuple of str
         Labels of scored submissions: tracked beside ``config.trackers``, restored
         with the run's ``restore`` and compared with the baselines as the DP trackers are.
+    builtins : tuple of str, optional
+        The labels of ``config.trackers`` that were tracked (default all of them; ``()`` for a
+        submission scored alone): only these enter the robust figures and the summary.
     extra : dict, optional
         More summary fields.
     """
     import pandas as pd
 
-    labels = (*config.trackers, *submissions)
+    labels = (*(config.trackers if builtins is None else builtins), *submissions)
     dp = (*config.dp, *submissions)
     metrics = pd.DataFrame.from_records(records)
     samples_df = pd.DataFrame.from_records(samples, columns=analysis.sample_columns(labels))
@@ -294,12 +299,15 @@ def _detection(config: Config, out: Path, conditions: list[dict]) -> list[dict]:
 
 def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     """Evaluate the same tracker settings on the configuration's real set (into
-    ``<run>/real``) and compare each tracker's mean object hit rate over the
-    experiments with its mean hit rate over the photographs; where experiments
-    carry a ``condition``, also matched by class (``by_class``:
-    :func:`bench.evaluate.simreal.sim_to_real_by_class` against the manifest's
-    ``condition`` column); and the figures predicted for the photographs
-    (``predicted``: :func:`bench.run.real.predict_real`, into ``<run>/real/predict``)
+    ``<run>/real``) and compare each tracker's figures on the renders (mean over the experiments) with
+    its figures on the photographs, both halves: the hit rate (the object's stripe rows against the
+    photographs' mean hit rate: ``table``, ``spearman_rho``) and, in ``detection``, F1 over rows and the
+    false-report rate (every row of the renders against the photographs' pooled rows of known state);
+    ``sentences`` says each (:func:`bench.evaluate.simreal.sim_to_real_headline`). Where experiments
+    carry a ``condition``, also matched by class (``by_class``, the hit rate, and ``by_class_detection``,
+    F1 and the false-report rate: :func:`bench.evaluate.simreal.sim_to_real_by_class` against the
+    manifest's ``condition`` column); and, with ``real_predict`` (``run --predict``), the figures predicted
+    for the photographs (``predicted``: :func:`bench.run.real.predict_real`, into ``<run>/real/predict``)
     beside the measured ones."""
     from bench.evaluate import simreal
     from bench.store import realset as real
@@ -316,22 +324,33 @@ def _sim_to_real(config: Config, out: Path, metrics, quiet: bool) -> dict:
     synthetic = {str(k): float(v) for k, v in obj.groupby("tracker")["hit_rate"].mean().items()}
     result = simreal.sim_to_real(synthetic, rm)
     result["dataset"] = str(config.real_set)
-    result["sentences"] = simreal.sim_to_real_sentences(result)
-    every = metrics[metrics["region"] == "all"]
+    every = metrics[metrics["region"] == "all"]  # detection: every row (the object region cannot see a false report)
     result["detection"] = {  # both halves of detection, every row: the renders' mean against the photographs'
         k: simreal.sim_to_real({str(t): float(v) for t, v in every.groupby("tracker")[k].mean().items()},
-                               real_run_means(rdir, k)) for k in ("f1", "false_report_rate")}
+                               real_run_means(rdir, k)) for k in simreal.DETECTION_FIGURES}
+    result["sentences"] = simreal.sim_to_real_headline(result)
+    say("renders vs photographs, Spearman's rho across trackers: " + "; ".join(
+        f"{simreal.FIGURES[k]} {r['spearman_rho']:.2f}" for k, r in
+        (("hit_rate", result), *result["detection"].items())), quiet)
     cond_of = {e.key: e.condition for e in config.experiments if e.condition}
     if cond_of:  # experiments that name a class of photograph: the comparison matched by class
-        by_exp = obj[obj["experiment"].isin(list(cond_of))].assign(
-            condition=lambda d: d["experiment"].map(cond_of))
-        synthetic_by_class = {str(c): {str(k): float(v) for k, v in g.groupby("tracker")["hit_rate"].mean().items()}
-                              for c, g in by_exp.groupby("condition")}
         rmet = load_real_run(rdir)["metrics"]
-        per_image = {str(n): {str(r.tracker): float(r.hit_rate) for r in g.itertuples()}
-                     for n, g in rmet[rmet["experiment"] != "mean"].groupby("experiment")}
         image_class = {im.name: im.meta.get("condition", "") for im in real.load_dataset(dataset)}
-        result["by_class"] = simreal.sim_to_real_by_class(synthetic_by_class, per_image, image_class)
+        photos = rmet[rmet["experiment"] != "mean"]
+
+        def by_class(rendered, key):
+            by_exp = rendered[rendered["experiment"].isin(list(cond_of))].assign(
+                condition=lambda d: d["experiment"].map(cond_of))
+            syn = {str(c): {str(k): float(v) for k, v in g.groupby("tracker")[key].mean().items()}
+                   for c, g in by_exp.groupby("condition")}
+            per_image = {str(n): {str(r.tracker): float(getattr(r, key)) for r in g.itertuples()}
+                         for n, g in photos.groupby("experiment")}
+            return simreal.sim_to_real_by_class(syn, per_image, image_class)
+
+        result["by_class"] = by_class(obj, "hit_rate")
+        result["by_class_detection"] = {k: by_class(every, k) for k in simreal.DETECTION_FIGURES}
+    if not config.real_predict:
+        return result
     # the same trackers' figures predicted for these photographs (each with its own stripe moved, and in place) beside the
     # measured ones, row for row: unlike the means above, both sides are the same photographs
     result["predicted"] = predict_real(dataset, rdir, specs, n_boot=min(config.n_boot, 1000), seed=config.seed,

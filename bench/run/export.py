@@ -13,11 +13,21 @@ frame set and keeps it; :func:`participants_bundle` copies it without the test
 split's truth (``truth_test/``) for the participants, who track every frame and send
 back a submission; the organiser scores it on the full set (``stripebench score``).
 A bundle scores its ``dev`` split only.
+
+The test split cannot be rendered again from what the bundle holds: each test frame is
+rendered at its nominal mirror angle moved by a uniform draw within ±:data:`TEST_JITTER` of
+the experiment's angle spacing, with its own render seed, both drawn from a *test seed*
+(:func:`test_frame`). The test seed is drawn with :mod:`secrets` at export and kept only
+beside the withheld truth (``truth_test/withheld.json``); the bundle's ``frames.csv`` and
+``dataset.json`` leave the test frames' angles out. The dev frames are the run's frames
+(the configuration's angles and seed). ``export --test-seed N`` (``N`` from
+``withheld.json``) writes the organiser's set again byte for byte.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import json
 import time
 from pathlib import Path
 
@@ -32,17 +42,56 @@ from bench.store.files import atomic_write_bytes, atomic_write_text, config_hash
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.store.runfolder import RunFolder
 
-__all__ = ["export", "participants_bundle", "check_bundle_folder", "TEST_FRACTION", "UNITS"]
+__all__ = ["export", "participants_bundle", "check_bundle_folder", "test_frame", "TEST_FRACTION", "TEST_JITTER",
+           "TEST_SEED_BITS", "WITHHELD"]
 
 TEST_FRACTION = 0.3  # share of frames held out as `test` (their truth in truth_test/)
+#: A test frame's angle moves by a uniform draw within ± this fraction of its experiment's angle spacing.
+TEST_JITTER = 0.25
+#: The test seed is an integer in [0, 2**TEST_SEED_BITS).
+TEST_SEED_BITS = 63
+#: The file beside the withheld truth that keeps the test seed (in ``truth_test/``; never in a bundle).
+WITHHELD = "withheld.json"
 UNITS = {"angle_deg": "deg (mirror angle theta)", "row": "px (image row, 0 at the top)",
          "col": "px (continuous column, pixel centre at integer values)",
          "x_cm, y_cm, z_cm": "cm (world point of the true stripe)", "rig": "cm, mm and deg as the field names say",
          "ms": "milliseconds per frame (times.csv)"}
 
 
-def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, quiet: bool = False,
-           force: bool = False) -> Path:
+def test_frame(angles_deg, index: int, test_seed: int, experiment_index: int) -> tuple[float, int]:
+    """The mirror angle (deg) and render seed of test frame ``index`` of an experiment whose nominal angles are
+    ``angles_deg``: the nominal angle moved by a uniform draw within ±:data:`TEST_JITTER` of the smallest spacing
+    of the angles (1 deg for a single angle), and a seed in [0, 2**31), both from
+    ``numpy.random.default_rng(SeedSequence([test_seed, experiment_index, index]))``.
+
+    Examples
+    --------
+    >>> a, s = test_frame([10.0, 12.0, 14.0], 1, 5, 0)
+    >>> 11.5 <= a <= 12.5 and a != 12.0, test_frame([10.0, 12.0, 14.0], 1, 5, 0) == (a, s)
+    (True, True)
+    """
+    angles = np.asarray(angles_deg, float)
+    gaps = np.diff(np.sort(angles))
+    gaps = gaps[gaps > 0]
+    spacing = float(gaps.min()) if gaps.size else 1.0
+    rng = np.random.default_rng(np.random.SeedSequence([int(test_seed), int(experiment_index), int(index)]))
+    angle = float(angles[index] + rng.uniform(-TEST_JITTER, TEST_JITTER) * spacing)
+    return angle, int(rng.integers(0, 2**31))
+
+
+def _test_seed(test_seed) -> int:
+    import secrets
+
+    if test_seed is None:
+        return secrets.randbits(TEST_SEED_BITS)
+    if isinstance(test_seed, bool) or not isinstance(test_seed, (int, np.integer)) \
+            or not 0 <= test_seed < 2**TEST_SEED_BITS:
+        raise InputError(f"--test-seed must be an integer in [0, 2**{TEST_SEED_BITS}), got {test_seed!r:.40}")
+    return int(test_seed)
+
+
+def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, test_seed: int | None = None,
+           quiet: bool = False, force: bool = False) -> Path:
     """Render ``config``'s frames into the frame set ``out_dir``; returns the folder.
 
     Parameters
@@ -53,6 +102,10 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
     out_dir : path-like
     test_fraction : float
         Share of frames in the ``test`` split (:func:`bench.store.frameset.split_of`, seeded by ``config.seed``).
+    test_seed : int, optional
+        The seed of the test frames' angles and renders (:func:`test_frame`); default a fresh one from
+        :mod:`secrets`. It is written to ``truth_test/withheld.json`` only; the same ``test_seed`` writes the
+        same set, byte for byte.
     quiet : bool
         No progress notes on stderr.
     force : bool
@@ -62,11 +115,14 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
     ------
     ValueError
         ``test_fraction`` outside [0, 1].
+    bench.errors.InputError
+        ``test_seed`` is not an integer in [0, 2**63), or an experiment has a colour camera.
     bench.store.runfolder.RunFolderError
         The folder is locked, holds another run (without ``force``) or cannot be written.
     """
 
     fs.split_of("x", 0, test_fraction)  # validates test_fraction
+    test_seed = _test_seed(test_seed)
     for exp in config.experiments:  # before anything renders or is written
         camera = scene_for(exp, config).params.get("camera", "mono")
         if camera != "mono":
@@ -88,11 +144,14 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
             spp = scene.params["spp"]
             say(f"[{k + 1}/{len(config.experiments)}] {exp.key}: {len(angles)} frames at "
                  f"{scene.rig.width}x{scene.rig.height}", quiet)
-            variant, false_stripes = "", False
-            for i, angle in enumerate(angles):
-                frame = scene.render(float(angle), spp=spp, seed=config.seed)
+            variant, false_stripes, shown = "", False, []
+            for i, nominal in enumerate(angles):
                 fid = fs.frame_id(exp.key, i)
                 split = fs.split_of(fid, config.seed, test_fraction)
+                angle, seed = (float(nominal), config.seed) if split == "dev" else \
+                    test_frame(angles, i, test_seed, k)  # the test split: where the bundle cannot say
+                frame = scene.render(angle, spp=spp, seed=seed)
+                shown.append(angle)
                 seen, seen_off = tracker_images(frame, scene.params)  # what a tracker gets in a run
                 if seen.dtype != np.uint8:
                     raise InputError(f"experiment {exp.key!r}: its trackers see a {seen.dtype} frame (a colour "
@@ -112,17 +171,24 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, qui
                              "height": H, "width": W})
             experiments.append({"key": exp.key, "index": k, "scene": exp.scene, "material": exp.material,
                                 "condition": exp.condition or exp.key, "frames": int(len(angles)),
-                                "angles_deg": [float(a) for a in angles], "spp": spp if spp == "auto" else int(spp), "variant": variant,
+                                "angles_deg": shown, "spp": spp if spp == "auto" else int(spp), "variant": variant,
                                 "false_stripes": bool(false_stripes), "rig": dataclasses.asdict(scene.rig)})
         fs.write_frames_csv(root / "frames.csv", rows)
         n_test = sum(r["split"] == "test" for r in rows)
+        atomic_write_text(root / fs.TRUTH_DIRS["test"] / WITHHELD, json.dumps(
+            {"test_seed": test_seed, "why": "the test frames' angles and render seeds (bench.run.export.test_frame); "
+             "keep it with the withheld truth: `stripebench export --test-seed` with it writes this set again"},
+            indent=1) + "\n")
         doc = {
             "format": fs.FORMAT, "kind": "stripebench-frames", "profile": config.name,
             "config_source": config.source, "config_hash": config_hash(config.identity()),
             "code_revision": git_revision(), "versions": versions(), "seed": config.seed,
             "split": {"rule": "test when the first 8 bytes of sha256('<seed>:<frame>') / 2**64 < test_fraction",
                       "test_fraction": float(test_fraction), "seed": config.seed, "dev": len(rows) - n_test,
-                      "test": n_test, "truth_dirs": fs.TRUTH_DIRS},
+                      "test": n_test, "truth_dirs": fs.TRUTH_DIRS,
+                      "test_frames": f"rendered at the nominal angle moved by a uniform draw within ±{TEST_JITTER} of "
+                                     "the angle spacing, with their own render seed, both from a test seed that "
+                                     f"only {fs.TRUTH_DIRS['test']}/{WITHHELD} keeps"},
             "images": {"format": "PNG, 8-bit grey", "dtype": "uint8",
                        "what": "the laser-on (image) and laser-off (background) arrays a tracker gets in a run, "
                                "losslessly"},
@@ -161,7 +227,8 @@ def participants_bundle(frameset, out_dir, *, force: bool = False) -> Path:
 
     The bundle holds ``dataset.json`` (with ``"test_truth": "withheld"``), ``frames.csv``,
     ``images/`` and ``truth/`` (the dev split); ``stripebench score`` on it scores
-    ``--split dev`` only.
+    ``--split dev`` only. The test frames' angles are left out of ``frames.csv`` (empty) and of
+    ``dataset.json`` (null), and the test seed stays in the frame set's ``truth_test/``.
 
     Raises
     ------
@@ -186,8 +253,18 @@ def participants_bundle(frameset, out_dir, *, force: bool = False) -> Path:
             if (root / sub).exists():
                 shutil.rmtree(root / sub)
             shutil.copytree(src.root / sub, root / sub)
-        atomic_write_bytes(root / "frames.csv", (src.root / "frames.csv").read_bytes())
-        fs.write_dataset_json(root / "dataset.json", {**src.meta, "test_truth": "withheld"})
+        test = {f["frame"] for f in src.frames if f["split"] == "test"}
+        fs.write_frames_csv(root / "frames.csv", [{**f, "angle_deg": float("nan")} if f["frame"] in test else f
+                                                  for f in src.frames])
+        experiments = []
+        for e in src.meta["experiments"]:  # the test frames' angles: not the participants' to know
+            own = [f["frame"] for f in src.frames_of(e["key"])]
+            angles = e.get("angles_deg")
+            if isinstance(angles, list) and len(angles) == len(own):
+                e = {**e, "angles_deg": [None if fid in test else a for fid, a in zip(own, angles)]}
+            experiments.append(e)
+        fs.write_dataset_json(root / "dataset.json", {**src.meta, "experiments": experiments,
+                                                      "test_truth": "withheld"})
     finally:
         folder.unlock()
     return root

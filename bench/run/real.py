@@ -11,7 +11,8 @@ whose outputs would collide or that lie inside the folder refused).
 ``real`` evaluates trackers on a real set (layout in :mod:`bench.store.realset`) into a
 run folder of kind ``real`` (its files: :mod:`bench.store.realrun`): per-image
 and mean metrics, the tracks and overlays of every image, ``summary.json`` with
-per-tracker means and bootstrap CIs; the command adds ``report.html``
+per-tracker means and bootstrap CIs, and detection per rig with intervals over its photographs and over rigs
+(:func:`bench.evaluate.loro.rig_figures`); the command adds ``report.html``
 (:mod:`bench.report.real`).
 """
 
@@ -22,30 +23,37 @@ import time
 from pathlib import Path
 
 from bench.errors import one_line
-from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, bootstrap_frames, row_outcomes
+from bench.evaluate.loro import rig_figures
+from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, outcome_counts, row_outcomes
+from bench.evaluate.ranking import bootstrap_frames
 from bench.evaluate.simreal import image_metrics
 from bench.evaluate.stats import bootstrap_mean
+from bench.run.camera_view import colour_of
 from bench.run.track import STATUS, build_trackers, track_frame
 from bench.store import realset as real
 from bench.store.realrun import write_track_csv
 
-__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS"]
+__all__ = ["track_images", "run_real", "predict_real", "DETECTION_KEYS", "PER_IMAGE_MEANS"]
 
 #: The detection figures of a real run's ``mean`` rows: pooled over the photographs' rows
-#: (:func:`bench.evaluate.outcomes.bootstrap_frames`; their intervals are in ``summary.json``).
+#: (:func:`bench.evaluate.ranking.bootstrap_frames`; their intervals are in ``summary.json``).
 DETECTION_KEYS = (*COUNT_KEYS, *FIGURE_KEYS, "ap")
+#: The figures of a real run's ``mean`` rows that are means over photographs (bootstrap intervals over them in
+#: ``summary.json``). Reports on stripe-less rows are priced by ``false_report_rate`` (rows of known state only).
+PER_IMAGE_MEANS = ("hit_rate", "mae_px", "coverage")
 
 
 
-def _track_all(trackers: dict, frame, background):
+def _track_all(trackers: dict, frame, background, colour=None):
     """label -> (Track, ms, status, message) by :func:`bench.run.track.track_frame`: a failing
     tracker (it raised, returned columns outside the image, timed out, crashed) gives an empty
-    track and its :data:`~bench.run.track.STATUS` name; ``"ok"`` otherwise."""
+    track and its :data:`~bench.run.track.STATUS` name; ``"ok"`` otherwise. ``colour``: the photograph's
+    colour evidence (:func:`bench.run.camera_view.colour_of`), None for a grey one."""
     from trackers import Track
 
     out = {}
     for lab, t in trackers.items():
-        r = track_frame(t, frame, background)
+        r = track_frame(t, frame, background, colour)
         tr = Track(r.columns, r.score) if r.ok else Track.empty(frame.shape[0])
         out[lab] = (tr, 1e3 * r.seconds, STATUS[r.status], r.message)
     return out
@@ -140,7 +148,7 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
         note = real.orientation_note(p, rotate_deg)
         if note:
             print(f"stripebench track: {one_line(note)}", file=err)
-        res = _track_all(trackers, frame, bg)
+        res = _track_all(trackers, frame, bg, colour_of(original, laser, rotate_deg))
         tracks = {lab: r[0] for lab, r in res.items()}
         name = names[p]
         inputs[name] = str(p.resolve())
@@ -217,7 +225,7 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     for k, im in enumerate(images):
         frame, bg, original, ref = im.load()
         _, states = im.reference(frame.shape)
-        res = _track_all(trackers, frame, bg)
+        res = _track_all(trackers, frame, bg, colour_of(original, im.laser_colour, im.rotate_deg))
         tracks = {lab: r[0] for lab, r in res.items()}
         write_track_csv(out / LAYOUT["tracks"] / f"{im.name}.csv", labels, tracks)
         if draw is not None:
@@ -231,14 +239,16 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
             records.append({"experiment": im.name, "tracker": lab, "region": "real", **m, "ms_per_frame": ms,
                             "has_background": im.background_path is not None, "status": status, "message": msg})
         if not quiet:
-            hr = ", ".join(f"{r['tracker']} {r['hit_rate']:.2f}" for r in records[-len(labels):])
-            print(f"[{k + 1}/{len(images)}] {im.name}: hit rate {hr}", file=sys.stderr, flush=True)
+            hr = ", ".join(f"{r['tracker']} {r['f1']:.2f}/{r['false_report_rate']:.2f}/{r['hit_rate']:.2f}"
+                           for r in records[-len(labels):])
+            print(f"[{k + 1}/{len(images)}] {im.name}: F1/false-report rate/hit rate {hr}", file=sys.stderr,
+                  flush=True)
     per_image = pd.DataFrame.from_records(records)
     means, summary_rows = [], {}
     for j, lab in enumerate(labels):
         sub = per_image[per_image["tracker"] == lab]
         stats = {}
-        for metric in ("hit_rate", "mae_px", "coverage", "false_detections"):
+        for metric in PER_IMAGE_MEANS:
             stats[metric] = bootstrap_mean(sub[metric].to_numpy(float), n_boot=n_boot, seed=seed + j)
         det = bootstrap_frames(*outcomes[lab], n_boot=n_boot, seed=seed + j)  # rows pooled over photographs
         stats["detection"] = det
@@ -250,6 +260,8 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
                       "ms_per_frame": float(sub["ms_per_frame"].median()), "has_background": False,
                       "status": "ok" if (sub["status"] == "ok").all() else "failed",
                       "message": "; ".join(sorted(set(sub["message"]) - {""}))[:200]})
+        stats["rigs"] = rig_figures([outcome_counts(c, axis=0) for c in outcomes[lab][0]], [im.rig for im in images],
+                                    n_boot=n_boot, seed=seed + j)
     metrics = pd.concat([per_image, pd.DataFrame.from_records(means)], ignore_index=True)
     write_real_metrics(out, metrics)
     summary = build_summary("real", config=config, seed=seed, tol_px=tol_px, versions=versions(),
@@ -259,8 +271,7 @@ def _real_locked(folder, dataset, images, specs, trackers, tol_px, n_boot, seed,
     return out
 
 
-def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimate: str = "auto", grid=None,
-                 n_boot: int = 1000, seed: int = 0, say=None) -> dict:
+def predict_real(dataset, run_dir, specs, *, n_boot: int = 1000, seed: int = 0, settings=None, say=None) -> dict:
     """``real --predict``: predict a real run's figures (:func:`bench.run.predict.run_predict` into
     ``RUN/predict``) and set them beside the measured ones, pooled, per rig and per photograph.
 
@@ -272,15 +283,14 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         A finished real run (:func:`run_real`).
     specs : sequence of TrackerSpec
         Its trackers.
-    frames, estimate, grid, n_boot, seed, say
-        As :func:`bench.run.predict.run_predict` (``grid`` default :data:`~bench.run.predict.DEFAULT_GRID`;
-        ``estimate="reference"``: the stripe taken from the set's references, the ablation of docs/predict.md).
+    n_boot, seed, settings, say
+        As :func:`bench.run.predict.run_predict` (``settings`` None: the defaults).
 
     Returns
     -------
     dict
         ``result`` (``run_predict``'s, with ``comparison``, ``comparison_rigs`` and ``comparison_photos``
-        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the matched ``photographs``,
+        added for the page) and ``doc`` (what ``RUN/predict/compare.json`` holds: the ``photographs`` in range,
         ``hit_rate`` and ``f1`` pooled, ``rigs`` (:attr:`bench.store.realset.RealImage.rig`; a photograph
         without one is a rig of its own; each also with its ``measured_reliability``) and ``per_photograph``, each as
         :func:`bench.evaluate.prediction.comparison_doc`, ``measured_reliability``, how repeatable the measured
@@ -292,16 +302,18 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
     """
     import json
 
+    from bench.evaluate.stripe import why_left_out
     from bench.evaluate.prediction import (RELIABILITY_MIN_PHOTOS, compare_by_group, compare_with_real,
                                           comparison_doc, rank_interval, rank_reliability)
-    from bench.run.predict import DEFAULT_GRID, run_predict
+    from bench.evaluate.predict_settings import DEFAULT
+    from bench.run.predict import run_predict
     from bench.store.files import atomic_write_text
     from bench.store.realrun import load_real_run
 
     out = Path(run_dir)
-    result = run_predict(dataset, out / "predict", specs, frames=frames, estimate=estimate,
-                         grid=DEFAULT_GRID if grid is None else grid, n_boot=n_boot, seed=seed, say=say)
-    names = [n for n, m in result["matches"].items() if not m.out_of_range]
+    result = run_predict(dataset, out / "predict", specs, n_boot=n_boot, seed=seed,
+                         settings=DEFAULT if settings is None else settings, say=say)
+    names = [n for n, m in result["made"].items() if m.answered and not m.out_of_range]  # coarse answers not pooled
     metrics = load_real_run(out)["metrics"]
     cmp = compare_with_real(result["predicted"], metrics, names)
     rig_of = {im.name: im.rig for im in real.load_dataset(dataset)}
@@ -316,8 +328,12 @@ def predict_real(dataset, run_dir, specs, *, frames: str = "transplant", estimat
         return (rank_interval(result["predicted_photos"], metrics, group, seed=seed)
                 if len(group) >= RELIABILITY_MIN_PHOTOS else None)
 
-    doc = {"photographs": names, "frames": frames, "estimate": estimate if frames == "transplant" else None,
-           "out_of_range": {n: list(m.out_of_range) for n, m in result["matches"].items() if m.out_of_range},
+    s = result["predict_settings"]
+    doc = {"photographs": names,
+           "shrunk": {n: m.shrink for n, m in result["made"].items() if m.answered and m.out_of_range},
+           "out_of_range": {n: list(m.out_of_range) for n, m in result["made"].items() if not m.answered},
+           "why": {n: why_left_out(m.out_of_range, width_px=m.width_px, settings=s)
+                   for n, m in result["made"].items() if m.out_of_range},
            **comparison_doc(cmp),
            "rigs": {g: {**comparison_doc(v), "measured_reliability": reliability(v["photographs"]),
                         "rank_interval": interval(v["photographs"])} for g, v in rigs.items()},

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.run.camera_view import tracker_images
+from bench.run.camera_view import frame_colour, tracker_images
 from bench.run.track import track_frame
 from bench.store.checkpoint import FALSE_K, ScanResult, read_checkpoint, write_checkpoint
 
@@ -130,6 +130,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
             t0 = time.perf_counter()
             frame = scene.render(float(angles[i]), spp=spp, seed=seed)
             image, background = tracker_images(frame, scene.params)
+            colour = frame_colour(frame, scene.params)
             res.render_seconds += time.perf_counter() - t0
             res.variant = frame.variant
             res.width = frame.image.shape[1]
@@ -141,7 +142,7 @@ def run_scan(key: str, scene, angles, trackers_: dict, *, spp: int, seed: int, c
                     res.false_columns = np.full((len(angles), scene.rig.height, FALSE_K), np.nan)
                 res.false_columns[i] = _pad_false(frame.truth.false_columns)
             for n in names:
-                r = track_frame(trackers_[n], image, background)
+                r = track_frame(trackers_[n], image, background, colour)
                 res.columns[n][i] = r.columns
                 res.scores[n][i] = r.score
                 res.seconds[n][i] = r.seconds

@@ -14,7 +14,9 @@ kind ``score`` also names the submission), so the report and the gate read it.
 The submission is compared with the baselines as the DP trackers are.
 
 A built-in tracker's own output, submitted, scores byte for byte what
-``stripebench run`` gives that tracker on the same configuration
+``stripebench run`` gives that tracker on the same configuration when the frame set
+is the run's frames (a set exported with ``--test-fraction 0``; a test frame is
+rendered at an angle of its own, :func:`bench.run.export.test_frame`)
 (``tests/bench/run/test_score.py``); only the time column comes from
 ``times.csv`` instead of the harness's clock.
 """
@@ -178,7 +180,8 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                     fig7 = figure_data(exp.key, float(res.angles[i]), images[i][0], images[i][1],
                                        res.truth_columns[i], cols)
             failures = {n: int(np.count_nonzero(res.status[n])) for n in res.status}
-            scan_info.append({"experiment": exp.key, "frames": len(frames), "wall_s": time.perf_counter() - t0,
+            scan_info.append({"experiment": exp.key, "frames": len(frames),
+                              "angles_deg": [float(f["angle_deg"]) for f in frames], "wall_s": time.perf_counter() - t0,
                               "render_s": 0.0, "variant": res.variant, "failures": failures, "rig": dict(meta["rig"]),
                               "failure_messages": {n: sorted({m for m in res.messages[n] if m})[:5]
                                                    for n in res.messages}})
@@ -189,9 +192,10 @@ def score(dataset, submission, out_dir, *, label: str | None = None, trackers=No
                                 "dataset": str(dataset), "dataset_config_hash": fset.meta["config_hash"],
                                 "dataset_revision": fset.meta.get("code_revision"), "split": split,
                                 "frames": sum(s["frames"] for s in scan_info),
-                                "timed": bool(any(np.isfinite(v) for v in sub.ms.values()))}}
+                                "timed": bool(any(np.isfinite(v) for v in sub.ms.values())),
+                                **({"alone": True} if alone else {})}}
         return finish_run(config, folder.path, records, samples, scan_info, gallery, fig7, t_start=t_start,
                           quiet=quiet, render_ahead={"off": "scored from an exported frame set (no rendering)"},
-                          kind="score", submissions=(label,), extra=extra)
+                          kind="score", submissions=(label,), builtins=() if alone else None, extra=extra)
     finally:
         folder.unlock()

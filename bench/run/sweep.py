@@ -156,7 +156,7 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
 
     from bench.evaluate import tables as analysis
     from bench.config import Experiment, parse_trackers
-    from bench.run.camera_view import tracker_images
+    from bench.run.camera_view import frame_colour, tracker_images
     from bench.run.track import build_trackers, track_frame
     from bench.store.checkpoint import ScanResult
     from bench.store.provenance import source_fingerprint
@@ -201,8 +201,9 @@ def run_unit(spec: dict[str, Any]) -> dict[str, Any]:
                 res.truth_points_cm[i] = frame.truth.points_cm
                 res.on_object[i] = frame.truth.on_object
                 image, background = tracker_images(frame, scene.params)
+                colour = frame_colour(frame, scene.params)
                 for n in names:
-                    tr = track_frame(trackers_[n], image, background)
+                    tr = track_frame(trackers_[n], image, background, colour)
                     res.columns[n][i], res.scores[n][i] = tr.columns, tr.score
                     res.seconds[n][i], res.status[n][i], res.messages[n][i] = tr.seconds, tr.status, tr.message
             res.done[:] = True

@@ -116,7 +116,7 @@ def _where(exc: BaseException) -> str:
     return f" ({Path(tb[-1].filename).name}:{tb[-1].lineno})" if tb else ""
 
 
-def track_frame(tracker, image, background) -> TrackResult:
+def track_frame(tracker, image, background, colour=None) -> TrackResult:
     """Run ``tracker`` on one frame and check what it returns (never raises but for Ctrl-C).
 
     Parameters
@@ -128,6 +128,10 @@ def track_frame(tracker, image, background) -> TrackResult:
         The frame (uint8 DN or float); the tracker sees a read-only view.
     background : numpy.ndarray, shape (H, W), or None
         The laser-off frame; read-only too.
+    colour : numpy.ndarray, shape (H, W), or None
+        The laser colour's evidence of a colour frame (:func:`bench.run.camera_view.colour_of`); passed only
+        where given, so a tracker whose ``track`` takes two arguments still runs on grey frames.
+
     Returns
     -------
     TrackResult
@@ -147,7 +151,8 @@ def track_frame(tracker, image, background) -> TrackResult:
     t0 = time.perf_counter()
     try:
         with contextlib.redirect_stdout(sys.stderr):
-            out = tracker.track(_read_only(image), background=_read_only(background))
+            extra = {} if colour is None else {"colour": _read_only(colour)}
+            out = tracker.track(_read_only(image), background=_read_only(background), **extra)
     except KeyboardInterrupt:
         raise
     except TrackerTimeout as exc:
@@ -199,9 +204,9 @@ class TimedTracker:
             raise AttributeError(attr)
         return getattr(self.wrapped, attr)
 
-    def track(self, image, *, background=None):
+    def track(self, image, *, background=None, **colour):
         with _alarm(self.timeout_s):
-            return self.wrapped.track(image, background=background)
+            return self.wrapped.track(image, background=background, **colour)
 
 
 def build_trackers(specs) -> dict:
@@ -260,10 +265,11 @@ def _worker(conn, module: str, qualname: str, params: dict) -> None:  # pragma: 
             return
         if msg is None:
             return
-        image, background = msg
+        image, background, colour = msg
         try:
             with contextlib.redirect_stdout(sys.stderr):
-                out = tracker.track(_read_only(image), background=_read_only(background))
+                extra = {} if colour is None else {"colour": _read_only(colour)}
+                out = tracker.track(_read_only(image), background=_read_only(background), **extra)
             if isinstance(out, trackers.Track):
                 conn.send(("ok", (np.asarray(out.columns), np.asarray(out.score))))
             else:
@@ -344,15 +350,17 @@ class IsolatedTracker:
             return f"the worker died ({sig})"
         return f"the worker exited with status {code}"
 
-    def track(self, image, *, background=None):
+    def track(self, image, *, background=None, colour=None):
         """Track one frame in the worker (see :meth:`trackers.Tracker.track`)."""
         from trackers import Track
+
+        def arr(a):
+            return None if a is None else np.ascontiguousarray(a)
 
         try:
             if self._proc is None or not self._proc.is_alive():
                 self._start()
-            self._conn.send((np.ascontiguousarray(image), None if background is None
-                             else np.ascontiguousarray(background)))
+            self._conn.send((arr(image), arr(background), arr(colour)))
             if not self._conn.poll(self.timeout_s):
                 self._kill()
                 raise TrackerTimeout(f"took longer than timeout_s = {self.timeout_s:g} s (worker killed)")

@@ -20,6 +20,11 @@ draw: free, they apply after the render cache), with saturated, blooming stripes
 frames. Render seeds start at :data:`SEED_BASE`, so no frame is a frame of the ``paper`` run (seed
 0); :func:`plan` checks that against the paper profile's frames.
 
+Rules 3 add, per unit with probability 0.5, a distractor (``scenes.distractors``: a stripe cut from the
+top or the bottom rows and a lit door edge, a lamp, LEDs, a window, a lit sphere or a drawn frame in
+those rows), so a network learns to stay quiet where photographs of real rigs have no stripe; the
+distractor applies after the render cache, so it costs no render.
+
 Streamed and resumable: every frame is written as it renders (its ``images/FRAME.json`` last,
 the mark of a finished frame) and a rerun skips finished frames; units run in this process or
 on Dask (a ``LocalCluster`` of ``workers`` processes, or a scheduler's address), as sweeps do.
@@ -72,6 +77,9 @@ DRAW_RULES = {
        "log-uniform 5-20 mW, exposure 10-40 ms; the stripe clips and blooms) or rules 1's power and exposure; "
        "lux log-uniform 100-5000 (colour) or 100-1500 (mono); colour: JPEG 0.7 (quality 60-95), defocus 0.5 "
        "(0.2-2.5 px); mono: defocus 0.2 (0.2-1.5 px).",
+    3: "As rules 2, and per unit, drawn after rules 2's draws: a distractor (scenes.distractors) with "
+       "probability 0.5, uniform over short, door_edge, lamp, leds, window, sphere, overlay (the stripe cut "
+       "from the top or the bottom rows, the distractor in those rows; placed from the unit's render seed).",
 }
 DEFAULT_DRAWS = 2
 PHOTOMETRY_KEYS = ("ambient_lux", "laser_power_mw", "exposure_ms", "jpeg_quality", "defocus_px")
@@ -111,7 +119,7 @@ def draw_unit(seed: int, unit: int, *, width: int = 512, height: int = 480,
     p["laser_power_mw"] = _loguniform(rng, 0.7, 10.0)
     p["exposure_ms"] = _loguniform(rng, 2.0, 20.0)
     p["line_fwhm_mrad"] = float(rng.uniform(1.5, 4.0))
-    if draws == 2 and rng.random() < 0.25:  # rules 2: wide lines (drawn after rules 1's draws: those stay)
+    if draws >= 2 and rng.random() < 0.25:  # rules 2: wide lines (drawn after rules 1's draws: those stay)
         p["line_fwhm_mrad"] = float(rng.uniform(4.0, 9.0))
     if colour:
         p["camera"], p["filter"] = "rgb", "none"
@@ -119,7 +127,11 @@ def draw_unit(seed: int, unit: int, *, width: int = 512, height: int = 480,
             p["jpeg_quality"] = int(rng.integers(70, 96))
         if rng.random() < 0.4:
             p["defocus_px"] = float(rng.uniform(0.2, 1.0))
-    if draws == 2:  # drawn per frame instead (draw_photometry)
+    if draws == 3 and rng.random() < 0.5:  # rules 3: a distractor (drawn after rules 2's draws: those stay)
+        from scenes import DISTRACTORS
+
+        p["distractor"] = str(rng.choice(DISTRACTORS[1:]))
+    if draws >= 2:  # drawn per frame instead (draw_photometry)
         for k in PHOTOMETRY_KEYS:
             p.pop(k, None)
     return p
@@ -185,7 +197,7 @@ def plan(n_units: int, angles_per_unit: int, seed: int, *, width: int = 512, hei
         rng = np.random.default_rng([int(seed), u, 7])
         angles = np.sort(rng.uniform(lo, hi, int(angles_per_unit)))
         spec = {"unit": u, "params": params, "angles_deg": [float(a) for a in angles], "noise_draws": int(noise_draws)}
-        if draws == 2:
+        if draws >= 2:
             spec["photometry"] = [[draw_photometry(seed, u, i, n, params) for n in range(int(noise_draws))]
                                   for i in range(len(angles))]
         units.append(spec)

@@ -176,12 +176,13 @@ def truth_csv(columns, points_cm, part, false_columns=None) -> str:
 
 
 def write_frames_csv(path, rows: list[dict]) -> None:
-    """``frames.csv`` (:data:`FRAME_COLUMNS`), atomically."""
+    """``frames.csv`` (:data:`FRAME_COLUMNS`), atomically; an angle that is NaN (a test frame of a
+    participants' bundle) is written empty."""
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=FRAME_COLUMNS, lineterminator="\n")
     w.writeheader()
     for r in rows:
-        w.writerow({k: (repr(float(r[k])) if k == "angle_deg" else r[k]) for k in FRAME_COLUMNS})
+        w.writerow({k: (_num(float(r[k])) if k == "angle_deg" else r[k]) for k in FRAME_COLUMNS})  # NaN: empty
     atomic_write_text(path, buf.getvalue())
 
 
@@ -276,9 +277,12 @@ def read_frameset(root) -> FrameSet:
         if missing:
             raise FrameSetError(f"{str(fpath)!r} line {n}: no column {missing[0]!r}")
         try:
-            f = dict(r, angle_deg=float(r["angle_deg"]), height=int(r["height"]), width=int(r["width"]))
+            f = dict(r, angle_deg=float(r["angle_deg"] or "nan"), height=int(r["height"]), width=int(r["width"]))
         except ValueError:
             raise FrameSetError(f"{str(fpath)!r} line {n}: angle_deg, height or width is not a number") from None
+        if not math.isfinite(f["angle_deg"]) and not (f["split"] == "test" and meta.get("test_truth") == "withheld"):
+            raise FrameSetError(f"{str(fpath)!r} line {n}: angle_deg must be a finite number (only a test frame of a "
+                                f"participants' bundle has none), got {r['angle_deg']!r:.40}")
         if f["split"] not in SPLITS or f["experiment"] not in keys or f["frame"] in index:
             raise FrameSetError(f"{str(fpath)!r} line {n}: bad split, unknown experiment or repeated frame "
                                 f"{quoted(f['frame'])}")

@@ -322,7 +322,7 @@ def read_reference(path, shape) -> np.ndarray:
 
 def reference_gives_states(path) -> bool:
     """Whether a ``NAME_ref.csv`` gives its rows' states (its header is ``row,col,state``), read from its first line
-    alone: the convention a prediction for its photograph follows (``bench.run.predict.Photo.fallback_rows``), not
+    alone: the convention a prediction for its photograph follows (``bench.run.predict_frames.Photo.fallback_rows``), not
     its labels. A file without it is read with the fallback rule (:func:`read_reference_states`).
 
     Raises

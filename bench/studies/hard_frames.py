@@ -63,6 +63,34 @@ Kinds (:data:`KINDS`), the failure classes of real photographs:
     little noise, so the 8-bit frame is mostly one or two levels) and a stripe
     of a few to a few tens of DN, as on absorbing or patchy surfaces.
 
+The distractor kinds (:data:`DISTRACTORS`): what photographs of real rigs hold in the rows where
+there is no stripe. In each the stripe also starts or ends mid-frame (the object covers part of
+the height), so a stretch of stripe-less rows faces the distractor:
+
+``dark_room``
+    a dark room lit through a door ajar: a lit door edge (a sharp vertical edge, the light falling
+    off on one side) over the upper rows and, in half the frames, the door frame's lit edge (a thin
+    bright line); the stripe on a short object low in the frame.
+``lamps_leds``
+    a dim room with a lamp (a clipping blob) and clusters of LED dots (1-3 px, some of the laser's
+    own colour), most of them in the rows the stripe does not reach.
+``window``
+    a room with a window (bright panes, dark mullions, sharp edges) in the rows the stripe does not
+    reach.
+``skin``
+    a hand beside the stripe (a shaded, skin-coloured region: bright in a red laser's channel),
+    reaching into the rows past the stripe's end.
+``short``
+    a plain room and a stripe on a short object (35-65 % of the rows without it, above or below),
+    with a table edge at the object's foot and faint print on the wall.
+``overlay``
+    a grey frame drawn round the image (1-4 px, inset by 0-12 px; in the laser-off frame too, as
+    drawn on the recording) and, in half the frames, a drawn line: ridges of a stripe's width, grey,
+    often brighter than the stripe; the rows under the frame's bars have no stripe.
+``lit_sphere``
+    a sphere lit by a lamp (diffuse shading and a specular highlight) beside the stripe and in the
+    rows past its end; where the sphere hides the stripe there is none.
+
 Examples
 --------
 >>> f = hard_frame("printed", seed=3)
@@ -74,7 +102,7 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage as ndi
@@ -82,10 +110,12 @@ from scipy import ndimage as ndi
 from bench.evaluate.colour import LASER_INDEX
 from bench.evaluate.outcomes import HIT_PX, hits
 
-__all__ = ["KINDS", "VOIDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
+__all__ = ["KINDS", "DISTRACTORS", "VOIDS", "HardFrame", "hard_frame", "hard_frames", "argmax_right", "plateau_middles"]
 
+#: The kinds that hold a distractor in stripe-less rows (see the module docstring); the last of :data:`KINDS`.
+DISTRACTORS = ("dark_room", "lamps_leds", "window", "skin", "short", "overlay", "lit_sphere")
 KINDS = ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide", "thin_faint", "plain",
-         "dim")
+         "dim") + DISTRACTORS
 #: The kinds of stripe-less stretch (see the module docstring).
 VOIDS = ("edge", "shadow", "mirror", "dark", "textured")
 _SIZES = ((240, 320), (300, 400), (480, 512))
@@ -194,6 +224,8 @@ class _Look:
     gain: float  # shot noise: variance gain x signal
     extra: np.ndarray  # (H, W) white light added on top of everything (glints, lamps), DN
     laser_extra: np.ndarray  # (H, W) laser light besides the stripe (glow, reflections), DN on white
+    extra_rgb: np.ndarray | None = None  # (H, W, 3) coloured light added on top (LEDs, skin, lamps), DN
+    draw: list = field(default_factory=list)  # (mask (H, W), grey level or RGB) drawn over both frames after capture
 
 
 def _printed(s, rng, H, W, centre, absent) -> None:
@@ -301,10 +333,185 @@ def _dim(s, rng, H, W, centre, absent) -> None:
     s.read, s.gain = rng.uniform(0.2, 0.6), 0.05
 
 
+def _cut(rng, H, absent, lo: float, hi: float, top=None) -> int:
+    """The stripe starts or ends mid-frame: the first (``top``) or last rows, a fraction in
+    ``[lo, hi]`` of the height, lose it (in place); returns the row where it starts (or ends)."""
+    n = int(rng.uniform(lo, hi) * H)
+    top = bool(rng.uniform() < 0.5) if top is None else top
+    if top:
+        absent[:n] = True
+        return n
+    absent[H - n:] = True
+    return H - n
+
+
+def _rows_of(cut: int, H: int, absent) -> tuple[int, int]:
+    """The stripe-less end of the frame that :func:`_cut` made: ``(start, stop)`` rows."""
+    return (0, cut) if absent[0] else (cut, H)
+
+
+def _dark_room(s, rng, H, W, centre, absent) -> None:
+    """The ``dark_room`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.5 + 0.1 * _smooth_field(rng, H, W, 25), 0.1, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(2.0, 8.0))
+    s.amp = rng.uniform(60, 160)
+    s.sigma = rng.uniform(0.8, 1.8)
+    cut = _cut(rng, H, absent, 0.3, 0.6, top=True)
+    x0 = int(rng.uniform(0.15, 0.85) * W)
+    side = rng.choice([-1, 1])
+    d = side * (np.arange(W) - x0)
+    band = np.where(d >= 0, np.exp(-np.clip(d, 0, None) / rng.uniform(8, 40)), 0.0)
+    y1 = int(rng.uniform(0.8 * cut, cut + 0.3 * (H - cut)))  # the door's lit edge over the upper rows
+    s.extra[:y1] += rng.uniform(60, 200) * band[None, :]
+    if rng.uniform() < 0.5:  # the door frame's edge catching the light: a thin bright line
+        xf = int(np.clip(x0 - side * rng.uniform(20, 60), 2, W - 4))
+        s.extra[:y1, xf:xf + int(rng.integers(1, 3))] += rng.uniform(40, 120)
+
+
+def _lamps_leds(s, rng, H, W, centre, absent) -> None:
+    """The ``lamps_leds`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.5 + 0.1 * _smooth_field(rng, H, W, 25), 0.1, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(5.0, 20.0))
+    s.amp = rng.uniform(80, 180)
+    cut = _cut(rng, H, absent, 0.3, 0.5)
+    a, b = _rows_of(cut, H, absent)
+    yy, xx = np.mgrid[0:H, 0:W]
+    cy, cx, rad = rng.uniform(a, b), rng.uniform(0.1, 0.9) * W, rng.uniform(6, 16)  # the lamp
+    s.extra += rng.uniform(300, 800) * np.exp(-((yy - cy) ** 2 + (xx - cx) ** 2) / (2 * rad * rad))
+    s.extra_rgb = np.zeros((H, W, 3))
+    for _ in range(int(rng.integers(2, 5))):  # LED clusters, three in four in the stripe-less rows
+        y = rng.uniform(a, b) if rng.uniform() < 0.75 else rng.uniform(0, H)
+        x = rng.uniform(0.05, 0.95) * W
+        hue = int(rng.integers(0, 4))  # the laser's own hue (red), green, blue, white
+        colour = (np.array([1.0, 0.1, 0.08]), np.array([0.1, 1.0, 0.3]), np.array([0.15, 0.3, 1.0]),
+                  np.ones(3))[hue]
+        step = rng.uniform(4, 10)
+        n_row, n_col = int(rng.integers(1, 4)), int(rng.integers(2, 5))
+        for i in range(n_row):
+            for j in range(n_col):
+                r0 = rng.uniform(0.8, 1.5)
+                dot = np.exp(-((yy - (y + i * step)) ** 2 + (xx - (x + j * step)) ** 2) / (2 * r0 * r0))
+                s.extra_rgb += rng.uniform(150, 400) * dot[..., None] * colour[None, None, :]
+
+
+def _window(s, rng, H, W, centre, absent) -> None:
+    """The ``window`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.6 + 0.1 * _smooth_field(rng, H, W, 25), 0.2, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(20.0, 60.0))
+    s.amp = rng.uniform(100, 200)
+    cut = _cut(rng, H, absent, 0.3, 0.55)
+    a, b = _rows_of(cut, H, absent)
+    w = int(rng.uniform(0.12, 0.25) * W)
+    x0 = int(rng.uniform(0.02, 0.98) * W - w / 2)
+    x0 = int(np.clip(x0, 0, W - w))
+    y0, y1 = a + int(0.1 * (b - a)), b - int(0.1 * (b - a))
+    pane = np.zeros((H, W))
+    pane[y0:y1, x0:x0 + w] = rng.uniform(250, 600)
+    for _ in range(int(rng.integers(1, 3))):  # mullions
+        m = int(rng.uniform(x0 + 0.2 * w, x0 + 0.8 * w))
+        pane[y0:y1, m:m + int(rng.integers(3, 7))] = 0.0
+    s.extra += pane
+
+
+def _skin(s, rng, H, W, centre, absent) -> None:
+    """The ``skin`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.4 + 0.1 * _smooth_field(rng, H, W, 25), 0.1, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(60.0, 140.0))
+    s.amp = rng.uniform(120, 240)
+    cut = _cut(rng, H, absent, 0.2, 0.4)
+    a, b = _rows_of(cut, H, absent)
+    yy, xx = np.mgrid[0:H, 0:W]
+    side = rng.choice([-1, 1])
+    cx = float(np.median(centre)) + side * rng.uniform(0.1, 0.2) * W  # beside the stripe
+    cy = 0.5 * (a + b) + rng.uniform(-0.3, 0.3) * H
+    ax, ay = rng.uniform(0.06, 0.14) * W, rng.uniform(0.2, 0.4) * H
+    inside = ((xx - cx) / ax) ** 2 + ((yy - cy) / ay) ** 2
+    shade = np.clip(1.0 - inside, 0.0, None) ** 0.3 * (1 + 0.15 * _smooth_field(rng, H, W, 8))
+    skin = np.array([0.95, 0.62, 0.5]) * rng.uniform(0.5, 1.2) * float(np.median(s.ambient))
+    s.extra_rgb = np.clip(shade, 0, None)[..., None] * skin[None, None, :]
+
+
+def _short(s, rng, H, W, centre, absent) -> None:
+    """The ``short`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.6 + 0.08 * _smooth_field(rng, H, W, 20), 0.2, 1.0)
+    for _ in range(int(rng.integers(3, 10))):  # faint print on the wall
+        h, w = int(rng.integers(2, 8)), int(rng.integers(10, W // 4))
+        y, x = int(rng.integers(0, H - h)), int(rng.integers(0, W - w))
+        s.albedo[y:y + h, x:x + w] *= rng.uniform(0.6, 0.9)
+    s.ambient = np.full((H, W), rng.uniform(10.0, 40.0))
+    s.amp = rng.uniform(50, 160)
+    cut = _cut(rng, H, absent, 0.35, 0.65)
+    obj = slice(cut, H) if absent[0] else slice(0, cut)  # the object, brighter than the wall: an edge at the cut
+    s.albedo[obj] = np.clip(s.albedo[obj] * rng.uniform(1.1, 1.4), 0.0, 1.0)
+
+
+def _overlay(s, rng, H, W, centre, absent) -> None:
+    """The ``overlay`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.6 + 0.1 * _smooth_field(rng, H, W, 25), 0.2, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(5.0, 30.0))
+    s.amp = rng.uniform(150, 300)
+    _cut(rng, H, absent, 0.2, 0.4)
+    inset, thick = int(rng.integers(0, 13)), int(rng.integers(1, 5))
+    grey = float(rng.uniform(60, 160))
+    frame = np.zeros((H, W), bool)
+    frame[inset:H - inset, inset:inset + thick] = True
+    frame[inset:H - inset, W - inset - thick:W - inset] = True
+    frame[inset:inset + thick, inset:W - inset] = True
+    frame[H - inset - thick:H - inset, inset:W - inset] = True
+    absent[inset:inset + thick] = True  # the frame's bars hide the stripe
+    absent[H - inset - thick:H - inset] = True
+    s.draw.append((frame, grey))
+    if rng.uniform() < 0.5:  # a drawn line, nearly vertical, on the side away from the stripe
+        mid = float(np.median(centre))
+        x0 = rng.uniform(0.6, 0.9) * W if mid < W / 2 else rng.uniform(0.1, 0.4) * W
+        slope = rng.uniform(-0.15, 0.15)
+        y0, y1 = int(rng.uniform(0.0, 0.3) * H), int(rng.uniform(0.7, 1.0) * H)
+        line = np.zeros((H, W), bool)
+        rows = np.arange(y0, y1)
+        xs = np.clip(np.rint(x0 + slope * (rows - y0)).astype(int), 0, W - 2)
+        width = int(rng.integers(1, 3))
+        for k in range(width):
+            line[rows, xs + k] = True
+        hidden = np.zeros(H, bool)
+        hidden[rows] = np.abs(xs - centre[rows]) < 4  # where it crosses the stripe, it hides it
+        absent |= hidden
+        s.draw.append((line, float(rng.uniform(60, 200))))
+
+
+def _lit_sphere(s, rng, H, W, centre, absent) -> None:
+    """The ``lit_sphere`` kind (see the module docstring)."""
+    s.albedo = np.clip(0.5 + 0.1 * _smooth_field(rng, H, W, 25), 0.1, 1.0)
+    s.ambient = np.full((H, W), rng.uniform(20.0, 60.0))
+    s.amp = rng.uniform(80, 180)
+    cut = _cut(rng, H, absent, 0.25, 0.5)
+    a, b = _rows_of(cut, H, absent)
+    rad = rng.uniform(0.1, 0.2) * H
+    cy = float(np.clip(rng.uniform(a, b), rad, H - rad))
+    side = rng.choice([-1, 1])
+    cx = float(np.clip(float(np.median(centre)) + side * rng.uniform(0.5, 1.5) * rad, rad, W - rad))
+    yy, xx = np.mgrid[0:H, 0:W]
+    nx, ny = (xx - cx) / rad, (yy - cy) / rad
+    inside = nx * nx + ny * ny < 1.0
+    nz = np.sqrt(np.clip(1.0 - nx * nx - ny * ny, 0.0, None))
+    light = np.array([rng.uniform(-0.8, 0.8), rng.uniform(-0.8, 0.2), 1.0])
+    light /= np.linalg.norm(light)
+    diffuse = np.clip(nx * light[0] + ny * light[1] + nz * light[2], 0.0, None)
+    half = light + np.array([0.0, 0.0, 1.0])
+    half /= np.linalg.norm(half)
+    spec = np.clip(nx * half[0] + ny * half[1] + nz * half[2], 0.0, None) ** rng.uniform(40, 120)
+    sphere = np.where(inside, rng.uniform(120, 250) * diffuse + 600.0 * spec, 0.0)
+    s.albedo = np.where(inside, 0.0, s.albedo)  # the sphere hides what is behind it
+    s.extra += sphere
+    rows = np.arange(H)
+    c = np.clip(np.rint(centre).astype(int), 0, W - 1)
+    absent |= inside[rows, c]  # the stripe behind the sphere is hidden
+
+
 #: Each kind's look, applied to the defaults in :func:`hard_frame` (the draws in this order).
 _LOOKS = {"printed": _printed, "noisy_floor": _noisy_floor, "polished": _polished, "daylight": _daylight,
           "noisy_sensor": _noisy_sensor, "saturated_wide": _saturated_wide, "thin_faint": _thin_faint,
-          "plain": _plain, "dim": _dim}
+          "plain": _plain, "dim": _dim, "dark_room": _dark_room, "lamps_leds": _lamps_leds, "window": _window,
+          "skin": _skin, "short": _short, "overlay": _overlay, "lit_sphere": _lit_sphere}
 
 
 def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -> HardFrame:
@@ -372,8 +579,13 @@ def hard_frame(kind: str, seed: int, *, colour_background: bool | None = None) -
         return np.clip(np.rint(noisy), 0, 255).astype(np.uint8)
 
     off = a3 * ambient[..., None] + extra[..., None]
+    if s.extra_rgb is not None:
+        off = off + s.extra_rgb
     rgb = shoot(off + a3 * prof[..., None] * colour[None, None, :])
     rgb_off = shoot(off)
+    for mask, value in s.draw:  # drawn on the recording: the same pixels in both frames
+        rgb[mask] = np.clip(np.rint(value), 0, 255)
+        rgb_off[mask] = np.clip(np.rint(value), 0, 255)
     truth = np.where(absent, np.nan, centre)
     saturated = bool((rgb[..., k][~absent] == 255).any()) if (~absent).any() else False
     return HardFrame(kind, int(seed), rgb, laser, truth, coloured, saturated, rgb_off)

@@ -10,9 +10,13 @@ set), the grids and the criterion, written in the profile's header. Two stages:
 1. ``dp_gap``'s ``off_rel`` x ``switch_rows``;
 2. the DP trackers' reporting rule, ``k_sigma`` x ``max_gap`` x ``min_run``, scored
    with ``dp_trackers`` (the path of a frame is found once per tracker and every
-   rule applied to its readings, :meth:`trackers.dp.DPTracker.readings`).
+   rule applied to its readings, :meth:`trackers.dp.DPTracker.readings`);
+3. where the profile lists ``stripe_tests``: the stripe question (:mod:`trackers._stripe`,
+   a tracker's ``stripe_test``), scored with ``stripe_trackers`` at the settings chosen in
+   stages 1 (``dp_gap``) and 2 (the others), each frame with its laser-off frame and colour
+   evidence; ties go to the candidate listed first.
 
-Both maximise :func:`bench.studies.tuning.objective` (the mean over the groups of
+All maximise :func:`bench.studies.tuning.objective` (the mean over the groups of
 frames of each group's F1 over rows: a miss and a false report priced alike). Every
 tracker is given the frame's laser-off frame where it has one, as the benchmark gives it.
 
@@ -91,7 +95,8 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     Returns
     -------
     chosen : dict
-        ``off_rel``, ``switch_rows`` (stage 1) and ``k_sigma``, ``max_gap``, ``min_run`` (stage 2).
+        ``off_rel``, ``switch_rows`` (stage 1), ``k_sigma``, ``max_gap``, ``min_run`` (stage 2) and, with
+        a stage 3, ``stripe_test`` (None or a dict of :class:`trackers.StripeTest` settings).
     summary : dict
         The objective of every setting of both stages, the chosen settings' figures per group and
         kind (``figures``), ``chosen`` and the number of frames per group.
@@ -122,7 +127,13 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                 t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
             scores1[(o, sw)] = t1.objective(key)
         say(f"stage 1: off_rel = {o:g} done")
-    off_best, sw_best = choose(t1.eligible(scores1, lambda k: _gap_label(*k)), profile.tie)
+    def pick1(held, photos):
+        sc = {k: t1.objective(_gap_label(*k), held_out=held, photographs=photos) for k in scores1}
+        return _gap_label(*choose(t1.eligible(sc, lambda k: _gap_label(*k), held_out=held, photographs=photos),
+                                  profile.tie))
+
+    judged = {"stage1": t1.judge(pick1)}
+    off_best, sw_best = {_gap_label(*k): k for k in scores1}[judged["stage1"]["kept"]]
     t2 = tuning.Tally(2, profile.hit_px)
     rules = [(k, g, m) for k in profile.k_sigma for g in profile.max_gap for m in profile.min_run]
     for n in profile.dp_trackers:
@@ -134,22 +145,60 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                 t2.add(_rule_label(*r), n, f, t.report(*readings).columns)
         say(f"stage 2: {n} done")
     scores2 = {r: t2.objective(_rule_label(*r)) for r in rules}
-    k_best, gap_best, m_best = choose_rule(t2.eligible(scores2, lambda k: _rule_label(*k)), profile.tie)
+    def pick2(held, photos):
+        sc = {r: t2.objective(_rule_label(*r), held_out=held, photographs=photos) for r in rules}
+        return _rule_label(*choose_rule(t2.eligible(sc, lambda k: _rule_label(*k), held_out=held,
+                                                     photographs=photos), profile.tie))
+
+    judged["stage2"] = t2.judge(pick2)
+    k_best, gap_best, m_best = {_rule_label(*r): r for r in rules}[judged["stage2"]["kept"]]
     chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
               "min_run": m_best}
+    # stage 3: the stripe question, with the choices above (dp_gap its off state, the others their rule)
+    from bench.studies.tune_threshold import choose_listed, stripe_key
+
+    t3 = tuning.Tally(3, profile.hit_px)
+    scores3 = {}
+    for i, test in enumerate(profile.stripe_tests):
+        key = stripe_key(test)
+        for n in profile.stripe_trackers:
+            params = trackers.make(n).get_params()
+            kw = ({"off_rel": off_best, "switch_rows": sw_best} if "off_rel" in params else
+                  {"k_sigma": k_best, "max_gap": gap_best, "min_run": m_best})
+            t = trackers.make(n, stripe_test=test, **kw)
+            for f in frames:
+                t3.add(key, n, f, f.track(t))
+        scores3[i] = t3.objective(key)
+        say(f"stage 3: stripe test {key} done")
+    stages = [("stage1", t1, _gap_label(off_best, sw_best)), ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
+    if profile.stripe_tests:
+        order = list(range(len(profile.stripe_tests)))
+
+        def pick3(held, photos):
+            sc = {i: t3.objective(stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+                  for i in scores3}
+            ok = t3.eligible(sc, lambda i: stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+            return stripe_key(profile.stripe_tests[choose_listed(ok, order, profile.tie)])
+
+        judged["stage3"] = t3.judge(pick3)
+        chosen["stripe_test"] = {stripe_key(t): t for t in profile.stripe_tests}[judged["stage3"]["kept"]]
+        stages.append(("stage3", t3, stripe_key(chosen["stripe_test"])))
     figures = {}
-    for name, tally, key in (("stage1", t1, _gap_label(off_best, sw_best)),
-                             ("stage2", t2, _rule_label(k_best, gap_best, m_best))):
+    for name, tally, key in stages:
         figures[name] = {g: {**{kd: detection_figures(c) for kd, c in kinds.items()},
                              "all": detection_figures(sum(kinds.values()))}
                          for g, kinds in tally.by_group(key).items()}
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in tuning.GROUPS}
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames,
                "objective": "mean over groups of F1",
-               "blind": {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t2)},
+               "blind": {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t2, t3)},
                "stage1": {_gap_label(*k): v for k, v in scores1.items()},
-               "stage2": {_rule_label(*k): v for k, v in scores2.items()}, "figures": figures}
-    records = t1.records() + t2.records()
+               "stage2": {_rule_label(*k): v for k, v in scores2.items()},
+               "stage3": {stripe_key(profile.stripe_tests[i]): v for i, v in scores3.items()},
+               "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
+                                                 if tally.unavoidable(key)},
+               "figures": figures, "photographs": judged}
+    records = t1.records() + t2.records() + t3.records()
     tuning.write_records(out, "tune_gap.csv", records, summary)
     _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
     return chosen, summary, records
@@ -191,16 +240,23 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress bars. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any scan."""
     from bench.studies.tune_threshold import figure_lines
-    from bench.studies.tuning import run_study
+    from bench.studies.tune_threshold import stripe_key
+    from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
     k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
     k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
-    for stage, key, what in (("stage1", k1, profile.tracker), ("stage2", k2, ", ".join(profile.dp_trackers))):
+    stages = [("stage1", k1, profile.tracker), ("stage2", k2, ", ".join(profile.dp_trackers))]
+    if "stripe_test" in chosen:
+        stages.append(("stage3", stripe_key(chosen["stripe_test"]), ", ".join(profile.stripe_trackers)))
+    for stage, names in summary["unavoidable_blind_photographs"].items():
+        print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
+    for stage, key, what in stages:
         best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]
         print(f"{stage} ({what}): chosen {key} (objective {summary[stage][key]:.4f}; best five: "
               + ", ".join(f"{kk} {v:.4f}" for kk, v in best) + ")")
         print("\n".join(figure_lines(summary["figures"][stage])))
+        print("\n".join(judged_lines(summary["photographs"][stage])))
     print(f"{out / 'tune_gap.csv'}")
     return 0

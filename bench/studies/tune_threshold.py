@@ -20,9 +20,14 @@ the ones before:
    intensity tests), on every tuning frame;
 4. the ``auto`` colour rule (:func:`bench.evaluate.colour.saturation_blend` with a knee
    from the grid, the plain excess or the laser's channel) on the colour
-   versions of the synthetic frames and of every colour photograph.
+   versions of the synthetic frames and of every colour photograph;
+5. where the profile lists ``stripe_tests``: the stripe question (:mod:`trackers._stripe`,
+   a tracker's ``stripe_test``), scored with ``stripe_trackers`` at the settings chosen
+   above, on every tuning frame with its laser-off frame and colour evidence; ties go to
+   the candidate listed first (the committed profile lists "none", the trackers as they
+   are, first).
 
-Stages 1, 3 and 4 maximise :func:`bench.studies.tuning.objective`: the mean over
+Stages 1, 3, 4 and 5 maximise :func:`bench.studies.tuning.objective`: the mean over
 the groups of frames of each group's F1 over rows, a miss and a false report
 priced alike.
 
@@ -43,7 +48,8 @@ import numpy as np
 from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
-           "apply_rule", "run", "figure_lines", "study", "DEFAULT_PROFILE", "DEFAULT_OUT"]
+           "apply_rule", "run", "figure_lines", "study", "stripe_key", "chosen_params", "DEFAULT_PROFILE",
+           "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
 DEFAULT_OUT = "results/runs/tune_threshold"
@@ -182,7 +188,8 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     -------
     chosen : dict
         ``k_sigma``, ``prominence``, ``min_run``, ``width_ratio``, ``frac``, ``steger`` (its ``k_sigma``,
-        ``prominence``, ``min_run``), ``colour_rule``.
+        ``prominence``, ``min_run``), ``colour_rule`` and, with a stage 5, ``stripe_test`` (None: not
+        asked, or a dict of :class:`trackers.StripeTest` settings).
     summary : dict
         The objective of every setting of every stage (``stage1`` ... ``stage4``, keyed by the
         setting as a string), the chosen settings' figures per group and kind (``figures``),
@@ -217,7 +224,13 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                             t1.add(key, n, f, t.track(f.image, background=f.background).columns)
                     scores1[(k, p, m, w)] = t1.objective(key)
         say(f"stage 1: k_sigma = {k:g} done")
-    k_best, p_best, m_best, w_best = choose_grid(t1.eligible(scores1, lambda kpmw: _key(*kpmw)), profile.tie)
+    def pick1(held, photos):
+        sc = {kpmw: t1.objective(_key(*kpmw), held_out=held, photographs=photos) for kpmw in scores1}
+        return _key(*choose_grid(t1.eligible(sc, lambda kpmw: _key(*kpmw), held_out=held, photographs=photos),
+                                 profile.tie))
+
+    judged = {"stage1": t1.judge(pick1)}
+    k_best, p_best, m_best, w_best = {_key(*kpmw): kpmw for kpmw in scores1}[judged["stage1"]["kept"]]
     family = {"k_sigma": k_best, "prominence": p_best, "min_run": m_best, "width_ratio": w_best}
     # stage 2: com_bg's frac on laser-on/off pairs
     mae2, rec2 = {}, []
@@ -246,16 +259,16 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                     t3.add(key, "steger", f, t.track(f.image, background=f.background).columns)
                 scores3[(k, p, m)] = t3.objective(key)
         say(f"stage 3: steger k_sigma = {k:g} done")
-    sk, sp, sm = choose_grid(t3.eligible(scores3, lambda kpm: _key(*kpm)), profile.tie)
+    def pick3(held, photos):
+        sc = {kpm: t3.objective(_key(*kpm), held_out=held, photographs=photos) for kpm in scores3}
+        return _key(*choose_grid(t3.eligible(sc, lambda kpm: _key(*kpm), held_out=held, photographs=photos),
+                                 profile.tie))
+
+    judged["stage3"] = t3.judge(pick3)
+    sk, sp, sm = {_key(*kpm): kpm for kpm in scores3}[judged["stage3"]["kept"]]
     steger = {"k_sigma": sk, "prominence": sp, "min_run": sm}
     # stage 4: the colour rule
-    colour = {}
-    for n in profile.colour_trackers:
-        params = trackers.make(n).get_params()
-        kw = dict(steger) if n == "steger" else dict(family) if "prominence" in params else {}
-        if n == "com_bg":
-            kw["frac"] = frac_best
-        colour[n] = trackers.make(n, **kw)
+    colour = {n: trackers.make(n, **chosen_params(n, family, frac_best, steger)) for n in profile.colour_trackers}
     t4 = Tally(4, profile.hit_px)
     scores4 = {}
     coloured = [f for f in frames if f.rgb is not None]
@@ -267,26 +280,85 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                 t4.add(key, n, f, t.track(frame).columns)
         scores4[rule] = t4.objective(key)
         say(f"stage 4: rule {rule} done")
-    rule_best = choose_listed(t4.eligible(scores4, lambda r: f"rule={r}"), profile.colour_rules, profile.tie)
+    def pick4(held, photos):
+        sc = {r: t4.objective(f"rule={r}", held_out=held, photographs=photos) for r in scores4}
+        ok = t4.eligible(sc, lambda r: f"rule={r}", held_out=held, photographs=photos)
+        return f"rule={choose_listed(ok, profile.colour_rules, profile.tie)}"
+
+    judged["stage4"] = t4.judge(pick4)
+    rule_best = {f"rule={r}": r for r in scores4}[judged["stage4"]["kept"]]
     chosen = {**family, "frac": frac_best, "steger": steger, "colour_rule": rule_best}
+    # stage 5: the stripe question, asked by the trackers at the settings chosen above
+    t5 = Tally(5, profile.hit_px)
+    scores5 = {}
+    for i, test in enumerate(profile.stripe_tests):
+        key = stripe_key(test)
+        for n in profile.stripe_trackers:
+            t = trackers.make(n, stripe_test=test, **chosen_params(n, family, frac_best, steger))
+            for f in frames:
+                t5.add(key, n, f, f.track(t))
+        scores5[i] = t5.objective(key)
+        say(f"stage 5: stripe test {key} done")
+    stages = [("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
+              ("stage4", t4, f"rule={rule_best}")]
+    if profile.stripe_tests:
+        order = list(range(len(profile.stripe_tests)))
+
+        def pick5(held, photos):
+            sc = {i: t5.objective(stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+                  for i in scores5}
+            ok = t5.eligible(sc, lambda i: stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
+            return stripe_key(profile.stripe_tests[choose_listed(ok, order, profile.tie)])
+
+        judged["stage5"] = t5.judge(pick5)
+        chosen["stripe_test"] = {stripe_key(t): t for t in profile.stripe_tests}[judged["stage5"]["kept"]]
+        stages.append(("stage5", t5, stripe_key(chosen["stripe_test"])))
     figures = {}
-    for name, tally, key in (("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
-                             ("stage4", t4, f"rule={rule_best}")):
+    for name, tally, key in stages:
         figures[name] = {g: {kd: detection_figures(c) for kd, c in kinds.items()}
                          for g, kinds in tally.by_group(key).items()}
         for g, kinds in tally.by_group(key).items():
             figures[name][g]["all"] = detection_figures(sum(kinds.values()))
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in ("synthetic", "renders", "real")}
-    blind = {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t3, t4)}
+    blind = {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t3, t4, t5)}
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames, "objective": "mean over groups of F1",
                "blind": blind,
                "stage1": {_key(*kpm): s for kpm, s in scores1.items()},
                "stage2_mae_px": {f"frac={f:g}": v for f, v in mae2.items()},
                "stage3": {_key(*kpm): s for kpm, s in scores3.items()},
-               "stage4": {f"rule={r}": s for r, s in scores4.items()}, "figures": figures}
-    records = t1.records() + rec2 + t3.records() + t4.records()
+               "stage4": {f"rule={r}": s for r, s in scores4.items()},
+               "stage5": {stripe_key(profile.stripe_tests[i]): v for i, v in scores5.items()},
+               "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
+                                                 if tally.unavoidable(key)},
+               "figures": figures, "photographs": judged}
+    records = t1.records() + rec2 + t3.records() + t4.records() + t5.records()
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
+
+
+def stripe_key(test) -> str:
+    """A stripe-question candidate's name in the tables (``stripe_test=none`` for the question not asked).
+
+    Examples
+    --------
+    >>> stripe_key(None), stripe_key({}), stripe_key({"colour_min": None})
+    ('stripe_test=none', 'stripe_test=defaults', 'stripe_test=colour_min=none')
+    """
+    from trackers._stripe import as_test
+
+    return "stripe_test=" + ("none" if test is None else as_test(test).label())
+
+
+def chosen_params(name: str, family: dict, frac: float, steger: dict) -> dict:
+    """The detection settings a tracker takes from stages 1-3: Steger its own, ``com_bg`` the family's and
+    ``frac``, the family's trackers theirs, any other none."""
+    import trackers
+
+    params = trackers.make(name).get_params()
+    kw = dict(steger) if name == "steger" else dict(family) if "prominence" in params else {}
+    if name == "com_bg":
+        kw["frac"] = frac
+    return kw
 
 
 def _mean(vals):
@@ -310,7 +382,7 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     """``stripebench tune threshold``: run the procedure on the tuning profile ``profile`` (a TOML path) into
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress lines. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any work."""
-    from bench.studies.tuning import run_study
+    from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
 
@@ -322,14 +394,25 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
     print(f"stage 1: chosen {key1} (objective {summary['stage1'][key1]:.4f}; best five: {top('stage1')})")
     print("\n".join(figure_lines(summary["figures"]["stage1"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage1"])))
     print("stage 2: chosen com_bg frac = {:g} (mean |error| of hits, px: {})".format(
         chosen["frac"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage2_mae_px"].items())))
     st = chosen["steger"]
     key3 = _key(st["k_sigma"], st["prominence"], st["min_run"])
     print(f"stage 3: chosen steger {key3} (objective {summary['stage3'][key3]:.4f}; best five: {top('stage3')})")
     print("\n".join(figure_lines(summary["figures"]["stage3"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage3"])))
     print("stage 4: chosen colour rule = {} (objective: {})".format(
         chosen["colour_rule"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage4"].items())))
     print("\n".join(figure_lines(summary["figures"]["stage4"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage4"])))
+    if "stripe_test" in chosen:
+        key5 = stripe_key(chosen["stripe_test"])
+        print(f"stage 5: chosen {key5} (objective {summary['stage5'][key5]:.4f}; all: "
+              + ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage5"].items()) + ")")
+        print("\n".join(figure_lines(summary["figures"]["stage5"])))
+        print("\n".join(judged_lines(summary["photographs"]["stage5"])))
+    for stage, names in summary["unavoidable_blind_photographs"].items():
+        print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
     print(f"{out / 'tune.csv'}")
     return 0

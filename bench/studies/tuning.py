@@ -23,9 +23,16 @@ each group weighs the same whatever its number of frames.
 
 One eligibility rule goes with it: a setting that reports nothing at all on a frame
 whose brightest pixel per row is right on at least :data:`EASY_ARGMAX` of its stripe
-rows goes *blind* where the stripe is plain to see; only the settings blind on the
-fewest such frames are eligible (:meth:`Tally.eligible`: none, where one setting
-manages that): a tracker that says "no stripe" must not say it there.
+rows goes *blind* where the stripe is plain to see. A photograph's blindness
+disqualifies: only the settings blind on the fewest photographs (none, where one
+setting manages that) are eligible, and among them those blind on the fewest such
+frames of the other groups (:meth:`Tally.eligible`): a tracker that says "no stripe"
+must not say it there, and least of all on a photograph.
+
+A choice made on photographs is judged leave one rig out (:meth:`Tally.judge`, :mod:`bench.evaluate.loro`): each
+rig's photographs are scored under the choice made without them, and that figure is set against the choice made
+on the renders and synthetic frames alone (the plain baseline). A stage keeps its choice made with every
+photograph only where the photographs, so judged, improve on the baseline; else the renders' choice.
 """
 
 from __future__ import annotations
@@ -40,8 +47,9 @@ import numpy as np
 
 from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
 
-__all__ = ["TuningFrame", "GROUPS", "synthetic_frames", "real_frames", "rendered_frames", "frame_counts",
-           "objective", "group_figures", "counts_record", "Tally", "run_study", "RECORD_FIELDS", "write_records"]
+__all__ = ["TuningFrame", "GROUPS", "EASY_ARGMAX", "synthetic_frames", "real_frames", "rendered_frames",
+           "frame_counts", "objective", "group_figures", "counts_record", "Tally", "judged_lines", "run_study",
+           "RECORD_FIELDS", "write_records"]
 
 #: The groups of tuning frames, in the order they are reported.
 GROUPS = ("synthetic", "renders", "real")
@@ -88,6 +96,24 @@ class TuningFrame:
     rgb: np.ndarray | None = None
     laser: str = "red"
     rotate: int = 0
+
+    @property
+    def colour(self) -> np.ndarray | None:
+        """The colour evidence the trackers get with the frame (:func:`trackers.colour_evidence` of its
+        colour photograph, turned as the frame is), (H, W) float64 in [0, 1]; None without colour (no
+        photograph, or a grey one). Computed once."""
+        if "_colour" not in self.__dict__:
+            from bench.run.camera_view import colour_of
+
+            ev = colour_of(self.rgb, self.laser, self.rotate)
+            if ev is not None and ev.shape != self.image.shape:  # a photograph that is not the frame's pixels
+                ev = None
+            self.__dict__["_colour"] = ev
+        return self.__dict__["_colour"]
+
+    def track(self, tracker):
+        """``tracker``'s columns (H,) on this frame: its image, laser-off frame and colour evidence."""
+        return tracker.track(self.image, background=self.background, colour=self.colour).columns
 
     @property
     def easy(self) -> bool:
@@ -227,31 +253,114 @@ class Tally:
         self.hit_px = hit_px
         self.counts: dict = {}
         self.blind: dict = {}  # setting -> names of the plain frames on which a tracker reported nothing
+        self._blind_at: dict = {}  # setting -> (group, kind) of each of those frames
+        self._keys: dict = {}  # setting -> its keys of `counts`
 
     def add(self, setting: str, tracker: str, frame, columns) -> None:
         """Count the outcomes of ``columns`` (H,) on ``frame`` under ``setting`` and ``tracker``."""
         key = (setting, tracker, frame.group, frame.kind)
         c = frame_counts(columns, frame, self.hit_px)
+        if key not in self.counts:
+            self._keys.setdefault(setting, []).append(key)
         self.counts[key] = self.counts.get(key, 0) + c
         blind = self.blind.setdefault(setting, [])
+        at = self._blind_at.setdefault(setting, [])
         if np.isnan(columns).all() and frame.easy:
             blind.append(f"{tracker} on {frame.group}/{frame.name}")
+            at.append((frame.group, frame.kind))
 
-    def eligible(self, scores: dict, key) -> dict:
+    @staticmethod
+    def _seen(group: str, kind: str, held_out, photographs: bool) -> bool:
+        """Whether a choice may see the frames of ``group``/``kind``: every frame but the photographs of the
+        held-out rig, and no photograph at all without ``photographs``."""
+        return group != "real" or (photographs and kind != held_out)
+
+    def eligible(self, scores: dict, key, *, held_out=None, photographs: bool = True) -> dict:
         """``scores`` (setting -> objective) restricted to the settings that went blind on the fewest plain
-        frames (``key(setting)`` names a setting as :meth:`add` got it): none where some setting never
-        does; a frame on which every setting goes blind disqualifies none of them."""
-        blind = {s: len(self.blind.get(key(s), ())) for s in scores}
-        least = min(blind.values(), default=0)
-        return {s: v for s, v in scores.items() if blind[s] == least}
+        frames and photographs (``key(setting)`` names a setting as :meth:`add` got it), photographs first: a
+        photograph's blindness disqualifies whatever the other groups say; among the settings blind on the fewest
+        plain photographs, those blind on the fewest plain frames in all (none, where some setting never is). A
+        frame on which every setting goes blind disqualifies none of them (:meth:`unavoidable` names the
+        photographs among those). Frames the choice may not see (``held_out``, ``photographs``: as
+        :meth:`objective`) do not count."""
+        def count(s, photos_only):
+            return sum(self._seen(g, k, held_out, photographs) and (g == "real" or not photos_only)
+                       for g, k in self._blind_at.get(key(s), ()))
 
-    def objective(self, setting: str) -> float:
-        """:func:`objective` of a setting, its counts pooled over its trackers."""
+        photos = {s: count(s, True) for s in scores}
+        least = min(photos.values(), default=0)
+        keep = [s for s in scores if photos[s] == least]
+        blind = {s: count(s, False) for s in keep}
+        fewest = min(blind.values(), default=0)
+        return {s: scores[s] for s in keep if blind[s] == fewest}
+
+    def unavoidable(self, setting: str) -> list[str]:
+        """The plain photographs on which ``setting`` (as :meth:`add` got it) goes blind: for a chosen
+        setting, those on which every setting of the stage does (a procedure prints them)."""
+        return [b for b, (g, _) in zip(self.blind.get(setting, ()), self._blind_at.get(setting, ())) if g == "real"]
+
+    def objective(self, setting: str, *, held_out=None, photographs: bool = True) -> float:
+        """:func:`objective` of a setting, its counts pooled over its trackers; without the photographs of the rig
+        ``held_out``, or, with ``photographs=False``, of every rig (the choice made on renders alone)."""
         by_group: dict = {}
-        for (s, _, g, _), c in self.counts.items():
-            if s == setting:
-                by_group[g] = by_group.get(g, 0) + c
+        for key in self._keys.get(setting, ()):
+            _, _, g, k = key
+            if self._seen(g, k, held_out, photographs):
+                by_group[g] = by_group.get(g, 0) + self.counts[key]
         return objective(by_group)
+
+    def rig_counts(self, setting: str, tracker: str | None = None) -> dict:
+        """rig -> the photographs' pooled counts (6,) of a setting (over its trackers, or of ``tracker``)."""
+        out: dict = {}
+        for key in self._keys.get(setting, ()):
+            _, t, g, k = key
+            if g == "real" and (tracker is None or t == tracker):
+                out[k] = out.get(k, 0) + np.asarray(self.counts[key])
+        return out
+
+    def judge(self, pick) -> dict:
+        """A stage's choice judged on the photographs, leave one rig out (:mod:`bench.evaluate.loro`).
+
+        Parameters
+        ----------
+        pick : callable
+            ``pick(held_out, photographs) -> setting`` (the setting as :meth:`add` got it): the stage's rule,
+            scoring with :meth:`objective` and :meth:`eligible` under the same two arguments.
+
+        Returns
+        -------
+        dict
+            ``in_sample`` (chosen with every photograph), ``by_rig`` (held-out rig -> chosen without it),
+            ``renders_only`` (chosen without any photograph: the plain baseline), ``kept`` (``in_sample`` where its
+            leave-one-rig-out F1 on the photographs beats the renders-only choice's, else ``renders_only``: the
+            photographs must earn their say), and ``figures`` and, per tracker, ``trackers``: the photographs'
+            :func:`bench.evaluate.outcomes.detection_figures` under each (``loro``: each rig under its fold's
+            choice, pooled). Without photographs (none in the tally), ``kept`` is the one choice made.
+        """
+        from bench.evaluate.loro import choose_by_fold
+
+        settings = sorted({s for s, _, _, _ in self.counts})
+        rigs = sorted({k for s, _, g, k in self.counts if g == "real"})
+        only = pick(None, False)
+        if len(rigs) < 2:
+            return {"in_sample": pick(None, True), "by_rig": {}, "renders_only": only, "kept": pick(None, True),
+                    "rigs": rigs, "figures": {}, "trackers": {}}
+        fc = choose_by_fold({s: self.rig_counts(s) for s in settings}, lambda held: pick(held, True))
+
+        def figures(tracker=None):
+            def pooled(setting_of):
+                return sum((self.rig_counts(setting_of(r), tracker).get(r, np.zeros(6, int)) for r in rigs),
+                           np.zeros(6, int))
+            return {"in_sample": detection_figures(pooled(lambda r: fc.in_sample)),
+                    "loro": detection_figures(pooled(lambda r: fc.by_rig[r])),
+                    "renders_only": detection_figures(pooled(lambda r: only))}
+
+        figs = figures()
+        trackers = sorted({t for _, t, g, _ in self.counts if g == "real"})
+        better = figs["loro"]["f1"] > figs["renders_only"]["f1"]
+        return {"in_sample": fc.in_sample, "by_rig": fc.by_rig, "renders_only": only,
+                "kept": fc.in_sample if better else only, "rigs": rigs, "figures": figs,
+                "trackers": {t: figures(t) for t in trackers}}
 
     def records(self) -> list[dict]:
         """One dict per setting, tracker, group and kind: counts and :func:`detection_figures`."""
@@ -266,6 +375,30 @@ class Tally:
                 kinds = out.setdefault(g, {})
                 kinds[k] = kinds.get(k, 0) + c
         return out
+
+
+def judged_lines(judged: dict) -> list[str]:
+    """What a stage's :meth:`Tally.judge` found, in a few lines: the photographs' F1 / false-report rate under the
+    choice made with all of them, leave one rig out, and under the renders' choice, and which was kept."""
+    if not judged.get("figures"):
+        return [f"  on the photographs: fewer than two rigs, not judged leave one rig out; kept {judged['kept']}"]
+    f = judged["figures"]
+
+    def fig(k):
+        return f"F1 {f[k]['f1']:.3f} / false-report rate {f[k]['false_report_rate']:.3f}"
+
+    moved = {r: c for r, c in judged["by_rig"].items() if c != judged["in_sample"]}
+    folds = ("every fold chose the same" if not moved else
+             f"{len(moved)} of {len(judged['by_rig'])} folds chose otherwise: "
+             + "; ".join(f"without {r}: {c}" for r, c in moved.items()))
+    verdict = ("the photographs improve on the renders' choice: kept the choice made with them"
+               if judged["kept"] == judged["in_sample"] and judged["in_sample"] != judged["renders_only"] else
+               "the renders' choice is the same" if judged["in_sample"] == judged["renders_only"] else
+               "the photographs do not improve on the renders' choice leave one rig out: kept the renders' choice")
+    return [f"  on the photographs ({len(judged['rigs'])} rigs): in sample {fig('in_sample')}; "
+            f"leave one rig out {fig('loro')} ({folds})",
+            f"  chosen on renders and synthetic frames alone: {judged['renders_only']}, {fig('renders_only')}; "
+            f"{verdict}"]
 
 
 def run_study(load_profile, run, profile, out, quiet: bool):

@@ -34,6 +34,10 @@ GATE = {
 }
 
 
+#: The test seed of the ``tiny_export`` frame set.
+TINY_TEST_SEED = 20261207
+
+
 @pytest.fixture
 def tiny_dict():
     """A fresh copy of the two-experiment configuration (cone and plane, four trackers)."""
@@ -74,11 +78,24 @@ def gate_run(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def tiny_export(tmp_path_factory):
-    """The frame set of :data:`TINY` (``stripebench export``), written once per session."""
+    """The frame set of :data:`TINY` (``stripebench export``) with a dev and a test split (test seed
+    :data:`TINY_TEST_SEED`), written once per session."""
     from bench.config import parse
     from bench.run.export import export
 
-    return export(parse(copy.deepcopy(TINY)), tmp_path_factory.mktemp("tiny-export") / "frames", quiet=True)
+    return export(parse(copy.deepcopy(TINY)), tmp_path_factory.mktemp("tiny-export") / "frames",
+                  test_seed=TINY_TEST_SEED, quiet=True)
+
+
+@pytest.fixture(scope="session")
+def tiny_export_dev(tmp_path_factory):
+    """The frame set of :data:`TINY` without a test split: every frame is the run's own (a test frame is
+    rendered elsewhere, bench.run.export.test_frame), so a submission scores as the run does."""
+    from bench.config import parse
+    from bench.run.export import export
+
+    return export(parse(copy.deepcopy(TINY)), tmp_path_factory.mktemp("tiny-export-dev") / "frames",
+                  test_fraction=0.0, quiet=True)
 
 
 def _tiny_trainset(root, *, rgb: bool):

@@ -229,3 +229,45 @@ def test_the_background_check_catches_a_tracker_that_ignores_its_background():
         None)})()
     with pytest.raises(AssertionError, match="laser-off frame equal to the image|mean absolute error"):
         check_background_use(noisy)
+
+
+class _GoodWithColour(_Good):
+    """_Good that reads colour evidence: a row whose peak is not laser-coloured reports nothing."""
+
+    uses_colour = True
+
+    def find_stripe(self, image, background, colour=None):
+        out = self._track(image, background)
+        if colour is None:
+            return out
+        peak = image.argmax(1)
+        keep = colour[np.arange(image.shape[0]), peak] >= 0.5
+        cols = np.where(keep, out.columns, np.nan)
+        return Track(cols, np.where(keep, out.score, np.nan))
+
+
+def test_the_colour_check_runs_on_trackers_that_read_colour_and_catches_one_that_misreads_it():
+    from trackers.testing import _checks_for, check_colour_use
+
+    assert check_colour_use in all_checks()
+    assert check_colour_use not in list(_checks_for(_Good()))
+    assert check_colour_use in list(_checks_for(_GoodWithColour()))
+    check_tracker(_GoodWithColour())
+    for n in ("threshold", "centroid", "com_bg", "steger", "dp4", "dp_gap", "learned"):
+        assert check_colour_use in list(_checks_for(trackers.make(n, stripe_test={})))
+        check_colour_use(trackers.make(n, stripe_test={}))  # the stripe question reads uninformative evidence as such
+    # a tracker that goes blind whenever colour is given
+    blind = type("Blind", (_GoodWithColour,), {"find_stripe": lambda self, image, background, colour=None: (
+        Track.empty(image.shape[0]) if colour is not None else self._track(image, background))})()
+    with pytest.raises(AssertionError, match="every pixel has the laser's colour changed the track"):
+        check_colour_use(blind)
+    # a subclass of a built-in tracker with the two-argument hook runs as before without evidence
+    old_style = type("OldStyle", (type(trackers.make("dp4")),), {
+        "find_stripe": lambda self, image, background: trackers.make("dp4").find_stripe(image, background)})()
+    img, _ = make_stripe_image(seed=2)
+    np.testing.assert_array_equal(old_style.track(img).columns, trackers.make("dp4").track(img).columns)
+    # a tracker without uses_colour never sees the evidence, and a bad one is refused all the same
+    with pytest.raises(ValueError, match="`colour` must have the frame's shape"):
+        _Good().track(np.zeros((4, 5)), colour=np.zeros((4, 4)))
+    with pytest.raises(ValueError, match="laser shares in \\[0, 1\\]"):
+        _Good().track(np.zeros((4, 5)), colour=np.full((4, 5), 2.0))

@@ -67,3 +67,48 @@ def test_track_out_a_file_and_a_bad_background_are_one_line(tmp_path, capsys):
     one_line_err(capsys, "--out must be a folder")
     assert main(["track", str(img), "--out", str(tmp_path / "o"), "--background", str(f)]) == 2
     one_line_err(capsys, "--background:")
+
+
+def test_by_rig_prints_each_rig_with_intervals_and_all_rigs_over_rigs(tmp_path):
+    """``real --by-rig`` on a set of three photographs from two rigs (the manifest's ``rig``): one line per rig and
+    tracker, the rig of two photographs with an interval, the rig of one without, and all rigs; the same figures as
+    ``summary.json`` holds, computed from the photographs' row outcomes."""
+    import json
+
+    import numpy as np
+
+    d = tmp_path / "set"
+    d.mkdir()
+    lines = (SHIPPED / "manifest.csv").read_text(encoding="utf-8").splitlines()
+    header = lines[0].split(",")
+    k = header.index("rig")
+    chosen = [row for row in lines[1:] if row.split(",")[0] in ("al_room0", "al_room1", "bb_board")]
+    for row in chosen:
+        name = row.split(",")[0]
+        for suffix in (".png", "_ref.csv"):
+            shutil.copy(SHIPPED / f"{name}{suffix}", d / f"{name}{suffix}")
+    (d / "manifest.csv").write_text("\n".join([lines[0], *chosen]) + "\n", encoding="utf-8")
+    rigs = {row.split(",")[0]: row.split(",")[k] for row in chosen}
+    assert sorted(set(rigs.values())) == ["albrecht", "b33boy"]
+    proc = cli("real", d, "--out", tmp_path / "o", "--quiet", "--trackers", "threshold,dp8", "--by-rig",
+               "--n-boot", "200", timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    out = proc.stdout.splitlines()
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    for lab in ("threshold", "dp8"):
+        start = out.index(lab)
+        block = out[start + 2:start + 5]
+        assert [b.split()[0] for b in block] == ["albrecht", "b33boy", "all"]
+        r = summary["trackers"][lab]["rigs"]
+        alb, bb = r["rigs"]["albrecht"], r["rigs"]["b33boy"]
+        assert alb["n_photos"] == 2 and bb["n_photos"] == 1 and r["all"]["n_rigs"] == 2
+        assert np.isfinite(alb["f1_lo"]) and np.isnan(bb["f1_lo"])
+        assert f"{alb['f1']:.3f} [{alb['f1_lo']:.3f}, {alb['f1_hi']:.3f}]" in block[0]
+        assert f"{bb['f1']:.3f} [–]" in block[1]
+        # the rig's figure is its photographs' rows pooled (metrics.csv holds each photograph's counts)
+        import pandas as pd
+
+        m = pd.read_csv(tmp_path / "o" / "metrics.csv")
+        sub = m[(m["tracker"] == lab) & m["experiment"].isin(["al_room0", "al_room1"])]
+        hit, wrong, missed, false = (int(sub[f"n_{o}"].sum()) for o in ("hit", "wrong", "missed", "false"))
+        assert alb["f1"] == pytest.approx(2 * hit / (2 * hit + 2 * wrong + missed + false))

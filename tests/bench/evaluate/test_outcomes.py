@@ -1,4 +1,4 @@
-"""Row outcomes, detection figures and average precision (bench.evaluate.outcomes)."""
+"""Row outcomes, detection figures (bench.evaluate.outcomes) and average precision (bench.evaluate.ranking)."""
 
 import itertools
 
@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from bench.evaluate.outcomes import (FALSE, HIT, MISSED, NO_STRIPE, OUTCOMES, QUIET, STRIPE, UNKNOWN, UNSURE, WRONG,
-                                     average_precision, bootstrap_frames, detection_figures, distant_states,
-                                     fallback_of, fallback_states, outcome_counts, pr_curve, referenced_columns, referenced_states,
-                                     row_outcomes, truth_states, window_centre)
+                                     detection_figures, distant_states, fallback_of, fallback_states, outcome_counts,
+                                     referenced_columns, referenced_states, row_outcomes, truth_states, window_centre)
+from bench.evaluate.ranking import average_precision, bootstrap_frames, pr_curve
 
 
 def _frame():
@@ -185,7 +185,7 @@ def test_bootstrap_over_frames():
 
 def test_bootstrap_ap_matches_the_ap_of_each_resample():
     """The vectorised resampled AP equals average_precision on the pooled rows of the same draw."""
-    from bench.evaluate.outcomes import _bootstrap_ap
+    from bench.evaluate.ranking import _bootstrap_ap
 
     rng = np.random.default_rng(8)
     frames = [rng.choice([HIT, WRONG, MISSED, FALSE, QUIET], 30) for _ in range(5)]

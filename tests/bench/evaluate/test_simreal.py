@@ -19,11 +19,15 @@ def test_image_metrics_against_hand_computed_values():
     assert m["hit_rate"] == pytest.approx(3 / 5)
     assert m["mae_px"] == pytest.approx((1 + 0.5 + 3) / 3)
     assert m["coverage"] == pytest.approx(4 / 5)
-    assert m["false_detections"] == pytest.approx(1.0)
+    # row 3 has no reference 1 row from a stripe row: unknown by the fallback rule, so its report is not false
+    assert "false_detections" not in m and m["n_unknown"] == 1 and m["n_false"] == 0
+    assert np.isnan(m["false_report_rate"])
+    far = simreal.image_metrics([10.0] * 20, [10.0] + [np.nan] * 19)  # rows 15-19 are 15 or more rows away: none
+    assert far["n_false"] == 5 and far["false_report_rate"] == 1.0 and far["n_unknown"] == 14
     m = simreal.image_metrics(cols, ref, tol_px=0.5)
     assert m["hit_rate"] == pytest.approx(1 / 5) and m["mae_px"] == pytest.approx(0.5)
     empty = simreal.image_metrics([np.nan, np.nan], [np.nan, np.nan])
-    assert np.isnan(empty["hit_rate"]) and np.isnan(empty["mae_px"]) and empty["false_detections"] == 0.0
+    assert np.isnan(empty["hit_rate"]) and np.isnan(empty["mae_px"]) and empty["n_false"] == 0
     with pytest.raises(ValueError, match="`tol_px` must be a finite number >= 0"):
         simreal.image_metrics(cols, ref, tol_px=-1)
 

@@ -146,3 +146,43 @@ def test_improvements_are_bootstrap_improvement_of_each_pair_bit_for_bit():
         alone = bootstrap_improvement(a[ok], b[ok], r["statistic"], n_boot=50,
                                       seed=int(np.random.SeedSequence([7, gi, si]).generate_state(1)[0]))
         assert (r["value"], r["low"], r["high"], r["n"]) == (alone["value"], alone["low"], alone["high"], alone["n"])
+
+
+def test_the_object_region_shows_no_detection_figure_a_false_report_cannot_move():
+    """Issue 66: rows off the object are unknown in region ``object``, so a false report there moves none of its
+    figures; those (OBJECT_BLIND) are NaN, and every one of them moves in region ``all``."""
+    from types import SimpleNamespace
+
+    from bench.evaluate.tables import OBJECT_BLIND, scan_records
+    from scenes import Rig
+
+    rig = Rig().with_size(64, 60)
+    F, H = 2, 60
+    truth = np.full((F, H), np.nan)
+    truth[:, 10:40] = 30.0  # the stripe on the object in rows 10-39; rows off it have no stripe
+    on = ~np.isnan(truth)
+    quiet = truth.copy()
+    eager = truth.copy()
+    eager[:, 45:60] = 5.0  # a report on 15 stripe-less rows per frame: 30 false 3-D points
+    cols = {"quiet": quiet, "eager": eager}
+    scan = ScanResult(key="k", angles=np.zeros(F), truth_columns=truth, truth_points_cm=np.ones((F, H, 3)),
+                      on_object=on, columns=cols, scores={n: np.where(np.isnan(c), np.nan, 1.0) for n, c in cols.items()},
+                      seconds={n: np.full(F, 1e-3) for n in cols}, status={n: np.zeros(F, np.int64) for n in cols},
+                      messages={}, done=np.ones(F, bool), variant="", width=64, render_seconds=0.0)
+    exp = SimpleNamespace(key="k", scene="cone", material="patchy", condition="")
+    for region in (False, True):
+        rec = {d["tracker"]: d for d in scan_records(scan, rig, exp, object_only=region)}
+        if region:  # the object region: nothing that prices a false report, the stripe half alike for both
+            assert all(np.isnan(rec[n][k]) for n in cols for k in OBJECT_BLIND)
+            shown = [k for k, v in rec["quiet"].items() if isinstance(v, float) and np.isfinite(v)]
+            assert all(rec["quiet"][k] == rec["eager"][k] for k in shown if k not in ("ms_per_frame",))
+            assert rec["eager"]["hit_rate"] == rec["eager"]["recall"] == 1.0
+        else:  # every row: each of those figures sees the false reports
+            assert rec["eager"]["n_false"] == 30 and rec["quiet"]["n_false"] == 0
+            for k in OBJECT_BLIND:
+                if k == "ap":  # one constant score: AP is precision x recall, which the false reports lower
+                    assert rec["eager"][k] < rec["quiet"][k]
+                elif k in ("false_report_rate", "false_detections"):
+                    assert rec["eager"][k] > rec["quiet"][k] == 0.0
+                else:
+                    assert rec["eager"][k] < rec["quiet"][k] == 1.0

@@ -38,7 +38,16 @@ def test_the_section_shows_the_saved_table_and_sentences():
     by = {r[0]: r[1:] for r in rows[1:4]}
     assert by["a"] == ["0.900", "0.600", "-0.300", "1", "2"]
     assert by["b"] == ["0.500", "0.450", "-0.050", "3", "3"]
-    assert "<p>The renders over-predict a (synthetic 0.90, real 0.60).</p>" in page
+    assert "<p>hit rate: the renders over-predict a (synthetic 0.90, real 0.60).</p>" in page
+
+
+def test_the_headline_speaks_of_both_halves():
+    """Issue 66: the sentences compare F1 over rows and the false-report rate too, not the hit rates alone."""
+    page = sim_to_real_html(_result())
+    assert "<p>F1 over rows: too few trackers with distinct figures (2) for a rank correlation.</p>" in page
+    assert ("<p>false-report rate: the renders over-predict &lt;b&gt;x&lt;/b&gt;&#x27; (synthetic 0.30, real 0.00)."
+            "</p>") in page
+    assert "<p>false-report rate: the renders under-predict a (synthetic 0.10, real 0.20).</p>" not in page  # 0.10
 
 
 def test_detection_beside_the_hit_rates_marks_a_tracker_that_one_half_lacks():
@@ -52,7 +61,7 @@ def test_detection_beside_the_hit_rates_marks_a_tracker_that_one_half_lacks():
 
 def test_every_name_is_escaped():
     page = sim_to_real_html(_result())
-    assert "<b>x</b>" not in page and page.count("&lt;b&gt;x&lt;/b&gt;&#x27;") == 2  # hit rates, detection
+    assert "<b>x</b>" not in page and page.count("&lt;b&gt;x&lt;/b&gt;&#x27;") == 3  # hit rates, detection, sentence
     r = _result()
     r["detection"] = {}
     assert "Both halves" not in sim_to_real_html(r)  # a run saved before detection was compared
@@ -91,7 +100,14 @@ def test_predicted_beside_measured_is_escaped_and_names_what_was_left_out():
     html = predicted_html(doc)
     assert EVIL not in html and "&lt;b&gt;x&lt;/b&gt;" in html
     cells = _cells(html)
-    assert cells[1][:3] == ["a", "0.900", "0.800"] and "wide (visible)" in html and "someone/rig" in html
+    assert cells[1][:3] == ["a", "0.900", "0.800"] and "someone/rig" in html
+    # the reason in its one wording (bench.evaluate.stripe.why_left_out), not a hand-written one
+    from bench.evaluate.stripe import why_left_out
+
+    assert f"Left out: wide ({why_left_out(['visible'])})" in html and "too few rows seen" not in html
+    shrunk = predicted_html({**doc, "shrunk": {"big": 2}, "why": {"big": why_left_out(["width_px"], width_px=18.4)}})
+    assert "Predicted shrunk (a coarse answer): big by 2 (its stripe is 18.4 px wide, wider than the reference " \
+           "window&#x27;s 13 px)" in shrunk
     assert "How repeatable" not in html  # no reliability: fewer than 4 photographs
 
 

@@ -17,10 +17,12 @@ def _files(root):
 
 
 def test_export_is_byte_stable_for_one_seed(tiny_export, tiny_dict, tmp_path):
+    """The organiser writes the set again, byte for byte, from its seed and the test seed it keeps."""
     from bench.config import parse
-    from bench.run.export import export
+    from bench.run.export import WITHHELD, export
 
-    again = export(parse(tiny_dict), tmp_path / "again", quiet=True)
+    kept = json.loads((tiny_export / fs.TRUTH_DIRS["test"] / WITHHELD).read_text())["test_seed"]
+    again = export(parse(tiny_dict), tmp_path / "again", test_seed=kept, quiet=True)
     a, b = _files(tiny_export), _files(again)
     assert sorted(a) == sorted(b)
     assert [k for k in a if a[k] != b[k]] == []
@@ -35,7 +37,10 @@ def test_export_writes_the_frames_a_tracker_gets_in_a_run(tiny_export, tiny_dict
     exp = cfg.experiments[0]
     scene = scene_for(exp, cfg)
     frames = fset.frames_of(exp.key)
-    assert [f["angle_deg"] for f in frames] == angles_for(exp, scene).tolist()
+    nominal = angles_for(exp, scene).tolist()
+    assert [f["angle_deg"] for f in frames if f["split"] == "dev"] == [a for a, f in zip(nominal, frames)
+                                                                      if f["split"] == "dev"]
+    frames = [f for f in frames if f["split"] == "dev"]  # the run's frames (test frames: test_frame's angles)
     frame = scene.render(frames[1]["angle_deg"], spp=scene.params["spp"], seed=cfg.seed)
     assert frame.image.dtype == np.uint8
     np.testing.assert_array_equal(fs.read_png(tiny_export / frames[1]["image"]), frame.image)
@@ -112,3 +117,60 @@ def test_a_participants_bundle_withholds_the_test_truth(tiny_run, tiny_export, t
     assert (score(bundle, sub, tmp_path / "dev", trackers=(), split="dev", quiet=True) / "metrics.csv").is_file()
     with pytest.raises(fs.FrameSetError, match="a participants' bundle already"):
         participants_bundle(bundle, tmp_path / "again")
+
+
+def test_the_bundle_does_not_let_export_render_the_test_truth_again(tiny_export, tmp_path):
+    """Issue 66: everything a participants' bundle holds (the configuration, the seed, the test fraction) exports a
+    set whose test truth is not the withheld one; the test seed and the test frames' angles are nowhere in it."""
+    from bench.config import parse
+    from bench.run.export import WITHHELD, export, participants_bundle
+
+    bundle = participants_bundle(tiny_export, tmp_path / "bundle")
+    meta = json.loads((bundle / "dataset.json").read_text())
+    cfg = parse(meta["config"], "dataset.json", machine=False)
+    assert cfg.seed == meta["seed"]
+    again = export(cfg, tmp_path / "again", test_fraction=meta["split"]["test_fraction"], quiet=True)
+    test_dir = fs.TRUTH_DIRS["test"]
+    withheld = sorted(p.name for p in (tiny_export / test_dir).glob("*.csv"))
+    assert withheld and withheld == sorted(p.name for p in (again / test_dir).glob("*.csv"))
+    assert all((tiny_export / test_dir / n).read_bytes() != (again / test_dir / n).read_bytes() for n in withheld)
+    dev = sorted(p.name for p in (tiny_export / fs.TRUTH_DIRS["dev"]).glob("*.csv"))
+    assert all((tiny_export / "truth" / n).read_bytes() == (again / "truth" / n).read_bytes() for n in dev)
+    # nothing in the bundle names the test seed or a test frame's angle
+    kept = json.loads((tiny_export / test_dir / WITHHELD).read_text())["test_seed"]
+    full = fs.read_frameset(tiny_export)
+    test_angles = [f["angle_deg"] for f in full.frames if f["split"] == "test"]
+    texts = [p.read_bytes() for p in bundle.rglob("*") if p.is_file()]
+    assert not any(str(kept).encode() in t for t in texts)
+    assert not any(repr(a).encode() in t for a in test_angles for t in texts)
+    shown = fs.read_frameset(bundle)
+    assert all(np.isnan(f["angle_deg"]) == (f["split"] == "test") for f in shown.frames)
+    assert all(a is None for e in meta["experiments"] for a, f in zip(e["angles_deg"], shown.frames_of(e["key"]))
+               if f["split"] == "test")
+
+
+def test_a_frame_without_an_angle_is_refused_outside_a_bundles_test_split(tiny_export, tmp_path):
+    import shutil
+
+    root = tmp_path / "set"
+    shutil.copytree(tiny_export, root)
+    rows = (root / "frames.csv").read_text().splitlines()
+    head = rows[0].split(",")
+    dev = next(i for i, r in enumerate(rows[1:], 1) if r.split(",")[head.index("split")] == "dev")
+    cells = rows[dev].split(",")
+    cells[head.index("angle_deg")] = ""
+    rows[dev] = ",".join(cells)
+    (root / "frames.csv").write_text("\n".join(rows) + "\n")
+    with pytest.raises(fs.FrameSetError, match=rf"line {dev + 1}: angle_deg must be a finite number"):
+        fs.read_frameset(root)
+
+
+def test_export_refuses_a_bad_test_seed(tiny_dict, tmp_path):
+    from bench.config import parse
+    from bench.errors import InputError
+    from bench.run.export import export
+
+    for bad in (-1, 2**63, 1.5, True):
+        with pytest.raises(InputError, match=r"--test-seed must be an integer in \[0, 2\*\*63\)"):
+            export(parse(copy.deepcopy(tiny_dict)), tmp_path / "x", test_seed=bad, quiet=True)
+    assert not (tmp_path / "x").exists()

@@ -111,7 +111,9 @@ def test_oracle_scores_zero_error_and_full_coverage_through_the_harness(gate_dic
     m = pd.read_parquet(out / "metrics.parquet")
     o = m[m["tracker"] == "oracle"]
     assert (o["px_mae"] == 0).all() and (o["px_p95"] == 0).all() and (o["coverage"] == 1).all()
-    assert (o["outlier_rate"] == 0).all() and (o["false_detections"] == 0).all()
+    a = o[o["region"] == "all"]
+    assert (o["outlier_rate"] == 0).all() and (a["false_detections"] == 0).all() and (a["false_report_rate"] == 0).all()
+    assert o[o["region"] == "object"]["false_detections"].isna().all()  # the object region cannot see one
     assert (o["depth_rmse_mm"] < 1e-6).all()
     s = pd.read_csv(out / "samples.csv")
     assert len(s) and np.abs(s["error_mm_oracle"]).max() < 1e-6

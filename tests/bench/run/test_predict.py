@@ -1,80 +1,16 @@
-"""Renders matched to a photograph's conditions (bench.run.predict): the round trip on a small grid."""
+"""A photograph's frames with truth (bench.run.predict_frames): its stripe moved both ways, in place and with its ends
+cut off, each scored as a photograph is."""
 
 import numpy as np
 import pytest
 
 from bench.evaluate import conditions as cond
-from bench.run import predict as pr
+from bench.evaluate import rowstates as rs
+from bench.evaluate import stripe as sp
+from bench.evaluate import transplant as tp
+from bench.evaluate.predict_settings import DEFAULT
+from bench.run import predict_frames as pf
 
-GRID = pr.SMALL_GRID
-
-
-@pytest.fixture(scope="module")
-def table():
-    return pr.grid_table(GRID, colour=False)
-
-
-def test_the_table_has_every_point_and_is_cached(table):
-    assert len(table) == 9
-    again = pr.grid_table(GRID, colour=False)  # read back from its JSON file
-    assert [p for p, _ in again] == [p for p, _ in table]
-    np.testing.assert_allclose([c.contrast for _, c in again], [c.contrast for _, c in table])
-
-
-def test_round_trip_render_measure_match_render(table):
-    """An off-grid render, measured, matched and rendered again: the conditions agree within one
-    scale unit (RMS over the matched measures) and two on each measure."""
-    src = {"setup": "plane", "line_fwhm_mrad": 3.0, "laser_power_mw": 5.0, "ambient_lux": 900.0,
-           "exposure_ms": 10.0, "filter": "bandpass", "defocus_px": 0.0, "jpeg_quality": None}
-    f, img, bg, _ = pr.render_point(src, GRID, colour=False, laser="red")[0]
-    c0 = cond.measure(img)
-    m = pr.match(c0, table, GRID, colour=False)
-    assert m.out_of_range == ()
-    f1, img1, _, _ = pr.render_point(m.point, GRID, colour=False, laser="red")[0]
-    c1 = cond.measure(img1)
-    assert cond.distance(c0, c1) <= 1.0
-    a, b = cond.normalised(c0), cond.normalised(c1)
-    ok = np.isfinite(a) & np.isfinite(b)
-    assert np.all(np.abs(a - b)[ok] <= 2.0), dict(zip(cond.MATCHED, np.abs(a - b)))
-
-
-def test_a_second_match_reads_the_refined_points_and_renders_nothing(table, monkeypatch):
-    """The refined points' conditions are kept beside the table: matching the same frame again gives
-    the same match without a render (the warm ``predict``)."""
-    src = {"setup": "plane", "line_fwhm_mrad": 3.0, "laser_power_mw": 2.0, "ambient_lux": 150.0,
-           "exposure_ms": 10.0, "filter": "bandpass", "defocus_px": 0.0, "jpeg_quality": None}
-    c0 = cond.measure(pr.render_point(src, GRID, colour=False, laser="red")[0][1])
-    memo = pr.refined_memo(GRID, colour=False)
-    first = pr.match(c0, table, GRID, colour=False, memo=memo)
-    assert memo and first.point not in [p for p, _ in table]  # the search left the grid and kept what it measured
-    pr.save_refined_memo(memo, GRID, colour=False)
-
-    def no_render(*a, **k):
-        raise AssertionError("rendered on a second match")
-
-    monkeypatch.setattr(pr, "render_point", no_render)
-    again = pr.match(c0, table, GRID, colour=False, memo=pr.refined_memo(GRID, colour=False))
-    assert again.point == first.point and again.distance == first.distance
-    assert again.conditions.as_dict() == pytest.approx(first.conditions.as_dict(), nan_ok=True)
-
-
-def test_a_frame_the_grid_cannot_show_is_out_of_range(table):
-    rng = np.random.default_rng(0)
-    x = np.arange(128.0)
-    wide = 30.0 + 120.0 * np.exp(-0.5 * ((x - 64.0) / 12.0) ** 2) + rng.normal(0, 2.0, (120, 128))
-    m = pr.match(cond.measure(wide), table, GRID, colour=False)
-    assert "width_px" in m.out_of_range and m.point == {}
-
-
-def test_predicted_outcomes_score_every_tracker_on_each_matched_render(table):
-    from bench.config import parse_trackers
-    from bench.run.track import build_trackers
-
-    trackers = build_trackers(parse_trackers(["threshold", "dp8"]))
-    out = pr.predict_outcomes({"a": table[4][0]}, GRID, trackers, colour=False, n_angles=2)
-    assert set(out["a"]) == {"threshold", "dp8"}
-    assert len(out["a"]["dp8"]) == 2 and out["a"]["dp8"][0].shape == (120,)
-    assert len(out["_frames"]["a"]) == 2
 
 
 def test_score_frame_scores_stripe_rows_it_sees_and_stripe_less_rows():
@@ -90,7 +26,7 @@ def test_score_frame_scores_stripe_rows_it_sees_and_stripe_less_rows():
     img[:80] += 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
     img[10] = 20.0 + rng.normal(0, 1.0, 96)  # a row whose stripe cannot be seen
     truth = np.where(np.arange(120) < 80, 40.0, np.nan)
-    codes = pr.score_frame(build_trackers(parse_trackers(["threshold"])), np.clip(img, 0, 255), truth)["threshold"]
+    codes = pf.score_frame(build_trackers(parse_trackers(["threshold"])), np.clip(img, 0, 255), truth)["threshold"]
     assert codes.shape == (120,)
     assert codes[10] == oc.UNKNOWN
     assert np.all(codes[np.r_[0:10, 11:80]] == oc.HIT)
@@ -111,14 +47,14 @@ def test_transplant_frames_need_enough_rows_of_the_moved_stripe_seen():
         img = 30.0 + rng.normal(0, 2.0, (40, 96))
         img[:n_rows] += 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
         img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-        return pr.Photo("p", Path("p.png"), img, None, img)
+        return pf.Photo("p", Path("p.png"), img, None, img)
 
-    made = pr.transplant_frames(photo(40))
+    made = pf.transplant_frames(photo(40))
     shift = made[0][4]
-    assert len(made) == pr.N_FULL == 3 and [s for *_, s in made] == [shift, -shift, 0] and shift >= 12
+    assert len(made) == pf.N_FULL == 3 and [s for *_, s in made] == [shift, -shift, 0] and shift >= 12
     for image, truth, states, moved, s in made:
-        assert np.nanmedian(truth) == pytest.approx(40.0 + s, abs=0.3) and (states == 1).sum() >= tp.MIN_ROWS
-    assert pr.transplant_frames(photo(4)) == []
+        assert np.nanmedian(truth) == pytest.approx(40.0 + s, abs=0.3) and (states == 1).sum() >= DEFAULT.min_rows
+    assert pf.transplant_frames(photo(4)) == []
 
 
 def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off():
@@ -133,22 +69,22 @@ def test_a_long_stripe_also_gives_two_false_report_frames_with_its_ends_cut_off(
     x = np.arange(96.0)
     img = 30.0 + rng.normal(0, 2.0, (160, 96)) + 150.0 * np.exp(-0.5 * ((x - 40.0) / 1.2) ** 2)
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    assert len(made) == 5 and [m[4] for m in made[pr.N_FULL:]] == [m[4] for m in made[:pr.N_MOVED]]
-    keep = tp.cut_ends(tp.stripe_extents(img))
+    made = pf.transplant_frames(pf.Photo("p", Path("p.png"), img, None, img))
+    assert len(made) == 5 and [m[4] for m in made[pf.N_FULL:]] == [m[4] for m in made[:pf.N_MOVED]]
+    keep = tp.cut_ends(sp.stripe_extents(img))
     assert keep is not None and 100 <= keep.sum() <= 120
-    for image, truth, states, moved, s in made[pr.N_FULL:]:
+    for image, truth, states, moved, s in made[pf.N_FULL:]:
         assert not (states == STRIPE).any() and (states == NO_STRIPE).sum() >= 2 * 5
         assert np.isnan(truth[~keep]).all() and np.isfinite(truth[keep]).mean() > 0.9
         cut = np.flatnonzero(~keep)
         assert moved[cut].max() < 60  # neither the old stripe nor a moved one in the cut rows
-    assert all((m[2] == STRIPE).sum() >= 150 for m in made[:pr.N_FULL])  # the first three score the whole stripe
+    assert all((m[2] == STRIPE).sum() >= 150 for m in made[:pf.N_FULL])  # the first three score the whole stripe
 
 
 def test_the_photograph_in_place_is_scored_against_the_estimate_with_its_own_surroundings():
     """The third frame is the photograph itself, untouched (its glow, rivals and surroundings where they are), its
     truth the estimated centre read by the reference rule, and its outcomes count towards the hit rate
-    (docs/predict.md, "The photograph in place")."""
+   ."""
     from pathlib import Path
 
     from bench.evaluate import transplant as tp
@@ -158,18 +94,18 @@ def test_the_photograph_in_place_is_scored_against_the_estimate_with_its_own_sur
     x = np.arange(128.0)
     img = 30.0 + rng.normal(0, 2.0, (100, 128)) + 150.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-    photo = pr.Photo("p", Path("p.png"), img, None, img)
-    made = pr.transplant_frames(photo)
-    image, truth, states, moved, shift = made[pr.N_MOVED]
+    photo = pf.Photo("p", Path("p.png"), img, None, img)
+    made = pf.transplant_frames(photo)
+    image, truth, states, moved, shift = made[pf.N_MOVED]
     assert shift == 0 and np.array_equal(image, photo.frame) and np.array_equal(moved, img)
-    ext = tp.stripe_extents(img)
+    ext = sp.stripe_extents(img)
     assert np.array_equal(truth, tp.in_place_truth(ext), equal_nan=True)
     assert np.nanmax(np.abs(truth - 50.0)) < 0.3 and (states == STRIPE).sum() >= 90
 
 
 def test_collect_photos_refuses_a_bad_downscale(tmp_path):
     with pytest.raises(ValueError, match="`downscale` must be an integer >= 1, got 0"):
-        pr.collect_photos(tmp_path, downscale=0)
+        pf.collect_photos(tmp_path, downscale=0)
 
 
 def test_collect_photos_says_in_one_line_which_file_asks_to_be_shown_turned(tmp_path):
@@ -182,67 +118,19 @@ def test_collect_photos_says_in_one_line_which_file_asks_to_be_shown_turned(tmp_
     Image.new("RGB", (30, 20), (20, 20, 20)).save(tmp_path / "phone.jpg", exif=exif)
     Image.new("RGB", (30, 20), (20, 20, 20)).save(tmp_path / "plain.jpg")
     err = io.StringIO()
-    photos = pr.collect_photos(tmp_path, err=err)
+    photos = pf.collect_photos(tmp_path, err=err)
     assert [p.name for p in photos] == ["phone", "plain"] and photos[0].frame.shape == (20, 30)  # as stored
     lines = err.getvalue().strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("stripebench predict: phone.jpg") and "--rotate 90" in lines[0]
     err = io.StringIO()
-    pr.collect_photos(tmp_path, rotate_deg=90, err=err)
+    pf.collect_photos(tmp_path, rotate_deg=90, err=err)
     assert err.getvalue() == ""
     Image.new("RGB", (30, 20)).save(tmp_path / "plain_off.png")  # paired: said nothing of
     Image.new("RGB", (30, 20)).save(tmp_path / "alone_off.png")  # no alone.*: one line
     err = io.StringIO()
-    assert [p.name for p in pr.collect_photos(tmp_path, rotate_deg=90, err=err)] == ["phone", "plain"]
+    assert [p.name for p in pf.collect_photos(tmp_path, rotate_deg=90, err=err)] == ["phone", "plain"]
     assert err.getvalue() == ("stripebench predict: alone_off.png: a laser-off frame with no photograph alone.* beside "
                               "it: not predicted for\n")
-
-
-def _two_stripes(rows=60, seed=5):
-    """A brighter line (a lamp's edge) at column 35 and the laser's dimmer stripe at column 70, uint8."""
-    rng = np.random.default_rng(seed)
-    x = np.arange(96.0)
-    img = (30.0 + rng.normal(0, 2.0, (rows, 96)) + 200.0 * np.exp(-0.5 * ((x - 35.0) / 1.2) ** 2)
-           + 90.0 * np.exp(-0.5 * ((x - 70.0) / 1.2) ** 2))
-    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
-
-
-def test_the_reference_estimate_moves_the_referenced_stripe_where_the_estimate_takes_the_brighter_line():
-    """``estimate="reference"`` (the ablation with a perfect stripe estimate) follows the photograph's reference;
-    the default estimate takes the brighter line, and the moved stripe is then the wrong one."""
-    from pathlib import Path
-
-    img = _two_stripes()
-    ref = np.full(img.shape[0], 70.0)
-    photo = pr.Photo("p", Path("p.png"), img, None, img, reference=ref)
-    for estimate, column in (("reference", 70.0), ("auto", 35.0)):
-        made = pr.transplant_frames(photo, estimate=estimate)
-        assert len(made) >= pr.N_MOVED
-        for _, truth, _, _, s in made[:pr.N_MOVED]:
-            assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5), estimate
-
-
-def test_the_reference_estimate_needs_a_reference():
-    from pathlib import Path
-
-    img = _two_stripes()
-    with pytest.raises(ValueError, match="p: `estimate` 'reference' needs the photograph's reference"):
-        pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img), estimate="reference")
-    with pytest.raises(ValueError, match="`references` needs the photographs at their own size"):
-        pr.collect_photos(Path("."), references=True, downscale=2)
-
-
-def test_run_predict_with_the_reference_estimate_refuses_photographs_without_references(tmp_path):
-    import imageio.v3 as iio
-
-    from bench.config import parse_trackers
-    from bench.store.realset import ImageError
-
-    iio.imwrite(tmp_path / "a.png", _two_stripes())
-    with pytest.raises(ValueError,
-                       match="`estimate` must be one of auto, path, argmax, reference, covered, got 'oracle'"):
-        pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="oracle")
-    with pytest.raises(ImageError, match="--estimate reference needs a real set"):
-        pr.run_predict(tmp_path, tmp_path / "out", parse_trackers(["threshold"]), estimate="reference")
 
 
 def _white_bar_and_green_stripe() -> np.ndarray:
@@ -258,7 +146,7 @@ def _white_bar_and_green_stripe() -> np.ndarray:
 def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
     """A clipped white bar (a window's frame) is brighter in the tracker's frame than the green stripe: on the colour
     photograph ``auto`` moves the stripe (its guide found on the colour excess, where white has none); on the same
-    frame without its colours it moves the bar (docs/predict.md, "The guide found on the laser's colour")."""
+    frame without its colours it moves the bar."""
     from pathlib import Path
 
     from bench.evaluate.pixels import select_channel
@@ -267,9 +155,9 @@ def test_auto_finds_a_colour_photograph_s_guide_where_the_laser_s_colour_is():
     frame = select_channel(rgb, "auto", "green")
     assert frame[:, 35].mean() > frame[:, 130].mean() + 50  # the bar is the brightest line the trackers see
     for original, column in ((rgb, 130.0), (frame, 35.0)):
-        made = pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, original, "green"))
-        assert len(made) >= pr.N_MOVED
-        for _, truth, _, _, s in made[:pr.N_MOVED]:
+        made = pf.transplant_frames(pf.Photo("p", Path("p.png"), frame, None, original, "green"))
+        assert len(made) >= pf.N_MOVED
+        for _, truth, _, _, s in made[:pf.N_MOVED]:
             assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5)
 
 
@@ -277,17 +165,17 @@ def test_auto_guides_a_plain_channel_photograph_by_its_own_frame():
     """Where the trackers see a plain channel (a rig's software reading one, or a real set's photograph whose stripe's
     core is clipped white), the guide is that frame's own: the colour guide serves the laser-colour blend only. The
     scene of the test above, seen in the green channel: the white bar is its brightest line, and the bar is moved
-    (docs/predict.md, "The colour guide only where the trackers see the laser's colour")."""
+   ."""
     from pathlib import Path
 
     from bench.evaluate.pixels import select_channel
 
     rgb = _white_bar_and_green_stripe()
     for channel, column in (("auto", 130.0), ("g", 35.0)):
-        photo = pr.Photo("p", Path("p.png"), select_channel(rgb, channel, "green"), None, rgb, "green", channel=channel)
-        made = pr.transplant_frames(photo)
-        assert len(made) >= pr.N_MOVED
-        for _, truth, _, _, s in made[:pr.N_MOVED]:
+        photo = pf.Photo("p", Path("p.png"), select_channel(rgb, channel, "green"), None, rgb, "green", channel=channel)
+        made = pf.transplant_frames(photo)
+        assert len(made) >= pf.N_MOVED
+        for _, truth, _, _, s in made[:pf.N_MOVED]:
             assert np.nanmedian(truth) == pytest.approx(column + s, abs=0.5)
 
 
@@ -295,7 +183,7 @@ def test_auto_keeps_a_clipped_stripe_beside_a_surface_more_of_the_laser_s_hue():
     """A red print more red than a stripe clipped nearly white (``ag_tape``'s case): the colour excess alone is
     strongest on the print, the tracker's frame on the stripe; where the two guides part, ``auto`` keeps the one
     that is both bright in the laser's channel and of its colour, so it moves the stripe, not the print
-    (docs/predict.md, "Brightness and colour together")."""
+   ."""
     from pathlib import Path
 
     from bench.evaluate import transplant as tp
@@ -310,40 +198,18 @@ def test_auto_keeps_a_clipped_stripe_beside_a_surface_more_of_the_laser_s_hue():
     excess = select_channel(rgb, "excess", "red")
     assert excess[:, 30:41].mean() > excess[:, 128:133].max() + 30  # the print is the most red
     frame = select_channel(rgb, "auto", "red")
-    assert 28 <= np.nanmedian(tp.estimate_guide(excess)) <= 42  # the colour guide alone takes the print
-    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, rgb, "red"))
-    assert len(made) >= pr.N_MOVED
-    for _, truth, _, _, s in made[:pr.N_MOVED]:
+    assert 28 <= np.nanmedian(sp.estimate_guide(excess)) <= 42  # the colour guide alone takes the print
+    made = pf.transplant_frames(pf.Photo("p", Path("p.png"), frame, None, rgb, "red"))
+    assert len(made) >= pf.N_MOVED
+    for _, truth, _, _, s in made[:pf.N_MOVED]:
         assert np.nanmedian(truth) == pytest.approx(130.0 + s, abs=0.5)
-
-
-def test_the_covered_ablation_moves_auto_s_stripe_in_the_referenced_rows_only():
-    """``estimate="covered"``: the stripe where ``auto`` finds it (not where the reference says), in the rows the
-    reference covers; the other rows are not moved (docs/predict.md, the ablations)."""
-    from pathlib import Path
-
-    rng = np.random.default_rng(4)
-    x = np.arange(120.0)
-    frame = np.clip(np.rint(20 + 160 * np.exp(-0.5 * ((x - 50.0) / 1.3) ** 2) + rng.normal(0, 2, (80, 120))), 0, 255)
-    frame = frame.astype(np.uint8)
-    ref = np.full(80, 52.0)  # 2 px off the stripe: `covered` follows the frame, not the reference
-    ref[40:] = np.nan
-    photo = pr.Photo("p", Path("p.png"), frame, None, frame, reference=ref)
-    auto = pr.transplant_frames(photo)
-    covered = pr.transplant_frames(photo, estimate="covered")
-    for (_, t_auto, _, _, s_a), (_, t_cov, _, _, s_c) in zip(auto[:pr.N_MOVED], covered[:pr.N_MOVED]):
-        assert np.all(np.isnan(t_cov[40:])) and np.isfinite(t_auto[40:]).all()
-        assert s_a == s_c and np.allclose(t_cov[:40], t_auto[:40])
-        assert np.nanmedian(t_cov) == pytest.approx(50.0 + s_c, abs=0.2)
-    with pytest.raises(ValueError, match="`estimate` 'covered' needs the photograph's reference"):
-        pr.transplant_frames(pr.Photo("p", Path("p.png"), frame, None, frame), estimate="covered")
 
 
 def test_moved_rows_of_a_clipped_core_in_a_glow_are_scored_and_a_faint_stretch_is_not():
     """A stripe 150 DN high whose rows 40-59 are a clipped core in a glow as wide as the reference window (its peak
     stands some 20 DN over the window's median, under DIM_SHARE of 150) and rows 100-109 a faint stretch (20 DN): in
     the moved frames the clipped rows are stripe rows, as a reference scores a bright stripe, and the faint ones are
-    not scored (docs/predict.md, "A clipped core is not dim")."""
+    not scored."""
     from pathlib import Path
 
     from bench.evaluate import transplant as tp
@@ -357,10 +223,10 @@ def test_moved_rows_of_a_clipped_core_in_a_glow_are_scored_and_a_faint_stretch_i
     img[40:60] = (30.0 + rng.normal(0, 2.0, (20, 120)) + 210.0 * np.exp(-0.5 * ((x - 50.0) / 12.0) ** 2)
                   + 80.0 * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2))
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-    ext = tp.stripe_extents(img)
-    assert ext.visible[40:60].all() and tp.dim_rows(ext)[40:60].all()  # dim by height alone
-    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    for _, truth, states, _, _ in made[:pr.N_MOVED]:
+    ext = sp.stripe_extents(img)
+    assert ext.visible[40:60].all() and rs.dim_rows(ext)[40:60].all()  # dim by height alone
+    made = pf.transplant_frames(pf.Photo("p", Path("p.png"), img, None, img))
+    for _, truth, states, _, _ in made[:pf.N_MOVED]:
         assert (states[40:60] == STRIPE).all() and (states[100:110] == UNSURE).all()
 
 
@@ -369,7 +235,7 @@ def test_a_moved_faint_stretch_under_the_visible_level_is_not_scored_even_where_
     """Rows 100-109 of a 150 DN stripe stand 9 DN up: under 6 of the frame's noise units (2 DN), so the extent does not
     call them visible, and under a fifth of the stripe's height. With the reference rule's noise unit at 1 DN (as on a
     frame of flat dark background) the rule sees them in the moved frames; they are left out all the same, as the
-    references leave out such rows (docs/predict.md, "Faint rows the extent does not call visible" and (ad))."""
+    references leave out such rows."""
     from pathlib import Path
 
     from bench.evaluate import outcomes
@@ -383,10 +249,10 @@ def test_a_moved_faint_stretch_under_the_visible_level_is_not_scored_even_where_
     amp[100:110] = 9.0
     img = 30.0 + rng.normal(0, 2.0, (160, 120)) + amp * np.exp(-0.5 * ((x - 50.0) / 1.2) ** 2)
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-    ext = tp.stripe_extents(img)
+    ext = sp.stripe_extents(img)
     assert not ext.visible[100:110].any() and ext.visible[:100].all()
-    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    for image, truth, states, _, _ in made[:pr.N_FULL]:
+    made = pf.transplant_frames(pf.Photo("p", Path("p.png"), img, None, img))
+    for image, truth, states, _, _ in made[:pf.N_FULL]:
         assert np.isfinite(truth[100:110]).all()
         assert (referenced_states(image, truth)[100:110] == STRIPE).sum() >= 8  # the rule sees most of them ...
         assert (states[100:110] == UNSURE).all() and (states[:100] == STRIPE).sum() >= 95  # ... they are not scored
@@ -406,14 +272,14 @@ def test_a_set_without_row_states_is_predicted_with_the_rows_far_from_the_stripe
     """A faint stretch (rows 60-139) between two bright ones: read as the shipped set's given states are, the rows it
     crosses are not scored; with ``fallback_rows`` (a set whose references have no ``state`` column, as ``real``
     then scores it) every row 15 or more from a scored stripe row has no stripe, in every frame, the photograph in
-    place and the false-report frames included (docs/predict.md, "A set whose references give no row states")."""
+    place and the false-report frames included."""
     from pathlib import Path
 
     from bench.evaluate.outcomes import NO_STRIPE, STRIPE, UNSURE
 
     img = _stripe_with_a_faint_stretch()
-    given = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    fallback = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img, fallback_rows=True))
+    given = pf.transplant_frames(pf.Photo("p", Path("p.png"), img, None, img))
+    fallback = pf.transplant_frames(pf.Photo("p", Path("p.png"), img, None, img, fallback_rows=True))
     assert len(given) == len(fallback) == 5
     for (_, t0, s0, _, _), (_, t1, s1, _, _) in zip(given, fallback):
         np.testing.assert_array_equal(t0, t1)  # the frames and their truth are the same ...
@@ -441,18 +307,18 @@ def test_collect_photos_reads_whether_a_set_s_references_give_row_states(tmp_pat
         with open(root / "manifest.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerows([["name", "has_background", "laser_colour"], ["a", 0, "red"]])
-        photos = pr.collect_photos(root)
-        assert [p.fallback_rows for p in photos] == [folder == "fallback"] and photos[0].reference is None
-        assert pr.collect_photos(root, downscale=2)[0].fallback_rows == (folder == "fallback")
+        photos = pf.collect_photos(root)
+        assert [p.fallback_rows for p in photos] == [folder == "fallback"]
+        assert pf.collect_photos(root, downscale=2)[0].fallback_rows == (folder == "fallback")
     iio.imwrite(tmp_path / "loose.png", img)  # a folder of photographs without references: as given
-    assert [p.fallback_rows for p in pr.collect_photos(tmp_path) if p.name == "loose"] == [False]
+    assert [p.fallback_rows for p in pf.collect_photos(tmp_path) if p.name == "loose"] == [False]
 
 
 def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dropped():
     """A red stripe in rows 0-99 and none in rows 100-159, and a white bar (bright in every channel, of no colour)
     down the whole frame: the colour guide has the stripe in rows 0-99 and nothing below; the frame's own guide takes
     the bar below. The guide keeps the stripe and drops the bar's rows, whose laser evidence is under
-    EVIDENCE_SHARE of the stripe's (docs/predict.md, "The frame's own guide where the colour shows no stripe")."""
+    EVIDENCE_SHARE of the stripe's."""
     from pathlib import Path
 
     from bench.evaluate import conditions as cnd
@@ -466,10 +332,10 @@ def test_where_the_colour_shows_no_stripe_the_frame_s_guide_on_a_white_bar_is_dr
     rgb += (230.0 * np.exp(-0.5 * ((x - 110.0) / 1.2) ** 2))[None, :, None]  # the bar, white and clipped
     rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
     frame = select_channel(rgb, "auto", "red")
-    own = tp.estimate_guide(frame)
+    own = sp.estimate_guide(frame)
     assert np.nanmedian(np.abs(own[110:150] - 110.0)) <= 1  # the frame's own guide takes the bar below
-    photo = pr.Photo("p", Path("p.png"), frame, None, rgb, "red")
-    guide = pr.colour_guide(photo, rgb, None, cnd.measure(frame))
+    photo = pf.Photo("p", Path("p.png"), frame, None, rgb, "red")
+    guide = pf.colour_guide(photo, rgb, None, cnd.measure(frame))
     assert np.nanmax(np.abs(guide[5:95] - 50.0)) <= 1  # the stripe kept
     assert np.isnan(guide[110:150]).all()  # the bar's rows dropped
 
@@ -479,7 +345,7 @@ def test_where_the_stripe_turns_white_the_colour_s_guide_does_not_wander_onto_a_
     colour), and a thin red print line, coloured but no brighter than its row, at column 120 in those rows: the colour's
     guide takes the print there, the frame's own guide the white stripe. Neither has laser evidence (bright *and* of
     the laser's colour) there, so neither guides those rows; the white stretch, between visible rows, still moves with
-    the stripe and is not scored (docs/predict.md, "Where two guides part and neither looks like the laser")."""
+    the stripe and is not scored."""
     from pathlib import Path
 
     from bench.evaluate import conditions as cnd
@@ -498,13 +364,13 @@ def test_where_the_stripe_turns_white_the_colour_s_guide_does_not_wander_onto_a_
     rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
     frame = select_channel(rgb, "auto", "red")
     excess = select_channel(rgb, "excess", "red")
-    assert np.nanmedian(np.abs(tp.estimate_guide(excess)[65:95] - 120.0)) <= 1  # the colour's guide takes the print
-    assert np.nanmedian(np.abs(tp.estimate_guide(frame)[65:95] - 50.0)) <= 1  # the frame's own, the white stripe
-    photo = pr.Photo("p", Path("p.png"), frame, None, rgb, "red")
-    guide = pr.colour_guide(photo, rgb, None, cnd.measure(frame))
+    assert np.nanmedian(np.abs(sp.estimate_guide(excess)[65:95] - 120.0)) <= 1  # the colour's guide takes the print
+    assert np.nanmedian(np.abs(sp.estimate_guide(frame)[65:95] - 50.0)) <= 1  # the frame's own, the white stripe
+    photo = pf.Photo("p", Path("p.png"), frame, None, rgb, "red")
+    guide = pf.colour_guide(photo, rgb, None, cnd.measure(frame))
     assert np.nanmax(np.abs(guide[np.r_[5:55, 105:155]] - 50.0)) <= 1  # the red stripe kept
     assert np.isnan(guide[65:95]).all()  # neither the print nor the white stretch guides
-    for image, truth, states, _, shift in pr.transplant_frames(photo)[:pr.N_MOVED]:
+    for image, truth, states, _, shift in pf.transplant_frames(photo)[:pf.N_MOVED]:
         assert not (states[65:95] == STRIPE).any()  # not scored ...
         assert image[65:95, 50].max() < image[65:95, 50 + shift].min()  # ... but moved with the stripe
 
@@ -512,7 +378,7 @@ def test_where_the_stripe_turns_white_the_colour_s_guide_does_not_wander_onto_a_
 def test_rows_where_a_moved_stripe_lands_on_a_rival_are_not_scored():
     """A stripe with a bright block 12-60 px right of it in rows 30-49: every shift to the right lands the stripe on the
     block there, where the photograph's stripe stands beside it, so those rows of the frame moved right are not scored;
-    the frame moved left scores them (docs/predict.md, "Where a moved stripe lands on a rival")."""
+    the frame moved left scores them."""
     from pathlib import Path
 
     from bench.evaluate.outcomes import STRIPE, UNSURE
@@ -522,8 +388,8 @@ def test_rows_where_a_moved_stripe_lands_on_a_rival_are_not_scored():
     img = 30.0 + rng.normal(0, 2.0, (120, 160)) + 120.0 * np.exp(-0.5 * ((x - 60.0) / 2.5) ** 2)
     img[30:50, 75:121] += 140.0  # as high over the row as the stripe: a rival; the estimate keeps to the stripe
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
-    made = pr.transplant_frames(pr.Photo("p", Path("p.png"), img, None, img))
-    (_, _, right, _, s_right), (_, _, left, _, s_left), (_, _, here, _, s_here) = made[:pr.N_FULL]
+    made = pf.transplant_frames(pf.Photo("p", Path("p.png"), img, None, img))
+    (_, _, right, _, s_right), (_, _, left, _, s_left), (_, _, here, _, s_here) = made[:pf.N_FULL]
     assert s_right > 0 > s_left and s_here == 0
     assert (here[30:50] == STRIPE).all()  # in place the stripe is where it stands beside the block
     assert (right[30:50] == UNSURE).all() and (right[60:100] == STRIPE).all()

@@ -145,7 +145,12 @@ def test_real_run_folder_metrics_and_gate(tmp_path, capsys):
         assert (out / f).exists(), f
     m = pd.read_parquet(out / "metrics.parquet").set_index(["experiment", "tracker"])
     assert m.loc[("a", "threshold"), "hit_rate"] == 1.0 and m.loc[("a", "threshold"), "mae_px"] == 1.0
-    assert m.loc[("a", "threshold"), "false_detections"] == 1.0 and m.loc[("a", "threshold"), "n_ref"] == 30
+    assert m.loc[("a", "threshold"), "n_ref"] == 30
+    # issue 66: the 10 rows past a's reference are within 15 rows of a stripe row, so unknown (the fallback rule):
+    # reports there are not false, and no figure counts them as false (the old false_detections was 1.0)
+    assert "false_detections" not in m.columns and "false_detections" not in gate.REAL_TOLERANCES
+    assert m.loc[("a", "threshold"), "n_unknown"] == 10 and m.loc[("a", "threshold"), "n_false"] == 0
+    assert np.isnan(m.loc[("a", "threshold"), "false_report_rate"])
     assert m.loc[("b", "threshold"), "hit_rate"] == 0.0  # the ambient bar, 25 px away
     assert m.loc[("b", "com_bg"), "hit_rate"] == 1.0  # the laser-off frame removes the bar
     assert m.loc[("mean", "threshold"), "hit_rate"] == 0.5
@@ -169,6 +174,31 @@ def test_real_run_folder_metrics_and_gate(tmp_path, capsys):
     res = capsys.readouterr()
     assert "1 regression(s): threshold:hit_rate" in res.err
     assert any(line.startswith("b/threshold/real") and line.endswith("REGRESSED") for line in res.out.splitlines())
+
+
+def test_real_prints_both_halves_and_ranks_by_f1(tmp_path, capsys):
+    """Issue 66: the console and the page show F1 and the false-report rate beside the hit rate; trackers,
+    the per-image table and the worst images rank by F1."""
+    root = _tiny_set(tmp_path / "set")
+    out = tmp_path / "run"
+    assert main(["real", str(root), "--out", str(out), "--trackers", "threshold,com_bg", "--n-boot", "50"]) == 0
+    res = capsys.readouterr()
+    lines = res.out.splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("tracker"))
+    assert "F1" in lines[head] and "false reports" in lines[head] and "hit rate" in lines[head]
+    summary = json.loads((out / "summary.json").read_text())
+    f1 = {lab: summary["trackers"][lab]["detection"]["f1"] for lab in ("threshold", "com_bg")}
+    assert f1["com_bg"] > f1["threshold"]
+    rows = [line.split() for line in lines[head + 1:head + 3]]
+    assert [r[0] for r in rows] == ["com_bg", "threshold"] and float(rows[0][1]) == pytest.approx(f1["com_bg"], abs=1e-3)
+    frr = summary["trackers"]["threshold"]["detection"]["false_report_rate"]
+    assert rows[1][4] == ("–" if np.isnan(frr) else f"{frr:.3f}")
+    assert "hardest photographs (mean F1 over the trackers): b " in res.out  # the bar beats threshold on b
+    assert "F1/false-report rate/hit rate" in res.err
+    page = (out / "report.html").read_text()
+    per_image = page[page.index("<h2>F1 per image</h2>"):page.index("<h2>The worst images")]
+    assert per_image.index(">b<") < per_image.index(">a<")  # the hardest photograph first
+    assert "b: F1 0.00" in page and page.index("<td>com_bg</td>") < page.index("<td>threshold</td>")
 
 
 def test_extra_manifest_columns_are_one_warning_line(tmp_path, capsys):

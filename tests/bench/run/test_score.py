@@ -25,12 +25,12 @@ def _submit(run_dir, fset, tracker, folder, times=False, scores=True):
 
 
 @pytest.fixture(scope="module")
-def scored(tiny_run, tiny_export, tmp_path_factory):
+def scored(tiny_run, tiny_export_dev, tmp_path_factory):
     from bench.run.score import score
 
     tmp = tmp_path_factory.mktemp("score")
-    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export), "dp4", tmp / "mine", times=True)
-    return score(tiny_export, sub, tmp / "run", quiet=True)
+    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export_dev), "dp4", tmp / "mine", times=True)
+    return score(tiny_export_dev, sub, tmp / "run", quiet=True)
 
 
 def _lines(path):
@@ -66,13 +66,13 @@ def test_the_samples_and_statistics_match(tiny_run, scored):
     assert any(i["dp"] == "mine" and i["baseline"] == "threshold" for i in s["improvement"])
 
 
-def test_a_submission_without_scores_gets_its_operating_points_figures(tiny_run, tiny_export, tmp_path):
+def test_a_submission_without_scores_gets_its_operating_points_figures(tiny_run, tiny_export_dev, tmp_path):
     import pandas as pd
 
     from bench.run.score import score
 
-    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export), "dp4", tmp_path / "plain", scores=False)
-    m = pd.read_csv(score(tiny_export, sub, tmp_path / "run", quiet=True) / "metrics.csv")
+    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export_dev), "dp4", tmp_path / "plain", scores=False)
+    m = pd.read_csv(score(tiny_export_dev, sub, tmp_path / "run", quiet=True) / "metrics.csv")
     mine, dp4 = m[m["tracker"] == "plain"], m[m["tracker"] == "dp4"]
     assert mine["ap_constant"].all() and not dp4["ap_constant"].all()
     assert mine["ap"].to_numpy() == pytest.approx((mine["recall"] * mine["precision"]).to_numpy(), nan_ok=True)
@@ -180,19 +180,26 @@ def test_score_refuses_a_damaged_frame_set_in_one_line(tiny_export, tmp_path, ed
     assert "\n" not in str(err.value)
 
 
-def test_a_submission_scored_alone(tiny_run, tiny_export, tmp_path):
+def test_a_submission_scored_alone(tiny_run, tiny_export_dev, tmp_path):
     import pandas as pd
 
     from bench.run.score import score
 
-    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export), "dp4", tmp_path / "mine")
-    out = score(tiny_export, sub, tmp_path / "run", trackers=(), quiet=True)
+    sub = _submit(tiny_run[0], fs.read_frameset(tiny_export_dev), "dp4", tmp_path / "mine")
+    out = score(tiny_export_dev, sub, tmp_path / "run", trackers=(), quiet=True)
     m = pd.read_csv(out / "metrics.csv")
     assert set(m["tracker"]) == {"mine"}
     run = pd.read_csv(tiny_run[0] / "metrics.csv")
     a = m.drop(columns=["tracker"]).reset_index(drop=True)
     b = run[run["tracker"] == "dp4"].drop(columns=["tracker"]).reset_index(drop=True)
     pd.testing.assert_frame_equal(a, b[a.columns])  # the same figures as dp4's in the run
+    # issue 66: the frame set's built-in trackers never ran, so neither the summary nor a board lists them
+    from bench.report.leaderboard import leaderboard_rows
+
+    s = json.loads((out / "summary.json").read_text())
+    assert s["submission"]["alone"] is True
+    assert {r["tracker"] for r in s["robust"]} == {"mine"} and {r["tracker"] for r in s["detection"]} == {"mine"}
+    assert {r["tracker"] for r in leaderboard_rows([out])} == {"mine"}
     from bench.report.run import build_report
 
     assert build_report(out, quiet=True).is_file()  # the page of a run without built-ins

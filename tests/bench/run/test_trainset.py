@@ -54,7 +54,20 @@ def test_rules_2_draw_levels_per_frame_with_saturated_stripes_and_wide_lines():
     # the two noise draws of an angle differ in level, not only in noise
     assert any(pa[0] != pa[1] for u in units for pa in u["photometry"])
     with pytest.raises(InputError, match="draw rules"):
-        ts.draw_unit(2, 0, draws=3)
+        ts.draw_unit(2, 0, draws=4)
+
+
+def test_rules_3_are_rules_2_with_a_distractor_in_half_the_units():
+    from scenes.distractors import DISTRACTORS
+
+    two = [ts.draw_unit(5, u, draws=2) for u in range(80)]
+    three = [ts.draw_unit(5, u, draws=3) for u in range(80)]
+    assert all({k: v for k, v in b.items() if k != "distractor"} == a for a, b in zip(two, three))
+    kinds = [p.get("distractor") for p in three]
+    assert 0.35 < np.mean([k is not None for k in kinds]) < 0.65
+    assert {k for k in kinds if k} == set(DISTRACTORS[1:])
+    units = ts.plan(6, 2, seed=5, draws=3)  # the scenes accept them
+    assert any("distractor" in u["params"] for u in units)
 
 
 @pytest.mark.slow

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bench.studies.hard_frames import KINDS, argmax_right, hard_frame, hard_frames, plateau_middles
+from bench.studies.hard_frames import DISTRACTORS, KINDS, argmax_right, hard_frame, hard_frames, plateau_middles
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -13,7 +13,8 @@ def test_frames_are_seeded_and_have_stripe_and_stripeless_rows(kind):
     np.testing.assert_array_equal(a.rgb_off, b.rgb_off)
     assert not np.array_equal(a.rgb, hard_frame(kind, 8).rgb)
     assert a.rgb.dtype == np.uint8 and a.rgb.shape[2] == 3 and a.truth.shape == (a.rgb.shape[0],)
-    assert 0.5 < np.isfinite(a.truth).mean() < 1.0
+    # stripe rows and stripe-less ones; the distractor kinds' stripe starts or ends mid-frame
+    assert (0.2 if kind in DISTRACTORS else 0.5) < np.isfinite(a.truth).mean() < (0.85 if kind in DISTRACTORS else 1.0)
     assert a.laser_channel.shape == a.rgb.shape[:2] and a.laser in ("red", "green")
     # the laser-off frame has no stripe: the laser channel is darker on the stripe rows' centres
     rows = np.nonzero(np.isfinite(a.truth))[0]
@@ -40,3 +41,25 @@ def test_every_kind_has_its_look_and_no_other():
     from bench.studies import hard_frames as hf
 
     assert tuple(hf._LOOKS) == hf.KINDS
+
+
+@pytest.mark.parametrize("kind", DISTRACTORS)
+def test_distractor_kinds_hold_their_distractor_in_stripeless_rows(kind):
+    # every seed: a stretch of at least a fifth of the rows without the stripe at the top or the bottom
+    # (the object covers part of the height), and something there that is not dark: the distractor
+    for seed in range(4):
+        f = hard_frame(kind, seed)
+        H = f.truth.size
+        none = ~np.isfinite(f.truth)
+        end = none[: H // 5].all() or none[H - H // 5:].all()
+        assert end, f"{kind} seed {seed}: no stripe-less end"
+        img = f.laser_channel.astype(float)
+        level = np.median(img)
+        assert (img[none].max(axis=1) - level).max() > 25, f"{kind} seed {seed}: nothing in the stripe-less rows"
+
+
+def test_new_kinds_leave_the_old_kinds_frames_as_they_were():
+    # the distractor kinds come after the failure classes in KINDS, so those keep their seeds' frames
+    assert KINDS[:9] == ("printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide",
+                         "thin_faint", "plain", "dim")
+    assert KINDS[9:] == DISTRACTORS

@@ -9,11 +9,11 @@ import pytest
 from bench.cli import main
 
 
-@pytest.fixture(scope="module", params=["transplant", "render"])
-def checked(tmp_path_factory, request):
+@pytest.fixture(scope="module")
+def checked(tmp_path_factory):
     out = tmp_path_factory.mktemp("predictcheck")
-    rc = main(["predictcheck", "--out", str(out), "--profile", "quick", "--grid", "small", "--size", "128",
-               "--trackers", "threshold,dp8", "--frames", request.param, "--quiet"])
+    rc = main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128",
+               "--trackers", "threshold,dp8", "--quiet"])
     assert rc == 0
     return out
 
@@ -21,7 +21,7 @@ def checked(tmp_path_factory, request):
 def test_every_case_frame_is_measured_and_matched_or_named(checked):
     doc = json.loads((checked / "predict_check.json").read_text())
     assert doc["kind"] == "predict_check" and doc["seed"] == 1 and doc["trackers"] == ["threshold", "dp8"]
-    assert doc["frames"] and (doc["grid"] is None) == (doc["procedure"] == "transplant")
+    assert doc["frames"] and doc["size"] == 128 and doc["n_angles"] == 3
     names = [f["name"] for f in doc["frames"]]
     assert len(names) == 2 * 3 and all(f["status"] in ("matched", "out of range") for f in doc["frames"])
     measured = pd.read_csv(checked / "measured.csv")
@@ -55,7 +55,7 @@ def test_false_reports_are_compared_again_on_the_rows_a_photograph_s_reference_s
 def test_predicted_beside_measured_per_case_and_pooled(checked):
     doc = json.loads((checked / "predict_check.json").read_text())
     matched = [f["name"] for f in doc["frames"] if f["status"] == "matched"]
-    assert matched, "no frame of the quick profile matched the small grid"
+    assert matched, "no frame of the quick profile in range"
     predicted = pd.read_csv(checked / "predicted.csv")
     assert sorted(set(predicted["name"])) == sorted(matched)
     assert sorted(doc["pooled"]["photographs"]) == sorted(matched)
@@ -122,7 +122,8 @@ def test_the_laser_channel_gives_the_trackers_the_laser_s_own_channel_and_the_ph
 
 def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_truth():
     from bench.config import profile
-    from bench.studies.predict_check import BAR_OFFSET_PX, case_frames, family_of
+    from bench.studies.predict_check import BAR, case_frames
+    from bench.studies.predict_score import family_of
 
     config = profile("field")
     exp = next(e for e in config.experiments if e.key == "colour-no-filter")
@@ -131,12 +132,12 @@ def test_the_white_bar_stands_beside_the_stripe_in_every_channel_and_leaves_the_
     assert np.array_equal(plain.truth_columns, barred.truth_columns, equal_nan=True)
     added = barred.rgb.astype(float) - plain.rgb.astype(float)
     col = int(np.argmax(added.mean(axis=(0, 2))))
-    assert abs(abs(col - np.nanmedian(plain.truth_columns)) - BAR_OFFSET_PX) <= 1  # beside the stripe
+    assert abs(abs(col - np.nanmedian(plain.truth_columns)) - BAR.offset_px) <= 1  # beside the stripe
     assert added[:, col].min() >= 0 and np.ptp(added[:, col].mean(axis=0)) < 30  # in every channel alike: white
     assert barred.image[:, col].mean() > plain.image[:, col].mean() + 20  # and the trackers see it
     assert family_of({"downscale": 1, "distractor": "white-bar", "rows": "clear"}) == "downscale 1, white-bar"
     with pytest.raises(ValueError,
-                       match="`distractor` must be one of none, white-bar, fringed-bar, rival-fringe, got 'lamp'"):
+                       match="`distractor` must be one of none, white-bar, rival-fringe, got 'lamp'"):
         case_frames(exp, config, seed=1, width=64, height=60, n_angles=1, distractor="lamp")
 
 
@@ -145,7 +146,8 @@ def test_jpeg_frames_are_the_render_compressed_and_their_family_is_named(tmp_pat
     8-bit colour case's every channel); the ``marble-60mw-jpeg`` family sets it; a quality out of 1-95 is refused,
     by the command in one line with status 2."""
     from bench.config import profile
-    from bench.studies.predict_check import JPEG_FAMILY_QUALITY, case_frames, family_of, family_options
+    from bench.studies.predict_check import case_frames, family_options
+    from bench.studies.predict_score import family_of
 
     config = profile("field")
     exp = next(e for e in config.experiments if e.key == "colour-no-filter")
@@ -155,7 +157,7 @@ def test_jpeg_frames_are_the_render_compressed_and_their_family_is_named(tmp_pat
     assert packed.rgb.dtype == np.uint8 and packed.rgb.shape == plain.rgb.shape
     diff = np.abs(packed.rgb.astype(float) - plain.rgb.astype(float))
     assert all(diff[..., c].mean() > 0.2 for c in range(3)) and diff.mean() < 20  # compressed, not another picture
-    assert family_options("marble-60mw-jpeg", {"jpeg_quality": None})["jpeg_quality"] == JPEG_FAMILY_QUALITY == 75
+    assert family_options("marble-60mw-jpeg", {"jpeg_quality": None})["jpeg_quality"] == 75
     doc = {"downscale": 1, "rows": "clear", "profile": "marble", "laser_power_mw": 60.0, "jpeg_quality": 75}
     assert family_of(doc) == "marble: downscale 1, 60 mW, JPEG 75"
     with pytest.raises(ValueError, match="`jpeg_quality` must be an integer 1 .. 95, got 0"):
@@ -167,48 +169,15 @@ def test_jpeg_frames_are_the_render_compressed_and_their_family_is_named(tmp_pat
     assert exc.value.code == 2 and len(err) == 1 and "--jpeg-quality: must be an integer 1 .. 95, got '96'" in err[0]
 
 
-def test_the_fringed_bar_is_the_white_bar_with_a_fringe_that_looks_like_the_laser():
-    """``fringed-bar``: the white bar with the laser's channel displaced FRINGE_PX further from the stripe. Its far side
-    is bright and of the laser's colour, so the laser evidence near it (bench.evaluate.transplant.laser_evidence) is
-    of the stripe's order, where the white bar's is nought: a rival that looks like the laser."""
-    from bench.config import profile
-    from bench.evaluate import transplant as tp
-    from bench.evaluate.pixels import LASER_INDEX, select_channel
-    from bench.run.camera_view import laser_colour
-    from bench.studies.predict_check import BAR_OFFSET_PX, case_frames, family_of
-
-    config = profile("field")
-    exp = next(e for e in config.experiments if e.key == "colour-no-filter")
-    kw = dict(seed=1, width=128, height=120, n_angles=1)
-    _, plain, params = case_frames(exp, config, **kw)[0]
-    frames = {d: case_frames(exp, config, distractor=d, **kw)[0][1] for d in ("white-bar", "fringed-bar")}
-    truth = plain.truth_columns
-    rows = np.flatnonzero(np.isfinite(truth))
-    bar = int(round(np.nanmedian(truth))) + BAR_OFFSET_PX
-    laser = laser_colour(params["laser_wavelength_nm"])
-    li = LASER_INDEX[laser]
-
-    def evidence(rgb, cols):
-        ev = tp.laser_evidence(rgb[..., li].astype(float), select_channel(rgb, "excess", laser))
-        return float(np.median([ev[r, max(c - 2, 0):c + 3].max() for r, c in zip(rows, cols)]))
-
-    stripe = evidence(plain.rgb, np.rint(truth[rows]).astype(int))
-    white = evidence(frames["white-bar"].rgb, np.full(len(rows), bar + 2))
-    fringed = evidence(frames["fringed-bar"].rgb, np.full(len(rows), bar + 2))
-    assert white < 0.2 * fringed and fringed >= 0.5 * stripe  # white: no colour; fringed: like the laser
-    assert np.array_equal(frames["fringed-bar"].truth_columns, truth, equal_nan=True)
-    assert family_of({"downscale": 1, "distractor": "fringed-bar", "rows": "clear"}) == "downscale 1, fringed-bar"
-
-
 def test_the_rival_fringe_carries_its_share_of_the_stripes_laser_evidence():
-    """``rival-fringe``: the white bar kept whole, with a fringe of the laser's colour FRINGE_PX beyond it whose laser
-    evidence is FRINGE_SHARE of the stripe's (stripe_evidence): a rival nearly as like the laser as the stripe, where
-    ``fringed-bar``'s outshines it. The other channels are the white bar's; the truth is the render's."""
+    """``rival-fringe``: the white bar kept whole, with a fringe of the laser's colour ``BAR.fringe_px`` beyond it whose
+    laser evidence is ``BAR.fringe_share`` of the stripe's (stripe_evidence): a rival nearly as like the laser as the
+    stripe. The other channels are the white bar's; the truth is the render's."""
     from bench.config import profile
     from bench.evaluate.pixels import LASER_INDEX
     from bench.run.camera_view import laser_colour
-    from bench.studies.predict_check import (BAR_OFFSET_PX, FRINGE_PX, FRINGE_SHARE, case_frames, family_of,
-                                             stripe_evidence)
+    from bench.studies.predict_check import BAR, case_frames, stripe_evidence
+    from bench.studies.predict_score import family_of
 
     config = profile("field")
     exp = next(e for e in config.experiments if e.key == "colour-no-filter")
@@ -220,9 +189,9 @@ def test_the_rival_fringe_carries_its_share_of_the_stripes_laser_evidence():
     li = LASER_INDEX[laser]
     truth = plain.truth_columns
     stripe = stripe_evidence(plain.rgb, truth, laser)
-    fringe_col = np.where(np.isfinite(truth), round(np.nanmedian(truth) + BAR_OFFSET_PX + FRINGE_PX), np.nan)
+    fringe_col = np.where(np.isfinite(truth), round(np.nanmedian(truth) + BAR.offset_px + BAR.fringe_px), np.nan)
     fringe = stripe_evidence(rival.rgb, fringe_col, laser)
-    assert stripe > 5.0 and abs(fringe - FRINGE_SHARE * stripe) <= 0.1 * stripe, (stripe, fringe)
+    assert stripe > 5.0 and abs(fringe - BAR.fringe_share * stripe) <= 0.1 * stripe, (stripe, fringe)
     assert stripe_evidence(white.rgb, fringe_col, laser) < 0.2 * fringe  # the white bar alone: no colour
     others = [k for k in range(3) if k != li]
     assert np.array_equal(rival.rgb[..., others], white.rgb[..., others])
@@ -232,18 +201,28 @@ def test_the_rival_fringe_carries_its_share_of_the_stripes_laser_evidence():
 
 
 def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own_power_does_not():
-    """``white-core`` (WHITE_CORE_POWER_MW for every case): a colour case's stripe clips white in its core, as in a
-    third of the shipped photographs; at the case's own power it does not. The family is named by its power."""
+    """``white-core`` (50 mW for every case): a colour case's stripe clips white in its core (the laser's channel at
+    the top and another over 0.6 of it), as in a third of the shipped photographs; at the case's own power it does
+    not. The family is named by its power."""
     from bench.config import profile
+    from bench.evaluate.pixels import LASER_INDEX
     from bench.run.camera_view import laser_colour
-    from bench.studies.predict_check import (WHITE_CORE_POWER_MW, case_frames, family_of, family_options,
-                                             white_core_share)
+    from bench.studies.predict_check import case_frames, family_options
+    from bench.studies.predict_score import family_of
+
+    def white_core_share(rgb, columns, laser):  # rows whose brightest laser pixel near the truth is clipped white
+        rows = np.flatnonzero(np.isfinite(columns))
+        li = LASER_INDEX[laser]
+        cols = np.rint(columns[rows]).astype(int)
+        win = np.stack([rgb[rows, np.clip(cols + d, 0, rgb.shape[1] - 1)] for d in range(-3, 4)], axis=1)
+        core = win[np.arange(rows.size), win[..., li].argmax(axis=1)].astype(float)
+        return float(np.mean((core[:, li] >= 253) & (np.delete(core, li, axis=1).max(axis=1) > 0.6 * 255)))
 
     config = profile("field")
     exp = next(e for e in config.experiments if e.key == "board-checker-room")
     kw = dict(seed=1, width=128, height=120, n_angles=1)
     opts = family_options("white-core", {"laser_power_mw": None})
-    assert opts == {"laser_power_mw": WHITE_CORE_POWER_MW}
+    assert opts == {"laser_power_mw": 50.0}
     (_, own, params), = case_frames(exp, config, **kw)
     (_, white, _), = case_frames(exp, config, **kw, **opts)
     laser = laser_colour(params["laser_wavelength_nm"])
@@ -251,34 +230,33 @@ def test_the_white_core_family_clips_the_stripe_s_core_white_where_the_cases_own
     assert white_core_share(own.rgb, own.truth_columns, laser) < 0.05
     assert white_core_share(white.rgb, white.truth_columns, laser) > 0.3
     assert family_of({"downscale": 1, "line_fwhm_mrad": None, "rows": "clear", **opts}) == "downscale 1, 50 mW"
-    too_few = "`columns` must have one entry per row of `rgb` \\(120\\), got shape \\(3,\\)"
-    with pytest.raises(ValueError, match=too_few):
-        white_core_share(white.rgb, np.zeros(3), laser)
 
 
 def test_the_marble_480mw_family_glows_near_the_top_beside_a_clipped_core_where_the_profile_s_own_power_does_not():
-    """``marble-480mw`` (GLOW_POWER_MW for every marble case): the skin sphere's glow beside its clipped core stands
-    near the top (``transplant.glow_rows``), as the shipped ``bb_hand``'s skin does; at the profile's own power the
+    """``marble-480mw`` (480 mW for every marble case): the skin sphere's glow beside its clipped core stands
+    near the top (``rowstates.glow_rows``), as the shipped ``bb_hand``'s skin does; at the profile's own power the
     core does not clip."""
     from bench.config import profile
-    from bench.run.camera_view import laser_colour
-    from bench.evaluate import transplant as tp
+    from bench.evaluate import rowstates as rs
+    from bench.evaluate import stripe as sp
     from bench.evaluate.pixels import LASER_INDEX
-    from bench.studies.predict_check import GLOW_POWER_MW, case_frames, family_of, family_options
+    from bench.run.camera_view import laser_colour
+    from bench.studies.predict_check import case_frames, family_options
+    from bench.studies.predict_score import family_of
 
-    def glowing(case, laser):  # clipped rows along the truth, and the share of them in a glow near the top (ae')
+    def glowing(case, laser):  # clipped rows along the truth, and the share of them in a glow near the top
         a = np.asarray(case.original)
         frame = a[..., LASER_INDEX[laser]] if a.ndim == 3 else a
-        ext = tp.stripe_extents(frame, guide=case.truth_columns)
-        clipped = tp.clipped_peaks(case.original, ext) & np.isfinite(case.truth_columns)
-        glow = clipped & tp.glow_rows(frame, ext)
+        ext = sp.stripe_extents(frame, guide=case.truth_columns)
+        clipped = rs.clipped_peaks(case.original, ext) & np.isfinite(case.truth_columns)
+        glow = clipped & rs.glow_rows(frame, ext)
         return int(clipped.sum()), float(glow.sum() / max(clipped.sum(), 1))
 
     config = profile("marble")
     exp = next(e for e in config.experiments if e.key == "sphere-skin")
     kw = dict(seed=1, width=256, height=240, n_angles=1)  # the cases' size in predictcheck: the glow's reach in px
     opts = family_options("marble-480mw", {"profile": "marble", "laser_power_mw": None})
-    assert opts == {"profile": "marble", "laser_power_mw": GLOW_POWER_MW}
+    assert opts == {"profile": "marble", "laser_power_mw": 480.0}
     (_, own, params), = case_frames(exp, config, **kw)
     (_, bright, _), = case_frames(exp, config, **kw, laser_power_mw=opts["laser_power_mw"])
     laser = laser_colour(params["laser_wavelength_nm"])
@@ -305,32 +283,9 @@ def test_a_laser_power_for_every_case_makes_a_brighter_stripe(capsys):
     assert exc.value.code == 2 and "--laser-power: must be a finite number > 0, got '0'" in capsys.readouterr().err
 
 
-def test_the_truth_as_the_stripe_estimate_moves_the_rendered_stripe_itself(tmp_path):
-    """``--estimate reference`` on renders: each case's truth is the estimate (the ablation of docs/predict.md),
-    so the moved stripe's truth is the render's own truth shifted, on every row the render has one."""
-    from bench.config import profile as load_profile
-    from bench.run import predict as pr
-    from bench.studies.predict_check import case_frames
-
-    config = load_profile("quick")
-    name, case, _ = next(iter(case_frames(config.experiments[0], config, seed=1, width=128, height=120,
-                                          n_angles=pr.N_ANGLES)))
-    photo = pr.Photo(name, tmp_path / name, case.image, None, case.original, reference=case.truth_columns)
-    made = pr.transplant_frames(photo, estimate="reference")
-    assert made
-    for _, truth, _, _, s in made[:pr.N_MOVED]:
-        both = np.isfinite(truth) & np.isfinite(case.truth_columns)
-        assert both.sum() >= 20
-        assert np.median(np.abs(truth[both] - (case.truth_columns[both] + s))) < 1.0
-    out = tmp_path / "pc"
-    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers", "threshold",
-                 "--estimate", "reference", "--quiet"]) == 0
-    assert json.loads((out / "predict_check.json").read_text())["estimate"] == "reference"
-
-
 def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tmp_path, capsys):
     from bench.evaluate.prediction import per_group_error
-    from bench.studies.predict_check import objective
+    from bench.studies.predict_score import objective
 
     doc = json.loads((checked / "predict_check.json").read_text())
     capsys.readouterr()
@@ -350,7 +305,7 @@ def test_predictscore_prints_the_declared_objective_of_finished_runs(checked, tm
 def test_predictscore_min_rows_leaves_out_the_cases_measured_on_few_rows(checked, capsys):
     """``--min-rows N``: the per-case figures without the cases whose frames hold fewer than N measured stripe rows
     (counted from ``measured.csv``); the pooled figures keep them; no case left is one line and status 2."""
-    from bench.studies.predict_check import _read_runs, objective
+    from bench.studies.predict_score import _read_runs, objective
 
     m = pd.read_csv(checked / "measured.csv")
     m = m[m["tracker"] == "threshold"]
@@ -380,7 +335,7 @@ def test_predictscore_min_rows_leaves_out_the_cases_measured_on_few_rows(checked
 def test_a_named_family_sets_its_options_and_a_conflicting_option_is_one_line(tmp_path, capsys):
     """``--family NAME`` sets the family's options (recorded as if given one by one); an option the family sets,
     given otherwise, is one line and status 2."""
-    from bench.studies.predict_check import family_of
+    from bench.studies.predict_score import family_of
 
     out = tmp_path / "plain"
     assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers", "threshold",
@@ -388,7 +343,7 @@ def test_a_named_family_sets_its_options_and_a_conflicting_option_is_one_line(tm
     doc = json.loads((out / "predict_check.json").read_text())
     assert doc["channel"] == "laser" and family_of(doc) == "quick: downscale 1, channel laser"
     capsys.readouterr()
-    for extra in (["--family", "phone", "--downscale", "2"], ["--family", "marble", "--profile", "quick"]):
+    for extra in (["--family", "phone", "--downscale", "2"], ["--family", "marble-480mw", "--profile", "quick"]):
         assert main(["predictcheck", "--out", str(tmp_path / "bad"), "--size", "128", *extra, "--quiet"]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and f"family {extra[1]!r} sets" in err[0]
@@ -401,7 +356,7 @@ def test_every_named_family_is_options_the_command_accepts():
     from bench.config import PROFILES
     from bench.studies.predict_check import CASE_CHANNELS, DEFAULTS, DISTRACTORS, FAMILIES, family_options, study
 
-    assert set(FAMILIES) >= {"native", "phone", "third", "plain", "white-bar", "marble"}
+    assert set(FAMILIES) == {"native", "phone", "plain", "rival-fringe", "white-core", "marble-60mw-jpeg", "marble-480mw"}
     params = inspect.signature(study).parameters
     for name in FAMILIES:
         opts = family_options(name, {k: DEFAULTS[k] for k in FAMILIES[name]})
@@ -428,8 +383,9 @@ def _quick_runs(tmp_path, option: str, values) -> dict:
 def test_the_reference_truth_scores_a_clipped_core_in_a_glow_at_its_true_column_where_the_rule_gives_none():
     """``--truth reference --rows clear``: a row read as seen (a clipped core in a glow, ``seen_states``) has no
     reference column by the rule; it is scored at its true column instead of failing (``row_outcomes`` refuses a
-    stripe row without a column). Found on ``marble-480mw`` in the twenty-first session."""
-    from bench.evaluate import transplant as tp
+    stripe row without a column), as on ``marble-480mw``."""
+    from bench.evaluate import rowstates as rs
+    from bench.evaluate import stripe as sp
     from bench.evaluate.outcomes import STRIPE, referenced_columns, row_outcomes
     from bench.studies.predict_check import scored_columns
 
@@ -440,8 +396,8 @@ def test_the_reference_truth_scores_a_clipped_core_in_a_glow_at_its_true_column_
     img[10:20, 29:32] = 255.0  # its clipped core, 5 DN up: the rule does not see it
     img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
     truth = np.full(40, 30.2)
-    along = tp.stripe_extents(img, guide=truth)
-    states = tp.seen_states(img, truth, tp.clipped_peaks(img, along))
+    along = sp.stripe_extents(img, guide=truth)
+    states = rs.seen_states(img, truth, rs.clipped_peaks(img, along))
     assert (states[10:20] == STRIPE).all() and np.isnan(referenced_columns(img, truth)[10:20]).all()
     cols = scored_columns(img, truth, states, "reference")
     assert np.array_equal(cols[10:20], truth[10:20])  # the true column where the rule gives none
@@ -462,9 +418,10 @@ def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_ref
     from bench.config import parse_trackers_arg
     from bench.config import profile as load_profile
     from bench.evaluate.outcomes import outcome_counts, referenced_columns, referenced_states
-    from bench.run import predict as pr
+    from bench.run import predict_frames as pf
     from bench.run.track import build_trackers
-    from bench.studies.predict_check import case_frames, family_of, study
+    from bench.studies.predict_check import case_frames, study
+    from bench.studies.predict_score import family_of
 
     runs = _quick_runs(tmp_path, "--truth", ("render", "reference"))
     doc, measured, predicted = runs["reference"]
@@ -473,32 +430,43 @@ def test_the_reference_truth_scores_the_measured_side_against_a_photograph_s_ref
     config = load_profile("quick")
     tr = build_trackers(parse_trackers_arg("threshold"))
     name, case, _ = next(iter(case_frames(config.experiments[0], config, seed=1, width=128, height=120,
-                                          n_angles=pr.N_ANGLES)))
+                                          n_angles=3)))
     states = referenced_states(case.image, case.truth_columns)
     cols = referenced_columns(case.image, case.truth_columns)
     assert np.array_equal(np.isfinite(cols), states == 1)  # a column exactly where the rule sees the stripe
-    want = outcome_counts(pr.score_frame(tr, case.image, cols, states=states)["threshold"])
+    want = outcome_counts(pf.score_frame(tr, case.image, cols, states=states)["threshold"])
     got = measured[(measured["experiment"] == name) & (measured["tracker"] == "threshold")].iloc[0]
     assert {k: int(got[k]) for k in want} == want
     with pytest.raises(ValueError, match="`truth` must be one of render, reference"):
         study(out=tmp_path / "bad", truth="photo")
 
 
-def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tmp_path, monkeypatch):
+def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tmp_path):
     """``--rows clear``: the measured side scores the rows where the reference rule sees the true stripe less those
-    where it stands under a fifth of its typical height (:func:`bench.evaluate.transplant.dim_rows` along the truth),
-    as a photograph's reference leaves them out; the prediction is unchanged. The quick profile's stripes stand
-    evenly, so the share is raised here to 0.8 to give the rule rows to leave out."""
+    where it stands under ``dim_share`` of its typical height (:func:`bench.evaluate.rowstates.dim_rows` along the
+    truth), as a photograph's reference leaves them out; the prediction is unchanged. The quick profile's stripes stand
+    evenly, so the share is raised here to 0.8 (a settings object passed to the study) to give the rule rows to leave
+    out."""
     from bench.config import parse_trackers_arg
     from bench.config import profile as load_profile
-    from bench.evaluate import transplant as tp
+    from bench.evaluate import rowstates as rs
+    from bench.evaluate import stripe as sp
     from bench.evaluate.outcomes import STRIPE, UNSURE, outcome_counts, referenced_states
-    from bench.run import predict as pr
+    from bench.run import predict_frames as pf
     from bench.run.track import build_trackers
-    from bench.studies.predict_check import case_frames, family_of, study
+    from bench.evaluate.predict_settings import PredictSettings
+    from bench.studies.predict_check import case_frames, study
+    from bench.studies.predict_score import family_of
 
-    monkeypatch.setattr(tp, "DIM_SHARE", 0.8)
-    runs = _quick_runs(tmp_path, "--rows", ("seen", "clear"))
+    high = PredictSettings(dim_share=0.8)
+    runs = {}
+    for v in ("seen", "clear"):
+        out = tmp_path / v
+        assert study(out=out, profile="quick", size=128, trackers=parse_trackers_arg("threshold"), rows=v, quiet=True,
+                     settings=high) == 0
+        runs[v] = (json.loads((out / "predict_check.json").read_text()), pd.read_csv(out / "measured.csv"),
+                   pd.read_csv(out / "predicted.csv"))
+    assert runs["clear"][0]["settings"]["dim_share"] == 0.8
     doc, measured, predicted = runs["clear"]
     assert doc["rows"] == "clear" and family_of(doc) == "quick: native"
     assert family_of(runs["seen"][0]) == "quick: native, rows seen"
@@ -507,16 +475,16 @@ def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tm
     tr = build_trackers(parse_trackers_arg("threshold"))
     n_dim, n_clipped, names = 0, 0, []
     for name, case, _ in case_frames(config.experiments[0], config, seed=1, width=128, height=120,
-                                     n_angles=pr.N_ANGLES):
+                                     n_angles=3):
         seen = referenced_states(case.image, case.truth_columns)
-        along = tp.stripe_extents(case.image, guide=case.truth_columns)
-        clipped = tp.clipped_peaks(case.original, along)
-        with_clipped = tp.seen_states(case.image, case.truth_columns, clipped)  # a clipped core is seen
+        along = sp.stripe_extents(case.image, guide=case.truth_columns)
+        clipped = rs.clipped_peaks(case.original, along)
+        with_clipped = rs.seen_states(case.image, case.truth_columns, clipped)  # a clipped core is seen
         n_clipped += int(((with_clipped == STRIPE) & (seen != STRIPE)).sum())
-        dim = tp.dim_rows(along, clipped=clipped, guided=True) & (with_clipped == STRIPE)
+        dim = rs.dim_rows(along, clipped=clipped, guided=True, settings=high) & (with_clipped == STRIPE)
         n_dim += int(dim.sum())
         for rows, states in (("seen", seen), ("clear", np.where(dim, UNSURE, with_clipped))):
-            want = outcome_counts(pr.score_frame(tr, case.image, case.truth_columns, states=states)["threshold"])
+            want = outcome_counts(pf.score_frame(tr, case.image, case.truth_columns, states=states)["threshold"])
             m = runs[rows][1]
             got = m[(m["experiment"] == name) & (m["tracker"] == "threshold")].iloc[0]
             assert {k: int(got[k]) for k in want} == want
@@ -531,7 +499,7 @@ def test_clear_rows_leave_the_true_stripe_s_dim_rows_out_of_the_measured_side(tm
 def test_predictscore_against_prints_each_family_s_paired_difference(checked, tmp_path, capsys):
     """``--against``: each run beside the other version's run of its family and seed; a copy whose cases are all
     0.01 further off differs by exactly that, and a run without a partner is one line and status 2."""
-    from bench.studies.predict_check import objective, paired
+    from bench.studies.predict_score import objective, paired
 
     doc = json.loads((checked / "predict_check.json").read_text())
     worse = json.loads(json.dumps(doc))
@@ -567,7 +535,8 @@ def test_a_run_records_its_code_and_two_runs_of_the_same_code_are_not_paired(che
     ``trackers`` and ``scenes``); pairing a run with one made by the same code is one line and status 2 (a candidate
     run from the base's folder, whose paired differences would all be nought), and a run from before runs recorded
     their code still pairs."""
-    from bench.studies.predict_check import code_of_run, paired
+    from bench.studies.predict_check import code_of_run
+    from bench.studies.predict_score import paired
 
     doc = json.loads((checked / "predict_check.json").read_text())
     assert doc["code"] == code_of_run() and len(doc["code"]["fingerprint"]) == 16
@@ -589,7 +558,8 @@ def test_fallback_states_read_both_sides_rows_as_a_reference_without_states(tmp_
     row states is (:func:`bench.evaluate.outcomes.fallback_of`): the stripe rows are the same on each side; the
     measured stripe-less rows change (rows without the laser near the stripe are no longer scored, unseen stretches
     far from it are); the prediction scores every stripe-less row it scored before and more."""
-    from bench.studies.predict_check import family_of, study
+    from bench.studies.predict_check import study
+    from bench.studies.predict_score import family_of
 
     runs = _quick_runs(tmp_path, "--states", ("given", "fallback"))
     (g_doc, g_meas, g_pred), (f_doc, f_meas, f_pred) = runs["given"], runs["fallback"]
@@ -604,3 +574,37 @@ def test_fallback_states_read_both_sides_rows_as_a_reference_without_states(tmp_
     assert (f_pred.eval(none).to_numpy() > g_pred.eval(none).to_numpy()).any()
     with pytest.raises(ValueError, match="`states` must be one of given, fallback, got 'none'"):
         study(out=tmp_path / "bad", states="none")
+
+
+@pytest.mark.parametrize("content", ["[]", "null", '"text"', "3", "[" * 5000 + "]" * 5000, '{"cases": []}',
+                                     '{"cases": {"a": 1}, "pooled": {"f1": 2}}'])
+def test_predictscore_on_a_damaged_result_is_one_line(tmp_path, capsys, content):
+    """A predict_check.json that is a list, null, a string, a number, nested past any sense or of the wrong shape:
+    one line naming the folder, exit 2 (no AttributeError, RecursionError or TypeError)."""
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "predict_check.json").write_text(content)
+    capsys.readouterr()
+    assert main(["predictscore", str(run)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"stripebench predictscore: {str(run)!r} is not a finished predictcheck")
+    assert len(err[0]) < 400
+
+
+def test_predictcheck_refuses_to_replace_another_configuration_s_finished_check(checked, tmp_path, capsys):
+    """--out holding a finished check of another configuration (here another seed) is refused in one line before
+    anything renders; the same configuration again, or --force, writes."""
+    import shutil
+
+    out = tmp_path / "copy"
+    shutil.copytree(checked, out)
+    before = (out / "predict_check.json").read_text()
+    capsys.readouterr()
+    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                 "threshold,dp8", "--seed", "2", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "holds a finished check of another configuration (seed: 1 there, 2 here)" in err[0]
+    assert "use --force" in err[0] and (out / "predict_check.json").read_text() == before
+    assert main(["predictcheck", "--out", str(out), "--profile", "quick", "--size", "128", "--trackers",
+                 "threshold,dp8", "--seed", "2", "--quiet", "--force"]) == 0
+    assert json.loads((out / "predict_check.json").read_text())["seed"] == 2

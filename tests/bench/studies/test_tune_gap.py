@@ -119,3 +119,24 @@ def test_stripebench_tune_dp_gap_runs_the_procedure(tmp_path, capsys):
     # the rule's stage scores the readings of one solve: the same as the tracker made with that rule
     assert (out / "tune_dp_gap.png").stat().st_size > 1000
     assert main(["tune", "dp_gap", "--profile", str(tmp_path / "nope.toml"), "--out", str(out)]) == 2
+
+
+@pytest.mark.slow
+def test_the_stripe_stage_runs_with_the_choices_of_stages_one_and_two(tmp_path, capsys):
+    from bench.cli import main
+
+    path = tmp_path / "p.toml"
+    text = TINY.replace('kinds = ["dim", "printed"]', 'kinds = ["dim", "lamps_leds"]').replace(
+        "[render]", 'stripe_trackers = ["dp8", "dp_gap"]\nstripe_tests = ["none", {}]\n[render]')
+    path.write_text(text)
+    out = tmp_path / "o"
+    assert main(["tune", "dp_gap", "--profile", str(path), "--out", str(out), "--quiet"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert any(x.startswith("stage3 (dp8, dp_gap): chosen stripe_test=") for x in lines)
+    import json
+
+    s = json.loads((out / "summary.json").read_text())
+    assert list(s["stage3"]) == ["stripe_test=none", "stripe_test=defaults"]
+    assert s["chosen"]["stripe_test"] in (None, {})
+    rows = [r.split(",") for r in (out / "tune_gap.csv").read_text().strip().splitlines()[1:] if r.startswith("3,")]
+    assert {r[2] for r in rows} == {"dp8", "dp_gap"} and {r[3] for r in rows} == {"synthetic", "renders"}

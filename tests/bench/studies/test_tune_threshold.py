@@ -45,7 +45,8 @@ def _small_profile(tmp_path, renders=False):
     head, _, tail = text.partition("[render]")
     edits = (("seeds = [100, 101, 102, 103, 104, 105]", "seeds = [100]"),
              ('kinds = ["printed", "noisy_floor", "polished", "daylight", "noisy_sensor", "saturated_wide", "thin_faint", '
-              '"plain",\n         "dim"]', 'kinds = ["dim", "noisy_sensor"]'),
+              '"plain",\n         "dim", "dark_room", "lamps_leds", "window", "skin", "short", "overlay", "lit_sphere"]',
+              'kinds = ["dim", "noisy_sensor"]'),
              ("real = true", "real = false"),
              ('trackers = ["threshold", "centroid", "gauss3", "parabolic", "blais_rioux"]', 'trackers = ["threshold"]'),
              ("k_sigma = [3.0, 4.0, 6.0, 10.0]", "k_sigma = [4.0, 40.0]"),
@@ -85,6 +86,46 @@ def test_a_small_run_writes_its_files_and_chooses_from_its_grid(tmp_path):
     assert summary["chosen"]["k_sigma"] == 4.0
     fig = summary["figures"]["stage1"]["synthetic"]
     assert set(fig) == {"dim", "noisy_sensor", "all"} and 0 <= fig["all"]["false_report_rate"] <= 1
+    # stage 5: the committed profile's stripe-question candidates, "none" (the trackers as they are) first
+    s5 = summary["stage5"]
+    assert list(s5)[:2] == ["stripe_test=none", "stripe_test=defaults"] and len(s5) == 6
+    assert summary["chosen"]["stripe_test"] is None or isinstance(summary["chosen"]["stripe_test"], dict)
+    assert set(summary["figures"]["stage5"]["synthetic"]) == {"dim", "noisy_sensor", "all"}
+    # the stage's "none" is stage 1's choice, asked of the same frames: the same counts for threshold
+    import csv
+
+    with open(out / "tune.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    key1 = "k_sigma=4,prominence=0,min_run={m},width_ratio=none".format(m=summary["chosen"]["min_run"])
+    counts = ("kind", "n_hit", "n_wrong", "n_missed", "n_false", "n_quiet")
+
+    def pick(stage, setting):
+        return sorted(tuple(r[k] for k in counts) for r in rows
+                      if (r["stage"], r["setting"], r["tracker"]) == (stage, setting, "threshold"))
+
+    assert pick("1", key1) and pick("1", key1) == pick("5", "stripe_test=none")
+
+
+def test_the_stripe_stage_is_optional_and_its_candidates_are_checked(tmp_path):
+    from bench.config.tune import stripe_stage
+
+    text = tt.DEFAULT_PROFILE.read_text()
+    assert stripe_stage({}) == ([], [])
+    bad = tmp_path / "bad.toml"
+    start = text.index("stripe_trackers =")
+    end = text.index("\n\n[render]")
+    for new, message in (('stripe_trackers = ["threshold"]', "`stripe_tests` must be given with `stripe_trackers`"),
+                         ('stripe_trackers = ["threshold"]\nstripe_tests = ["none", "none"]', "must not repeat"),
+                         ('stripe_trackers = ["threshold"]\nstripe_tests = [{width_ratio = 0.5}]',
+                          r"`stripe_tests\[0\]`: `stripe_test`: `width_ratio` must be None or a number >= 1"),
+                         ('stripe_trackers = ["threshold"]\nstripe_tests = [{wide = 1}]', "unknown setting"),
+                         ('stripe_trackers = ["dp4x"]\nstripe_tests = ["none"]', "`stripe_trackers` must list")):
+        bad.write_text(text[:start] + new + text[end:])
+        with pytest.raises(ValueError, match=message):
+            tt.load_profile(bad)
+    bad.write_text(text[:start] + text[end:])
+    p = tt.load_profile(bad)
+    assert p.stripe_trackers == [] and p.stripe_tests == []
 
 
 @pytest.mark.slow

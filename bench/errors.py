@@ -23,7 +23,12 @@ True
 
 from __future__ import annotations
 
-__all__ = ["StripebenchError", "ConfigError", "InputError"]
+__all__ = ["StripebenchError", "ConfigError", "InputError", "QUOTE_CHARS", "LINE_CHARS", "quoted", "one_line"]
+
+#: The most characters of one value an error line quotes (a longer one is cut, its length said).
+QUOTE_CHARS = 80
+#: The longest error line printed (a message that quotes a whole file is cut to this).
+LINE_CHARS = 2000
 
 
 class StripebenchError(Exception):
@@ -37,3 +42,37 @@ class ConfigError(StripebenchError, ValueError):
 class InputError(StripebenchError, ValueError):
     """A file that cannot be read as what it should be: not a regular file, not UTF-8, too large,
     nested too deeply, not valid JSON/TOML (:mod:`bench.store.textfiles`)."""
+
+
+def _cut(text: str, limit: int) -> str:
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
+
+
+def quoted(value, limit: int = QUOTE_CHARS) -> str:
+    """``repr(value)`` for an error line, at most about ``limit`` characters of it: what a user gave
+    (a field, a name, an option's value) may be megabytes long.
+
+    Examples
+    --------
+    >>> quoted("frame-1")
+    "'frame-1'"
+    >>> quoted("x" * 10_000_000, limit=5)
+    "'xxxxx'... (10000000 characters)"
+    """
+    if isinstance(value, str):
+        return repr(value) if len(value) <= limit else f"{value[:limit]!r}... ({len(value)} characters)"
+    return _cut(repr(value), limit)
+
+
+def one_line(text, limit: int = LINE_CHARS) -> str:
+    """``text`` as one line of at most about ``limit`` characters (line breaks become spaces): every error
+    line the command line prints goes through this.
+
+    Examples
+    --------
+    >>> one_line("first\\nsecond")
+    'first second'
+    >>> one_line("y" * 50, limit=10)
+    'yyyyyyyyyy... (50 characters)'
+    """
+    return _cut(" ".join(str(text).splitlines()), limit)

@@ -24,12 +24,35 @@ if [ ! -x .venv/bin/stripebench ]; then
 fi
 
 have_llvm19() { ldconfig -p 2>/dev/null | grep -q 'libLLVM\(-19\|\.so\.19\)'; }
+# apt-get "$@", quietly; while another apt or dpkg holds its lock (an unattended upgrade, a second set-up),
+# wait and try again, up to $STRIPEBENCH_SETUP_APT_WAIT_S seconds (default 120). On failure apt_said holds
+# the last two lines apt printed, for the one line that says why.
+apt_said=""
+apt_try() {
+    local waited=0 wait_s=${STRIPEBENCH_SETUP_APT_WAIT_S:-120} out
+    while :; do
+        if out=$(apt-get "$@" 2>&1); then
+            return 0
+        fi
+        if printf '%s\n' "$out" | grep -qi 'could not get lock\|unable to acquire\|is another process using it'; then
+            if [ "$waited" -lt "$wait_s" ]; then
+                [ "$waited" = 0 ] && echo "setup: apt is busy (another apt or dpkg holds its lock); waiting up to ${wait_s} s"
+                sleep 2
+                waited=$((waited + 2))
+                continue
+            fi
+        fi
+        apt_said=$(printf '%s\n' "$out" | grep -v '^[[:space:]]*$' | tail -n 2 | tr '\n' ' ' | sed 's/ *$//')
+        return 1
+    done
+}
 if ! have_llvm19; then
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
         echo "setup: installing libllvm19 (for Mitsuba's LLVM variants)"
-        (apt-get install -y -qq libllvm19 >/dev/null 2>&1 \
-            || (apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq libllvm19 >/dev/null 2>&1)) \
-            || echo "setup: could not install libllvm19; rendering will use a slower Mitsuba variant"
+        if ! { apt_try install -y -qq libllvm19 || { apt_try update -qq && apt_try install -y -qq libllvm19; }; }; then
+            echo "setup: could not install libllvm19 (apt-get: ${apt_said:-no message}); rendering will use a" \
+                 "slower Mitsuba variant"
+        fi
     else
         echo "setup: libLLVM 19 not found and not root; rendering will use a slower Mitsuba variant" \
              "(install Debian's libllvm19 to speed it up)"

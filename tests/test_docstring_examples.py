@@ -41,7 +41,7 @@ WITHOUT_EXAMPLES = {
     "bench.cli.translucency_profile", "bench.cli.tune", "bench.cli.info", "bench.cli.real", "bench.cli.run", "bench.cli.studies", "bench.cli.submit",
     "bench.cli.sweep", "bench.cli.train", "bench.config.profiles", "bench.evaluate", "bench.evaluate._ap_kernel",
     "bench.evaluate.triangulation", "bench.report", "bench.report.simreal", "bench.report.sweep",
-    "bench.run", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",
+    "bench.run", "bench.run.cluster", "bench.run.plan", "bench.run.real", "bench.run.scan", "bench.run.score",
     "bench.run.sweep", "bench.store", "bench.store.figdata", "bench.studies",
     "bench.studies.estimators", "bench.studies.field_sheet", "bench.studies.perf", "bench.studies.perf.lit",
     "bench.studies.perf.mis", "bench.studies.perf.scenes", "bench.studies.perf.shiny", "bench.studies.perf.sweep",

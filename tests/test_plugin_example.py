@@ -57,7 +57,7 @@ def test_the_example_plugin_is_listed_and_passes_the_conformance_suite(installed
     out = subprocess.run([sys.executable, "-m", "bench.cli", "trackers", "--json"], capture_output=True, text=True,
                          env=installed, cwd=REPO, check=True)
     table = {t["name"]: t for t in json.loads(out.stdout)}
-    assert table["example_peak"]["params"] == {"min_dn": 20.0} and table["example_peak"]["subpixel"] is True
+    assert table["example_peak"]["params"] == {"min_contrast": 0.1} and table["example_peak"]["subpixel"] is True
     code = ("import trackers; from trackers.testing import check_tracker; "
             "check_tracker(trackers.make('example_peak')); print('ok')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=installed, cwd=REPO)

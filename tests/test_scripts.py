@@ -303,3 +303,46 @@ def test_make_real_set_reads_the_fh_guides_off_the_laser_off_difference():
         assert mod.difference_guide(on, off, "red", skip_cols=skip[name]) == guides[name]["segments"], name
     on = real.read_image(mod.DATA / "fh_left0.png")
     assert mod.difference_guide(on, on, "red") == []  # no difference, no guide
+
+
+def _fake_apt(tmp_path, script: str) -> dict:
+    """A PATH where ``ldconfig`` finds no LLVM, ``id -u`` says root and ``apt-get`` runs ``script`` (bash; ``$n``:
+    how many times it has run), and a ``PYTHON`` that stops the set-up right after the LLVM step."""
+    bin_ = tmp_path / "bin"
+    bin_.mkdir()
+    (bin_ / "ldconfig").write_text("#!/bin/sh\nexit 0\n")
+    (bin_ / "id").write_text("#!/bin/sh\necho 0\n")
+    (bin_ / "apt-get").write_text(f"#!/bin/bash\nc={tmp_path}/calls; n=$(( $(cat $c 2>/dev/null || echo 0) + 1 ));"
+                                  f" echo $n > $c\n{script}\n")
+    for f in bin_.iterdir():
+        f.chmod(0o755)
+    return {"PATH": f"{bin_}:/usr/bin:/bin", "STRIPEBENCH_SETUP_NEED_MB": "1", "STRIPEBENCH_SETUP_APT_WAIT_S": "4",
+            "PYTHON": "false", "TMPDIR": str(tmp_path)}
+
+
+LOCKED = ('echo "E: Could not get lock /var/lib/dpkg/lock-frontend. It is held by process 4242 (apt-get)" >&2; '
+          'echo "E: Unable to acquire the dpkg frontend lock, is another process using it?" >&2; exit 100')
+
+
+@pytest.mark.parametrize("apt, says, calls", [
+    # the lock is released after two tries: a short wait, then installed
+    (f'if [ $n -le 2 ]; then {LOCKED}; fi; exit 0', ["setup: apt is busy", "setup: installing libllvm19"], 3),
+    # held all along: after the wait, apt's own words
+    (LOCKED, ["could not install libllvm19 (apt-get: E: Could not get lock /var/lib/dpkg/lock-frontend. It is held "
+              "by process 4242 (apt-get) E: Unable to acquire the dpkg frontend lock, is another process using it?)"],
+     None),
+    # not a lock: apt's message at once, after one update and one more try
+    ('echo "E: Unable to locate package libllvm19" >&2; exit 100',
+     ["could not install libllvm19 (apt-get: E: Unable to locate package libllvm19)"], 2),
+])
+def test_setup_says_what_apt_said_and_waits_for_its_lock(tmp_path, apt, says, calls):
+    script = _setup_copy(tmp_path)
+    r = subprocess.run(["bash", str(script)], capture_output=True, text=True, env=_fake_apt(tmp_path, apt),
+                       timeout=120)
+    out = r.stdout + r.stderr
+    for s in says:
+        assert s in out, out
+    if calls == 3:
+        assert "could not install" not in out, out
+    if calls is not None:
+        assert int((tmp_path / "calls").read_text()) == calls, out

@@ -33,7 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["MAX_SAMPLES", "NOISE_SAMPLES", "RUN_STEP_PX", "RUN_SKIP", "RowDetection", "row_statistics", "detect_rows"]
+__all__ = ["MAX_SAMPLES", "NOISE_SAMPLES", "RUN_STEP_PX", "RUN_SKIP", "RowDetection", "row_statistics", "detect_rows",
+           "noise_level"]
 
 #: At most this many pixels of a row enter its median; wider rows are
 #: sampled with a fixed stride.
@@ -270,6 +271,27 @@ class RowDetection:
     score: np.ndarray
 
 
+def noise_level(noise, peak, bg, integral: bool, quantum=None) -> np.ndarray:
+    """The noise a row's contrast is judged against, image units (H,): the pixel noise of
+    :func:`row_statistics` with the quantisation's own (``q**2 / 12``) added, floored at 1e-3 of the
+    frame's range (largest peak minus smallest row median) and at the smallest positive float.
+
+    ``q`` is ``quantum``, or (None) 1 for a frame of whole numbers (``integral``) and 0 otherwise. The sum
+    of squares is formed only below 1e150 (beyond, ``q**2 / 12`` cannot change it), so a frame of values
+    near the float range (a frame times 1e300) does not overflow to an infinite noise.
+
+    >>> noise_level(np.array([0.0, 3.0, 1e300]), np.array([9.0, 9.0, 9.0]), np.zeros(3), True).round(3).tolist()
+    [0.289, 3.014, 1e+300]
+    """
+    q = (1.0 if integral else 0.0) if quantum is None else float(quantum)
+    floor = max(1e-3 * (float(peak.max()) - float(bg.min())), np.finfo(np.float64).tiny)
+    big = 1e150
+    n = np.minimum(noise, big)
+    qq = min(q, big)
+    summed = np.sqrt(n * n + qq * qq / 12.0)
+    return np.maximum(np.where((noise < big) & (q < big), summed, np.maximum(noise, q / math.sqrt(12.0))), floor)
+
+
 def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=None, *, min_run: int = 1,
                 width_ratio=None, quantum=None, ask=None) -> RowDetection:
     """Decide per row whether its brightest pixel is a stripe.
@@ -354,9 +376,7 @@ def detect_rows(image: np.ndarray, k_sigma: float, prominence: float, threshold=
     hi = np.empty(H, np.int64)
     peak, bg, noise, runner = (np.empty(H) for _ in range(4))
     integral = row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
-    q = (1.0 if integral else 0.0) if quantum is None else float(quantum)
-    floor = max(1e-3 * (float(peak.max()) - float(bg.min())), np.finfo(np.float64).tiny)
-    noise = np.maximum(np.sqrt(noise * noise + q * q / 12.0), floor)
+    noise = noise_level(noise, peak, bg, integral, quantum)
     contrast = peak - bg
     if threshold is None:
         hit = (contrast > 0) & (contrast > k_sigma * noise) & (contrast > prominence * (runner - bg))

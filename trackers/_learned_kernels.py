@@ -23,7 +23,8 @@ import numpy as np
 
 from ._detect import _select
 
-__all__ = ["K", "HALF_W", "ROW_OFFSETS", "N_FEATURES", "SCALARS", "frame_stats", "features", "mlp_forward", "decode"]
+__all__ = ["K", "HALF_W", "ROW_OFFSETS", "N_FEATURES", "SCALARS", "DN_MAX", "MIN_SPAN_DN", "BORDER_RUN_PX", "in_dn", "frame_stats",
+           "features", "mlp_forward", "decode"]
 
 K = 6  #: candidates per row
 HALF_W = 5  #: half-width of a candidate's patch, columns
@@ -34,6 +35,12 @@ SCALARS = ("log_snr", "contrast_ratio", "rank", "peak_level", "row_level", "has_
            "subpixel_base", "log_half_width")
 N_FEATURES = 2 * _NP + len(SCALARS)
 _CLIP = 4.0
+DN_MAX = 255.0  #: the network's pixel units: 8-bit digital numbers, 0 .. DN_MAX
+#: a candidate at the first or last column must fall below half its contrast within this many px of the border:
+#: the half of a stripe of up to about 8 px at half maximum (a wider bright band at the border, seen in one row,
+#: is as likely a lit edge of the scene as a stripe, and the patch would not hold its fall)
+BORDER_RUN_PX = 4
+MIN_SPAN_DN = 1.0  #: a frame in [0, DN_MAX] spanning no more than this is not in 8-bit units (a [0, 1] float frame)
 
 
 def frame_stats(signal: np.ndarray, int_range=None) -> tuple[np.ndarray, float]:
@@ -134,7 +141,8 @@ def _median(a, n):
 @nb.njit(cache=True)
 def _candidates(sig, med, K):
     """Per row the K strongest local maxima of the [1, 2, 1]-smoothed signal (contrast over the row median),
-    strongest first: column (the middle of a plateau, floored), contrast, plateau half-length. -1 where none."""
+    strongest first: column (the middle of a plateau, floored), contrast, plateau half-length. -1 where none.
+    Only columns 1 .. W - 2 (the first and last columns: :func:`_border_candidates`)."""
     H, W = sig.shape
     cols = np.full((H, K), -1, np.int64)
     con = np.zeros((H, K))
@@ -175,17 +183,61 @@ def _candidates(sig, med, K):
 
 
 @nb.njit(cache=True)
+def _border_candidates(sig, med, max_run):
+    """Per row a candidate at the first column (slot 0) and at the last (slot 1), or -1: a maximum of the
+    [1, 2, 1]-smoothed signal that lies on the border (above the one neighbour, or a plateau from the border
+    that then falls), above the row median, whose raw signal falls below half its contrast within
+    ``max_run`` px of the border. Seen mirrored about the border pixel it is a peak centred there: column
+    (the border's), contrast, plateau half-length (mirrored: the plateau's whole length from the border)."""
+    H, W = sig.shape
+    cols = np.full((H, 2), -1, np.int64)
+    con = np.zeros((H, 2))
+    plat = np.zeros((H, 2))
+    if W < 3:
+        return cols, con, plat
+    sm = np.empty(W)
+    for r in range(H):
+        for j in range(W):
+            a = sig[r, j - 1] if j > 0 else sig[r, j]
+            b = sig[r, j + 1] if j < W - 1 else sig[r, j]
+            sm[j] = 0.25 * a + 0.5 * sig[r, j] + 0.25 * b
+        for side in range(2):
+            e = 0 if side == 0 else W - 1
+            step = 1 if side == 0 else -1
+            k = 0  # the plateau's length beyond the border pixel
+            while k + 1 < W - 1 and sm[e + step * (k + 1)] == sm[e]:
+                k += 1
+            nxt = e + step * (k + 1)
+            c = sm[e] - med[r]
+            if not (sm[nxt] < sm[e] and c > 0):
+                continue
+            half = med[r] + 0.5 * c
+            run = 0
+            while run < W and sig[r, e + step * run] > half:
+                run += 1
+            if run > max_run:
+                continue
+            cols[r, side] = e
+            con[r, side] = c
+            plat[r, side] = float(k)
+    return cols, con, plat
+
+
+@nb.njit(cache=True)
 def _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif, noise_sig, cols, con, plat,
-              offsets, half_w, out, base):
+              offsets, half_w, n_inner, out, base):
+    """Feature vectors of the candidates ``cols`` (H, n_inner + border slots): the first ``n_inner`` per row
+    are the inner ones (ranked by contrast), the rest at the first or last column, seen mirrored about it."""
     H, W = img.shape
-    Kc = cols.shape[1]
+    Kc = n_inner
     nw = 2 * half_w + 1
     nr = 1 + 2 * offsets.shape[0]
     npatch = nr * nw
     for r in range(H):
-        cmax = con[r, 0]
-        for q in range(Kc):
+        cmax = con[r, 0] if cols[r, 0] >= 0 else 0.0
+        for q in range(cols.shape[1]):
             c = cols[r, q]
+            edge = q >= Kc  # a border candidate: columns beyond the border mirror those inside
             f = out[r, q]
             if c < 0:
                 for i in range(f.shape[0]):
@@ -197,9 +249,10 @@ def _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif, noi
             if plat[r, q] > 0:
                 b0 = c + (plat[r, q] - np.floor(plat[r, q]))
             else:
-                lo = sig[r, c - 1] - smed[r] if c > 0 else 0.0
+                # at the first or last column the missing neighbour mirrors the other: the fit stays on that pixel
+                lo = sig[r, c - 1] - smed[r] if c > 0 else (sig[r, c + 1] - smed[r] if W > 1 else 0.0)
                 mi = sig[r, c] - smed[r]
-                hi = sig[r, c + 1] - smed[r] if c < W - 1 else 0.0
+                hi = sig[r, c + 1] - smed[r] if c < W - 1 else (sig[r, c - 1] - smed[r] if W > 1 else 0.0)
                 b0 = float(c)
                 if lo > 0 and mi > 0 and hi > 0:
                     dd = np.log(lo) - 2.0 * np.log(mi) + np.log(hi)
@@ -217,7 +270,10 @@ def _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif, noi
                         f[i] = 0.0
                     continue
                 for jj in range(nw):
-                    j = min(max(c - half_w + jj, 0), W - 1)
+                    j = c - half_w + jj
+                    if edge:
+                        j = abs(j) if j < 0 else (2 * (W - 1) - j if j > W - 1 else j)
+                    j = min(max(j, 0), W - 1)
                     if ch == 0:
                         v0 = img[r, j] - imed[r]
                     else:
@@ -241,8 +297,17 @@ def _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif, noi
             s = 2 * npatch
             ci = img[r, c] - imed[r]
             f[s + 0] = np.log1p(max(ci, 0.0) / noise_img)
-            f[s + 1] = con[r, q] / cmax if cmax > 0 else 0.0
-            f[s + 2] = q / Kc
+            if edge:  # ranked among the inner candidates as its contrast would be
+                rank = 0
+                for i in range(Kc):
+                    if cols[r, i] >= 0 and con[r, i] >= con[r, q]:
+                        rank += 1
+                top = max(cmax, con[r, q])
+                f[s + 1] = con[r, q] / top if top > 0 else 0.0
+                f[s + 2] = min(rank, Kc - 1) / Kc
+            else:
+                f[s + 1] = con[r, q] / cmax if cmax > 0 else 0.0
+                f[s + 2] = q / Kc
             f[s + 3] = min(max(img[r, c] / 255.0, -2.0), 2.0)
             f[s + 4] = min(max(imed[r] / 255.0, -2.0), 2.0)
             f[s + 5] = 1.0 if has_bg else 0.0
@@ -256,7 +321,10 @@ def _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif, noi
             rgt = c
             while rgt < W - 1 and sig[r, rgt + 1] > half:
                 rgt += 1
-            f[s + 8] = np.log1p(0.5 * (rgt - lft + 1))
+            width = rgt - lft + 1
+            if edge:  # the run from the border, mirrored about the border pixel
+                width = 2 * width - 1
+            f[s + 8] = np.log1p(0.5 * width)
 
 
 def _is_8bit(a) -> bool:
@@ -266,12 +334,53 @@ def _is_8bit(a) -> bool:
     return bool(a.size and a.min() >= 0 and a.max() <= 255 and np.array_equal(a, np.floor(a)))
 
 
+def in_dn(image: np.ndarray, background: np.ndarray | None = None):
+    """A frame (and its laser-off frame) in the network's units, 8-bit DN: (image, background) as float64.
+
+    A pair of 8-bit values (whole numbers in [0, :data:`DN_MAX`]: uint8 frames and copies of them) is
+    returned as it is, and so is a pair of other values in [0, DN_MAX] that spans more than
+    :data:`MIN_SPAN_DN` (the colour views of an 8-bit photograph, what every training frame is). Any
+    other pair (a 16-bit or 12-bit frame, a float frame in [0, 1], negative values, a frame times
+    1e300 or 1e-300) is mapped by one affine map onto [0, DN_MAX], its smallest value to 0 and its largest
+    to DN_MAX (a constant pair to 0): the trackers of the threshold family judge each row by its own
+    statistics, so the scale and offset of the pixel values do not matter to them, and this makes them not
+    matter to the network either.
+
+    >>> img = np.array([[0.0, 0.5, 1.0]])
+    >>> in_dn(img)[0].tolist(), in_dn(img * 255)[0].tolist(), in_dn(img * 65535 - 300)[0].tolist()
+    ([[0.0, 127.5, 255.0]], [[0.0, 127.5, 255.0]], [[0.0, 127.5, 255.0]])
+    """
+    return _in_dn(image, background)[:2]
+
+
+def _in_dn(image, background):
+    """:func:`in_dn`, and whether the pair holds 8-bit values (whole numbers in [0, DN_MAX])."""
+    whole = _is_8bit(image) and (background is None or _is_8bit(background))
+    img = np.asarray(image, dtype=np.float64)
+    bg = None if background is None else np.asarray(background, dtype=np.float64)
+    pair = (img,) if bg is None else (img, bg)
+    lo = min(float(a.min()) for a in pair)
+    hi = max(float(a.max()) for a in pair)
+    if whole or (0.0 <= lo and hi <= DN_MAX and hi - lo > MIN_SPAN_DN):
+        return img, bg, whole
+    if not hi > lo:
+        return np.zeros_like(img), None if bg is None else np.zeros_like(bg), False
+    with np.errstate(over="ignore"):
+        span = hi - lo
+    if np.isfinite(span):
+        scale = DN_MAX / span
+        return (*(None if a is None else np.clip((a - lo) * scale, 0.0, DN_MAX) for a in (img, bg)), False)
+    scale = DN_MAX / (0.5 * hi - 0.5 * lo)  # a span beyond the float range: halves
+    return (*(None if a is None else np.clip((0.5 * a - 0.5 * lo) * scale, 0.0, DN_MAX) for a in (img, bg)), False)
+
+
 def features(image: np.ndarray, background: np.ndarray | None = None, k: int = K):
     """Every candidate's feature vector.
 
     Parameters
     ----------
     image : ndarray (H, W)
+        Any real pixel values: first put in the network's units (:func:`in_dn`).
     background : ndarray (H, W) or None
         The laser-off frame; candidates are then found on the difference.
     k : int
@@ -279,18 +388,20 @@ def features(image: np.ndarray, background: np.ndarray | None = None, k: int = K
 
     Returns
     -------
-    feats : ndarray float32 (H, k, N_FEATURES)
-    cols : ndarray int64 (H, k)
-        Candidate columns (-1: no candidate).
-    base : ndarray float64 (H, k)
+    feats : ndarray float32 (H, k + 2, N_FEATURES)
+    cols : ndarray int64 (H, k + 2)
+        Candidate columns (-1: no candidate): the ``k`` strongest inner maxima, then a candidate at the
+        first column and one at the last (:data:`BORDER_RUN_PX`), whose patches mirror the frame about
+        the border pixel (a stripe cut in half by the border, seen whole).
+    base : ndarray float64 (H, k + 2)
         The sub-pixel base column of each candidate (NaN: none).
     """
-    img = np.ascontiguousarray(image, dtype=np.float64)
-    has_bg = background is not None
     # 8-bit frames (or float copies of them): row medians by counting, the very numbers np.median gives
-    whole = _is_8bit(image) and (not has_bg or _is_8bit(background))
+    img, background, whole = _in_dn(image, background)
+    img = np.ascontiguousarray(img)
+    has_bg = background is not None
     if has_bg:
-        dif = img - np.asarray(background, dtype=np.float64)
+        dif = img - background
         sig = dif
     else:
         dif = np.zeros((1, 1))
@@ -302,11 +413,13 @@ def features(image: np.ndarray, background: np.ndarray | None = None, k: int = K
         dmed, noise_dif = np.zeros(img.shape[0]), 1.0
     smed, noise_sig = (dmed, noise_dif) if has_bg else (imed, noise_img)
     cols, con, plat = _candidates(sig, smed, k)
+    bcols, bcon, bplat = _border_candidates(sig, smed, BORDER_RUN_PX)
+    cols, con, plat = np.hstack([cols, bcols]), np.hstack([con, bcon]), np.hstack([plat, bplat])
     H = img.shape[0]
-    out = np.empty((H, k, N_FEATURES), np.float32)
-    base = np.empty((H, k))
+    out = np.empty((H, k + 2, N_FEATURES), np.float32)
+    base = np.empty((H, k + 2))
     _features(img, imed, dif, dmed, has_bg, sig, smed, noise_img, noise_dif,
-              noise_sig, cols, con, plat, np.asarray(ROW_OFFSETS, np.int64), HALF_W, out, base)
+              noise_sig, cols, con, plat, np.asarray(ROW_OFFSETS, np.int64), HALF_W, k, out, base)
     return out, cols, base
 
 

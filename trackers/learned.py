@@ -20,18 +20,24 @@ The forward pass is numpy and numba only.
 
 from __future__ import annotations
 
+import errno
+import io
 import json
+import os
+import stat
+import zipfile
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from ._base import Track, Tracker
-from ._params import Real
+from ._params import Int, Real
 from ._stripe import StripeSettings, answer
 
-__all__ = ["LearnedTracker", "FORMAT_VERSION", "DEFAULT_WEIGHTS", "WeightsError", "load_weights", "weights_info",
-           "PARAM_KEYS", "candidates", "choose"]
+__all__ = ["LearnedTracker", "FORMAT_VERSION", "DEFAULT_WEIGHTS", "WeightsError", "load_weights", "check_weights",
+           "weights_info", "PARAM_KEYS", "WEIGHT_SCALARS", "MAX_WEIGHTS_BYTES", "MAX_ARRAY_BYTES", "MAX_HIDDEN",
+           "candidates", "choose"]
 
 FORMAT_VERSION = 1
 DEFAULT_WEIGHTS = Path(__file__).resolve().parent / "models" / "learned.npz"
@@ -51,53 +57,221 @@ class _WeightsPath:
 
 
 class WeightsError(ValueError):
-    """A weights file that cannot be used; ``str(err)`` is one line naming the file."""
+    """A weights file that cannot be used; ``str(err)`` is one line naming the file and, where one is at
+    fault, the key."""
+
+
+#: The largest weights file read, bytes (the committed one is about 33 kB).
+MAX_WEIGHTS_BYTES = 64 * 2**20
+#: The largest total size of a weights file's arrays once uncompressed, bytes (a zip bomb is refused).
+MAX_ARRAY_BYTES = 256 * 2**20
+#: The largest hidden layer a weights file may declare (the committed network: 32 and 16).
+MAX_HIDDEN = 4096
+#: What each scalar of a weights file must be: key -> (kind, constraint); ``kind`` "int" or "real"
+#: (a 0-d array of integers, or of real numbers), or "json" (a 0-d string holding JSON). Keys marked
+#: optional may be absent (the chain's costs came with the third weights; 0 without them).
+WEIGHT_SCALARS = {
+    "format_version": ("int", Int()),
+    "layout": ("json", None),
+    "threshold": ("real", Real(low=0, high=1)),
+    "k": ("int", Int(low=1, high=64)),
+    "jump_cost": ("real", Real(low=0, high=1e6, optional=True)),
+    "switch_cost": ("real", Real(low=0, high=1e6, optional=True)),
+    "provenance": ("json", None),
+}
+_OPTIONAL = ("jump_cost", "switch_cost", "provenance")
+
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
 
 
 def load_weights(path=None) -> dict:
     """The network of a weights file (default :data:`DEFAULT_WEIGHTS`): ``PARAM_KEYS`` as float32 arrays,
-    ``threshold`` (float), ``k`` (candidates per row) and ``provenance`` (dict).
+    ``threshold`` (float), ``k`` (candidates per row), ``jump_cost``, ``switch_cost`` and ``provenance`` (dict).
+
+    The whole file is checked before it is used (:func:`check_weights`): a regular file (a FIFO, a device
+    or a folder is refused without waiting), at most :data:`MAX_WEIGHTS_BYTES`, an ``.npz`` archive whose
+    every key is present and of its kind, the network's shapes consistent with each other and with the
+    features this code computes, every number finite, the scalars within :data:`WEIGHT_SCALARS`.
 
     Raises
     ------
     WeightsError
-        Missing or unreadable file, another format version, a network of another shape, or features
-        of another layout than :mod:`trackers._learned_kernels` computes (one line).
+        One line naming the file and the key at fault.
     """
     p = Path(DEFAULT_WEIGHTS if path is None else path)
-    return _load(str(p.resolve()), p.stat().st_mtime_ns if p.exists() else 0)
+    try:
+        st = os.stat(p)
+        stamp = (st.st_mtime_ns, st.st_size, st.st_ino)
+    except OSError:
+        stamp = None  # _load says why
+    except ValueError as exc:  # an embedded NUL byte
+        raise WeightsError(f"cannot read learned weights {str(p)!r}: {exc}") from None
+    return _load(str(p.absolute()), stamp)
+
+
+def _short(exc: BaseException, limit: int = 160) -> str:
+    """An exception as ``Type: its first line``, at most ``limit`` characters of it."""
+    text = (str(exc).splitlines() or [""])[0]
+    text = text if len(text) <= limit else text[:limit] + "..."
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def _read_bytes(path: str) -> bytes:
+    """The bytes of the regular file ``path`` (never blocks on a FIFO)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        reason = "no such file" if exc.errno == errno.ENOENT else (exc.strerror or str(exc))
+        raise WeightsError(f"cannot read learned weights {path!r}: {reason}") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+            raise WeightsError(f"learned weights {path!r} are not a regular file ({kind})")
+        if st.st_size > MAX_WEIGHTS_BYTES:
+            raise WeightsError(f"learned weights {path!r} are too large ({st.st_size} bytes; at most "
+                               f"{MAX_WEIGHTS_BYTES})")
+        with os.fdopen(fd, "rb", closefd=True) as fh:
+            fd = -1
+            data = fh.read(MAX_WEIGHTS_BYTES + 1)
+    except OSError as exc:
+        raise WeightsError(f"cannot read learned weights {path!r}: {exc.strerror or exc}") from None
+    finally:
+        if fd >= 0:
+            os.close(fd)
+    if len(data) > MAX_WEIGHTS_BYTES:
+        raise WeightsError(f"learned weights {path!r} are too large (more than {MAX_WEIGHTS_BYTES} bytes)")
+    return data
+
+
+def _read_arrays(path: str, data: bytes) -> dict:
+    """Every array of an ``.npz`` archive's bytes."""
+    if not data:
+        raise WeightsError(f"learned weights {path!r} are an empty file, not an .npz archive")
+    if data.startswith(b"\x93NUMPY"):
+        raise WeightsError(f"learned weights {path!r} are one .npy array, not an .npz archive of named arrays "
+                           "(stripebench train writes them)")
+    if not data.startswith(b"PK"):
+        raise WeightsError(f"learned weights {path!r} are not an .npz archive (not a zip file)")
+    try:
+        with zipfile.ZipFile(io.BytesIO(data)) as zf:
+            total = sum(info.file_size for info in zf.infolist())
+        if total > MAX_ARRAY_BYTES:
+            raise WeightsError(f"learned weights {path!r} hold {total} bytes of arrays once uncompressed (at most "
+                               f"{MAX_ARRAY_BYTES})")
+        with np.load(io.BytesIO(data), allow_pickle=False) as z:
+            names = list(z.files)
+            out = {}
+            for key in names:
+                try:
+                    out[key] = z[key]
+                except Exception as exc:  # noqa: BLE001 - a damaged member: BadZipFile (CRC), zlib.error, EOFError...
+                    raise WeightsError(f"learned weights {path!r}: `{key}` is unreadable ({_short(exc)})") from None
+    except WeightsError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - a damaged archive: BadZipFile, EOFError, ValueError, OSError...
+        raise WeightsError(f"cannot read learned weights {path!r}: not a readable .npz archive ({_short(exc)})") \
+            from None
+    return out
+
+
+def check_weights(data: dict, path: str = "<weights>") -> dict:
+    """The network of a weights file's arrays (``key -> ndarray``), every key checked; see :func:`load_weights`.
+
+    Raises
+    ------
+    WeightsError
+        ``learned weights 'PATH': `KEY` ...``: a key missing, of another kind (a string where a number
+        belongs, an array where a scalar belongs), a shape that does not fit the others, a NaN or
+        infinite number, a value outside :data:`WEIGHT_SCALARS`, another format version or feature layout.
+    """
+    from . import _learned_kernels as lk
+
+    where = f"learned weights {path!r}"
+    missing = [k for k in (*WEIGHT_SCALARS, *PARAM_KEYS) if k not in data and k not in _OPTIONAL]
+    if missing:
+        raise WeightsError(f"{where} lack {', '.join(f'`{k}`' for k in missing)} (stripebench train writes them)")
+    got = {}
+    for key, (kind, constraint) in WEIGHT_SCALARS.items():
+        if key not in data:
+            got[key] = None
+            continue
+        a = data[key]
+        if a.shape != ():
+            raise WeightsError(f"{where}: `{key}` must be one value, got an array of shape {a.shape}")
+        if kind == "json":
+            if a.dtype.kind != "U":
+                raise WeightsError(f"{where}: `{key}` must be a JSON string, got dtype {a.dtype}")
+            try:
+                got[key] = json.loads(str(a))
+            except (ValueError, RecursionError) as exc:
+                raise WeightsError(f"{where}: `{key}` is not valid JSON ({_short(exc)})") from None
+            continue
+        if a.dtype.kind not in ("iu" if kind == "int" else "iuf"):
+            what = "an integer" if kind == "int" else "a real number"
+            raise WeightsError(f"{where}: `{key}` must be {what}, got dtype {a.dtype}")
+        v = int(a) if kind == "int" else float(a)
+        try:
+            constraint.check(key, v)
+        except ValueError as exc:
+            raise WeightsError(f"{where}: {exc}") from None
+        got[key] = v
+    if got["format_version"] != FORMAT_VERSION:
+        raise WeightsError(f"{where} have format version {got['format_version']}, this stripebench reads "
+                           f"version {FORMAT_VERSION}: retrain with `stripebench train`")
+    want = feature_layout()
+    if got["layout"] != want:
+        raise WeightsError(f"{where}: `layout` says the network was trained on features "
+                           f"{_clip(got['layout'])}, this code computes {want}")
+    if got["provenance"] is not None and not isinstance(got["provenance"], dict):
+        raise WeightsError(f"{where}: `provenance` must be a JSON object, got {type(got['provenance']).__name__}")
+    net = {}
+    for key in PARAM_KEYS:
+        a = data[key]
+        if a.dtype.kind not in "iuf":
+            raise WeightsError(f"{where}: `{key}` must hold real numbers, got dtype {a.dtype}")
+        with np.errstate(over="ignore"):
+            net[key] = np.ascontiguousarray(a, dtype=np.float32)
+    F = lk.N_FEATURES
+    h1 = net["w1"].shape[1] if net["w1"].ndim == 2 else -1
+    h2 = net["w2"].shape[1] if net["w2"].ndim == 2 else -1
+    shapes = {"mu": (F,), "sd": (F,), "w1": (F, h1), "b1": (h1,), "w2": (h1, h2), "b2": (h2,), "w3": (h2, 2),
+              "b3": (2,)}
+    for key in ("w1", "w2", "w3", "mu", "sd", "b1", "b2", "b3"):  # the layers first: they fix H1 and H2
+        if net[key].shape != shapes[key]:
+            raise WeightsError(f"{where}: `{key}` has shape {net[key].shape}, expected {_shape_rule(key, F)} "
+                               f"(an MLP of {F} features; w1 {data['w1'].shape}, w2 {data['w2'].shape})")
+        if key in ("w1", "w2") and not 1 <= net[key].shape[1] <= MAX_HIDDEN:
+            raise WeightsError(f"{where}: `{key}` has {net[key].shape[1]} columns; a hidden layer has 1 .. "
+                               f"{MAX_HIDDEN}")
+    for key in PARAM_KEYS:
+        bad = int(net[key].size - np.count_nonzero(np.isfinite(net[key])))
+        if bad:
+            raise WeightsError(f"{where}: `{key}` holds {bad} NaN or infinite value(s) (in float32)")
+    if not np.all(net["sd"] > 0):
+        raise WeightsError(f"{where}: `sd` must be > 0 everywhere (the inputs are divided by it), got "
+                           f"{int(np.count_nonzero(~(net['sd'] > 0)))} value(s) <= 0")
+    for a in net.values():
+        a.flags.writeable = False
+    return {**net, "threshold": got["threshold"], "k": got["k"],
+            "jump_cost": got["jump_cost"] or 0.0, "switch_cost": got["switch_cost"] or 0.0,
+            "provenance": got["provenance"] or {}}
+
+
+def _shape_rule(key: str, n_features: int) -> str:
+    return {"mu": f"({n_features},)", "sd": f"({n_features},)", "w1": f"({n_features}, H1)", "b1": "(H1,)",
+            "w2": "(H1, H2)", "b2": "(H2,)", "w3": "(H2, 2)", "b3": "(2,)"}[key]
+
+
+def _clip(value, limit: int = 200) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit] + f"... ({len(text)} characters)"
 
 
 @lru_cache(maxsize=8)
-def _load(path: str, _mtime: int) -> dict:
-    from . import _learned_kernels as lk
-
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            data = {k: z[k] for k in z.files}
-    except (OSError, ValueError) as exc:
-        raise WeightsError(f"cannot read learned weights {path!r}: {exc}") from None
-    version = int(data["format_version"]) if "format_version" in data else None
-    if version != FORMAT_VERSION:
-        raise WeightsError(f"learned weights {path!r} have format version {version}, this stripebench reads "
-                           f"version {FORMAT_VERSION}: retrain with `stripebench train`")
-    missing = [k for k in (*PARAM_KEYS, "threshold", "k", "layout") if k not in data]
-    if missing:
-        raise WeightsError(f"learned weights {path!r} lack {', '.join(missing)}")
-    layout = json.loads(str(data["layout"]))
-    want = feature_layout()
-    if layout != want:
-        raise WeightsError(f"learned weights {path!r} were trained on features {layout}, this code computes {want}")
-    net = {k: np.ascontiguousarray(data[k], dtype=np.float32) for k in PARAM_KEYS}
-    if net["w1"].shape[0] != lk.N_FEATURES or net["w3"].shape[1] != 2:
-        raise WeightsError(f"learned weights {path!r}: a network of input {net['w1'].shape[0]} and output "
-                           f"{net['w3'].shape[1]}, expected {lk.N_FEATURES} and 2")
-    for a in net.values():
-        a.flags.writeable = False
-    prov = json.loads(str(data["provenance"])) if "provenance" in data else {}
-    # the chain's costs (:func:`choose`) came with round 3's operating point; a file without them decides rows alone
-    costs = {k: float(data[k]) if k in data else 0.0 for k in ("jump_cost", "switch_cost")}
-    return {**net, "threshold": float(data["threshold"]), "k": int(data["k"]), **costs, "provenance": prov}
+def _load(path: str, _stamp) -> dict:
+    return check_weights(_read_arrays(path, _read_bytes(path)), path)
 
 
 def feature_layout() -> dict:
@@ -222,6 +396,13 @@ class LearnedTracker(Tracker):
     parameter_constraints = {"threshold": Real(low=0, high=1, optional=True), "weights": _WeightsPath(),
                              "jump_cost": Real(low=0, optional=True), "switch_cost": Real(low=0, optional=True),
                              "stripe_test": StripeSettings()}
+
+    def validate_params(self) -> None:
+        """The parameters' table, then the weights file, checked whole (:func:`load_weights`; a
+        :class:`WeightsError`, a ``ValueError``, naming the file and the key): a configuration naming
+        damaged weights is refused before any frame."""
+        super().validate_params()
+        load_weights(self.weights)
 
     def find_stripe(self, image, background, colour=None):
         net = load_weights(self.weights)

@@ -67,16 +67,14 @@ def estimate_width(image: np.ndarray, k_sigma: float = DEFAULT_K_SIGMA,
     >>> estimate_width(img)
     7.0
     """
-    from ._detect import row_statistics
+    from ._detect import noise_level, row_statistics
 
     H = image.shape[0]
     col, mid, lo, hi = (np.empty(H, np.int64) for _ in range(4))
     peak, bg, noise, runner = (np.empty(H) for _ in range(4))
     integral = row_statistics(image, col, mid, peak, bg, noise, runner, lo, hi)
-    q = (1.0 if integral else 0.0) if quantum is None else float(quantum)
-    floor = max(1e-3 * (float(peak.max()) - float(bg.min())), np.finfo(np.float64).tiny)
     c = peak - bg
-    hit = (c > 0) & (c > k_sigma * np.maximum(np.sqrt(noise * noise + q * q / 12.0), floor)) & \
+    hit = (c > 0) & (c > k_sigma * noise_level(noise, peak, bg, integral, quantum)) & \
         (c > prominence * (runner - bg))
     if not hit.any():
         return FALLBACK_WIDTH

@@ -30,7 +30,7 @@ from ._base import Track, Tracker
 
 __all__ = ["check_tracker", "parametrize_with_checks", "all_checks", "make_stripe_image", "make_ambient_pair",
            "make_score_image", "stripe_profile", "check_background_use", "check_parameter_constraints",
-           "check_score_meaning", "check_colour_use"]
+           "check_score_meaning", "check_colour_use", "check_pixel_range", "check_border_stripe", "PIXEL_RANGES"]
 
 
 def stripe_profile(centre, width: int, sigma_px: float, peak: float) -> np.ndarray:
@@ -183,6 +183,47 @@ def check_dtype_invariance(tracker: Tracker) -> None:
     a = tracker.track(img).columns
     b = tracker.track(img.astype(np.float64)).columns
     assert _same(a, b), f"{_name(tracker)}: uint8 and float64 copies of a frame give different columns"
+
+
+#: The copies of a clear 8-bit frame :func:`check_pixel_range` tracks: other cameras' and pipelines' units.
+PIXEL_RANGES = (
+    ("16-bit (x 257)", lambda a: a.astype(np.uint16) * np.uint16(257)),
+    ("float minus 300", lambda a: a.astype(np.float64) - 300.0),
+    ("float times 1e300", lambda a: a.astype(np.float64) * 1e300),
+    ("float times 1e-300", lambda a: a.astype(np.float64) * 1e-300),
+)
+
+
+def check_pixel_range(tracker: Tracker) -> None:
+    """The same clear stripe in other pixel units (:data:`PIXEL_RANGES`: 16-bit, shifted below zero,
+    scaled to near the largest and the smallest normal floats) is found as
+    :func:`check_synthetic_accuracy` asks of the 8-bit frame: at least 95 % of the rows, within the
+    tracker's accuracy limit. Scale and offset of the pixel values carry no information about where the
+    stripe is."""
+    img, truth = make_stripe_image(seed=3)
+    for what, convert in PIXEL_RANGES:
+        cols = tracker.track(convert(img)).columns
+        reported = int(np.count_nonzero(~np.isnan(cols)))
+        assert reported >= 0.95 * cols.size, (f"{_name(tracker)} reported only {reported} of {cols.size} rows of a "
+                                              f"clear stripe in a {what} frame")
+        _, _, mae, limit = _accuracy(tracker, [(cols, truth)])
+        assert mae <= limit, f"{_name(tracker)}: mean absolute error {mae:.3f} px > {limit} px in a {what} frame"
+
+
+def check_border_stripe(tracker: Tracker) -> None:
+    """A clear stripe centred on the first column, and one on the last, is found in at least 95 % of the
+    rows, each within 1 px (half of it lies outside the frame)."""
+    H, W = 60, 80
+    rng = np.random.default_rng(11)
+    for centre in (0.0, W - 1.0):
+        img = 10.0 + stripe_profile(np.full(H, centre), W, 1.5, 180.0) + rng.normal(0.0, 2.0, (H, W))
+        cols = tracker.track(np.clip(np.rint(img), 0, 255).astype(np.uint8)).columns
+        ok = ~np.isnan(cols)
+        where = "first" if centre == 0 else "last"
+        assert ok.sum() >= 0.95 * H, (f"{_name(tracker)} reported only {int(ok.sum())} of {H} rows of a stripe "
+                                      f"on the {where} column")
+        worst = float(np.max(np.abs(cols[ok] - centre)))
+        assert worst <= 1.0, f"{_name(tracker)}: a stripe on the {where} column tracked {worst:.2f} px off"
 
 
 def check_readonly_input(tracker: Tracker) -> None:
@@ -433,6 +474,8 @@ _CHECKS: tuple[Callable[[Tracker], None], ...] = (
     check_blank_image,
     check_bad_input,
     check_dtype_invariance,
+    check_pixel_range,
+    check_border_stripe,
     check_readonly_input,
     check_no_state_change,
     check_get_params,

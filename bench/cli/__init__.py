@@ -90,7 +90,7 @@ def _os_message(exc: OSError) -> str:
 
 def main(argv=None) -> int:
     """Parse ``argv`` (default ``sys.argv[1:]``) and run the command; returns the exit status."""
-    from bench.errors import StripebenchError
+    from bench.errors import StripebenchError, one_line
 
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
@@ -100,13 +100,19 @@ def main(argv=None) -> int:
             check_variant()
         return int(args.func(args) or 0)
     except StripebenchError as exc:
-        print(f"stripebench: error: {exc}", file=sys.stderr)
+        print(f"stripebench: error: {one_line(exc)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # `stripebench trackers | head`: the reader left
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except OSError as exc:
-        print(f"stripebench: error: {_os_message(exc)}", file=sys.stderr)
+        print(f"stripebench: error: {one_line(_os_message(exc))}", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:  # Python < 3.13: Path.resolve() on a symbolic link that points at itself
+        if not str(exc).startswith("Symlink loop from "):
+            raise
+        print(f"stripebench: error: cannot use {one_line(str(exc)[len('Symlink loop from '):])}: a symbolic link "
+              "loop", file=sys.stderr)
         return 2
     except MemoryError:
         print("stripebench: error: out of memory; use fewer or smaller frames (see docs/errors.md)", file=sys.stderr)

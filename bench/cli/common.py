@@ -122,10 +122,19 @@ def check_env() -> None:
             raise UsageError(f"${var} names a folder this user cannot write: {value!r}")
 
 
-def check_out_folder(out, option: str = "--out") -> None:
-    """``--out`` may be missing (it is created) or a folder, never a file."""
-    if out is not None and Path(out).exists() and not Path(out).is_dir():
+def check_out_folder(out, option: str = "--out", *, inputs=()) -> None:
+    """``--out`` may be missing (it is created) or a folder, never a file; and none of ``inputs`` (pairs
+    ``(what, path)``: the configuration, the data set, the submission) may be the folder or lie inside it,
+    where the command's outputs could overwrite it and ``--force`` would delete it."""
+    if out is None:
+        return
+    if Path(out).exists() and not Path(out).is_dir():
         raise UsageError(f"{option} must be a folder, got {str(out)!r} (a file)")
+    o = Path(out).resolve()
+    for what, path in inputs:
+        if path is not None and (Path(path).resolve() == o or o in Path(path).resolve().parents):
+            raise UsageError(f"{what} {str(path)!r} is inside the output folder {str(out)!r}: the outputs (and "
+                             f"--force, which clears the folder) could overwrite or delete it; choose another {option}")
 
 
 def check_variant() -> None:

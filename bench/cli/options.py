@@ -27,7 +27,7 @@ import re
 from pathlib import Path
 
 from bench.config import MAX_N_BOOT, MIN_N_BOOT, ConfigError, parse_trackers_arg
-from bench.config.options import REAL_DEFAULTS, finite_float, int_in_range, seed_value
+from bench.config.options import MAX_TOL_PX, REAL_DEFAULTS, finite_float, int_in_range, seed_value
 
 __all__ = ["OneLineParser", "HelpFormatter", "arg_type", "add_out", "add_force", "add_quiet", "add_seed",
            "add_trackers", "add_n_boot", "add_tol", "add_frames", "add_estimate", "plain", "first_paragraph"]
@@ -37,7 +37,9 @@ class OneLineParser(argparse.ArgumentParser):
     """argparse with one-line errors (``stripebench: error: ...``, exit status 2)."""
 
     def error(self, message):
-        self.exit(2, f"stripebench: error: {message} (see `{self.prog} -h`)\n")
+        from bench.errors import one_line
+
+        self.exit(2, f"stripebench: error: {one_line(message)} (see `{self.prog} -h`)\n")
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):
@@ -101,10 +103,11 @@ def add_n_boot(parser) -> None:
 
 
 def add_tol(parser) -> None:
-    """``--tol PX``: the hit tolerance of real runs (finite, > 0)."""
-    parser.add_argument("--tol", type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True), "--tol"),
+    """``--tol PX``: the hit tolerance of real runs (finite, > 0, at most :data:`bench.config.options.MAX_TOL_PX`)."""
+    parser.add_argument("--tol", type=arg_type(lambda n, v: finite_float(n, v, low=0, low_open=True, high=MAX_TOL_PX),
+                                               "--tol"),
                         default=REAL_DEFAULTS["tol_px"], metavar="PX",
-                        help=f"hit tolerance in px (finite, > 0; default {REAL_DEFAULTS['tol_px']:g})")
+                        help=f"hit tolerance in px (> 0 and <= {MAX_TOL_PX:g}; default {REAL_DEFAULTS['tol_px']:g})")
 
 
 def plain(text: str) -> str:

@@ -12,6 +12,7 @@ import pathlib
 from bench.cli.common import Command, study_command
 from bench.cli.options import add_seed, add_trackers, arg_type
 from bench.config.options import finite_floats, int_in_range, positive_int, size_value, spp_value
+from bench.errors import ConfigError
 
 __all__ = ["PERF", "COMMAND"]
 
@@ -142,7 +143,10 @@ def lit_options(parser) -> None:
     """The options of ``stripebench perf lit``."""
 
     def sizes(name, text):
-        return [size_value(name, t) for t in str(text).split(",") if t]
+        out = [size_value(name, t) for t in str(text).split(",") if t.strip()]
+        if not out:
+            raise ConfigError(f"{name} must name at least one WIDTHxHEIGHT, got {text!r}")
+        return out
 
     parser.add_argument("--sizes", type=arg_type(sizes, "--sizes"), default=[(128, 120), (256, 240), (512, 480)],
                         metavar="LIST", help="comma-separated image sizes (default 128x120,256x240,512x480)")

@@ -106,8 +106,10 @@ def _real(args) -> int:
     if extra:  # sets made elsewhere carry more columns: listed once, then ignored
         print(f"stripebench real: manifest.csv: ignored column(s): {', '.join(extra)}", file=sys.stderr)
     if args.check:  # one line per problem
+        from bench.errors import one_line
+
         for line in problems:
-            print(f"stripebench real: {line}", file=sys.stderr)
+            print(f"stripebench real: {one_line(line)}", file=sys.stderr)
         if problems:
             return 2
         print(f"stripebench real: {dataset} is a valid real set")
@@ -119,7 +121,7 @@ def _real(args) -> int:
         from bench.store.files import runs_root
 
         args.out = runs_root() / f"real-{dataset.resolve().name}"
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("DATASET", dataset)])
     from bench.report.real import build_real_report, overlay_png
 
     out = run_real(dataset, args.out, specs, tol_px=args.tol, n_boot=args.n_boot, seed=args.seed, quiet=args.quiet,

@@ -57,7 +57,7 @@ def run_config(config, args) -> int:
     if changes:
         config = with_overrides(config, **changes)
     check_env()
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("CONFIG", getattr(args, "config", None))])
     check_real_set(config.real_set, full=True)  # a broken real set is found before any scan, not after
     out = run(config, args.out, progress=not args.quiet, quiet=args.quiet, force=args.force)
     _print_headline(out)

@@ -49,11 +49,12 @@ def _export(args) -> int:
     if args.seed is not None:
         config = with_overrides(config, seed=args.seed)
     check_env()
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("CONFIG", args.config)])
     if args.participants is not None:
+        from bench.run.export import check_bundle_folder
+
         check_out_folder(args.participants, "--participants")
-        if args.participants.resolve() == args.out.resolve():
-            raise UsageError("--participants must be another folder than --out")
+        check_bundle_folder(args.out, args.participants)
     out = export(config, args.out, test_fraction=args.test_fraction, test_seed=args.test_seed, quiet=args.quiet,
                  force=args.force)
     print(f"stripebench: frame set at {out}")
@@ -83,7 +84,7 @@ def _score(args) -> int:
     from bench.run.score import SubmissionError, score
 
     check_env()
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("DATASET", args.dataset), ("SUBMISSION", args.submission)])
     if args.alone and args.trackers is not None:
         raise UsageError("--alone and --trackers exclude each other: --alone runs no built-in tracker")
     try:
@@ -91,8 +92,10 @@ def _score(args) -> int:
                     trackers=() if args.alone else args.trackers,
                     split=args.split, quiet=args.quiet, force=args.force)
     except SubmissionError as exc:
+        from bench.errors import one_line
+
         for line in exc.problems:
-            print(f"stripebench score: {line}", file=sys.stderr)
+            print(f"stripebench score: {one_line(line)}", file=sys.stderr)
         return 2
     if args.no_report:
         print(f"stripebench: results in {out}")

@@ -42,7 +42,7 @@ def _sweep(args) -> int:
     if args.seed is not None:
         config = with_overrides(config, seed=args.seed)
     check_env()
-    check_out_folder(args.out)
+    check_out_folder(args.out, inputs=[("CONFIG", args.config)])
     out = run_sweep(config, sweep, args.out, scheduler=args.scheduler, workers=args.workers, chunk=args.chunk,
                     progress=not args.quiet, quiet=args.quiet, timeout_s=args.timeout, force=args.force)
     from bench.report.sweep import build_report

@@ -87,10 +87,20 @@ def _trainset(args) -> int:
     return 0
 
 
+def default_weights_out(trainset: Path, seed: int) -> Path:
+    """Where ``train`` writes without ``--out``: ``RUNS/learned/<training set's folder>-seed<N>.npz`` (never the
+    shipped weights)."""
+    from bench.store.files import runs_root
+
+    return runs_root() / "learned" / f"{Path(trainset).resolve().name}-seed{seed}.npz"
+
+
 def _add_train(p) -> None:
     p.add_argument("trainset", type=Path, help="a finished training set (stripebench trainset)")
-    p.add_argument("--out", type=Path, default=Path("trackers/models/learned.npz"),
-                   help="weights file (default trackers/models/learned.npz); its curves go beside it as .png")
+    p.add_argument("--out", type=Path, default=None,
+                   help="weights file; its curves go beside it as .png (default: RUNS/learned/TRAINSET-seedN.npz "
+                        "under the runs folder; the shipped trackers/models/learned.npz changes only when named "
+                        "here)")
     p.add_argument("--epochs", type=arg_type(_count, "--epochs"), default=None,
                    help="training epochs (default: HyperParams)")
     add_seed(p, "seed of the initialisation and the batches", default=0)
@@ -116,6 +126,13 @@ def _train(args) -> int:
     if missing:
         raise UsageError(f"stripebench train needs JAX, Flax and Optax ({', '.join(missing)} missing): "
                          "pip install -e '.[learn]'")
+    if args.from_weights is not None:  # checked whole before any work (and before JAX is imported)
+        from trackers.learned import WeightsError, load_weights
+
+        try:
+            load_weights(args.from_weights)
+        except WeightsError as exc:
+            raise UsageError(f"--from-weights: {exc}") from None
     from bench.studies.train import HyperParams, operating_point_from_weights, train_from_trainset
 
     hp = HyperParams(seed=args.seed, views=args.views)
@@ -124,14 +141,10 @@ def _train(args) -> int:
     if args.shrink is not None:
         hp = replace(hp, shrink=args.shrink)
     say = (lambda m: None) if args.quiet else (lambda m: print(m, file=sys.stderr, flush=True))
+    if args.out is None:
+        args.out = default_weights_out(args.trainset, args.seed)
     t0 = time.perf_counter()
     if args.from_weights is not None:
-        from trackers.learned import WeightsError, load_weights
-
-        try:
-            load_weights(args.from_weights)
-        except WeightsError as exc:
-            raise UsageError(str(exc)) from None
         prov = operating_point_from_weights(args.trainset, args.from_weights, args.out, hp=hp, holdout=args.holdout,
                                             say=say)
     else:

@@ -28,10 +28,13 @@ from bench.evaluate.outcomes import HIT_PX
 __all__ = ["positive_int", "int_in_range", "finite_float", "finite_floats", "size_value", "width16_value",
            "names_check", "seed_value", "spp_value",
            "workers_value", "cpu_count", "scheduler_address", "plain_tracker_names", "REAL_DEFAULTS",
-           "SCHEDULER_SCHEMES", "MAX_TIMEOUT_S"]
+           "SCHEDULER_SCHEMES", "MAX_TIMEOUT_S", "MAX_TOL_PX"]
 
 #: Defaults of a real-photograph run (``stripebench real``; a configuration's ``real_set`` uses the same).
 REAL_DEFAULTS = {"tol_px": HIT_PX, "n_boot": 2000, "seed": 0}
+#: The largest hit tolerance of a real run, px: a report farther than this from the reference says nothing of
+#: where the stripe is (a tolerance of 1e30 px would count every report a hit).
+MAX_TOL_PX = 100.0
 #: Address schemes of a Dask scheduler ``--scheduler`` accepts (Dask's protocol uses pickle: trusted schedulers only).
 SCHEDULER_SCHEMES = ("tcp", "tls")
 #: Largest ``--timeout`` (a year, s): beyond it asyncio's timers overflow.

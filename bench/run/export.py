@@ -42,8 +42,8 @@ from bench.store.files import atomic_write_bytes, atomic_write_text, config_hash
 from bench.store.provenance import code_fingerprint, git_revision, versions
 from bench.store.runfolder import RunFolder
 
-__all__ = ["export", "participants_bundle", "test_frame", "TEST_FRACTION", "TEST_JITTER", "TEST_SEED_BITS",
-           "WITHHELD"]
+__all__ = ["export", "participants_bundle", "check_bundle_folder", "test_frame", "TEST_FRACTION", "TEST_JITTER",
+           "TEST_SEED_BITS", "WITHHELD"]
 
 TEST_FRACTION = 0.3  # share of frames held out as `test` (their truth in truth_test/)
 #: A test frame's angle moves by a uniform draw within ± this fraction of its experiment's angle spacing.
@@ -205,6 +205,22 @@ def export(config: Config, out_dir, *, test_fraction: float = TEST_FRACTION, tes
         folder.unlock()
 
 
+def check_bundle_folder(frameset_dir, bundle_dir) -> None:
+    """Refuse a participants' bundle folder that is the frame set's, inside it (the frame set would then
+    hold a copy of itself) or holds it (the bundle would hand out the test truth, and ``--force`` on the
+    bundle would delete the frame set).
+
+    Raises
+    ------
+    bench.store.frameset.FrameSetError
+        One line naming both folders.
+    """
+    a, b = Path(bundle_dir).resolve(), Path(frameset_dir).resolve()
+    if a == b or b in a.parents or a in b.parents:
+        raise fs.FrameSetError(f"the participants' bundle {str(bundle_dir)!r} must be a folder apart from the frame "
+                               f"set {str(frameset_dir)!r} (not it, not inside it, not holding it)")
+
+
 def participants_bundle(frameset, out_dir, *, force: bool = False) -> Path:
     """Copy the frame set ``frameset`` to ``out_dir`` without its test truth: the bundle a
     benchmark's organiser hands out while keeping the test split's truth for scoring.
@@ -227,8 +243,7 @@ def participants_bundle(frameset, out_dir, *, force: bool = False) -> Path:
     if src.meta.get("test_truth") == "withheld":
         raise fs.FrameSetError(f"{str(frameset)!r} is a participants' bundle already (its test truth is withheld)")
     out = Path(out_dir)
-    if out.resolve() == src.root.resolve():
-        raise fs.FrameSetError("the participants' bundle must go to another folder than the frame set")
+    check_bundle_folder(src.root, out)
     folder = RunFolder(out, kind="bundle")
     folder.open({"bundle_of": src.meta["config_hash"], "format": fs.FORMAT}, code_fingerprint(), force=force,
                 say=lambda m: say(m, False))

@@ -22,6 +22,7 @@ import sys
 import time
 from pathlib import Path
 
+from bench.errors import one_line
 from bench.evaluate.loro import rig_figures
 from bench.evaluate.outcomes import COUNT_KEYS, FIGURE_KEYS, HIT_PX, outcome_counts, row_outcomes
 from bench.evaluate.ranking import bootstrap_frames
@@ -141,12 +142,12 @@ def _track_locked(folder, todo, names, trackers, background, pair, channel, lase
             if bg is not None and bg.shape != frame.shape:
                 raise real.ImageError(f"{str(p)!r}: background {bg_name} has shape {bg.shape}, the image {frame.shape}")
         except real.ImageError as exc:
-            print(f"stripebench track: {exc}", file=err)
+            print(f"stripebench track: {one_line(exc)}", file=err)
             failed += 1
             continue
         note = real.orientation_note(p, rotate_deg)
         if note:
-            print(f"stripebench track: {note}", file=err)
+            print(f"stripebench track: {one_line(note)}", file=err)
         res = _track_all(trackers, frame, bg, colour_of(original, laser, rotate_deg))
         tracks = {lab: r[0] for lab, r in res.items()}
         name = names[p]

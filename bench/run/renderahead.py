@@ -6,7 +6,7 @@ machine: the light-traced (``ptracer``) passes of ``specular``, ``polished`` and
 ``glazed`` run on one drjit thread on purpose (bit-reproducibility, see
 :mod:`scenes.backend`), and the Python parts (truth, sensor noise, trackers,
 cache writes) run on one core. :class:`RenderAhead` starts ONE Dask worker
-process (``LocalCluster(n_workers=1, threads_per_worker=1, processes=True)``)
+process (:func:`bench.run.cluster.local_cluster`, one single-threaded worker)
 that renders the run's frames into the render cache (:mod:`scenes.cache`) in
 reverse order, the last experiment's last frame first, skipping frames already
 there, while the run goes through its experiments in order exactly as without
@@ -265,10 +265,11 @@ class RenderAhead:
 
     def _start_cluster(self, jobs, env) -> None:
         try:
-            from dask.distributed import Client, LocalCluster, Variable
+            from dask.distributed import Client, Variable
 
-            self._cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                         dashboard_address=None, env=env, silence_logs=logging.ERROR)
+            from bench.run.cluster import local_cluster
+
+            self._cluster = local_cluster(1, env)
             self._client = Client(self._cluster)
             name = f"stripebench-renderahead-{uuid.uuid4().hex}"
             pos, self._done = Variable(name, self._client), Variable(f"{name}-done", self._client)

@@ -255,7 +255,9 @@ def _execute(units: list[dict], on_result: Callable[[int, dict], None], *, sched
         return {"engine": "sync", "workers": 0}
     import logging
 
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import Client, as_completed
+
+    from bench.run.cluster import local_cluster
 
     cluster = None
     logging.getLogger("distributed").setLevel(logging.ERROR)
@@ -274,8 +276,7 @@ def _execute(units: list[dict], on_result: Callable[[int, dict], None], *, sched
             env = {_variant.ENV_VARIANT: _variant.choose()}
             if os.environ.get(_variant.ENV_LLVM_TARGET):  # and its LLVM target (a configuration's or the user's)
                 env[_variant.ENV_LLVM_TARGET] = os.environ[_variant.ENV_LLVM_TARGET]
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                   dashboard_address=None, env=env, silence_logs=logging.ERROR)
+            cluster = local_cluster(n, env)
             client = Client(cluster, timeout=connect_timeout_s)
     except BaseException:
         if cluster is not None:

@@ -261,8 +261,10 @@ def render_unit(spec: dict[str, Any], root: str) -> list[dict[str, Any]]:
             fid = _frame_id(spec["unit"], i, draw)
             meta_path = root / "images" / f"{fid}.json"
             if meta_path.exists():
-                rows.append(json.loads(meta_path.read_text()))
-                continue
+                row = _frame_record(meta_path)
+                if row is not None:
+                    rows.append(row)
+                    continue
             if "photometry" in spec:  # rules 2: this frame's own level, sensor and camera; the same render
                 scene = _scene({**params, **spec["photometry"][i][draw]})
             elif scene is None:
@@ -288,6 +290,21 @@ def render_unit(spec: dict[str, Any], root: str) -> list[dict[str, Any]]:
     return rows
 
 
+def _frame_record(path: Path) -> dict | None:
+    """A finished frame's record (``images/FRAME.json``), or None when it is damaged (not a JSON object with
+    :data:`FRAME_COLUMNS`): then one line says so and the frame is rendered again."""
+    from bench.store.textfiles import read_json
+
+    try:
+        row = read_json(path, "frame record")
+        if not isinstance(row, dict) or any(k not in row for k in FRAME_COLUMNS):
+            raise InputError(f"frame record {str(path)!r} is not a record of {', '.join(FRAME_COLUMNS)}")
+    except InputError as exc:
+        print(f"stripebench trainset: {exc}: rendering that frame again", file=sys.stderr, flush=True)
+        return None
+    return row
+
+
 def _execute(units, root, *, workers: int | None, scheduler: str | None, say) -> dict:
     if scheduler is None and not workers:
         for k, u in enumerate(units):
@@ -296,7 +313,9 @@ def _execute(units, root, *, workers: int | None, scheduler: str | None, say) ->
         return {"engine": "sync", "workers": 0}
     import logging
 
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import Client, as_completed
+
+    from bench.run.cluster import local_cluster
 
     from scenes import variant as _variant
 
@@ -306,8 +325,7 @@ def _execute(units, root, *, workers: int | None, scheduler: str | None, say) ->
         client = Client(scheduler, timeout=30)
     else:
         env = {_variant.ENV_VARIANT: _variant.choose()}
-        cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=None, env=env, silence_logs=logging.ERROR)
+        cluster = local_cluster(int(workers), env)
         client = Client(cluster, timeout=30)
     try:
         futs = [client.submit(render_unit, u, str(root), pure=False, key=f"trainset-{u['unit']}-{time.time_ns()}")
@@ -348,9 +366,18 @@ def build_trainset(out_dir, *, n_units: int = 40, angles_per_unit: int = 4, seed
     if root.exists() and any(root.iterdir()):
         if not ident_path.exists():
             raise InputError(f"{str(root)!r} holds files but no training set: choose an empty folder")
-        old = json.loads(ident_path.read_text())
+        from bench.store.textfiles import read_json
+
+        try:
+            old = read_json(ident_path, "training-set identity")
+        except InputError as exc:  # the record of which settings made the frames there: never guessed
+            raise InputError(f"{exc}; it says which settings made the frames in {str(root)!r}: restore it, or "
+                             "choose another folder") from None
         if old != identity:
-            raise InputError(f"{str(root)!r} holds a training set of other settings ({old}); choose another folder")
+            from bench.errors import quoted
+
+            raise InputError(f"{str(root)!r} holds a training set of other settings (its trainset.identity.json "
+                             f"says {quoted(old, 400)}); choose another folder")
     for d in ("images", "truth"):
         (root / d).mkdir(parents=True, exist_ok=True)
     atomic_write_text(ident_path, json.dumps(identity, indent=1) + "\n")
@@ -381,14 +408,36 @@ def build_trainset(out_dir, *, n_units: int = 40, angles_per_unit: int = 4, seed
 
 def read_trainset(path) -> tuple[dict, list[dict]]:
     """``trainset.json`` and the rows of ``frames.csv`` of a finished training set."""
+    from bench.store.textfiles import loads_csv, read_json, read_text
+
     root = Path(path)
+    if not (root / "trainset.json").exists():
+        raise InputError(f"{str(root)!r} is not a finished training set: no trainset.json")
     try:
-        doc = json.loads((root / "trainset.json").read_text())
-        rows = list(csv.DictReader(io.StringIO((root / "frames.csv").read_text())))
-    except (OSError, ValueError) as exc:
+        doc = read_json(root / "trainset.json", "training set")
+        header, rows = loads_csv(read_text(root / "frames.csv", "frame list"), str(root / "frames.csv"))
+    except InputError as exc:
         raise InputError(f"{str(root)!r} is not a finished training set: {exc}") from None
-    if doc.get("kind") != "stripebench-trainset" or doc.get("format") != FORMAT:
-        raise InputError(f"{str(root)!r}: a training set of format {doc.get('format')!r}, expected {FORMAT}")
+    if not isinstance(doc, dict) or doc.get("kind") != "stripebench-trainset" or doc.get("format") != FORMAT:
+        got = doc.get("format") if isinstance(doc, dict) else type(doc).__name__
+        raise InputError(f"{str(root)!r}: trainset.json is not a training set of format {FORMAT} (got {got!r})")
+    missing = [c for c in FRAME_COLUMNS if c not in header]
+    if missing:
+        raise InputError(f"{str(root / 'frames.csv')!r}: no column {missing[0]!r} (a training set's frame list has "
+                         f"{', '.join(FRAME_COLUMNS)})")
+    for n, r in enumerate(rows, start=2):
+        try:
+            int(r["unit"]), int(r["height"]), int(r["width"]), float(r["laser_wavelength_nm"])
+            if not 1 <= int(r["height"]) <= fs.MAX_SIDE:
+                raise ValueError
+        except (TypeError, ValueError):
+            raise InputError(f"{str(root / 'frames.csv')!r} line {n}: unit, height, width or laser_wavelength_nm "
+                             "is not a number in range") from None
+        for col in ("image", "background"):
+            rel = Path(r[col] or "")
+            if rel.is_absolute() or ".." in rel.parts or not r[col]:
+                raise InputError(f"{str(root / 'frames.csv')!r} line {n}: {col} {r[col][:80]!r} must be a path "
+                                 "inside the training set")
     return doc, rows
 
 
@@ -412,8 +461,8 @@ def tracker_view(root, row: dict, channel: str = "auto", *,
 
     root = Path(root)
     n = int(downscale)
-    on = shrink(iio.imread(root / row["image"]), n)
-    off = shrink(iio.imread(root / row["background"]), n)
+    on = shrink(_read_png(iio, root / row["image"]), n)
+    off = shrink(_read_png(iio, root / row["background"]), n)
     if on.ndim == 3:
         laser = laser_colour(float(row["laser_wavelength_nm"]))
         ch = laser[0] if channel == "laser" else channel
@@ -422,9 +471,27 @@ def tracker_view(root, row: dict, channel: str = "auto", *,
     return on, off, (truth if n == 1 else downscale_columns(truth, n))
 
 
+def _read_png(iio, path: Path) -> np.ndarray:
+    """A training set's stored frame (one line naming the file if it is missing or damaged)."""
+    if not path.is_file():
+        raise InputError(f"training-set frame {str(path)!r} is missing or not a file")
+    try:
+        return iio.imread(path)
+    except Exception as exc:  # noqa: BLE001 - whatever the decoder raises on a damaged file
+        raise InputError(f"training-set frame {str(path)!r} is unreadable ({type(exc).__name__})") from None
+
+
 def _truth_cols(path: Path, height: int) -> np.ndarray:
+    from bench.store.textfiles import read_text
+
     cols = np.full(height, np.nan)
-    for r in csv.DictReader(io.StringIO(path.read_text())):
-        if r["col"]:
-            cols[int(r["row"])] = float(r["col"])
+    for n, r in enumerate(csv.DictReader(io.StringIO(read_text(path, "truth"))), start=2):
+        try:
+            v = int(r["row"])
+            if not 0 <= v < height:
+                raise ValueError
+            if r["col"]:
+                cols[v] = float(r["col"])
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"truth {str(path)!r} line {n} is malformed") from None
     return cols

@@ -40,8 +40,9 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.errors import quoted
 from bench.store.files import RunFolderError, atomic_write_bytes, atomic_write_text, check_format
-from bench.store.textfiles import loads_csv
+from bench.store.textfiles import loads_csv, read_json, read_text
 
 __all__ = ["FORMAT", "SPLITS", "FRAME_COLUMNS", "TRUTH_COLUMNS", "SUBMISSION_COLUMNS", "TIMES_COLUMNS",
            "FrameSetError", "FrameSet", "Submission", "frame_id", "split_of", "png_bytes", "truth_csv",
@@ -230,13 +231,7 @@ EXPERIMENT_KEYS = {"key": str, "rig": dict, "variant": str, "false_stripes": boo
 def _csv_rows(path: Path, what: str = "") -> list:
     """The rows after the header of the CSV file ``path``; ``FrameSetError`` naming it (after ``what``,
     e.g. ``truth``) when it cannot be read, is not UTF-8 text or is malformed."""
-    label = f"{what} {str(path)!r}".lstrip()
-    try:
-        return loads_csv(path.read_text(encoding="utf-8"), str(path), error=FrameSetError)[1]
-    except OSError as exc:
-        raise FrameSetError(f"cannot read {label}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise FrameSetError(f"{label}: not UTF-8 text (byte {exc.start})") from None
+    return loads_csv(read_text(path, what or "file", error=FrameSetError), str(path), error=FrameSetError)[1]
 
 
 def _check_meta(meta: dict, jpath) -> None:
@@ -266,10 +261,7 @@ def read_frameset(root) -> FrameSet:
     jpath = root / "dataset.json"
     if not jpath.is_file():
         raise FrameSetError(f"DATASET must be an exported frame set (with dataset.json), got {str(root)!r}")
-    try:
-        meta = json.loads(jpath.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise FrameSetError(f"cannot read {str(jpath)!r}: {str(exc).splitlines()[0][:160]}") from None
+    meta = read_json(jpath, "frame set description", error=FrameSetError)  # bounded: size, depth, integers
     if not isinstance(meta, dict) or meta.get("kind") != "stripebench-frames":
         raise FrameSetError(f"{str(jpath)!r} is not a stripebench frame set")
     check_format(meta.get("format"), (FORMAT,), "frame set", jpath)
@@ -293,18 +285,18 @@ def read_frameset(root) -> FrameSet:
                                 f"participants' bundle has none), got {r['angle_deg']!r:.40}")
         if f["split"] not in SPLITS or f["experiment"] not in keys or f["frame"] in index:
             raise FrameSetError(f"{str(fpath)!r} line {n}: bad split, unknown experiment or repeated frame "
-                                f"{f['frame']!r}")
+                                f"{quoted(f['frame'])}")
         if not (1 <= f["height"] <= MAX_SIDE and 1 <= f["width"] <= MAX_SIDE):
             raise FrameSetError(f"{str(fpath)!r} line {n}: height and width must be 1..{MAX_SIDE}, got "
                                 f"{f['height']}x{f['width']}")
         if sizes.setdefault(f["experiment"], (f["height"], f["width"])) != (f["height"], f["width"]):
-            raise FrameSetError(f"{str(fpath)!r} line {n}: frame {f['frame']!r} is {f['height']}x{f['width']}, but "
+            raise FrameSetError(f"{str(fpath)!r} line {n}: frame {quoted(f['frame'])} is {f['height']}x{f['width']}, but "
                                 f"experiment {f['experiment']!r} is {'x'.join(map(str, sizes[f['experiment']]))}")
         for col in ("image", "background"):
             rel = Path(f[col])
             inside = not rel.is_absolute() and top in (top / rel).resolve().parents
             if not inside:
-                raise FrameSetError(f"{str(fpath)!r} line {n}: {col} {f[col]!r} must be a path inside the frame set")
+                raise FrameSetError(f"{str(fpath)!r} line {n}: {col} {quoted(f[col])} must be a path inside the frame set")
         index[f["frame"]] = f
         frames.append(f)
     return FrameSet(root, meta, frames, index)
@@ -387,11 +379,11 @@ def _csv_reader(path: Path, columns, expected: str, digest, tag: bytes = b""):
     must hold ``columns`` (``expected`` spells the header in the message). Returns (header, reader
     of the lines after it, None), or (None, None, the problem: one line naming the file)."""
     try:
-        data = path.read_bytes()
-        digest.update(tag + data)
-        text = data.decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        return None, None, f"{path}: cannot read it ({type(exc).__name__})"
+        data = read_text(path, path.name, error=ValueError).encode("utf-8")  # a regular file, bounded, UTF-8
+    except ValueError as exc:
+        return None, None, f"{path}: {str(exc).replace(f' {str(path)!r}', '')}"
+    digest.update(tag + data)
+    text = data.decode("utf-8")
     try:
         reader = iter(loads_csv(text, str(path), error=ValueError, header=False))
     except ValueError as exc:
@@ -400,7 +392,7 @@ def _csv_reader(path: Path, columns, expected: str, digest, tag: bytes = b""):
     missing = [c for c in columns if c not in header]
     if missing:
         return None, None, (f"{path} line 1: missing header column(s) {', '.join(missing)} "
-                            f"(expected {expected}, got {','.join(header)!r})")
+                            f"(expected {expected}, got {quoted(','.join(header))})")
     return header, reader, None
 
 
@@ -439,7 +431,7 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
     sub = folder / "submission.csv"
     if not folder.is_dir():
         return None, [f"SUBMISSION must be a folder with submission.csv, got {str(folder)!r}"]
-    if not sub.is_file():
+    if not (sub.exists() or sub.is_symlink()):
         return None, [f"{sub}: missing (a submission folder holds submission.csv and optionally times.csv)"]
     digest = hashlib.sha256()
     header, reader, problem = _csv_reader(sub, SUBMISSION_COLUMNS, "frame,row,col[,score]", digest)
@@ -453,24 +445,24 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
         fr, row_s, col_s = (line[at[c]].strip() for c in SUBMISSION_COLUMNS)
         meta = frameset.index.get(fr)
         if meta is None:
-            problems.append(f"{where}: unknown frame {fr!r}")
+            problems.append(f"{where}: unknown frame {quoted(fr)}")
             continue
         try:
             row = int(row_s)
         except ValueError:
-            problems.append(f"{where}: row {row_s!r} is not an integer")
+            problems.append(f"{where}: row {quoted(row_s)} is not an integer")
             continue
         if not 0 <= row < meta["height"]:
-            problems.append(f"{where}: row {row} out of range [0, {meta['height']}) of frame {fr!r}")
+            problems.append(f"{where}: row {row} out of range [0, {meta['height']}) of frame {quoted(fr)}")
             continue
         if (fr, row) in seen:
-            problems.append(f"{where}: duplicate row {row} of frame {fr!r}")
+            problems.append(f"{where}: duplicate row {row} of frame {quoted(fr)}")
             continue
         seen.add((fr, row))
         if col_s:
             c = _finite(col_s)
             if c is None:
-                problems.append(f"{where}: col {col_s!r} is not a finite number")
+                problems.append(f"{where}: col {quoted(col_s)} is not a finite number")
                 continue
             if c < -0.5 or c > meta["width"] - 0.5:
                 problems.append(f"{where}: col {c!r} outside the image (-0.5 to {meta['width'] - 0.5!r})")
@@ -479,12 +471,14 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
         if "score" in at and line[at["score"]].strip():
             s = _finite(line[at["score"]].strip())
             if s is None:
-                problems.append(f"{where}: score {line[at['score']].strip()!r} is not a finite number")
+                problems.append(f"{where}: score {quoted(line[at['score']].strip())} is not a finite number")
                 continue
             scores[fr][row] = s
     ms = {f: float("nan") for f in frameset.index}
     tpath = folder / "times.csv"
-    if tpath.is_file():
+    if (tpath.exists() or tpath.is_symlink()) and not tpath.is_file():
+        problems.append(f"{tpath}: not a regular file (times.csv is optional; remove it or make it a CSV file)")
+    elif tpath.is_file():
         th, treader, problem = _csv_reader(tpath, TIMES_COLUMNS, "frame,ms", digest, b"\0times\0")
         if problem is not None:
             problems.append(problem)
@@ -493,11 +487,11 @@ def read_submission(folder, frameset: FrameSet) -> tuple[Submission | None, list
             for where, line in _csv_lines(tpath, th, treader, problems):
                 fr, v = line[th.index("frame")].strip(), line[th.index("ms")].strip()
                 if fr not in frameset.index:
-                    problems.append(f"{where}: unknown frame {fr!r}")
+                    problems.append(f"{where}: unknown frame {quoted(fr)}")
                 elif fr in tseen:
-                    problems.append(f"{where}: duplicate frame {fr!r}")
+                    problems.append(f"{where}: duplicate frame {quoted(fr)}")
                 elif _finite(v) is None or float(v) < 0:
-                    problems.append(f"{where}: ms {v!r} is not a finite number >= 0")
+                    problems.append(f"{where}: ms {quoted(v)} is not a finite number >= 0")
                 else:
                     tseen.add(fr)
                     ms[fr] = float(v)

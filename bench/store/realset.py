@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.errors import StripebenchError
-from bench.store.textfiles import loads_csv
+from bench.store.textfiles import loads_csv, read_text
 # the pixel operations have their home in bench.evaluate.pixels; re-exported here for the readers' callers
 from bench.evaluate.pixels import (CHANNELS, LASERS, ROTATIONS, rotate_image, select_channel,  # noqa: F401
                                    unrotate_points)
@@ -393,11 +393,9 @@ def read_reference_states(path, shape, gap_rows: int = GAP_ROWS) -> tuple[np.nda
     p = Path(path)
     H, W = int(shape[0]), int(shape[1])
     try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DatasetError([f"{p.name}: cannot read reference ({exc.strerror})"]) from None
-    except UnicodeDecodeError as exc:
-        raise DatasetError([f"{p.name}: not UTF-8 text (byte {exc.start})"]) from None
+        text = read_text(p, "reference", error=ValueError)  # a regular file only (never waits on a FIFO), bounded
+    except ValueError as exc:
+        raise DatasetError([f"{p.name}: {_why(exc, p)}"]) from None
     rows = loads_csv(text, p.name, error=lambda m: DatasetError([m]), header=False)
     explicit = _reference_header(rows[0] if rows else [], p.name)
     header = REFERENCE_HEADERS[explicit]
@@ -438,14 +436,19 @@ def read_reference_states(path, shape, gap_rows: int = GAP_ROWS) -> tuple[np.nda
     return out, states, explicit
 
 
+def _why(exc: Exception, path: Path) -> str:
+    """:func:`bench.store.textfiles.read_text`'s message without the path (the callers name the file)."""
+    return str(exc).replace(f" {str(path)!r}", "")
+
+
 def _manifest(root: Path) -> tuple[list[dict], list[str]]:
     path = root / "manifest.csv"
     if not path.is_file():
         return [], [f"{str(root)!r}: no manifest.csv (not a real set)"]
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        return [], [f"manifest.csv: cannot read ({exc})"]
+        text = read_text(path, "manifest", error=ValueError)
+    except ValueError as exc:
+        return [], [f"manifest.csv: {_why(exc, path)}"]
     try:
         cols, rows = loads_csv(text, "manifest.csv", error=ValueError)
     except ValueError as exc:
@@ -508,8 +511,8 @@ def ignored_columns(root) -> list[str]:
     """
     path = Path(root) / "manifest.csv"
     try:
-        header = loads_csv(path.read_text(encoding="utf-8"), "manifest.csv", error=ValueError)[0]
-    except (OSError, UnicodeDecodeError, ValueError):
+        header = loads_csv(read_text(path, "manifest", error=ValueError), "manifest.csv", error=ValueError)[0]
+    except ValueError:
         return []
     return [c for c in header if c not in MANIFEST_REQUIRED + MANIFEST_OPTIONAL]
 

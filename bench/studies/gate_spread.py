@@ -424,6 +424,8 @@ def study(*, out, gates: str = "ci,real", machines: str = ",".join(m.name for m 
                              f"got {machines_text!r}")
         machines = [by_name[n] for n in names]
         derive_tolerances({}, {}, safety)  # validates --safety before minutes of runs
+        if write is not None and write.exists() and not write.is_dir():
+            raise ValueError(f"`--write` must be a folder, got {str(write)!r} (not a folder)")
         against = [Path(a) for a in against]
         if against and len(gates) != 1:
             raise ValueError(f"`--against` compares baselines of one gate: name it with `--gates`, got {gates_text!r}")

@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.errors import InputError
 from bench.evaluate.outcomes import detection_figures, hits, outcome_counts, row_outcomes
 from bench.store.files import atomic_write_bytes
 from bench.store.provenance import git_revision, versions
@@ -413,7 +414,9 @@ def train_from_trainset(trainset, out, *, hp: HyperParams = HyperParams(), holdo
     val_rows = [r for r in rows if holdout_of(int(r["unit"]), holdout_seed, holdout)]
     tr_rows = [r for r in rows if not holdout_of(int(r["unit"]), holdout_seed, holdout)]
     if not val_rows or not tr_rows:
-        raise ValueError("the held-out split left no training or no held-out frames: use more units")
+        raise InputError(f"the held-out split of {str(trainset)!r} left no training or no held-out frames "
+                         f"({len(rows)} frames of {len({r['unit'] for r in rows})} units, holdout {holdout}): use more "
+                         "units or another --holdout")
     say(f"stripebench train: {len(tr_rows)} training and {len(val_rows)} held-out frames")
     shrink = tuple(int(n) for n in hp.shrink)
     train = samples_from_frames(_load_frames(trainset, tr_rows, hp.views, shrink, hp.seed), hp.k, augment=hp.augment,
@@ -487,7 +490,8 @@ def operating_point_from_weights(trainset, weights, out, *, hp: HyperParams = Hy
     _, rows = read_trainset(trainset)
     val_rows = [r for r in rows if holdout_of(int(r["unit"]), holdout_seed, holdout)]
     if not val_rows:
-        raise ValueError("the held-out split left no held-out frames: use more units")
+        raise InputError(f"the held-out split of {str(trainset)!r} left no held-out frames (holdout {holdout}): use "
+                         "more units or another --holdout")
     net_k = {**{k: w[k] for k in PARAM_KEYS}, "k": w["k"]}
     val_frames = _load_frames(trainset, val_rows, hp.views, tuple(int(n) for n in hp.shrink), hp.seed)
     point, heldout, table = _operating_point(trainset, val_rows, val_frames, net_k, hp, say)

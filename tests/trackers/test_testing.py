@@ -36,7 +36,7 @@ class _Good(Tracker):
         peak = img.argmax(1)
         cols = np.full(img.shape[0], np.nan)
         for r, p in enumerate(peak):
-            if img[r, p] - bg > 20:
+            if img[r, p] - bg > 0.1 * np.ptp(img):  # relative to the frame's range: any pixel units
                 lo, hi = max(p - self.half, 0), min(p + self.half + 1, img.shape[1])
                 w = np.clip(img[r, lo:hi] - bg, 0, None)
                 cols[r] = (w * np.arange(lo, hi)).sum() / w.sum()
@@ -49,6 +49,17 @@ def test_a_correct_tracker_passes():
 
 def _negated(track, image):
     return Track(track.columns, np.where(np.isnan(track.columns), np.nan, -image.max(1).astype(float)))
+
+
+def _absolute(track, image):
+    keep = np.asarray(image, float).max(1) - np.median(image, axis=1) > 20
+    return Track(np.where(keep, track.columns, np.nan), np.where(keep, track.score, np.nan))
+
+
+def _inner(track, image):
+    peak = np.argmax(image, axis=1)
+    keep = (peak > 0) & (peak < image.shape[1] - 1)
+    return Track(np.where(keep, track.columns, np.nan), np.where(keep, track.score, np.nan))
 
 
 def _broken(params=None, **overrides):
@@ -85,6 +96,16 @@ def _broken(params=None, **overrides):
                 [100.0, 50.0], 200.0))),
             "check_score_meaning",
             "outscores a reported stripe-less row",
+        ),
+        (  # a threshold in 8-bit DN: nothing stands 20 units out of a frame times 1e-300
+            _broken(_track=lambda self, image, background: _absolute(_Good._track(self, image, background), image)),
+            "check_pixel_range",
+            "in a float times 1e-300 frame",
+        ),
+        (  # only interior peaks: a stripe on the border column is never reported
+            _broken(_track=lambda self, image, background: _inner(_Good._track(self, image, background), image)),
+            "check_border_stripe",
+            "on the first column",
         ),
     ],
 )

@@ -576,12 +576,17 @@ def study(*, angles: int = 2, ref_spp: int = 144, ref_ambient_spp: int = 144, re
     known = MATERIALS + AMBIENT_ONLY
     saved = None
     if from_file:
+        from bench.store.textfiles import read_json
+
+        saved = read_json(from_file, "--from")  # a regular file (never waits on a FIFO), bounded size and depth
         try:
-            saved = json.loads(Path(from_file).read_text())
             options = saved["options"]
             saved_results = {m: tables.from_json(r) for m, r in saved["results"].items()}
-        except (OSError, ValueError, KeyError, TypeError) as exc:
-            raise InputError(f"--from {from_file}: not a file of `stripebench perf sampling --save` ({exc})")
+        except (ValueError, KeyError, TypeError, AttributeError, IndexError) as exc:
+            from bench.errors import quoted
+
+            raise InputError(f"--from {from_file}: not a file of `stripebench perf sampling --save` "
+                             f"({type(exc).__name__}: {quoted(str(exc))})") from None
     if materials is None:
         materials = ",".join(m for m in known if saved is None or m in saved_results)
     materials_text = materials

@@ -111,3 +111,25 @@ def test_the_module_docstring_lists_every_command():
             assert listed.group(2) is not None and all(n in listed.group(2) for n in names), (group, names)
     perf = re.search(r"perf \{([^}]*)\}", doc).group(1)
     assert [s.strip() for s in perf.split(",")] == [c.name for c in PERF]
+
+
+def test_every_error_line_is_bounded(capsys):
+    """A message that quotes a whole input (here a 1 MB option value) is cut to bench.errors.LINE_CHARS."""
+    from bench.cli import main
+    from bench.errors import LINE_CHARS
+
+    with pytest.raises(SystemExit) as exit:  # an argparse error
+        main(["track", "nothing.png", "--out", "/tmp/never-made", "--trackers", "t" * 2**20])
+    code, err = exit.value.code, capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and len(err) < LINE_CHARS + 100 and "characters)" in err
+
+
+def test_an_error_raised_after_parsing_is_bounded_too(tmp_path, capsys):
+    from bench.cli import main
+    from bench.errors import LINE_CHARS
+
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(f'name = "{"n" * 2**20}"\n')
+    assert main(["run", str(cfg), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and len(err) < LINE_CHARS + 100

@@ -65,3 +65,88 @@ def test_trainset_then_train_writes_weights_the_tracker_reads(tmp_path, capsys, 
     assert main(["train", str(ts), "--from-weights", str(tmp_path / "none.npz"), "--out", str(again)]) == 2
     err = capsys.readouterr().err.strip()
     assert "cannot read learned weights" in err and "\n" not in err
+
+
+def test_damaged_weights_stop_run_track_and_train_in_one_line_before_any_work(tmp_path, capsys):
+    from trackers.learned import DEFAULT_WEIGHTS
+
+    bad = tmp_path / "w.npz"
+    bad.write_bytes(DEFAULT_WEIGHTS.read_bytes()[:5000])  # truncated
+    spec = f'{{name="learned",params={{weights="{bad}"}}}}'
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(f'name = "x"\ntrackers = [{spec}]\n')
+    image = str(next(p for p in sorted((DEFAULT_WEIGHTS.parents[2] / "bench" / "data" / "real").glob("*.png"))))
+    out = tmp_path / "out"
+    for argv in (["run", str(cfg), "--out", str(out)],
+                 ["run", "--profile", "ci", "--trackers", spec, "--out", str(out)],
+                 ["track", image, "--out", str(out), "--trackers", spec],
+                 ["train", str(tmp_path), "--from-weights", str(bad), "--out", str(out / "w.npz")]):
+        try:
+            code = main(argv)
+        except SystemExit as exc:
+            code = exc.code
+        err = capsys.readouterr().err.strip()
+        assert code == 2, argv
+        assert "learned weights" in err and str(bad) in err and "not a readable .npz archive" in err, err
+        assert "\n" not in err and not out.exists(), argv
+
+
+def test_train_writes_under_the_runs_folder_by_default_never_over_the_shipped_weights(tmp_path, monkeypatch):
+    from bench.cli import build_parser
+    from bench.cli.train import default_weights_out
+    from trackers.learned import DEFAULT_WEIGHTS
+
+    monkeypatch.setenv("STRIPEBENCH_RUNS", str(tmp_path / "runs"))
+    args = build_parser().parse_args(["train", str(tmp_path / "ts-a"), "--seed", "3"])
+    assert args.out is None
+    out = default_weights_out(args.trainset, args.seed)
+    assert out == tmp_path / "runs" / "learned" / "ts-a-seed3.npz" and out.resolve() != DEFAULT_WEIGHTS
+
+
+@pytest.mark.parametrize("damage, message", [
+    (lambda p: p.write_text("{not json"), "is not valid JSON"),
+    (lambda p: p.write_bytes(b"\xff\xfe"), "is not UTF-8 text"),
+    (lambda p: p.mkdir(), "is not a regular file (a folder)"),
+    (lambda p: __import__("os").mkfifo(p), "is not a regular file (a FIFO)"),
+    (lambda p: p.write_text("[" * 100000), "nested too deeply"),
+    (lambda p: p.write_text('["x"]'), "holds a training set of other settings"),
+])
+def test_trainset_over_a_damaged_identity_file_is_one_line(tmp_path, capsys, damage, message):
+    out = tmp_path / "ts"
+    out.mkdir()
+    (out / "images").mkdir()
+    damage(out / "trainset.identity.json")
+    assert main(["trainset", "--out", str(out), "--units", "1", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "trainset.identity.json" in err and "\n" not in err, err
+
+
+def test_train_over_a_damaged_training_set_is_one_line(tmp_path, capsys):
+    from bench.run.trainset import FORMAT, read_trainset
+    from bench.errors import InputError
+
+    ts = tmp_path / "ts"
+    ts.mkdir()
+    (ts / "trainset.json").write_text("[1, 2]")
+    (ts / "frames.csv").write_text("frame\nx\n")
+    with pytest.raises(InputError, match="is not a training set of format"):
+        read_trainset(ts)
+    (ts / "trainset.json").write_text(f'{{"kind": "stripebench-trainset", "format": {FORMAT}}}')
+    with pytest.raises(InputError, match="no column 'image'"):
+        read_trainset(ts)
+
+
+def test_train_on_a_training_set_too_small_to_split_is_one_line(tmp_path, capsys):
+    import sys
+
+    from bench.run.trainset import FORMAT, FRAME_COLUMNS
+
+    ts = tmp_path / "ts"
+    ts.mkdir()
+    (ts / "trainset.json").write_text(f'{{"kind": "stripebench-trainset", "format": {FORMAT}}}')
+    row = {c: "1" for c in FRAME_COLUMNS} | {"image": "images/a.png", "background": "images/a_off.png"}
+    (ts / "frames.csv").write_text(",".join(FRAME_COLUMNS) + "\n" + ",".join(row[c] for c in FRAME_COLUMNS) + "\n")
+    assert main(["train", str(ts), "--out", str(tmp_path / "w.npz"), "--holdout", "0.5", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "left no training or no held-out frames (1 frames of 1 units, holdout 0.5)" in err and "\n" not in err
+    assert "jax" not in sys.modules  # refused before any training

@@ -203,3 +203,17 @@ def test_a_submission_scored_alone(tiny_run, tiny_export_dev, tmp_path):
     from bench.report.run import build_report
 
     assert build_report(out, quiet=True).is_file()  # the page of a run without built-ins
+
+
+def test_score_quotes_a_huge_field_in_a_bounded_line(tiny_export, tmp_path, capsys):
+    from bench.cli import main
+    from bench.errors import QUOTE_CHARS
+
+    sub = tmp_path / "huge"
+    sub.mkdir()
+    (sub / "submission.csv").write_text(f"frame,row,col\n{'x' * 10 * 2**20},0,1.0\ncone-patchy-000,0,{'9' * 2**20}\n")
+    assert main(["score", str(tiny_export), str(sub), "--out", str(tmp_path / "run"), "--alone"]) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert "unknown frame 'xxxx" in lines[0] and f"... ({10 * 2**20} characters)" in lines[0]
+    assert "is not a finite number" not in lines[1] or len(lines[1]) < 300
+    assert all(len(line) < QUOTE_CHARS + 200 for line in lines), [len(line) for line in lines]

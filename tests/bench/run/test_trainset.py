@@ -88,6 +88,21 @@ def test_streamed_resumable_training_set(tmp_path, monkeypatch):
         ts.build_trainset(tmp_path / "ts", n_units=1, angles_per_unit=2, seed=2, width=64, height=60, quiet=True)
 
 
+@pytest.mark.slow
+def test_a_damaged_frame_record_is_rendered_again_with_one_line(tmp_path, capsys):
+    kw = dict(n_units=1, angles_per_unit=1, seed=2, noise_draws=1, width=64, height=60, quiet=True)
+    root = ts.build_trainset(tmp_path / "ts", **kw)
+    (record,) = (root / "images").glob("*.json")
+    good = record.read_text()
+    capsys.readouterr()
+    for damage in ("{not json", "[1, 2]", '{"frame": "x"}'):
+        record.write_text(damage)
+        ts.build_trainset(tmp_path / "ts", **kw)
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "frame record" in err and "rendering that frame again" in err, err
+        assert record.read_text() == good  # rendered again: the same frame, the same record
+
+
 @pytest.mark.parametrize("rgb", [False, True])
 def test_tracker_view_shrinks_the_stored_frames_and_their_truth(tmp_path, rgb, tiny_trainset):
     from bench.evaluate.pixels import downscale, select_channel

@@ -20,9 +20,10 @@ class ExamplePeakTracker(Tracker):
 
     Parameters
     ----------
-    min_dn : float
-        Rows whose peak rises less than this (camera units) above the row's
-        median report no stripe.
+    min_contrast : float
+        Rows whose peak rises less than this fraction of the frame's range
+        (largest minus smallest value) above the row's median report no stripe:
+        a rule in the frame's own units, so 8-bit, 16-bit and float frames alike.
 
     Score: the peak level (DN).
     """
@@ -30,10 +31,10 @@ class ExamplePeakTracker(Tracker):
     name = "example_peak"  # must equal the entry-point name
     subpixel = True
 
-    def __init__(self, min_dn=20.0):
-        self.min_dn = min_dn  # stored unchanged: track() checks it against parameter_constraints
+    def __init__(self, min_contrast=0.1):
+        self.min_contrast = min_contrast  # stored unchanged: track() checks it against parameter_constraints
 
-    parameter_constraints = {"min_dn": Real(low=0)}  # a finite real >= 0
+    parameter_constraints = {"min_contrast": Real(low=0, high=1)}  # a finite real in [0, 1]
 
     def find_stripe(self, image, background):
         img = image.astype(np.float64)
@@ -48,5 +49,5 @@ class ExamplePeakTracker(Tracker):
             offset = np.where(denom < 0, 0.5 * (left - right) / denom, 0.0)
         inner = (peak > 0) & (peak < W - 1)
         cols = peak + np.where(inner, np.clip(offset, -0.5, 0.5), 0.0)
-        found = level - np.median(img, axis=1) >= max(self.min_dn, 1e-9)
+        found = (level - np.median(img, axis=1) >= self.min_contrast * np.ptp(img)) & (np.ptp(img) > 0)
         return Track(np.where(found, cols, np.nan), np.where(found, level, np.nan))

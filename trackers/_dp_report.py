@@ -26,6 +26,16 @@ def reporting_rule(image, contrast, side_sd, span, tracker, ask=None):
     ``ask`` (the stripe question, None: not asked) maps the supporting rows (H,) bool to the rows
     whose peak is a stripe: a supporting row it says no to neither supports the path nor is
     reported (it stood out, and not as a stripe); the unsupported rows are bridged as before.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> rule = SimpleNamespace(k_sigma=5.0, min_support=0.0, max_gap=2, min_run=1, max_walk=None)
+    >>> contrast = np.array([90.0, 90, 1, 90, 1, 1, 1, 90, 90])       # a gap of one row, then one of three
+    >>> z, support, report = reporting_rule(np.zeros((9, 4)) + np.arange(4), contrast, np.ones(9),
+    ...                                     np.zeros(9, int), rule)
+    >>> report.astype(int).tolist()
+    [1, 1, 1, 1, 0, 0, 0, 1, 1]
     """
     H = image.shape[0]
     vmax = float(image.max())

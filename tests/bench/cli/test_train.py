@@ -14,7 +14,7 @@ from bench.cli import main
     (["train", "nowhere", "--holdout", "1"], "--holdout: must be a finite number > 0 and < 1, got '1'"),
     (["train", "nowhere", "--epochs", "0"], "--epochs: must be an integer 1 .. 100000"),
     (["train", "nowhere", "--views", "auto,purple"], "--views: must be distinct names among auto, laser"),
-    (["trainset", "--out", "x", "--draws", "3"], "--draws: invalid choice"),
+    (["trainset", "--out", "x", "--draws", "4"], "--draws: invalid choice"),
     (["train", "nowhere", "--shrink", "1"], "--shrink: must be distinct integers >= 2 separated by commas, or none, "
                                             "got '1'"),
     (["train", "nowhere", "--shrink", "2,two"], "--shrink: must be distinct integers >= 2"),

@@ -55,7 +55,12 @@ def parse_setting(text: str) -> dict:
     {'k_sigma': 4, 'prominence': 1.1, 'min_run': 5, 'width_ratio': None}
     >>> parse_setting("rule=excess")
     {'rule': 'excess'}
+    >>> parse_setting("stripe_test=none"), parse_setting("stripe_test=defaults"), parse_setting("stripe_test=a=4,b=none")
+    ({'stripe_test': None}, {'stripe_test': {}}, {'stripe_test': {'a': 4, 'b': None}})
     """
+    if text.startswith("stripe_test="):  # the stripe question's candidates (bench.studies.tune_threshold.stripe_key)
+        rest = text[len("stripe_test="):]
+        return {"stripe_test": None if rest == "none" else {} if rest == "defaults" else parse_setting(rest)}
     out = {}
     for part in text.split(","):
         k, _, v = part.partition("=")
@@ -124,9 +129,9 @@ def fold_settings(summaries: dict, rigs) -> tuple[dict, list[str]]:
                 params = parse_setting(label)
                 if stage == "stage4" and proc == "threshold":
                     plans[which]["colour_rule"] = params["rule"]
-                else:
+                else:  # a tracker's settings gather over the stages that chose for it
                     for n in names:
-                        plans[which][n] = params
+                        plans[which].setdefault(n, {}).update(params)
     return plans, notes
 
 

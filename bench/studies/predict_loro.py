@@ -178,15 +178,15 @@ def _lines(loro: dict) -> list[str]:
 
 
 def candidate_lines(every, metrics, rig_of: dict, labels, settings, seed: int = 0) -> list[str]:
-    """The declared candidates of docs/predict.md ("Declared before they ran") judged on the same measurement, each
-    a line of its pooled leave-one-rig-out figures: coarse answers pooled or not (1, 4), toward the null and less its
-    bias (2, 3), and the photographs without an answer at the null's figure (5); the adopted procedure is coarse
-    answers not pooled, 5, no adjustment."""
+    """The declared candidates of docs/predict.md ("The candidates") judged on the same measurement, each a line of
+    its pooled leave-one-rig-out figures: coarse answers pooled, not pooled or only where there is no other; toward
+    the null and less its bias; the photographs without an answer at the null's figure. The adopted procedure: coarse
+    answers not pooled, the unanswered photographs at the null's figure, no adjustment."""
     from bench.evaluate import predict_loro as pl
 
     own_rigs = {rig_of[str(n)] for n in every[every["shrink"] == 1]["name"]}
-    pools = {"no coarse answers": every[every["shrink"] == 1], "1 coarse answers pooled": every,
-             "4 coarse only where no other": every[(every["shrink"] == 1)
+    pools = {"no coarse answers": every[every["shrink"] == 1], "coarse answers pooled": every,
+             "coarse only where no other": every[(every["shrink"] == 1)
                                                    | ~every["name"].astype(str).map(rig_of).isin(own_rigs)]}
     lines = [f"{'candidate':<52}{'F1 error':>10}{'false-rep.':>12}{'regret':>9}{'F1 cov.':>9}{'width':>8}"]
     for pool, rows in pools.items():
@@ -197,8 +197,8 @@ def candidate_lines(every, metrics, rig_of: dict, labels, settings, seed: int = 
             e = pl.evaluate(pred, meas, rigs, labels, level=settings.interval_level, photo_counts=counts,
                             n_draws=settings.pick_draws, seed=seed, adjust=adjust, answered=answered)
             p = e["pooled"]
-            name = pool + ({"blend": ", 2 toward the null", "bias": ", 3 less its bias"}.get(adjust, "")
-                           + (", 5 unanswered at the null's" if answered is not None else ""))
+            name = pool + ({"blend": ", toward the null", "bias": ", less its bias"}.get(adjust, "")
+                           + (", unanswered at the null's" if answered is not None else ""))
             lines.append(f"{name:<52}{p['f1']['method']['error']:>10.4f}"
                          f"{p['false_report_rate']['method']['error']:>12.4f}{p['regret']['method']:>9.4f}"
                          f"{p['f1']['method']['coverage']:>9.2f}{p['f1']['method']['width']:>8.3f}")

@@ -3,7 +3,7 @@
 # package and its test extras, and (when we can) Debian's libLLVM 19, which
 # Mitsuba's fast `llvm_*` variants need (with LLVM 14/15 they abort; without a
 # working LLVM stripebench falls back to the ~4x slower scalar variant).
-# Idempotent: a second run only checks.
+# Then it compiles the kernels (scripts/compile_kernels.py). Idempotent: a second run only checks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -65,4 +65,12 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install -q --upgrade pip >/dev/null
 .venv/bin/python -m pip install -q -e '.[test]'
+# Compile the trackers' numba kernels (cached beside their source) and the renderer's Dr.Jit kernels (cached in
+# ~/.drjit) once, as building an extension is part of installing it; the stamp names the home whose cache holds them.
+stamp=.venv/.stripebench-kernels
+if [ "$(cat "$stamp" 2>/dev/null)" != "$HOME" ]; then
+    echo "setup: compiling the trackers' and the renderer's kernels (about 2 min on a 2-core machine, once)"
+    .venv/bin/python scripts/compile_kernels.py
+    printf '%s' "$HOME" > "$stamp"
+fi
 echo "setup: ready (.venv/bin/stripebench)"

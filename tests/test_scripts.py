@@ -346,3 +346,26 @@ def test_setup_says_what_apt_said_and_waits_for_its_lock(tmp_path, apt, says, ca
         assert "could not install" not in out, out
     if calls is not None:
         assert int((tmp_path / "calls").read_text()) == calls, out
+
+
+def test_compile_kernels_runs_every_listed_tracker_on_every_kind_of_frame(monkeypatch, capsys):
+    """``scripts/compile_kernels.py --trackers-only`` (a step of ``setup.sh``) tracks each kind of frame a run hands
+    a tracker with every listed tracker, and says so in one line."""
+    import trackers
+    from bench.run import track
+
+    mod = _script("compile_kernels")
+    kinds = {(im.dtype.kind, bg is not None, c is not None) for im, bg, c in mod.frames()}
+    assert kinds >= {("u", True, False), ("u", False, False), ("f", True, True), ("f", False, True)}
+    seen = []
+    real = track.track_frame
+    monkeypatch.setattr(track, "track_frame", lambda t, *a, **k: seen.append(type(t).__name__) or real(t, *a, **k))
+    assert mod.main(["--trackers-only"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    assert len(out) == 1 and out[0].startswith(f"compile_kernels: {len(trackers.available())} trackers compiled")
+    assert len(seen) == len(trackers.available()) * len(mod.frames())
+
+
+def test_setup_compiles_the_kernels_once_per_home():
+    text = (REPO / "scripts" / "setup.sh").read_text()
+    assert ".venv/bin/python scripts/compile_kernels.py" in text and '!= "$HOME"' in text

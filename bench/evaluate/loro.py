@@ -294,10 +294,16 @@ def rig_figures(counts, rigs, *, n_boot: int = 2000, seed: int = 0, level: float
             boot = m[idx].sum(axis=1)
         by_rig[name] = summarise(m.sum(axis=0), boot, {"n_photos": int(m.shape[0])})
     boot = None
-    if len(names) >= 2:
+    if len(names) >= 2:  # rigs drawn with replacement (how often each: `times`), each draw its own photographs' draw
+        n = len(names)
+        times = rng.multinomial(n, np.full(n, 1.0 / n), size=n_boot)  # (n_boot, n)
         boot = np.zeros((n_boot, 6), dtype=np.int64)
-        for b in range(n_boot):
-            for g in rng.integers(0, len(names), size=len(names)):
-                m = members[names[g]]
-                boot[b] += m[rng.integers(0, m.shape[0], size=m.shape[0])].sum(axis=0)
+        for j, name in enumerate(names):
+            m = members[name]
+            k = int(times[:, j].max())
+            if k == 0:
+                continue
+            draws = m[rng.integers(0, m.shape[0], size=(n_boot, k, m.shape[0]))].sum(axis=2)  # (n_boot, k, 6)
+            keep = np.arange(k)[None, :] < times[:, j][:, None]  # the first `times` draws of each resample
+            boot += (draws * keep[..., None]).sum(axis=1)
     return {"rigs": by_rig, "all": summarise(c.sum(axis=0), boot, {"n_rigs": len(names), "n_photos": int(c.shape[0])})}

@@ -14,7 +14,7 @@ __all__ = ["TRACKER_COLOURS", "REFERENCE_COLOUR", "tracker_colour", "tracker_rgb
 TRACKER_COLOURS = {
     "threshold": "#e000e0", "centroid": "#7f7f7f", "dp4": "#2ca02c", "dp8": "#17becf", "dp4_iso": "#98df8a",
     "dp8_iso": "#9edae5", "gauss3": "#ff7f0e", "parabolic": "#ffbb78", "blais_rioux": "#9467bd",
-    "steger": "#8c564b", "com_bg": "#e377c2", "dp8_subpixel": "#1f77b4",
+    "steger": "#8c564b", "com_bg": "#e377c2", "dp8_subpixel": "#1f77b4", "learned": "#5254a3",
     # the paper profile's other readings of the method without DP (bench/evaluate/readings.py)
     "threshold_gaps": "#595959", "argmax": "#d62728", "dp4_oneframe": "#006d2c", "dp_gap": "#bcbd22",
 }

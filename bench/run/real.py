@@ -51,11 +51,14 @@ def _track_all(trackers: dict, frame, background, colour=None):
     colour evidence (:func:`bench.run.camera_view.colour_of`), None for a grey one."""
     from trackers import Track
 
-    out = {}
+    out, done = {}, {}
     for lab, t in trackers.items():
-        r = track_frame(t, frame, background, colour)
-        tr = Track(r.columns, r.score) if r.ok else Track.empty(frame.shape[0])
-        out[lab] = (tr, 1e3 * r.seconds, STATUS[r.status], r.message)
+        key = repr(t)  # one tracker setting under two labels (a run's `threshold` and `threshold_gaps`): tracked once
+        if key not in done:
+            r = track_frame(t, frame, background, colour)
+            tr = Track(r.columns, r.score) if r.ok else Track.empty(frame.shape[0])
+            done[key] = (tr, 1e3 * r.seconds, STATUS[r.status], r.message)
+        out[lab] = done[key]
     return out
 
 

@@ -52,15 +52,16 @@ def write_track_csv(path, labels: list[str], results: dict) -> None:
     results : dict
         label -> :class:`trackers.Track` (columns in px, one per row).
     """
-    import pandas as pd
-
     H = next(iter(results.values())).columns.shape[0] if results else 0
-    data = {"row": np.arange(H)}
+    header = ["row"]
+    cells = [[str(r) for r in range(H)]]
     for lab in labels:
-        data[f"col_{lab}"] = results[lab].columns
-        data[f"score_{lab}"] = results[lab].score
+        for kind, values in (("col", results[lab].columns), ("score", results[lab].score)):
+            header.append(f"{kind}_{lab}")
+            cells.append(["" if v != v else "%.4f" % v for v in np.asarray(values, dtype=np.float64).tolist()])
+    text = "\n".join([",".join(header), *(",".join(r) for r in zip(*cells))]) + "\n"
     try:
-        atomic_write_text(path, pd.DataFrame(data).to_csv(index=False, float_format="%.4f"))
+        atomic_write_text(path, text)
     except OSError as exc:
         raise os_error("write", path, exc) from None
 

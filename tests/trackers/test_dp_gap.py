@@ -275,9 +275,20 @@ def test_a_short_dim_stretch_is_still_bridged():
     truth = 80.0 + 10.0 * np.sin(np.arange(120) / 19.0)
     rng = np.random.default_rng(1)
     img = frame(truth, seed=1).astype(float)
-    img[50:58] = 10.0 + rng.normal(0.0, 2.0, (8, 160)) + stripe_profile(truth[50:58], 160, 1.5, 12.0)
+    # eight rows dimmer than the off level (10 + DEFAULT_OFF_REL * 150 = 85) but cheaper on than two
+    # switches: the path stays on across them
+    img[50:58] = 10.0 + rng.normal(0.0, 2.0, (8, 160)) + stripe_profile(truth[50:58], 160, 1.5, 60.0)
     cols = trackers.make("dp_gap").track(np.clip(np.rint(img), 0, 255).astype(np.uint8)).columns
     assert np.isfinite(cols).all() and np.abs(cols - truth).max() <= 1.5
+
+
+def test_a_long_faint_stretch_is_left_out():
+    truth = 80.0 + 10.0 * np.sin(np.arange(120) / 19.0)
+    rng = np.random.default_rng(1)
+    img = frame(truth, seed=1).astype(float)
+    img[40:70] = 10.0 + rng.normal(0.0, 2.0, (30, 160)) + stripe_profile(truth[40:70], 160, 1.5, 12.0)
+    cols = trackers.make("dp_gap").track(np.clip(np.rint(img), 0, 255).astype(np.uint8)).columns
+    assert np.isnan(cols[45:65]).all() and np.abs(cols[:38] - truth[:38]).max() <= 1.5
 
 
 def test_off_level_of_a_frame():

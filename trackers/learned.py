@@ -69,7 +69,7 @@ MAX_ARRAY_BYTES = 256 * 2**20
 MAX_HIDDEN = 4096
 #: What each scalar of a weights file must be: key -> (kind, constraint); ``kind`` "int" or "real"
 #: (a 0-d array of integers, or of real numbers), or "json" (a 0-d string holding JSON). Keys marked
-#: optional may be absent (the chain's costs came with the third weights; 0 without them).
+#: optional may be absent (the chain's costs; 0 where a file has none).
 WEIGHT_SCALARS = {
     "format_version": ("int", Int()),
     "layout": ("json", None),

@@ -61,12 +61,12 @@ class HyperParams:
     # what a run gives a tracker, "laser" the laser's plain channel (a real set's `channel` column may ask for it)
     views: tuple = ("auto", "laser")
     # each frame (in each view) is also used once shrunk by a factor drawn from these (seeded; () for none): the
-    # narrow stripes standing far above the noise of a camera app's shrunk frame (a phone's); round 3, from the
-    # phone-like renders on which round 2 missed rows (docs/learned.md)
+    # narrow stripes standing far above the noise of a camera app's shrunk frame (a phone's), where weights trained
+    # without shrunk copies miss rows (docs/learned.md)
     shrink: tuple = (2, 4)
     thresholds: tuple = field(default_factory=lambda: tuple(np.round(np.arange(0.05, 0.96, 0.05), 2).tolist()))
     # the chain's costs searched with the threshold for the operating point (trackers.learned.choose; 0 and 0: each
-    # row decided alone); round 3b (the first grid, to 1 and 8, chose its corner: widened to 4 and 32)
+    # row decided alone); wide enough that the chosen point is not on the grid's edge
     jump_costs: tuple = (0.0, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 4.0)
     switch_costs: tuple = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0)
 

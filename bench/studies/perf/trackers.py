@@ -62,7 +62,7 @@ TARGET_H_WEIGHT = DEFAULT_H_WEIGHT
 SOLVER_VS_MCP = 100.0
 #: Most slowdown of the solver at TARGET_H_WEIGHT over h_weight=1 (medians).
 H_WEIGHT_SLOWDOWN = 1.5
-#: Upper bounds in median ms per frame at 512x480 (``learned``: issue 35's inference budget, one core).
+#: Upper bounds in median ms per frame at 512x480 (``learned``: its inference budget, one core).
 MS_TARGETS = {"threshold": 1.0, "centroid": 1.0, "gauss3": 1.0, "parabolic": 1.0, "blais_rioux": 1.0, "com_bg": 1.0,
               "steger": 20.0, "dp4": 1.0, "dp8": 1.0, "dp_gap": 1.0, "learned": 20.0}
 #: Upper bounds as multiples of another tracker's median time in the same run.

@@ -93,6 +93,19 @@ def _median(buf, n):
 
 
 @njit(cache=True, nogil=True)
+def _half_extent(row, p, half):
+    """``(lo, hi)``: the run of pixels of ``row`` around ``p`` brighter than ``half`` (``p`` itself always in it)."""
+    W = row.shape[0]
+    lo = p
+    while lo > 0 and float(row[lo - 1]) > half:
+        lo -= 1
+    hi = p
+    while hi < W - 1 and float(row[hi + 1]) > half:
+        hi += 1
+    return lo, hi
+
+
+@njit(cache=True, nogil=True)
 def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
     """Per-row peak, background, pixel noise and runner-up of a frame.
 
@@ -151,13 +164,7 @@ def row_statistics(image, col, mid, peak, bg, noise, runner_up, lo_out, hi_out):
             n += 1
         b = _median(buf, n)
         bg[r] = b
-        half = b + 0.5 * (v - b)
-        lo = p
-        while lo > 0 and float(row[lo - 1]) > half:
-            lo -= 1
-        hi = p
-        while hi < W - 1 and float(row[hi + 1]) > half:
-            hi += 1
+        lo, hi = _half_extent(row, p, b + 0.5 * (v - b))
         lo_out[r] = lo
         hi_out[r] = hi
         m = hi - lo + 1

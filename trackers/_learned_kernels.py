@@ -139,6 +139,16 @@ def _median(a, n):
 
 
 @nb.njit(cache=True)
+def _smooth_row(x, out):
+    """``out[j] = (x[j-1] + 2 x[j] + x[j+1]) / 4``, the row's ends repeated past them."""
+    W = x.shape[0]
+    for j in range(W):
+        a = x[j - 1] if j > 0 else x[j]
+        b = x[j + 1] if j < W - 1 else x[j]
+        out[j] = 0.25 * a + 0.5 * x[j] + 0.25 * b
+
+
+@nb.njit(cache=True)
 def _candidates(sig, med, K):
     """Per row the K strongest local maxima of the [1, 2, 1]-smoothed signal (contrast over the row median),
     strongest first: column (the middle of a plateau, floored), contrast, plateau half-length. -1 where none.
@@ -149,10 +159,7 @@ def _candidates(sig, med, K):
     plat = np.zeros((H, K))
     sm = np.empty(W)
     for r in range(H):
-        for j in range(W):
-            a = sig[r, j - 1] if j > 0 else sig[r, j]
-            b = sig[r, j + 1] if j < W - 1 else sig[r, j]
-            sm[j] = 0.25 * a + 0.5 * sig[r, j] + 0.25 * b
+        _smooth_row(sig[r], sm)
         j = 1
         while j < W - 1:
             if sm[j] > sm[j - 1]:
@@ -197,10 +204,7 @@ def _border_candidates(sig, med, max_run):
         return cols, con, plat
     sm = np.empty(W)
     for r in range(H):
-        for j in range(W):
-            a = sig[r, j - 1] if j > 0 else sig[r, j]
-            b = sig[r, j + 1] if j < W - 1 else sig[r, j]
-            sm[j] = 0.25 * a + 0.5 * sig[r, j] + 0.25 * b
+        _smooth_row(sig[r], sm)
         for side in range(2):
             e = 0 if side == 0 else W - 1
             step = 1 if side == 0 else -1

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._detect import MAX_SAMPLES, _median
+from ._detect import MAX_SAMPLES, _half_extent, _median
 
 
 @njit(cache=True, nogil=True)
@@ -56,13 +56,7 @@ def _row_evidence(frame, col, peak_out, contrast, lo_out, hi_out, level_out):
         level_out[r] = b
         peak_out[r] = p
         contrast[r] = top - b
-        half = b + 0.5 * (top - b)
-        lo = p
-        while lo > 0 and float(row[lo - 1]) > half:
-            lo -= 1
-        hi = p
-        while hi < W - 1 and float(row[hi + 1]) > half:
-            hi += 1
+        lo, hi = _half_extent(row, p, b + 0.5 * (top - b))
         lo_out[r] = lo
         hi_out[r] = hi
 

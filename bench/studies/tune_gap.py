@@ -155,7 +155,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
               "min_run": m_best}
     # stage 3: the stripe question, with the choices above (dp_gap its off state, the others their rule)
-    from bench.studies.tune_threshold import choose_listed, stripe_key
+    from bench.studies.tune_threshold import judge_stripe_tests, stripe_key
 
     t3 = tuning.Tally(3, profile.hit_px)
     scores3 = {}
@@ -172,16 +172,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
         say(f"stage 3: stripe test {key} done")
     stages = [("stage1", t1, _gap_label(off_best, sw_best)), ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
     if profile.stripe_tests:
-        order = list(range(len(profile.stripe_tests)))
-
-        def pick3(held, photos):
-            sc = {i: t3.objective(stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
-                  for i in scores3}
-            ok = t3.eligible(sc, lambda i: stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
-            return stripe_key(profile.stripe_tests[choose_listed(ok, order, profile.tie)])
-
-        judged["stage3"] = t3.judge(pick3)
-        chosen["stripe_test"] = {stripe_key(t): t for t in profile.stripe_tests}[judged["stage3"]["kept"]]
+        judged["stage3"], chosen["stripe_test"] = judge_stripe_tests(t3, scores3, profile.stripe_tests, profile.tie)
         stages.append(("stage3", t3, stripe_key(chosen["stripe_test"])))
     figures = {}
     for name, tally, key in stages:

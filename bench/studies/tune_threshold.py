@@ -48,7 +48,7 @@ import numpy as np
 from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
-           "apply_rule", "run", "figure_lines", "study", "stripe_key", "chosen_params", "DEFAULT_PROFILE",
+           "apply_rule", "run", "figure_lines", "study", "stripe_key", "judge_stripe_tests", "chosen_params", "DEFAULT_PROFILE",
            "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
@@ -302,16 +302,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     stages = [("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
               ("stage4", t4, f"rule={rule_best}")]
     if profile.stripe_tests:
-        order = list(range(len(profile.stripe_tests)))
-
-        def pick5(held, photos):
-            sc = {i: t5.objective(stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
-                  for i in scores5}
-            ok = t5.eligible(sc, lambda i: stripe_key(profile.stripe_tests[i]), held_out=held, photographs=photos)
-            return stripe_key(profile.stripe_tests[choose_listed(ok, order, profile.tie)])
-
-        judged["stage5"] = t5.judge(pick5)
-        chosen["stripe_test"] = {stripe_key(t): t for t in profile.stripe_tests}[judged["stage5"]["kept"]]
+        judged["stage5"], chosen["stripe_test"] = judge_stripe_tests(t5, scores5, profile.stripe_tests, profile.tie)
         stages.append(("stage5", t5, stripe_key(chosen["stripe_test"])))
     figures = {}
     for name, tally, key in stages:
@@ -334,6 +325,36 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     records = t1.records() + rec2 + t3.records() + t4.records() + t5.records()
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
+
+
+def judge_stripe_tests(tally, scored, tests, tie: float):
+    """The stripe-question stage's choice, judged leave one rig out (:meth:`bench.studies.tuning.Tally.judge`).
+
+    Parameters
+    ----------
+    tally : bench.studies.tuning.Tally
+        The stage's counts, one setting per candidate (named by :func:`stripe_key`).
+    scored : iterable of int
+        The indices into ``tests`` of the candidates scored.
+    tests : sequence
+        The candidates, in the order that breaks ties.
+    tie : float
+        Scores within ``tie`` of the best are tied.
+
+    Returns
+    -------
+    (dict, object)
+        The judgement and the kept candidate.
+    """
+    order = list(range(len(tests)))
+
+    def pick(held, photos):
+        sc = {i: tally.objective(stripe_key(tests[i]), held_out=held, photographs=photos) for i in scored}
+        ok = tally.eligible(sc, lambda i: stripe_key(tests[i]), held_out=held, photographs=photos)
+        return stripe_key(tests[choose_listed(ok, order, tie)])
+
+    judged = tally.judge(pick)
+    return judged, {stripe_key(t): t for t in tests}[judged["kept"]]
 
 
 def stripe_key(test) -> str:

@@ -79,7 +79,7 @@ def gate_run(tmp_path_factory):
 @pytest.fixture(scope="session")
 def tiny_export(tmp_path_factory):
     """The frame set of :data:`TINY` (``stripebench export``) with a dev and a test split (test seed
-    :data:`TINY_TEST_SEED`), written once per session."""
+    :data:`TINY_TEST_SEED`), written once per test run."""
     from bench.config import parse
     from bench.run.export import export
 

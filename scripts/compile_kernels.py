@@ -4,10 +4,11 @@ The trackers: every listed tracker tracks small synthetic frames through :func:`
 (read-only views, as every run hands them) in each kind of frame a run gives it: an 8-bit mono render with and
 without its laser-off frame, and a photograph's frame as ``auto`` makes it (float64) or as a plain channel makes it
 (8-bit), with its colour evidence, with and without a laser-off frame; the compiled forms are cached beside their
-source (numba's ``cache=True``). The renderer: the ``paper`` profile's experiments, two angles each at 64x60 px, into
-a temporary render cache and run folder, so that Dr.Jit's kernel cache (``~/.drjit``) holds their kernels. Matplotlib's
-font cache is built too. A run's first frames then do not wait for the compilers: an installation step, as building an
-extension is. Safe to run again (what is cached loads in milliseconds); ``--trackers-only`` skips the renderer.
+source (numba's ``cache=True``). The renderer: the ``paper`` profile's experiments, two angles each at the profile's
+size (Dr.Jit's kernels depend on it), into a temporary render cache and run folder, so that Dr.Jit's kernel cache
+(``~/.drjit``) holds their kernels. Matplotlib's font cache is built too. A run's first frames then do not wait for
+the compilers: an installation step, as building an extension is. Safe to run again (what is cached loads in
+milliseconds); ``--trackers-only`` skips the renderer.
 Prints one line.
 """
 
@@ -36,8 +37,8 @@ def frames():
 
 
 def renderer_kernels() -> int:
-    """Render the ``paper`` profile's experiments small (two angles each) into a temporary render cache and run
-    folder; returns the number of experiments."""
+    """Render the ``paper`` profile's experiments, two angles each, into a temporary render cache and run folder;
+    returns the number of experiments."""
     import os
     import tempfile
 

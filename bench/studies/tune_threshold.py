@@ -48,8 +48,8 @@ import numpy as np
 from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
-           "apply_rule", "run", "figure_lines", "study", "stripe_key", "judge_stripe_tests", "chosen_params", "DEFAULT_PROFILE",
-           "DEFAULT_OUT"]
+           "apply_rule", "run", "figure_lines", "study", "stripe_key", "judge_stripe_tests", "chosen_params",
+           "DEFAULT_PROFILE", "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
 DEFAULT_OUT = "results/runs/tune_threshold"

@@ -133,7 +133,11 @@ def test_the_bundle_does_not_let_export_render_the_test_truth_again(tiny_export,
     test_dir = fs.TRUTH_DIRS["test"]
     withheld = sorted(p.name for p in (tiny_export / test_dir).glob("*.csv"))
     assert withheld and withheld == sorted(p.name for p in (again / test_dir).glob("*.csv"))
-    assert all((tiny_export / test_dir / n).read_bytes() != (again / test_dir / n).read_bytes() for n in withheld)
+    # a test frame whose stripe lands on no object row has a header-only truth under any draw: it tells nothing, and
+    # two draws may both give it; every truth that holds a stripe row differs
+    pairs = [((tiny_export / test_dir / n).read_bytes(), (again / test_dir / n).read_bytes()) for n in withheld]
+    holding = [(a, b) for a, b in pairs if a.count(b"\n") > 1 or b.count(b"\n") > 1]
+    assert any(a.count(b"\n") > 1 for a, _ in holding) and all(a != b for a, b in holding)
     dev = sorted(p.name for p in (tiny_export / fs.TRUTH_DIRS["dev"]).glob("*.csv"))
     assert all((tiny_export / "truth" / n).read_bytes() == (again / "truth" / n).read_bytes() for n in dev)
     # nothing in the bundle names the test seed or a test frame's angle

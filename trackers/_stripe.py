@@ -8,13 +8,16 @@ a stripe unless one of these says no (each test can be turned off):
 *width*
     the peak's half-contrast run is at most ``width_ratio`` times the frame's stripe width, the
     ``width_quantile`` quantile of the runs of its strongest rows (the top ``strong_frac`` by
-    contrast): a window, a glow, a lamp or a lit wall is wider than the stripe the frame shows where
-    it is brightest, and a low quantile keeps such a distractor among the strongest rows from
-    widening the measure;
+    contrast of the asked rows whose peaks lie in line as the *continuity* test counts them, or of
+    all asked rows where none does or that test is off: in a dim frame the isolated peaks of noise
+    are as strong as the stripe and one pixel wide). A window, a glow, a lamp or a lit wall is wider
+    than the stripe the frame shows where it is brightest, and a low quantile keeps such a
+    distractor among the strongest rows from widening the measure;
 *ridge*
     both flanks fall: on each side, the mean of the pixels between one and two stripe widths (at
-    least 2 and 4 px) from the peak lies below ``flank_level`` of the peak's contrast over its row. A step edge (a lit door
-    edge, a table edge, a bright plateau) keeps one flank high;
+    least 2 and 4 px) from the peak lies below ``flank_level`` of the peak's contrast over its row (a
+    side outside the frame is not read: a stripe on the frame's edge has one flank). A step edge (a
+    lit door edge, a table edge, a bright plateau) keeps one flank high;
 *colour* (where the frame has colour)
     somewhere in the peak's run (one pixel either side included) the light it adds over its row has
     the laser's colour: a share of at least ``colour_min`` (:func:`colour_evidence`). White and warm
@@ -25,7 +28,8 @@ a stripe unless one of these says no (each test can be turned off):
 *continuity*
     at least ``continuity_min`` of the ``continuity_rows`` rows on either side hold a peak that
     passes the tests above and lies within ``continuity_px`` px per row of this one: a stripe is a
-    curve, LED clusters and glints are isolated.
+    curve, LED clusters and glints are isolated. A frame of at most ``continuity_min`` rows asks
+    it of all its other rows.
 
 The trackers read it through their ``stripe_test`` parameter (None, the default: the question is
 not asked, and the tracker reports as it did without it; a dict of :class:`StripeTest`'s fields,
@@ -62,8 +66,9 @@ class StripeTest:
         Widest half-contrast run of a stripe's peak, in multiples of the frame's stripe width: a
         stripe's run varies with its brightness by less than that; a window or a glow is wider.
     strong_frac : float, default 0.5
-        The frame's stripe width is measured on this fraction of its asked rows with the largest
-        contrast, in (0, 1]: where the stripe is brightest it is least confused with noise.
+        The frame's stripe width is measured on this fraction of its asked rows in line (the
+        continuity test's neighbours, before the other tests) with the largest contrast, in (0, 1]:
+        where the stripe is brightest it is least confused with noise.
     width_quantile : float, default 0.25
         Which quantile of those rows' runs is the frame's stripe width, in [0, 1] (the lower value
         of a tie): a distractor among the strongest rows is wider than the stripe, so a low quantile
@@ -85,7 +90,8 @@ class StripeTest:
         Rows looked at on each side for the curve test, >= 1.
     continuity_min : int, default 4
         Least number of those rows (both sides together) whose peak passes the other tests and lies
-        in line: an LED dot or a glint spans a few rows, a stripe many.
+        in line: an LED dot or a glint spans a few rows, a stripe many (a frame of fewer rows asks
+        for all of its other rows).
     continuity_px : float, default 3.0
         Largest column change per row between two peaks in line, px (> 0): a stripe tilted up to
         about 70 degrees from the vertical stays in line, as in the threshold family's chain.
@@ -226,7 +232,8 @@ class StripeAnswer:
     reasons : int64
         The tests that said no (bits of :data:`REASONS`); 0 where ``yes``.
     stripe_width_px : float
-        The frame's stripe width (a low quantile of its strongest rows' runs), px; NaN if no row was asked.
+        The frame's stripe width (a low quantile of the runs of its strongest rows in line), px; NaN if
+        no row was asked.
     """
 
     yes: np.ndarray
@@ -339,10 +346,17 @@ def ask(settings: StripeTest, frame: np.ndarray, columns, *, image=None, backgro
     reasons = np.where(asked & ~positive, REASONS["ridge"], 0).astype(np.int64)  # no peak at all: not a ridge
     ref = float("nan")
     if positive.any():
-        c = contrast[positive]
+        measured = positive
+        if s.continuity_rows is not None:  # the stripe's rows: peaks in line (isolated noise peaks are 1 px wide)
+            line = np.empty(H, np.bool_)
+            _continuity(positive, np.where(positive, peak, 0).astype(np.float64), int(s.continuity_rows),
+                        int(s.continuity_min), float(s.continuity_px), line)
+            if line.any():
+                measured = line
+        c = contrast[measured]
         n = max(1, int(math.ceil(s.strong_frac * c.size)))
         strongest = c >= np.sort(c)[c.size - n]  # ties all in: the same rows whichever way the frame is turned
-        ref = float(np.quantile(width[positive][strongest], s.width_quantile, method="lower"))
+        ref = float(np.quantile(width[measured][strongest], s.width_quantile, method="lower"))
     flank = np.full(H, np.nan)
     if positive.any():
         _flanks(f, np.where(positive, peak, -1), contrast, level, ref, flank)

@@ -65,8 +65,9 @@ def _row_evidence(frame, col, peak_out, contrast, lo_out, hi_out, level_out):
 def _flanks(frame, peak, contrast, level, ref_px, flank_out):
     """The higher of the two flanks' mean levels over the row's median, as a fraction of the peak's
     contrast: each flank the pixels ``d`` to ``2 d`` columns from the peak, ``d = max(ceil(ref_px), 2)``
-    (clipped to the frame; a side with no pixel in the frame counts as 1, not fallen). The floor of 2 px
-    keeps a 1-2 px stripe's own second pixel out of its flanks."""
+    (clipped to the frame; a side with no pixel in the frame is not read: a stripe on the frame's edge has
+    one flank; with neither, 1, not fallen). The floor of 2 px keeps a 1-2 px stripe's own second pixel
+    out of its flanks."""
     H, W = frame.shape
     d0 = max(int(math.ceil(ref_px)), 2)
     for r in range(H):
@@ -84,10 +85,12 @@ def _flanks(frame, peak, contrast, level, ref_px, flank_out):
                 if 0 <= j < W:
                     s += float(frame[r, j])
                     n += 1
-            v = (s / n - level[r]) / c if (n > 0 and c > 0) else 1.0
+            if n == 0:
+                continue
+            v = (s / n - level[r]) / c if c > 0 else 1.0
             if v > worst:
                 worst = v
-        flank_out[r] = worst
+        flank_out[r] = worst if worst > -np.inf else 1.0
 
 
 @njit(cache=True, nogil=True)
@@ -124,9 +127,11 @@ def _off_ratio(on, off, peak, out):
 
 @njit(cache=True, nogil=True)
 def _continuity(ok, col, rows, min_in_line, px_per_row, out):
-    """``out[r]``: ``ok[r]`` and at least ``min_in_line`` rows ``r'`` with ``0 < |r' - r| <= rows``,
-    ``ok[r']`` and ``|col[r'] - col[r]| <= px_per_row * |r' - r|``."""
+    """``out[r]``: ``ok[r]`` and at least ``min(min_in_line, H - 1)`` rows ``r'`` with ``0 < |r' - r| <= rows``,
+    ``ok[r']`` and ``|col[r'] - col[r]| <= px_per_row * |r' - r|`` (a frame of fewer rows than the test
+    needs asks for every other row, as the threshold family's chain does)."""
     H = ok.shape[0]
+    min_in_line = min(min_in_line, H - 1)
     for r in range(H):
         if not ok[r]:
             out[r] = False

@@ -30,9 +30,9 @@ every problem raises :class:`bench.config.ConfigError` with one line.
 The procedure itself is :mod:`bench.studies.tune`.
 
 The ``tune threshold`` and ``tune dp_gap`` profiles may also hold the stripe question's stage
-(:func:`stripe_stage`): ``stripe_trackers`` (the trackers it scores) and ``stripe_tests`` (the
-candidates, in order of preference: ``"none"``, the question not asked, or a table of
-:class:`trackers.StripeTest` settings, ``"none"`` for a test not asked); both or neither.
+(:func:`stripe_stage`): ``stripe_trackers`` (the trackers it chooses for, each on its own) and
+``stripe_tests`` (the candidates, in order of preference: ``"none"``, the question not asked, or a
+table of :class:`trackers.StripeTest` settings, ``"none"`` for a test not asked); both or neither.
 """
 
 from __future__ import annotations
@@ -341,6 +341,8 @@ def stripe_stage(data) -> tuple[list[str], list]:
     if (not isinstance(names, list) or not names or not all(isinstance(n, str) and n in known for n in names)
             or any("stripe_test" not in trackers.make(n).get_params() for n in names)):
         _fail(f"`stripe_trackers` must list trackers with a stripe_test parameter, got {names!r}")
+    if len(set(names)) != len(names):
+        _fail(f"`stripe_trackers` must not repeat a tracker (the question is chosen for each), got {names!r}")
     tests = data["stripe_tests"]
     if not isinstance(tests, list) or not tests:
         _fail(f"`stripe_tests` must be a non-empty list of 'none' or tables of stripe-question settings, "

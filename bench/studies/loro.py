@@ -195,7 +195,7 @@ def loro_table(dataset, summaries: dict, tracker_names, *, say=None) -> tuple[li
             t = trackers.make(name, **params)
             c = np.zeros(6, dtype=np.int64)
             for f, _ in (v for v in view.values() if v[0].kind == rig):
-                c += frame_counts(t.track(f.image, background=f.background).columns, f, HIT_PX)
+                c += frame_counts(f.track(t), f, HIT_PX)  # its image, laser-off frame and colour evidence
             cache[key] = c
         return cache[key]
 

@@ -12,13 +12,16 @@ set), the grids and the criterion, written in the profile's header. Two stages:
    with ``dp_trackers`` (the path of a frame is found once per tracker and every
    rule applied to its readings, :meth:`trackers.dp.DPTracker.readings`);
 3. where the profile lists ``stripe_tests``: the stripe question (:mod:`trackers._stripe`,
-   a tracker's ``stripe_test``), scored with ``stripe_trackers`` at the settings chosen in
-   stages 1 (``dp_gap``) and 2 (the others), each frame with its laser-off frame and colour
-   evidence; ties go to the candidate listed first.
+   a tracker's ``stripe_test``), chosen for each of ``stripe_trackers`` on its own outcomes
+   (:func:`bench.studies.tune_threshold.run_stripe_stage`) at the settings chosen in stages 1
+   (``dp_gap``) and 2 (the others), each frame with its laser-off frame and colour evidence;
+   ties go to the candidate listed first.
 
 All maximise :func:`bench.studies.tuning.objective` (the mean over the groups of
 frames of each group's F1 over rows: a miss and a false report priced alike). Every
 tracker is given the frame's laser-off frame where it has one, as the benchmark gives it.
+Stages 1 and 2 score the trackers without the stripe question (``stripe_test=None``): stage 3
+chooses it after them.
 
 Output in ``OUT`` (default ``results/runs/tune_dp_gap/``): ``tune_gap.csv`` (one line
 per stage, setting, tracker, group and kind: row-outcome counts, precision, recall,
@@ -96,10 +99,11 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     -------
     chosen : dict
         ``off_rel``, ``switch_rows`` (stage 1), ``k_sigma``, ``max_gap``, ``min_run`` (stage 2) and, with
-        a stage 3, ``stripe_test`` (None or a dict of :class:`trackers.StripeTest` settings).
+        a stage 3, ``stripe_test`` (tracker -> None or a dict of :class:`trackers.StripeTest` settings).
     summary : dict
-        The objective of every setting of both stages, the chosen settings' figures per group and
-        kind (``figures``), ``chosen`` and the number of frames per group.
+        The objective of every setting of every stage (``stage3`` per tracker), the chosen settings'
+        figures per group and kind (``figures``; stage 3's as ``stage3:<tracker>``, like
+        ``photographs`` and ``blind``), ``chosen`` and the number of frames per group.
     records : list of dict
         One per stage, setting, tracker, group and kind.
     """
@@ -122,7 +126,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     for o in profile.off_rel:
         for sw in profile.switch_rows:
             key = _gap_label(o, sw)
-            t = trackers.make(profile.tracker, off_rel=o, switch_rows=sw)
+            t = trackers.make(profile.tracker, off_rel=o, switch_rows=sw, stripe_test=None)
             for f in frames:
                 t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
             scores1[(o, sw)] = t1.objective(key)
@@ -138,7 +142,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     rules = [(k, g, m) for k in profile.k_sigma for g in profile.max_gap for m in profile.min_run]
     for n in profile.dp_trackers:
         base = trackers.make(n)
-        variants = {r: trackers.make(n, k_sigma=r[0], max_gap=r[1], min_run=r[2]) for r in rules}
+        variants = {r: trackers.make(n, k_sigma=r[0], max_gap=r[1], min_run=r[2], stripe_test=None) for r in rules}
         for f in frames:
             readings = base.readings(f.image, f.background)
             for r, t in variants.items():
@@ -154,26 +158,22 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     k_best, gap_best, m_best = {_rule_label(*r): r for r in rules}[judged["stage2"]["kept"]]
     chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
               "min_run": m_best}
-    # stage 3: the stripe question, with the choices above (dp_gap its off state, the others their rule)
-    from bench.studies.tune_threshold import judge_stripe_tests, stripe_key
+    # stage 3: the stripe question, chosen for each tracker with the choices above (dp_gap its off state, the
+    # others their rule)
+    from bench.studies.tune_threshold import run_stripe_stage, stripe_key
 
-    t3 = tuning.Tally(3, profile.hit_px)
-    scores3 = {}
-    for i, test in enumerate(profile.stripe_tests):
-        key = stripe_key(test)
-        for n in profile.stripe_trackers:
-            params = trackers.make(n).get_params()
-            kw = ({"off_rel": off_best, "switch_rows": sw_best} if "off_rel" in params else
-                  {"k_sigma": k_best, "max_gap": gap_best, "min_run": m_best})
-            t = trackers.make(n, stripe_test=test, **kw)
-            for f in frames:
-                t3.add(key, n, f, f.track(t))
-        scores3[i] = t3.objective(key)
-        say(f"stage 3: stripe test {key} done")
+    def params_of(n):
+        return ({"off_rel": off_best, "switch_rows": sw_best} if "off_rel" in trackers.make(n).get_params() else
+                {"k_sigma": k_best, "max_gap": gap_best, "min_run": m_best})
+
+    per3 = run_stripe_stage(3, frames, profile.stripe_trackers, profile.stripe_tests, params_of, profile.hit_px,
+                            profile.tie, say)
     stages = [("stage1", t1, _gap_label(off_best, sw_best)), ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
-    if profile.stripe_tests:
-        judged["stage3"], chosen["stripe_test"] = judge_stripe_tests(t3, scores3, profile.stripe_tests, profile.tie)
-        stages.append(("stage3", t3, stripe_key(chosen["stripe_test"])))
+    if per3:
+        chosen["stripe_test"] = {n: kept for n, (_, _, _, kept) in per3.items()}
+        for n, (tally, _, judgement, kept) in per3.items():
+            judged[f"stage3:{n}"] = judgement
+            stages.append((f"stage3:{n}", tally, stripe_key(kept)))
     figures = {}
     for name, tally, key in stages:
         figures[name] = {g: {**{kd: detection_figures(c) for kd, c in kinds.items()},
@@ -182,14 +182,16 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in tuning.GROUPS}
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames,
                "objective": "mean over groups of F1",
-               "blind": {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t2, t3)},
+               "blind": {**{f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t2)},
+                         **{f"stage3:{n}": {k: v for k, v in t.blind.items() if v} for n, (t, *_) in per3.items()}},
                "stage1": {_gap_label(*k): v for k, v in scores1.items()},
                "stage2": {_rule_label(*k): v for k, v in scores2.items()},
-               "stage3": {stripe_key(profile.stripe_tests[i]): v for i, v in scores3.items()},
+               "stage3": {n: {stripe_key(profile.stripe_tests[i]): v for i, v in sc.items()}
+                          for n, (_, sc, _, _) in per3.items()},
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
                "figures": figures, "photographs": judged}
-    records = t1.records() + t2.records() + t3.records()
+    records = t1.records() + t2.records() + [r for t, *_ in per3.values() for r in t.records()]
     tuning.write_records(out, "tune_gap.csv", records, summary)
     _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
     return chosen, summary, records
@@ -230,22 +232,22 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     """``stripebench tune dp_gap``: run the procedure on the tuning profile ``profile`` (a TOML path) into
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress bars. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any scan."""
-    from bench.studies.tune_threshold import figure_lines
-    from bench.studies.tune_threshold import stripe_key
+    from bench.studies.tune_threshold import figure_lines, stripe_key
     from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
     k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
     k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
-    stages = [("stage1", k1, profile.tracker), ("stage2", k2, ", ".join(profile.dp_trackers))]
-    if "stripe_test" in chosen:
-        stages.append(("stage3", stripe_key(chosen["stripe_test"]), ", ".join(profile.stripe_trackers)))
+    stages = [("stage1", k1, profile.tracker, summary["stage1"]),
+              ("stage2", k2, ", ".join(profile.dp_trackers), summary["stage2"])]
+    stages += [(f"stage3:{n}", stripe_key(test), n, summary["stage3"][n])
+               for n, test in chosen.get("stripe_test", {}).items()]
     for stage, names in summary["unavoidable_blind_photographs"].items():
         print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
-    for stage, key, what in stages:
-        best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]
-        print(f"{stage} ({what}): chosen {key} (objective {summary[stage][key]:.4f}; best five: "
+    for stage, key, what, scores in stages:
+        best = sorted(scores.items(), key=lambda kv: -kv[1])[:5]
+        print(f"{stage.split(':')[0]} ({what}): chosen {key} (objective {scores[key]:.4f}; best five: "
               + ", ".join(f"{kk} {v:.4f}" for kk, v in best) + ")")
         print("\n".join(figure_lines(summary["figures"][stage])))
         print("\n".join(judged_lines(summary["photographs"][stage])))

@@ -5,7 +5,7 @@ The profile (default ``bench/config/profiles/tune_threshold.toml``) lists the
 tuning frames (:mod:`bench.studies.tuning`: synthetic kinds and seeds of
 :mod:`bench.studies.hard_frames`, renders of spheres and planes at the profile's
 seed, and whether the shipped real set takes part), the grids and the criteria,
-which are written in the profile's header. Four stages, each using the choices of
+which are written in the profile's header. Five stages, each using the choices of
 the ones before:
 
 1. ``k_sigma`` x ``prominence`` x ``min_run`` x ``width_ratio`` of the per-row detection
@@ -22,14 +22,16 @@ the ones before:
    from the grid, the plain excess or the laser's channel) on the colour
    versions of the synthetic frames and of every colour photograph;
 5. where the profile lists ``stripe_tests``: the stripe question (:mod:`trackers._stripe`,
-   a tracker's ``stripe_test``), scored with ``stripe_trackers`` at the settings chosen
-   above, on every tuning frame with its laser-off frame and colour evidence; ties go to
-   the candidate listed first (the committed profile lists "none", the trackers as they
-   are, first).
+   a tracker's ``stripe_test``), chosen for each of ``stripe_trackers`` on its own outcomes
+   (:func:`run_stripe_stage`) at the settings chosen above, on every tuning frame with its
+   laser-off frame and colour evidence; ties go to the candidate listed first (the committed
+   profile lists "none", the trackers as they are, first).
 
 Stages 1, 3, 4 and 5 maximise :func:`bench.studies.tuning.objective`: the mean over
 the groups of frames of each group's F1 over rows, a miss and a false report
-priced alike.
+priced alike. Stages 1-4 score the trackers without the stripe question
+(``stripe_test=None``, whatever a tracker's default): stage 5 chooses it after them,
+so the procedure's choices do not depend on the committed question.
 
 Output in ``OUT`` (default ``results/runs/tune_threshold/``): ``tune.csv``
 (one line per stage, setting, tracker, group and kind: the row-outcome counts
@@ -48,8 +50,8 @@ import numpy as np
 from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
-           "apply_rule", "run", "figure_lines", "study", "stripe_key", "judge_stripe_tests", "chosen_params",
-           "DEFAULT_PROFILE", "DEFAULT_OUT"]
+           "apply_rule", "run", "figure_lines", "study", "stripe_key", "run_stripe_stage", "judge_stripe_tests",
+           "chosen_params", "DEFAULT_PROFILE", "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
 DEFAULT_OUT = "results/runs/tune_threshold"
@@ -182,17 +184,18 @@ def _key(k, p, m, w="n/a") -> str:
 
 
 def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = True):
-    """Run the four stages.
+    """Run the stages (the fifth where the profile lists ``stripe_tests``).
 
     Returns
     -------
     chosen : dict
         ``k_sigma``, ``prominence``, ``min_run``, ``width_ratio``, ``frac``, ``steger`` (its ``k_sigma``,
-        ``prominence``, ``min_run``), ``colour_rule`` and, with a stage 5, ``stripe_test`` (None: not
-        asked, or a dict of :class:`trackers.StripeTest` settings).
+        ``prominence``, ``min_run``), ``colour_rule`` and, with a stage 5, ``stripe_test`` (tracker ->
+        None, not asked, or a dict of :class:`trackers.StripeTest` settings).
     summary : dict
         The objective of every setting of every stage (``stage1`` ... ``stage4``, keyed by the
-        setting as a string), the chosen settings' figures per group and kind (``figures``),
+        setting as a string; ``stage5`` per tracker), the chosen settings' figures per group and
+        kind (``figures``; stage 5's as ``stage5:<tracker>``, like ``photographs`` and ``blind``),
         ``chosen`` and the number of frames per group.
     records : list of dict
         One per stage, setting, tracker, group and kind (see the module docstring).
@@ -219,7 +222,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                 for w in profile.width_ratio:
                     key = _key(k, p, m, w)
                     for n in profile.trackers:
-                        t = trackers.make(n, k_sigma=k, prominence=p, min_run=m, width_ratio=w)
+                        t = trackers.make(n, k_sigma=k, prominence=p, min_run=m, width_ratio=w, **_unasked(n))
                         for f in frames:
                             t1.add(key, n, f, t.track(f.image, background=f.background).columns)
                     scores1[(k, p, m, w)] = t1.objective(key)
@@ -237,7 +240,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     synth = [f for f in frames if f.group == "synthetic"]
     for fr in profile.frac:
         key = f"frac={fr:g}"
-        t = trackers.make("com_bg", frac=fr, **family)
+        t = trackers.make("com_bg", frac=fr, stripe_test=None, **family)
         errs = []
         for f in synth:
             m = frame_scores(t.track(f.image, background=f.background).columns, f.truth, profile.hit_px)
@@ -254,7 +257,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
         for p in profile.steger_prominence:
             for m in profile.steger_min_run:
                 key = _key(k, p, m)
-                t = trackers.make("steger", k_sigma=k, prominence=p, min_run=m)
+                t = trackers.make("steger", k_sigma=k, prominence=p, min_run=m, stripe_test=None)
                 for f in frames:
                     t3.add(key, "steger", f, t.track(f.image, background=f.background).columns)
                 scores3[(k, p, m)] = t3.objective(key)
@@ -268,7 +271,8 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     sk, sp, sm = {_key(*kpm): kpm for kpm in scores3}[judged["stage3"]["kept"]]
     steger = {"k_sigma": sk, "prominence": sp, "min_run": sm}
     # stage 4: the colour rule
-    colour = {n: trackers.make(n, **chosen_params(n, family, frac_best, steger)) for n in profile.colour_trackers}
+    colour = {n: trackers.make(n, **chosen_params(n, family, frac_best, steger), **_unasked(n))
+              for n in profile.colour_trackers}
     t4 = Tally(4, profile.hit_px)
     scores4 = {}
     coloured = [f for f in frames if f.rgb is not None]
@@ -288,22 +292,16 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     judged["stage4"] = t4.judge(pick4)
     rule_best = {f"rule={r}": r for r in scores4}[judged["stage4"]["kept"]]
     chosen = {**family, "frac": frac_best, "steger": steger, "colour_rule": rule_best}
-    # stage 5: the stripe question, asked by the trackers at the settings chosen above
-    t5 = Tally(5, profile.hit_px)
-    scores5 = {}
-    for i, test in enumerate(profile.stripe_tests):
-        key = stripe_key(test)
-        for n in profile.stripe_trackers:
-            t = trackers.make(n, stripe_test=test, **chosen_params(n, family, frac_best, steger))
-            for f in frames:
-                t5.add(key, n, f, f.track(t))
-        scores5[i] = t5.objective(key)
-        say(f"stage 5: stripe test {key} done")
+    # stage 5: the stripe question, chosen for each tracker at the settings chosen above
+    per5 = run_stripe_stage(5, frames, profile.stripe_trackers, profile.stripe_tests,
+                            lambda n: chosen_params(n, family, frac_best, steger), profile.hit_px, profile.tie, say)
     stages = [("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
               ("stage4", t4, f"rule={rule_best}")]
-    if profile.stripe_tests:
-        judged["stage5"], chosen["stripe_test"] = judge_stripe_tests(t5, scores5, profile.stripe_tests, profile.tie)
-        stages.append(("stage5", t5, stripe_key(chosen["stripe_test"])))
+    if per5:
+        chosen["stripe_test"] = {n: kept for n, (_, _, _, kept) in per5.items()}
+        for n, (tally, _, judgement, kept) in per5.items():
+            judged[f"stage5:{n}"] = judgement
+            stages.append((f"stage5:{n}", tally, stripe_key(kept)))
     figures = {}
     for name, tally, key in stages:
         figures[name] = {g: {kd: detection_figures(c) for kd, c in kinds.items()}
@@ -311,20 +309,74 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
         for g, kinds in tally.by_group(key).items():
             figures[name][g]["all"] = detection_figures(sum(kinds.values()))
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in ("synthetic", "renders", "real")}
-    blind = {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t3, t4, t5)}
+    blind = {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t3, t4)}
+    blind.update({f"stage5:{n}": {k: v for k, v in t.blind.items() if v} for n, (t, *_) in per5.items()})
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames, "objective": "mean over groups of F1",
                "blind": blind,
                "stage1": {_key(*kpm): s for kpm, s in scores1.items()},
                "stage2_mae_px": {f"frac={f:g}": v for f, v in mae2.items()},
                "stage3": {_key(*kpm): s for kpm, s in scores3.items()},
                "stage4": {f"rule={r}": s for r, s in scores4.items()},
-               "stage5": {stripe_key(profile.stripe_tests[i]): v for i, v in scores5.items()},
+               "stage5": {n: {stripe_key(profile.stripe_tests[i]): v for i, v in sc.items()}
+                          for n, (_, sc, _, _) in per5.items()},
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
                "figures": figures, "photographs": judged}
-    records = t1.records() + rec2 + t3.records() + t4.records() + t5.records()
+    records = t1.records() + rec2 + t3.records() + t4.records() + [r for t, *_ in per5.values() for r in t.records()]
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
+
+
+def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float, tie: float, say) -> dict:
+    """The stripe question's stage of a procedure, chosen for each tracker on its own outcomes.
+
+    Each tracker reads the answer its own way (the threshold family before its chain, Steger after
+    its ridge test, the DP trackers on the rows that support the path), and each has its own
+    ``stripe_test``; so every tracker is scored with every candidate, its eligibility counts its
+    own blindness, and its choice is judged leave one rig out against its own renders' choice
+    (:func:`judge_stripe_tests`).
+
+    Parameters
+    ----------
+    stage : int
+        The stage's number (the ``stage`` column of the records).
+    frames : list of bench.studies.tuning.TuningFrame
+    names : list of str
+        The trackers (each with a ``stripe_test`` parameter); empty: no such stage.
+    tests : list
+        The candidates (None or dicts of :class:`trackers.StripeTest` settings), in the order that
+        breaks ties.
+    params_of : callable
+        Tracker name -> the settings the stages before chose for it.
+    hit_px, tie : float
+        The hit rule and the tie band.
+    say : callable
+        Progress lines.
+
+    Returns
+    -------
+    dict
+        Tracker -> ``(tally, scores, judgement, kept)``: its counts (one setting per candidate,
+        named by :func:`stripe_key`), candidate index -> objective, the leave-one-rig-out
+        judgement and the kept candidate.
+    """
+    import trackers
+
+    from bench.studies.tuning import Tally
+
+    out = {}
+    for n in names:
+        tally = Tally(stage, hit_px)
+        scores = {}
+        for i, test in enumerate(tests):
+            t = trackers.make(n, stripe_test=test, **params_of(n))
+            for f in frames:
+                tally.add(stripe_key(test), n, f, f.track(t))
+            scores[i] = tally.objective(stripe_key(test))
+        judgement, kept = judge_stripe_tests(tally, scores, tests, tie)
+        out[n] = (tally, scores, judgement, kept)
+        say(f"stage {stage}: the stripe question for {n} done (kept {stripe_key(kept)})")
+    return out
 
 
 def judge_stripe_tests(tally, scored, tests, tie: float):
@@ -368,6 +420,13 @@ def stripe_key(test) -> str:
     from trackers._stripe import as_test
 
     return "stripe_test=" + ("none" if test is None else as_test(test).label())
+
+
+def _unasked(name: str) -> dict:
+    """``{"stripe_test": None}`` for a tracker with the stripe question, else ``{}`` (stages 1-4 do not ask it)."""
+    import trackers
+
+    return {"stripe_test": None} if "stripe_test" in trackers.make(name).get_params() else {}
 
 
 def chosen_params(name: str, family: dict, frac: float, steger: dict) -> dict:
@@ -427,12 +486,12 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
         chosen["colour_rule"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage4"].items())))
     print("\n".join(figure_lines(summary["figures"]["stage4"])))
     print("\n".join(judged_lines(summary["photographs"]["stage4"])))
-    if "stripe_test" in chosen:
-        key5 = stripe_key(chosen["stripe_test"])
-        print(f"stage 5: chosen {key5} (objective {summary['stage5'][key5]:.4f}; all: "
-              + ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage5"].items()) + ")")
-        print("\n".join(figure_lines(summary["figures"]["stage5"])))
-        print("\n".join(judged_lines(summary["photographs"]["stage5"])))
+    for n, test in chosen.get("stripe_test", {}).items():
+        key5, sc5 = stripe_key(test), summary["stage5"][n]
+        print(f"stage 5 ({n}): chosen {key5} (objective {sc5[key5]:.4f}; all: "
+              + ", ".join(f"{kk} {v:.4f}" for kk, v in sc5.items()) + ")")
+        print("\n".join(figure_lines(summary["figures"][f"stage5:{n}"])))
+        print("\n".join(judged_lines(summary["photographs"][f"stage5:{n}"])))
     for stage, names in summary["unavoidable_blind_photographs"].items():
         print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
     print(f"{out / 'tune.csv'}")

@@ -111,6 +111,44 @@ def test_led_dots_are_not_a_stripe_by_continuity():
     assert (a.reasons[a.asked] == REASONS["continuity"]).all()  # each dot is a ridge of the right width
 
 
+def test_a_dim_wide_stripe_among_noise_peaks_as_strong_is_measured_on_its_own_rows():
+    # A dark 8-bit frame: a stripe 7 px wide and 4 DN over a 1 DN floor in rows 0-29, and in every
+    # fourth row below, a one-pixel peak of noise as strong as the stripe at a random column (what a
+    # detector's candidates hold in a dim render). The stripe's width is measured on its own rows, in
+    # line, not on the noise's, which outnumber them among the strongest.
+    rng = np.random.default_rng(3)
+    f = np.ones((H, W), np.uint8)
+    f[:30, 57:64] = 5
+    noise_rows = np.arange(32, H, 4)
+    noise_cols = rng.integers(5, W - 5, noise_rows.size)
+    f[noise_rows, noise_cols] = 5
+    cols = np.full(H, np.nan)
+    cols[:30] = STRIPE_COL
+    cols[noise_rows] = noise_cols
+    a = ask(StripeTest(), f, cols)
+    assert a.stripe_width_px == 7.0
+    assert a.yes[:30].all() and not a.yes[30:].any()
+    assert a.said_no("continuity")[noise_rows].all()
+    # measured on every asked row, the noise's 1 px would make the stripe too wide and its flanks part of it
+    off = ask(StripeTest(continuity_rows=None), f, cols)
+    assert off.stripe_width_px == 1.0 and not off.yes[:30].any()
+
+
+def test_a_stripe_on_the_frames_edge_has_one_flank_and_a_short_frame_asks_for_all_its_rows():
+    on, _ = _scene()
+    edge = np.roll(on, -int(STRIPE_COL), axis=1)  # the stripe centred on column 0: its left flank is outside
+    a = _ask(edge, np.zeros(H))
+    assert a.yes.all() and np.all(a.flank < 0.2)  # read on its one side in the frame
+    right = _ask(edge[:, ::-1], np.full(H, W - 1.0))  # and on the last column
+    assert right.yes.all()
+    # a frame of 3 rows cannot hold 4 rows in line: its other 2 rows are asked for; a row out of line fails
+    short = on[:3].copy()
+    assert _ask(short, np.full(3, STRIPE_COL)).yes.all()
+    short[1] = on[1, np.r_[30:W, 0:30]]  # row 1's stripe moved 30 px
+    b = _ask(short)
+    assert not b.yes.any() and b.said_no("continuity").all()
+
+
 def test_a_peak_in_the_laser_off_frame_is_not_the_laser():
     on, off = _scene()
     rows = slice(50, 70)
@@ -170,7 +208,7 @@ def _distractor_frame(seed=0):
                                   "dp8_subpixel", "dp_gap", "learned"])
 def test_every_tracker_reads_the_question(name):
     on, off, colour, truth = _distractor_frame()
-    plain = trackers.make(name)
+    plain = trackers.make(name, stripe_test=None)
     asked = trackers.make(name, stripe_test={})
     # without a laser-off frame, as a one-frame tracker sees it
     a = plain.track(on, colour=colour).columns
@@ -180,6 +218,6 @@ def test_every_tracker_reads_the_question(name):
     assert not np.isfinite(b[~stripe]).any(), f"{name} still reports on the lit edge"
     assert np.isfinite(b[stripe]).mean() > 0.9
     assert np.nanmax(np.abs(b[stripe] - truth[stripe])) < 3.0
-    # stripe_test=None is the tracker as it was; {} the defaults; the answer's rows only remove reports
-    assert trackers.make(name, stripe_test=None).get_params() == plain.get_params()
+    # stripe_test=None, the default, does not ask; {} the defaults; the answer's rows only remove reports
+    assert trackers.make(name).get_params() == plain.get_params()
     assert not (np.isfinite(b) & ~np.isfinite(a)).any()

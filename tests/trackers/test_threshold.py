@@ -13,7 +13,7 @@ def test_reports_the_brightest_pixel_that_stands_out_of_its_row():
     img[0, 3] = 200
     img[1, 47] = 200
     img[2, 5] = 14  # 2 sigma: no stripe
-    out = ThresholdTracker(min_run=1).track(img)  # single rows: no chain needed
+    out = ThresholdTracker(min_run=1, stripe_test=None).track(img)  # single rows: no chain, no curve asked
     assert out.columns[:2].tolist() == [3.0, 47.0]
     assert np.isnan(out.columns[2:]).all()
 

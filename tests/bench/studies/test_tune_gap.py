@@ -132,11 +132,15 @@ def test_the_stripe_stage_runs_with_the_choices_of_stages_one_and_two(tmp_path, 
     out = tmp_path / "o"
     assert main(["tune", "dp_gap", "--profile", str(path), "--out", str(out), "--quiet"]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
-    assert any(x.startswith("stage3 (dp8, dp_gap): chosen stripe_test=") for x in lines)
+    assert any(x.startswith("stage3 (dp8): chosen stripe_test=") for x in lines)
+    assert any(x.startswith("stage3 (dp_gap): chosen stripe_test=") for x in lines)
     import json
 
     s = json.loads((out / "summary.json").read_text())
-    assert list(s["stage3"]) == ["stripe_test=none", "stripe_test=defaults"]
-    assert s["chosen"]["stripe_test"] in (None, {})
+    assert list(s["stage3"]) == ["dp8", "dp_gap"]  # chosen for each tracker
+    assert all(list(v) == ["stripe_test=none", "stripe_test=defaults"] for v in s["stage3"].values())
+    assert set(s["chosen"]["stripe_test"]) == {"dp8", "dp_gap"}
+    assert all(v in (None, {}) for v in s["chosen"]["stripe_test"].values())
+    assert {"stage3:dp8", "stage3:dp_gap"} <= set(s["photographs"]) and "stage3:dp8" in s["figures"]
     rows = [r.split(",") for r in (out / "tune_gap.csv").read_text().strip().splitlines()[1:] if r.startswith("3,")]
     assert {r[2] for r in rows} == {"dp8", "dp_gap"} and {r[3] for r in rows} == {"synthetic", "renders"}

@@ -87,10 +87,12 @@ def test_a_small_run_writes_its_files_and_chooses_from_its_grid(tmp_path):
     fig = summary["figures"]["stage1"]["synthetic"]
     assert set(fig) == {"dim", "noisy_sensor", "all"} and 0 <= fig["all"]["false_report_rate"] <= 1
     # stage 5: the committed profile's stripe-question candidates, "none" (the trackers as they are) first
-    s5 = summary["stage5"]
-    assert list(s5)[:2] == ["stripe_test=none", "stripe_test=defaults"] and len(s5) == 6
-    assert summary["chosen"]["stripe_test"] is None or isinstance(summary["chosen"]["stripe_test"], dict)
-    assert set(summary["figures"]["stage5"]["synthetic"]) == {"dim", "noisy_sensor", "all"}
+    s5 = summary["stage5"]  # chosen for each tracker of the profile's stripe_trackers
+    assert list(s5) == ["threshold", "centroid", "gauss3", "parabolic", "blais_rioux", "com_bg", "steger"]
+    assert all(list(v)[:2] == ["stripe_test=none", "stripe_test=defaults"] and len(v) == 6 for v in s5.values())
+    assert set(summary["chosen"]["stripe_test"]) == set(s5)
+    assert all(v is None or isinstance(v, dict) for v in summary["chosen"]["stripe_test"].values())
+    assert set(summary["figures"]["stage5:threshold"]["synthetic"]) == {"dim", "noisy_sensor", "all"}
     # the stage's "none" is stage 1's choice, asked of the same frames: the same counts for threshold
     import csv
 
@@ -119,7 +121,9 @@ def test_the_stripe_stage_is_optional_and_its_candidates_are_checked(tmp_path):
                          ('stripe_trackers = ["threshold"]\nstripe_tests = [{width_ratio = 0.5}]',
                           r"`stripe_tests\[0\]`: `stripe_test`: `width_ratio` must be None or a number >= 1"),
                          ('stripe_trackers = ["threshold"]\nstripe_tests = [{wide = 1}]', "unknown setting"),
-                         ('stripe_trackers = ["dp4x"]\nstripe_tests = ["none"]', "`stripe_trackers` must list")):
+                         ('stripe_trackers = ["dp4x"]\nstripe_tests = ["none"]', "`stripe_trackers` must list"),
+                         ('stripe_trackers = ["steger", "steger"]\nstripe_tests = ["none"]',
+                          "`stripe_trackers` must not repeat a tracker")):
         bad.write_text(text[:start] + new + text[end:])
         with pytest.raises(ValueError, match=message):
             tt.load_profile(bad)

@@ -160,7 +160,7 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
               "min_run": m_best}
     # stage 3: the stripe question, chosen for each tracker with the choices above (dp_gap its off state, the
     # others their rule)
-    from bench.studies.tune_threshold import run_stripe_stage, stripe_key
+    from bench.studies.tune_threshold import run_stripe_stage
 
     def params_of(n):
         return ({"off_rel": off_best, "switch_rows": sw_best} if "off_rel" in trackers.make(n).get_params() else
@@ -169,11 +169,10 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     per3 = run_stripe_stage(3, frames, profile.stripe_trackers, profile.stripe_tests, params_of, profile.hit_px,
                             profile.tie, say)
     stages = [("stage1", t1, _gap_label(off_best, sw_best)), ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
-    if per3:
-        chosen["stripe_test"] = {n: kept for n, (_, _, _, kept) in per3.items()}
-        for n, (tally, _, judgement, kept) in per3.items():
-            judged[f"stage3:{n}"] = judgement
-            stages.append((f"stage3:{n}", tally, stripe_key(kept)))
+    if per3.per:
+        chosen["stripe_test"] = per3.chosen
+        judged.update(per3.judged)
+        stages += per3.stages
     figures = {}
     for name, tally, key in stages:
         figures[name] = {g: {**{kd: detection_figures(c) for kd, c in kinds.items()},
@@ -183,15 +182,14 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames,
                "objective": "mean over groups of F1",
                "blind": {**{f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t2)},
-                         **{f"stage3:{n}": {k: v for k, v in t.blind.items() if v} for n, (t, *_) in per3.items()}},
+                         **per3.blind},
                "stage1": {_gap_label(*k): v for k, v in scores1.items()},
                "stage2": {_rule_label(*k): v for k, v in scores2.items()},
-               "stage3": {n: {stripe_key(profile.stripe_tests[i]): v for i, v in sc.items()}
-                          for n, (_, sc, _, _) in per3.items()},
+               "stage3": per3.scores,
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
                "figures": figures, "photographs": judged}
-    records = t1.records() + t2.records() + [r for t, *_ in per3.values() for r in t.records()]
+    records = t1.records() + t2.records() + per3.records()
     tuning.write_records(out, "tune_gap.csv", records, summary)
     _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
     return chosen, summary, records

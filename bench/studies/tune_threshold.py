@@ -50,7 +50,8 @@ import numpy as np
 from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # noqa: F401  (the schema)
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
-           "apply_rule", "run", "figure_lines", "study", "stripe_key", "run_stripe_stage", "judge_stripe_tests",
+           "apply_rule", "run", "figure_lines", "study", "stripe_key", "StripeStage", "run_stripe_stage",
+           "judge_stripe_tests",
            "chosen_params", "DEFAULT_PROFILE", "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
@@ -297,11 +298,10 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                             lambda n: chosen_params(n, family, frac_best, steger), profile.hit_px, profile.tie, say)
     stages = [("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
               ("stage4", t4, f"rule={rule_best}")]
-    if per5:
-        chosen["stripe_test"] = {n: kept for n, (_, _, _, kept) in per5.items()}
-        for n, (tally, _, judgement, kept) in per5.items():
-            judged[f"stage5:{n}"] = judgement
-            stages.append((f"stage5:{n}", tally, stripe_key(kept)))
+    if per5.per:
+        chosen["stripe_test"] = per5.chosen
+        judged.update(per5.judged)
+        stages += per5.stages
     figures = {}
     for name, tally, key in stages:
         figures[name] = {g: {kd: detection_figures(c) for kd, c in kinds.items()}
@@ -310,24 +310,51 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
             figures[name][g]["all"] = detection_figures(sum(kinds.values()))
     n_frames = {g: sum(1 for f in frames if f.group == g) for g in ("synthetic", "renders", "real")}
     blind = {f"stage{t.stage}": {k: v for k, v in t.blind.items() if v} for t in (t1, t3, t4)}
-    blind.update({f"stage5:{n}": {k: v for k, v in t.blind.items() if v} for n, (t, *_) in per5.items()})
+    blind.update(per5.blind)
     summary = {"profile": profile.name, "chosen": chosen, "n_frames": n_frames, "objective": "mean over groups of F1",
                "blind": blind,
                "stage1": {_key(*kpm): s for kpm, s in scores1.items()},
                "stage2_mae_px": {f"frac={f:g}": v for f, v in mae2.items()},
                "stage3": {_key(*kpm): s for kpm, s in scores3.items()},
                "stage4": {f"rule={r}": s for r, s in scores4.items()},
-               "stage5": {n: {stripe_key(profile.stripe_tests[i]): v for i, v in sc.items()}
-                          for n, (_, sc, _, _) in per5.items()},
+               "stage5": per5.scores,
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
                "figures": figures, "photographs": judged}
-    records = t1.records() + rec2 + t3.records() + t4.records() + [r for t, *_ in per5.values() for r in t.records()]
+    records = t1.records() + rec2 + t3.records() + t4.records() + per5.records()
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
     return chosen, summary, records
 
 
-def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float, tie: float, say) -> dict:
+class StripeStage:
+    """The stripe question's stage of a procedure, one choice per tracker (:func:`run_stripe_stage`).
+
+    ``per[tracker] = (tally, scores, judgement, kept)``: its counts (one setting per candidate, named
+    by :func:`stripe_key`), candidate index -> objective, the leave-one-rig-out judgement and the
+    kept candidate. The other attributes are what a procedure's summary holds of the stage, each
+    entry named ``stage<N>:<tracker>``.
+    """
+
+    def __init__(self, stage: int, tests, per: dict):
+        self.per = per
+        names = {n: f"stage{stage}:{n}" for n in per}
+        #: tracker -> the kept candidate (None or a dict of settings): the procedure's ``chosen["stripe_test"]``
+        self.chosen = {n: kept for n, (*_, kept) in per.items()}
+        #: entry -> the leave-one-rig-out judgement (the summary's ``photographs``)
+        self.judged = {names[n]: j for n, (_, _, j, _) in per.items()}
+        #: (entry, tally, kept setting) per tracker, for the summary's ``figures``
+        self.stages = [(names[n], t, stripe_key(kept)) for n, (t, _, _, kept) in per.items()]
+        #: entry -> setting -> the plain frames it went blind on (settings that went blind somewhere)
+        self.blind = {names[n]: {k: v for k, v in t.blind.items() if v} for n, (t, *_) in per.items()}
+        #: tracker -> candidate -> objective (the summary's ``stage<N>``)
+        self.scores = {n: {stripe_key(tests[i]): v for i, v in sc.items()} for n, (_, sc, _, _) in per.items()}
+
+    def records(self) -> list[dict]:
+        """The stage's records, tracker by tracker (:meth:`bench.studies.tuning.Tally.records`)."""
+        return [r for t, *_ in self.per.values() for r in t.records()]
+
+
+def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float, tie: float, say) -> StripeStage:
     """The stripe question's stage of a procedure, chosen for each tracker on its own outcomes.
 
     Each tracker reads the answer its own way (the threshold family before its chain, Steger after
@@ -355,10 +382,7 @@ def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float,
 
     Returns
     -------
-    dict
-        Tracker -> ``(tally, scores, judgement, kept)``: its counts (one setting per candidate,
-        named by :func:`stripe_key`), candidate index -> objective, the leave-one-rig-out
-        judgement and the kept candidate.
+    StripeStage
     """
     import trackers
 
@@ -376,7 +400,7 @@ def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float,
         judgement, kept = judge_stripe_tests(tally, scores, tests, tie)
         out[n] = (tally, scores, judgement, kept)
         say(f"stage {stage}: the stripe question for {n} done (kept {stripe_key(kept)})")
-    return out
+    return StripeStage(stage, tests, out)
 
 
 def judge_stripe_tests(tally, scored, tests, tie: float):

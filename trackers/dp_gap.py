@@ -31,15 +31,18 @@ from ._validation import check_image
 from .dp import (_TIE_TOL, DEFAULT_H_WEIGHT, PAPER_REPORT, DPTracker, _check_connectivity, _check_cost,
                  _check_h_weight, _half_cost, _marked_readings, _work_arrays)
 
-__all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS"]
+__all__ = ["gap_path", "gap_nodes", "DPGapTracker", "DEFAULT_OFF_REL", "DEFAULT_SWITCH_ROWS", "DEFAULT_LEVEL_QUANTILE"]
 
 #: ``dp_gap``'s default off level, as a fraction of the way from the frame's
 #: background to its typical row maximum (chosen by ``stripebench tune dp_gap``, stage 1: the mean
 #: over renders, synthetic frames and photographs of F1 over rows).
-DEFAULT_OFF_REL = 0.5
+DEFAULT_OFF_REL = 0.3
 #: ``dp_gap``'s default switch cost, in rows of the off cost (chosen by
 #: ``stripebench tune dp_gap``, stage 1).
 DEFAULT_SWITCH_ROWS = 3.0
+#: ``dp_gap``'s default quantile over rows of each row's brightest pixel that gives the stripe's typical
+#: brightness (chosen by ``stripebench tune dp_gap``, stage 1).
+DEFAULT_LEVEL_QUANTILE = 0.75
 
 
 def _background(image: np.ndarray, samples: int = 2048) -> float:
@@ -181,8 +184,9 @@ class DPGapTracker(DPTracker):
 
     * the *off level* ``L_off = b + off_rel * (m - b)``, with ``b`` the
       frame's background (median of a fixed sample of about 2048 pixels) and ``m`` the
-      median over rows of each row's brightest pixel (the stripe's typical
-      brightness where most rows hold the stripe); the off node costs what a
+      ``level_quantile`` quantile over rows of each row's brightest pixel (the stripe's typical
+      brightness: the median where most rows hold the stripe, a higher quantile where only
+      some do, as in a stripe of dots or dashes or one that starts mid-frame); the off node costs what a
       pixel of that brightness costs, ``1 / (max(L_off, 0) + eps)``: a row
       whose reachable pixels are all dimmer than ``L_off`` is cheaper off;
     * the switch cost is ``switch_rows`` times that off cost, per edge that
@@ -212,11 +216,14 @@ class DPGapTracker(DPTracker):
     switch_rows : float, default :data:`DEFAULT_SWITCH_ROWS`
         Cost of leaving or entering the off state, in units of the off cost
         (rows spent off), finite and >= 0.
+    level_quantile : float, default :data:`DEFAULT_LEVEL_QUANTILE`
+        The quantile over rows of each row's brightest pixel that is the
+        stripe's typical brightness ``m``, in [0, 1] (0.5: the median).
 
     Notes
     -----
     ``score`` is the DP contrast in noise units, as for the DP trackers.
-    ``off_rel`` and ``switch_rows`` were chosen by ``stripebench tune dp_gap``
+    ``off_rel``, ``switch_rows`` and ``level_quantile`` were chosen by ``stripebench tune dp_gap``
     (``bench/config/profiles/tune_dp_gap.toml``) on scenes and a seed the paper
     experiment does not use.
     """
@@ -227,7 +234,7 @@ class DPGapTracker(DPTracker):
                  side_inner=4, side_outer=12,
                  h_weight=DEFAULT_H_WEIGHT, use_background=True, connectivity=8, off_rel=DEFAULT_OFF_REL,
                  switch_rows=DEFAULT_SWITCH_ROWS, row_rule="crossing", max_walk=None,
-                 min_run=PAPER_REPORT["min_run"], stripe_test=None):
+                 min_run=PAPER_REPORT["min_run"], stripe_test=None, level_quantile=DEFAULT_LEVEL_QUANTILE):
         super().__init__(eps=eps, k_sigma=k_sigma, min_support=min_support, max_gap=max_gap,
                          side_inner=side_inner, side_outer=side_outer, h_weight=h_weight,
                          use_background=use_background, row_rule=row_rule, max_walk=max_walk, min_run=min_run,
@@ -235,9 +242,11 @@ class DPGapTracker(DPTracker):
         self.connectivity = connectivity
         self.off_rel = off_rel
         self.switch_rows = switch_rows
+        self.level_quantile = level_quantile
 
     parameter_constraints = {**DPTracker.parameter_constraints, "connectivity": Choice(frozenset({4, 8})),
-                             "off_rel": Real(low=0, high=1), "switch_rows": Real(low=0)}
+                             "off_rel": Real(low=0, high=1), "switch_rows": Real(low=0),
+                             "level_quantile": Real(low=0, high=1)}
 
     def off_costs(self, image: np.ndarray, rowmin: np.ndarray) -> tuple[float, float]:
         """The off node's cost and the switch cost for a frame.
@@ -256,7 +265,8 @@ class DPGapTracker(DPTracker):
         """
         eps = float(self.eps)
         b = _background(image)
-        m = float(np.median(0.5 / rowmin - eps))
+        peaks, q = 0.5 / rowmin - eps, float(self.level_quantile)
+        m = float(np.median(peaks) if q == 0.5 else np.quantile(peaks, q))  # the median to the last bit
         level = b + float(self.off_rel) * (m - b)
         off = 1.0 / (max(level, 0.0) + eps)
         return off, float(self.switch_rows) * off

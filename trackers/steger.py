@@ -15,7 +15,7 @@ from .threshold import DEFAULT_K_SIGMA, DEFAULT_PROMINENCE, ThresholdTracker
 #: Steger's detection defaults: the noise multiple and prominence of its per-row rule on
 #: the ridge strength and the intensity, and the least chain of rows (chosen by
 #: ``stripebench tune threshold``, stage 3: the objective of the threshold family's stage, steger alone).
-DEFAULT_STEGER = {"k_sigma": 6.0, "prominence": 0.0, "min_run": 5}
+DEFAULT_STEGER = {"k_sigma": 8.0, "prominence": 1.25, "min_run": 5}
 
 __all__ = ["StegerTracker", "DEFAULT_STEGER", "gaussian_derivatives", "default_sigma", "acceptance", "estimate_width",
            "WIDTH_RANGE", "FALLBACK_WIDTH", "SCALE_PER_WIDTH"]

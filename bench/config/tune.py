@@ -166,13 +166,18 @@ def load_profile(path, kinds=()) -> TuneProfile:
 GAP_DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parent / "profiles" / "tune_dp_gap.toml"
 #: The optional keys of the stripe question's stage (:func:`stripe_stage`), in the threshold and dp_gap profiles.
 STRIPE_KEYS = {"stripe_trackers", "stripe_tests"}
+#: The optional false-report ceiling of the threshold and dp_gap profiles (:func:`false_ceiling`).
+CEILING_KEY = "max_false_rate"
+#: The optional keys of a ``tune dp_gap`` profile besides those above.
+GAP_OPTIONAL_KEYS = {"level_quantile"}
 GAP_TOP_KEYS = {"name", "seed", "tracker", "off_rel", "switch_rows", "hit_px", "tie", "render", "experiments",
                 "seeds", "kinds", "real", "dp_trackers", "k_sigma", "max_gap", "min_run"}
 GAP_RENDER_KEYS = {"width", "height", "spp", "n_angles"}
 #: The numbers and switches of a ``tune dp_gap`` profile (of a list: each value; ``max_gap`` also ``"none"``).
 GAP_CONSTRAINTS = {"seed": Int(low=0), "seeds": Int(low=0), "off_rel": Real(low=0.0, high=1.0),
                    "switch_rows": Real(low=0.0), "hit_px": Real(low=0, finite=False), "tie": Real(low=0, finite=False),
-                   "real": Bool(), "k_sigma": Real(low=0), "max_gap": Int(low=0), "min_run": Int(low=1)}
+                   "real": Bool(), "k_sigma": Real(low=0), "max_gap": Int(low=0), "min_run": Int(low=1),
+                   "level_quantile": Real(low=0.0, high=1.0)}
 
 
 @dataclass
@@ -197,6 +202,9 @@ class GapProfile:
     min_run: list[int] = field(default_factory=list)
     stripe_trackers: list[str] = field(default_factory=list)
     stripe_tests: list = field(default_factory=list)
+    max_false_rate: float | None = None
+    #: stage 1's grid of the tracker's ``level_quantile`` (None: not a dimension of the grid; the tracker's default)
+    level_quantile: list[float] | None = None
 
 
 def _fail(msg: str):
@@ -233,7 +241,7 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
     bench.config.ConfigError
         A missing or unknown key or a bad value, named in the message (one line).
     """
-    data = _read_profile(path, GAP_TOP_KEYS | STRIPE_KEYS)
+    data = _read_profile(path, GAP_TOP_KEYS | STRIPE_KEYS | GAP_OPTIONAL_KEYS | {CEILING_KEY})
     for key in sorted(GAP_TOP_KEYS):
         if key not in data:
             _fail(f"`profile` lacks the key {key!r}")
@@ -250,6 +258,11 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
                                         for n in dps):
         _fail(f"`dp_trackers` must list trackers with k_sigma, max_gap and min_run parameters, got {dps!r}")
     off = _grid(data, "off_rel", c["off_rel"])
+    quantiles = None
+    if "level_quantile" in data:
+        if "level_quantile" not in trackers.make(name).get_params():
+            _fail(f"`level_quantile` needs a tracker with a level_quantile parameter, got {name!r}")
+        quantiles = _grid(data, "level_quantile", c["level_quantile"])
     sw = _grid(data, "switch_rows", c["switch_rows"])
     for key in ("hit_px", "tie"):
         require(key, data[key], c[key])
@@ -264,7 +277,7 @@ def load_gap_profile(path, kinds=()) -> GapProfile:
     return GapProfile(str(data["name"]), seed, name, off, sw, float(data["hit_px"]), float(data["tie"]), render, exps,
                       [int(x) for x in seeds], list(ks), data["real"], list(dps), _grid(data, "k_sigma", c["k_sigma"]),
                       _none_int_grid(data, "max_gap", c["max_gap"]), _int_grid(data, "min_run", c["min_run"]),
-                      *stripe_stage(data))
+                      *stripe_stage(data), max_false_rate=false_ceiling(data), level_quantile=quantiles)
 
 
 # ---------------------------------------------------------------------------------------------------- threshold
@@ -310,6 +323,22 @@ class TuneThresholdProfile:
     renders: list[dict] = field(default_factory=list)
     stripe_trackers: list[str] = field(default_factory=list)
     stripe_tests: list = field(default_factory=list)
+    max_false_rate: float | None = None
+
+
+def false_ceiling(data) -> float | None:
+    """A profile's false-report ceiling (``max_false_rate``, a share in [0, 1]; None where the profile has none):
+    a setting under which a tracker reports on more of the photographs' stripe-less rows is not eligible where
+    another keeps every tracker within it (:meth:`bench.studies.tuning.Tally.eligible`).
+
+    Examples
+    --------
+    >>> false_ceiling({"max_false_rate": 0.1}), false_ceiling({})
+    (0.1, None)
+    """
+    if CEILING_KEY not in data:
+        return None
+    return float(require(CEILING_KEY, data[CEILING_KEY], Real(low=0, high=1)))
 
 
 def stripe_stage(data) -> tuple[list[str], list]:
@@ -422,7 +451,7 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
     bench.config.ConfigError
         A missing or unknown key or a bad value, named in the message (one line).
     """
-    data = _read_profile(path, THRESHOLD_TOP_KEYS | STRIPE_KEYS)
+    data = _read_profile(path, THRESHOLD_TOP_KEYS | STRIPE_KEYS | {CEILING_KEY})
     missing = sorted(THRESHOLD_TOP_KEYS - set(data))
     if missing:
         raise ConfigError(f"`profile` lacks the key(s) {missing}")
@@ -459,4 +488,5 @@ def load_threshold_profile(path, kinds) -> TuneThresholdProfile:
         _none_real_grid(data, "width_ratio", c["width_ratio"]), _grid(data, "frac", c["frac"]),
         list(data["colour_trackers"]), [r if isinstance(r, str) else float(r) for r in rules],
         _grid(data, "steger_k_sigma", c["steger_k_sigma"]), _grid(data, "steger_prominence", c["steger_prominence"]),
-        _int_grid(data, "steger_min_run", c["steger_min_run"]), seed, render, renders, *stripe_stage(data))
+        _int_grid(data, "steger_min_run", c["steger_min_run"]), seed, render, renders, *stripe_stage(data),
+        max_false_rate=false_ceiling(data))

@@ -7,7 +7,7 @@ frames (:mod:`bench.studies.tuning`: renders of the profile's experiments at its
 seed, cached; synthetic hard frames with their laser-off frames; the shipped real
 set), the grids and the criterion, written in the profile's header. Two stages:
 
-1. ``dp_gap``'s ``off_rel`` x ``switch_rows``;
+1. ``dp_gap``'s ``off_rel`` x ``switch_rows`` (x ``level_quantile`` where the profile lists it);
 2. the DP trackers' reporting rule, ``k_sigma`` x ``max_gap`` x ``min_run``, scored
    with ``dp_trackers`` (the path of a frame is found once per tracker and every
    rule applied to its readings, :meth:`trackers.dp.DPTracker.readings`);
@@ -54,10 +54,11 @@ def load_profile(path) -> GapProfile:
 
     return load_gap_profile(path, KINDS)
 
-def choose(scores: dict[tuple[float, float], float], tie: float) -> tuple[float, float]:
-    """Stage 1's choice: the best ``(off_rel, switch_rows)``; scores within ``tie`` of the best go to the
-    smallest ``off_rel``, then the largest ``switch_rows`` (the fewest rows left out: closest to the
-    paper's DP, which never leaves one out).
+def choose(scores: dict[tuple, float], tie: float) -> tuple:
+    """Stage 1's choice: the best ``(off_rel, switch_rows)`` or ``(off_rel, switch_rows, level_quantile)``;
+    scores within ``tie`` of the best go to the smallest ``off_rel``, then the largest ``switch_rows`` (the
+    fewest rows left out: closest to the paper's DP, which never leaves one out), then the smallest
+    ``level_quantile`` (None, not in the grid, first).
 
     Examples
     --------
@@ -66,7 +67,7 @@ def choose(scores: dict[tuple[float, float], float], tie: float) -> tuple[float,
     """
     best = max(scores.values())
     near = [k for k, v in scores.items() if v >= best - tie]
-    return min(near, key=lambda k: (k[0], -k[1]))
+    return min(near, key=lambda k: (k[0], -k[1], *((-1.0 if q is None else q) for q in k[2:])))
 
 
 def choose_rule(scores: dict, tie: float) -> tuple:
@@ -84,8 +85,12 @@ def choose_rule(scores: dict, tie: float) -> tuple:
     return min(near, key=lambda k: (k[1] is not None, -(k[1] or 0), k[2], k[0]))
 
 
-def _gap_label(off: float, sw: float) -> str:
-    return f"off_rel={off:g},switch_rows={sw:g}"
+def _gap_label(off: float, sw: float, q: float | None = None) -> str:
+    return f"off_rel={off:g},switch_rows={sw:g}" + ("" if q is None else f",level_quantile={q:g}")
+
+
+def _gap_params(off: float, sw: float, q: float | None = None) -> dict:
+    return {"off_rel": off, "switch_rows": sw, **({} if q is None else {"level_quantile": q})}
 
 
 def _rule_label(k: float, gap, m: int) -> str:
@@ -121,15 +126,16 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
     frames += tuning.synthetic_frames(profile.kinds, profile.seeds, background=True)
     if profile.real:
         frames += tuning.real_frames()
-    t1 = tuning.Tally(1, profile.hit_px)
+    t1 = tuning.Tally(1, profile.hit_px, profile.max_false_rate)
     scores1 = {}
     for o in profile.off_rel:
         for sw in profile.switch_rows:
-            key = _gap_label(o, sw)
-            t = trackers.make(profile.tracker, off_rel=o, switch_rows=sw, stripe_test=None)
-            for f in frames:
-                t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
-            scores1[(o, sw)] = t1.objective(key)
+            for q in profile.level_quantile or [None]:
+                key = _gap_label(o, sw, q)
+                t = trackers.make(profile.tracker, **_gap_params(o, sw, q), stripe_test=None)
+                for f in frames:
+                    t1.add(key, profile.tracker, f, t.track(f.image, background=f.background).columns)
+                scores1[(o, sw, q)] = t1.objective(key)
         say(f"stage 1: off_rel = {o:g} done")
     def pick1(held, photos):
         sc = {k: t1.objective(_gap_label(*k), held_out=held, photographs=photos) for k in scores1}
@@ -137,8 +143,8 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                                   profile.tie))
 
     judged = {"stage1": t1.judge(pick1)}
-    off_best, sw_best = {_gap_label(*k): k for k in scores1}[judged["stage1"]["kept"]]
-    t2 = tuning.Tally(2, profile.hit_px)
+    off_best, sw_best, q_best = {_gap_label(*k): k for k in scores1}[judged["stage1"]["kept"]]
+    t2 = tuning.Tally(2, profile.hit_px, profile.max_false_rate)
     rules = [(k, g, m) for k in profile.k_sigma for g in profile.max_gap for m in profile.min_run]
     for n in profile.dp_trackers:
         base = trackers.make(n)
@@ -156,19 +162,19 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
 
     judged["stage2"] = t2.judge(pick2)
     k_best, gap_best, m_best = {_rule_label(*r): r for r in rules}[judged["stage2"]["kept"]]
-    chosen = {"off_rel": off_best, "switch_rows": sw_best, "k_sigma": k_best, "max_gap": gap_best,
-              "min_run": m_best}
+    chosen = {**_gap_params(off_best, sw_best, q_best), "k_sigma": k_best, "max_gap": gap_best, "min_run": m_best}
     # stage 3: the stripe question, chosen for each tracker with the choices above (dp_gap its off state, the
     # others their rule)
-    from bench.studies.tune_threshold import run_stripe_stage
+    from bench.studies.tune_threshold import above_ceiling, run_stripe_stage
 
     def params_of(n):
-        return ({"off_rel": off_best, "switch_rows": sw_best} if "off_rel" in trackers.make(n).get_params() else
+        return (_gap_params(off_best, sw_best, q_best) if "off_rel" in trackers.make(n).get_params() else
                 {"k_sigma": k_best, "max_gap": gap_best, "min_run": m_best})
 
     per3 = run_stripe_stage(3, frames, profile.stripe_trackers, profile.stripe_tests, params_of, profile.hit_px,
-                            profile.tie, say)
-    stages = [("stage1", t1, _gap_label(off_best, sw_best)), ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
+                            profile.tie, say, max_false_rate=profile.max_false_rate)
+    stages = [("stage1", t1, _gap_label(off_best, sw_best, q_best)),
+              ("stage2", t2, _rule_label(k_best, gap_best, m_best))]
     if per3.per:
         chosen["stripe_test"] = per3.chosen
         judged.update(per3.judged)
@@ -188,10 +194,11 @@ def run(profile: GapProfile, out: pathlib.Path, *, progress: bool = True):
                "stage3": per3.scores,
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
+               "max_false_rate": profile.max_false_rate, "above_false_rate_ceiling": above_ceiling(stages),
                "figures": figures, "photographs": judged}
     records = t1.records() + t2.records() + per3.records()
     tuning.write_records(out, "tune_gap.csv", records, summary)
-    _plot(profile, scores1, (off_best, sw_best), out / "tune_dp_gap.png")
+    _plot(profile, scores1, (off_best, sw_best, q_best), out / "tune_dp_gap.png")
     return chosen, summary, records
 
 
@@ -203,20 +210,20 @@ def _plot(profile, scores, chosen, path):
 
     offs = sorted(profile.off_rel)
     sws = sorted(profile.switch_rows)
-    z = np.array([[scores[o, s] for s in sws] for o in offs])
+    q = chosen[2]  # the grid's slice at the chosen level_quantile
+    z = np.array([[scores[o, s, q] for s in sws] for o in offs])
     fig, ax = plt.subplots(figsize=(6.0, 4.0), dpi=120)
     im = ax.imshow(z, origin="lower", cmap="viridis", aspect="auto")
     for i in range(len(offs)):
         for j in range(len(sws)):
-            bold = (offs[i], sws[j]) == tuple(chosen)
+            bold = (offs[i], sws[j]) == tuple(chosen[:2])
             ax.text(j, i, f"{z[i, j]:.3f}", ha="center", va="center", fontsize=7,
                     color="w" if z[i, j] < np.nanmean(z) else "k", weight="bold" if bold else "normal")
     ax.set_xticks(range(len(sws)), [f"{s:g}" for s in sws])
     ax.set_yticks(range(len(offs)), [f"{o:g}" for o in offs])
     ax.set_xlabel("switch_rows (switch cost in rows of the off cost)")
     ax.set_ylabel("off_rel (off level)")
-    ax.set_title(f"{profile.name}: objective (mean F1 over groups); chosen off_rel={chosen[0]:g}, "
-                 f"switch_rows={chosen[1]:g}", fontsize=8)
+    ax.set_title(f"{profile.name}: objective (mean F1 over groups); chosen {_gap_label(*chosen)}", fontsize=8)
     fig.colorbar(im, ax=ax)
     fig.tight_layout()
     fig.savefig(path)
@@ -230,11 +237,11 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     """``stripebench tune dp_gap``: run the procedure on the tuning profile ``profile`` (a TOML path) into
     the folder ``out`` (created), print its choices and return 0; ``quiet``: no progress bars. A bad
     profile raises :class:`bench.config.ConfigError` (one line) before any scan."""
-    from bench.studies.tune_threshold import figure_lines, stripe_key
+    from bench.studies.tune_threshold import ceiling_lines, figure_lines, stripe_key
     from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
-    k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"])
+    k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"], chosen.get("level_quantile"))
     k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
     stages = [("stage1", k1, profile.tracker, summary["stage1"]),
@@ -249,5 +256,6 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
               + ", ".join(f"{kk} {v:.4f}" for kk, v in best) + ")")
         print("\n".join(figure_lines(summary["figures"][stage])))
         print("\n".join(judged_lines(summary["photographs"][stage])))
+    print("\n".join(ceiling_lines(summary)))
     print(f"{out / 'tune_gap.csv'}")
     return 0

@@ -51,7 +51,7 @@ from bench.config.tune import TuneThresholdProfile, load_threshold_profile  # no
 
 __all__ = ["TuneThresholdProfile", "load_profile", "frame_scores", "choose_grid", "choose_min", "choose_listed",
            "apply_rule", "run", "figure_lines", "study", "stripe_key", "StripeStage", "run_stripe_stage",
-           "judge_stripe_tests",
+           "judge_stripe_tests", "above_ceiling", "ceiling_lines",
            "chosen_params", "DEFAULT_PROFILE", "DEFAULT_OUT"]
 
 DEFAULT_PROFILE = pathlib.Path(__file__).resolve().parents[1] / "config" / "profiles" / "tune_threshold.toml"
@@ -215,7 +215,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     frames = _frames(profile, progress)
 
     # stage 1: the threshold family's detection
-    t1 = Tally(1, profile.hit_px)
+    t1 = Tally(1, profile.hit_px, profile.max_false_rate)
     scores1 = {}
     for k in profile.k_sigma:
         for p in profile.prominence:
@@ -252,7 +252,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     say("stage 2 done")
     frac_best = choose_min(mae2, profile.tie_px)
     # stage 3: Steger's detection
-    t3 = Tally(3, profile.hit_px)
+    t3 = Tally(3, profile.hit_px, profile.max_false_rate)
     scores3 = {}
     for k in profile.steger_k_sigma:
         for p in profile.steger_prominence:
@@ -274,7 +274,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     # stage 4: the colour rule
     colour = {n: trackers.make(n, **chosen_params(n, family, frac_best, steger), **_unasked(n))
               for n in profile.colour_trackers}
-    t4 = Tally(4, profile.hit_px)
+    t4 = Tally(4, profile.hit_px, profile.max_false_rate)
     scores4 = {}
     coloured = [f for f in frames if f.rgb is not None]
     for rule in profile.colour_rules:
@@ -295,7 +295,8 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
     chosen = {**family, "frac": frac_best, "steger": steger, "colour_rule": rule_best}
     # stage 5: the stripe question, chosen for each tracker at the settings chosen above
     per5 = run_stripe_stage(5, frames, profile.stripe_trackers, profile.stripe_tests,
-                            lambda n: chosen_params(n, family, frac_best, steger), profile.hit_px, profile.tie, say)
+                            lambda n: chosen_params(n, family, frac_best, steger), profile.hit_px, profile.tie, say,
+                            max_false_rate=profile.max_false_rate)
     stages = [("stage1", t1, _key(k_best, p_best, m_best, w_best)), ("stage3", t3, _key(sk, sp, sm)),
               ("stage4", t4, f"rule={rule_best}")]
     if per5.per:
@@ -320,6 +321,7 @@ def run(profile: TuneThresholdProfile, out: pathlib.Path, *, progress: bool = Tr
                "stage5": per5.scores,
                "unavoidable_blind_photographs": {name: tally.unavoidable(key) for name, tally, key in stages
                                                  if tally.unavoidable(key)},
+               "max_false_rate": profile.max_false_rate, "above_false_rate_ceiling": above_ceiling(stages),
                "figures": figures, "photographs": judged}
     records = t1.records() + rec2 + t3.records() + t4.records() + per5.records()
     write_records(out, "tune.csv", records, summary, (*RECORD_FIELDS, "mae_px"))
@@ -354,7 +356,8 @@ class StripeStage:
         return [r for t, *_ in self.per.values() for r in t.records()]
 
 
-def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float, tie: float, say) -> StripeStage:
+def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float, tie: float, say, *,
+                     max_false_rate: float | None = None) -> StripeStage:
     """The stripe question's stage of a procedure, chosen for each tracker on its own outcomes.
 
     Each tracker reads the answer its own way (the threshold family before its chain, Steger after
@@ -379,6 +382,8 @@ def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float,
         The hit rule and the tie band.
     say : callable
         Progress lines.
+    max_false_rate : float or None
+        The false-report ceiling (:meth:`bench.studies.tuning.Tally.eligible`; None: none).
 
     Returns
     -------
@@ -390,7 +395,7 @@ def run_stripe_stage(stage: int, frames, names, tests, params_of, hit_px: float,
 
     out = {}
     for n in names:
-        tally = Tally(stage, hit_px)
+        tally = Tally(stage, hit_px, max_false_rate)
         scores = {}
         for i, test in enumerate(tests):
             t = trackers.make(n, stripe_test=test, **params_of(n))
@@ -518,5 +523,27 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
         print("\n".join(judged_lines(summary["photographs"][f"stage5:{n}"])))
     for stage, names in summary["unavoidable_blind_photographs"].items():
         print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
+    print("\n".join(ceiling_lines(summary)))
     print(f"{out / 'tune.csv'}")
     return 0
+
+
+def above_ceiling(stages) -> dict:
+    """stage -> (tracker -> false-report rate on the photographs) of the trackers its kept setting leaves above the
+    false-report ceiling (:meth:`bench.studies.tuning.Tally.loud`): where no setting of the stage keeps them within
+    it. ``stages``: ``(name, tally, kept setting)`` triples."""
+    return {name: tally.loud(key) for name, tally, key in stages if tally.loud(key)}
+
+
+def ceiling_lines(summary) -> list[str]:
+    """The lines a procedure prints of its false-report ceiling: the trackers no setting of a stage kept within it."""
+    ceiling = summary.get("max_false_rate")
+    if ceiling is None:
+        return []
+    lines = [f"false-report ceiling on the photographs: {ceiling:g} (a setting above it is eligible only where "
+             "every setting not blind on a plain photograph is)"]
+    for stage, loud in summary.get("above_false_rate_ceiling", {}).items():
+        lines.append(f"{stage}: the kept setting leaves " + ", ".join(f"{t} ({r:.3f})" for t, r in loud.items())
+                     + " above it")
+    return lines
+

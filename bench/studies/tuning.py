@@ -29,6 +29,12 @@ setting manages that) are eligible, and among them those blind on the fewest suc
 frames of the other groups (:meth:`Tally.eligible`): a tracker that says "no stripe"
 must not say it there, and least of all on a photograph.
 
+A ceiling may go with them (``max_false_rate`` of a profile), after a photograph's blindness and before the
+other groups' blindness: a setting under which a tracker reports on more than that share of the seen
+photographs' stripe-less rows is not eligible where another setting keeps every tracker within it
+(:meth:`Tally.loud`). Both photograph rules are targets a default tracker must meet on rigs nobody tuned on;
+the other groups' blindness is the procedure's own caution.
+
 A choice made on photographs is judged leave one rig out (:meth:`Tally.judge`, :mod:`bench.evaluate.loro`): each
 rig's photographs are scored under the choice made without them, and that figure is set against the choice made
 on the renders and synthetic frames alone (the plain baseline). A stage keeps its choice made with every
@@ -248,9 +254,11 @@ class Tally:
     (0.6666666666666666, 1)
     """
 
-    def __init__(self, stage: int, hit_px: float):
+    def __init__(self, stage: int, hit_px: float, max_false_rate: float | None = None):
         self.stage = stage
         self.hit_px = hit_px
+        #: the false-report ceiling of :meth:`eligible` and :meth:`judge` (None: none)
+        self.max_false_rate = max_false_rate
         self.counts: dict = {}
         self.blind: dict = {}  # setting -> names of the plain frames on which a tracker reported nothing
         self._blind_at: dict = {}  # setting -> (group, kind) of each of those frames
@@ -276,11 +284,16 @@ class Tally:
         return group != "real" or (photographs and kind != held_out)
 
     def eligible(self, scores: dict, key, *, held_out=None, photographs: bool = True) -> dict:
-        """``scores`` (setting -> objective) restricted to the settings that went blind on the fewest plain
-        frames and photographs (``key(setting)`` names a setting as :meth:`add` got it), photographs first: a
-        photograph's blindness disqualifies whatever the other groups say; among the settings blind on the fewest
-        plain photographs, those blind on the fewest plain frames in all (none, where some setting never is). A
-        frame on which every setting goes blind disqualifies none of them (:meth:`unavoidable` names the
+        """``scores`` (setting -> objective) restricted by the photographs' two rules, then the other groups':
+
+        1. the settings that went blind on the fewest plain photographs (none, where one setting manages that;
+           ``key(setting)`` names a setting as :meth:`add` got it): a photograph's blindness disqualifies whatever
+           the other groups say;
+        2. with a ceiling (:attr:`max_false_rate`), among those, the settings that keep every tracker within it on
+           the photographs (:meth:`loud`), where some setting does;
+        3. among those, the settings blind on the fewest plain frames in all (none, where some setting never is).
+
+        A frame on which every setting goes blind disqualifies none of them (:meth:`unavoidable` names the
         photographs among those). Frames the choice may not see (``held_out``, ``photographs``: as
         :meth:`objective`) do not count."""
         def count(s, photos_only):
@@ -290,9 +303,28 @@ class Tally:
         photos = {s: count(s, True) for s in scores}
         least = min(photos.values(), default=0)
         keep = [s for s in scores if photos[s] == least]
+        if photographs:  # the photographs' two rules first, then the other groups' blindness
+            keep = [s for s in keep if not self.loud(key(s), held_out=held_out)] or keep
         blind = {s: count(s, False) for s in keep}
         fewest = min(blind.values(), default=0)
         return {s: scores[s] for s in keep if blind[s] == fewest}
+
+    def false_rates(self, setting: str, *, held_out=None) -> dict:
+        """tracker -> the false-report rate of ``setting`` (as :meth:`add` got it) on the photographs pooled, without
+        those of the rig ``held_out`` (NaN where they have no stripe-less row)."""
+        pooled: dict = {}
+        for key in self._keys.get(setting, ()):
+            _, t, g, k = key
+            if g == "real" and k != held_out:
+                pooled[t] = pooled.get(t, 0) + np.asarray(self.counts[key])
+        return {t: detection_figures(c)["false_report_rate"] for t, c in sorted(pooled.items())}
+
+    def loud(self, setting: str, *, held_out=None) -> dict:
+        """The trackers whose false-report rate under ``setting`` on the photographs (:meth:`false_rates`) is above
+        :attr:`max_false_rate`, with that rate (empty without a ceiling)."""
+        if self.max_false_rate is None:
+            return {}
+        return {t: r for t, r in self.false_rates(setting, held_out=held_out).items() if r > self.max_false_rate}
 
     def unavoidable(self, setting: str) -> list[str]:
         """The plain photographs on which ``setting`` (as :meth:`add` got it) goes blind: for a chosen
@@ -333,7 +365,8 @@ class Tally:
             ``in_sample`` (chosen with every photograph), ``by_rig`` (held-out rig -> chosen without it),
             ``renders_only`` (chosen without any photograph: the plain baseline), ``kept`` (``in_sample`` where its
             leave-one-rig-out F1 on the photographs beats the renders-only choice's, else ``renders_only``: the
-            photographs must earn their say), and ``figures`` and, per tracker, ``trackers``: the photographs'
+            photographs must earn their say; with a ceiling (:attr:`max_false_rate`), keeping every tracker within it
+            on the photographs, leave one rig out, comes before F1), and ``figures`` and, per tracker, ``trackers``: the photographs'
             :func:`bench.evaluate.outcomes.detection_figures` under each (``loro``: each rig under its fold's
             choice, pooled). Without photographs (none in the tally), ``kept`` is the one choice made.
         """
@@ -357,10 +390,16 @@ class Tally:
 
         figs = figures()
         trackers = sorted({t for _, t, g, _ in self.counts if g == "real"})
-        better = figs["loro"]["f1"] > figs["renders_only"]["f1"]
+        per = {t: figures(t) for t in trackers}
+        ceiling = self.max_false_rate
+
+        def rank(k):  # within the ceiling first (every tracker), then F1
+            quiet = ceiling is None or not any(per[t][k]["false_report_rate"] > ceiling for t in trackers)
+            return (quiet, figs[k]["f1"])
+
+        better = rank("loro") > rank("renders_only")
         return {"in_sample": fc.in_sample, "by_rig": fc.by_rig, "renders_only": only,
-                "kept": fc.in_sample if better else only, "rigs": rigs, "figures": figs,
-                "trackers": {t: figures(t) for t in trackers}}
+                "kept": fc.in_sample if better else only, "rigs": rigs, "figures": figs, "trackers": per}
 
     def records(self) -> list[dict]:
         """One dict per setting, tracker, group and kind: counts and :func:`detection_figures`."""

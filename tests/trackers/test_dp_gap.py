@@ -299,3 +299,41 @@ def test_off_level_of_a_frame():
 
     off, switch = t.off_costs(img, _half_cost(img, 1.0)[1])
     assert off == pytest.approx(1.0 / 121.0) and switch == pytest.approx(4.0 / 121.0)
+
+
+def _dotted(seed=3):
+    """A stripe of dots (column 30): 12 lit rows in every 36, so a third of the rows hold the stripe."""
+    rng = np.random.default_rng(seed)
+    img = rng.normal(20, 3, (144, 64))
+    truth = np.full(144, np.nan)
+    for start in range(6, 144, 36):
+        img[start:start + 12, 29:32] += [80, 200, 80]
+        truth[start:start + 12] = 30
+    return img.clip(0, 255).astype(np.uint8), truth
+
+
+def test_the_level_quantile_reads_the_stripe_brightness_where_few_rows_hold_it():
+    img, truth = _dotted()
+    gap = np.isnan(truth)
+    # the median row maximum is the noise's: the off level sits in the noise and the path bridges the gaps
+    median = DPGapTracker(off_rel=0.3, level_quantile=0.5).track(img).columns
+    assert np.isfinite(median[gap]).mean() > 0.5 and np.isfinite(median[~gap]).all()
+    # a high quantile reads the dots' brightness: the gaps are off, every dot row is found on its column
+    high = DPGapTracker(off_rel=0.3, level_quantile=0.9).track(img).columns
+    assert not np.isfinite(high[gap]).any()
+    assert np.isfinite(high[~gap]).all() and np.all(np.abs(high[~gap] - 30) <= 1)
+
+
+def test_the_default_level_is_the_median_row_maximum():
+    from trackers.dp import _half_cost
+    from trackers.dp_gap import DEFAULT_LEVEL_QUANTILE, _background
+
+    img, _ = _dotted(4)
+    img = img.astype(np.float64)
+    _, rowmin, _, _ = _half_cost(img, 1.0)
+    t = DPGapTracker(off_rel=0.4, level_quantile=0.5)
+    level = _background(img) + 0.4 * (float(np.median(0.5 / rowmin - 1.0)) - _background(img))
+    assert t.off_costs(img, rowmin)[0] == 1.0 / (level + 1.0)  # the median to the last bit
+    assert DPGapTracker().level_quantile == DEFAULT_LEVEL_QUANTILE
+    with pytest.raises(ValueError, match="`level_quantile`"):
+        DPGapTracker(level_quantile=1.5).track(img)

@@ -85,6 +85,24 @@ def test_ties_go_to_the_smallest_off_rel_then_the_largest_switch():
     s = {(0.1, 3.0): 0.60, (0.1, 10.0): 0.598, (0.05, 3.0): 0.55, (0.3, 3.0): 0.603}
     assert tune_gap.choose(s, tie=0.005) == (0.1, 10.0)
     assert tune_gap.choose(s, tie=0.0) == (0.3, 3.0)
+    # with the level quantile in the grid: then the smallest quantile (None, not in the grid, first)
+    q = {(0.1, 10.0, 0.9): 0.60, (0.1, 10.0, 0.75): 0.599, (0.3, 3.0, 0.5): 0.601}
+    assert tune_gap.choose(q, tie=0.005) == (0.1, 10.0, 0.75)
+    assert tune_gap.choose({(0.1, 3.0, None): 0.6, (0.1, 3.0, 0.5): 0.6}, tie=0.0) == (0.1, 3.0, None)
+
+
+def test_the_level_quantile_is_an_optional_dimension_of_stage_1(tmp_path):
+    path = tmp_path / "p.toml"
+    path.write_text(TINY)
+    assert tune_gap.load_profile(path).level_quantile is None
+    path.write_text(TINY.replace("switch_rows = [3.0]", "switch_rows = [3.0]\nlevel_quantile = [0.5, 0.9]"))
+    assert tune_gap.load_profile(path).level_quantile == [0.5, 0.9]
+    assert tune_gap.load_profile(tune_gap.DEFAULT_PROFILE).level_quantile == [0.5, 0.75, 0.9]
+    for value, message in (("[1.5]", "`level_quantile` must be a non-empty list"),
+                           ("[0.5, 0.5]", "`level_quantile` must not repeat a value")):
+        path.write_text(TINY.replace("switch_rows = [3.0]", f"switch_rows = [3.0]\nlevel_quantile = {value}"))
+        with pytest.raises(ValueError, match=message):
+            tune_gap.load_profile(path)
 
 
 def test_rule_ties_go_to_the_rule_closest_to_the_paper():
@@ -144,3 +162,20 @@ def test_the_stripe_stage_runs_with_the_choices_of_stages_one_and_two(tmp_path, 
     assert {"stage3:dp8", "stage3:dp_gap"} <= set(s["photographs"]) and "stage3:dp8" in s["figures"]
     rows = [r.split(",") for r in (out / "tune_gap.csv").read_text().strip().splitlines()[1:] if r.startswith("3,")]
     assert {r[2] for r in rows} == {"dp8", "dp_gap"} and {r[3] for r in rows} == {"synthetic", "renders"}
+
+
+@pytest.mark.slow
+def test_stage_1_with_the_level_quantile_chooses_it_and_stage_3_uses_it(tmp_path):
+    import json
+
+    from bench.cli import main
+
+    path = tmp_path / "p.toml"
+    path.write_text(TINY.replace("switch_rows = [3.0]", "switch_rows = [3.0]\nlevel_quantile = [0.5, 0.9]"))
+    out = tmp_path / "o"
+    assert main(["tune", "dp_gap", "--profile", str(path), "--out", str(out), "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert set(s["stage1"]) == {f"off_rel={o:g},switch_rows=3,level_quantile={q:g}" for o in (0.1, 0.3)
+                                for q in (0.5, 0.9)}
+    assert s["chosen"]["level_quantile"] in (0.5, 0.9)
+    assert (out / "tune_dp_gap.png").stat().st_size > 0

@@ -93,6 +93,8 @@ def test_a_small_run_writes_its_files_and_chooses_from_its_grid(tmp_path):
     assert set(summary["chosen"]["stripe_test"]) == set(s5)
     assert all(v is None or isinstance(v, dict) for v in summary["chosen"]["stripe_test"].values())
     assert set(summary["figures"]["stage5:threshold"]["synthetic"]) == {"dim", "noisy_sensor", "all"}
+    # the ceiling is the profile's; without photographs no setting is held to it
+    assert summary["max_false_rate"] == 0.1 and summary["above_false_rate_ceiling"] == {}
     # the stage's "none" is stage 1's choice, asked of the same frames: the same counts for threshold
     import csv
 
@@ -130,6 +132,24 @@ def test_the_stripe_stage_is_optional_and_its_candidates_are_checked(tmp_path):
     bad.write_text(text[:start] + text[end:])
     p = tt.load_profile(bad)
     assert p.stripe_trackers == [] and p.stripe_tests == []
+
+
+def test_the_false_report_ceiling_is_optional_and_checked(tmp_path):
+    from bench.config.tune import load_gap_profile
+    from bench.studies.hard_frames import KINDS
+    from bench.studies.tune_gap import DEFAULT_PROFILE as GAP_PROFILE
+
+    # both committed procedures hold every tracker to the issue's 10 % where a setting can
+    assert tt.load_profile(tt.DEFAULT_PROFILE).max_false_rate == 0.1
+    assert load_gap_profile(GAP_PROFILE, KINDS).max_false_rate == 0.1
+    text = tt.DEFAULT_PROFILE.read_text()
+    bad = tmp_path / "bad.toml"
+    for value in ("1.5", "-0.1", '"low"', "nan"):
+        bad.write_text(text.replace("max_false_rate = 0.10", f"max_false_rate = {value}"))
+        with pytest.raises(ValueError, match="`max_false_rate` must be"):
+            tt.load_profile(bad)
+    bad.write_text(text.replace("max_false_rate = 0.10\n", ""))
+    assert tt.load_profile(bad).max_false_rate is None
 
 
 @pytest.mark.slow

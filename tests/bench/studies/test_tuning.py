@@ -161,3 +161,75 @@ def test_colour_evidence_of_a_tuning_frame():
                        np.repeat(f.image[..., None], 3, axis=2))
     assert grey.colour is None  # a grey photograph has no colour evidence
     assert TuningFrame("real", "m", "k", f.image, None, hf.truth, np.ones(f.image.shape[0], np.int8)).colour is None
+
+
+def _ceiling_tally(ceiling):
+    """Two settings on three rigs and a render: "loud" finds every stripe row and reports on one of the two
+    stripe-less rows of every photograph (false-report rate 0.5, F1 0.857); "quiet" misses one stripe row of every
+    frame and reports nothing else (rate 0, F1 0.8). On the render "loud" is perfect."""
+    t = Tally(1, 3.0, ceiling)
+    loud = np.array([3.0, 3.0, 3.0, 1.0, np.nan])
+    quiet = np.array([3.0, 3.0, np.nan, np.nan, np.nan])
+    for f in [_frame("real", rig, rig, STRIPE, STATES) for rig in ("a", "b", "c")]:
+        t.add("loud", "threshold", f, loud)
+        t.add("quiet", "threshold", f, quiet)
+    r = _frame("renders", "r0", "sphere", STRIPE, STATES)
+    t.add("loud", "threshold", r, np.array([3.0, 3.0, 3.0, np.nan, np.nan]))
+    t.add("quiet", "threshold", r, quiet)
+    return t
+
+
+def test_the_false_report_ceiling_rules_out_a_loud_setting_where_a_quiet_one_exists():
+    t = _ceiling_tally(0.1)
+    assert t.false_rates("loud") == {"threshold": 0.5} and t.false_rates("quiet") == {"threshold": 0.0}
+    assert t.loud("loud") == {"threshold": 0.5} and t.loud("quiet") == {}
+    scores = {"loud": 0.9, "quiet": 0.8}
+    assert t.eligible(scores, str) == {"quiet": 0.8}
+    assert t.eligible(scores, str, held_out="a") == {"quiet": 0.8}
+    assert t.eligible(scores, str, photographs=False) == scores  # no photograph seen: no ceiling to meet
+    # where no setting keeps every tracker within it, the ceiling rules none out
+    assert t.eligible({"loud": 0.9}, str) == {"loud": 0.9}
+    assert _ceiling_tally(0.6).eligible(scores, str) == scores
+    assert _ceiling_tally(None).eligible(scores, str) == scores and _ceiling_tally(None).loud("loud") == {}
+    # after the blindness rule: a setting blind on a plain photograph stays out however quiet it is
+    b = _tally()
+    b.max_false_rate = 0.1
+    assert b.eligible({"eager": 0.5, "shy": 0.9}, str) == {"eager": 0.5}
+
+
+def test_judge_puts_the_false_report_ceiling_before_f1():
+    def judged(ceiling):
+        t = _ceiling_tally(ceiling)
+
+        def pick(held, photos):
+            sc = t.eligible({s: t.objective(s, held_out=held, photographs=photos) for s in ("loud", "quiet")}, str,
+                            held_out=held, photographs=photos)
+            return max(sorted(sc), key=lambda s: sc[s])
+        return t.judge(pick)
+
+    plain = judged(None)  # F1 decides: "loud" is better on the photographs and the renders' choice too
+    assert plain["renders_only"] == "loud" and plain["kept"] == "loud"
+    j = judged(0.1)  # the renders' choice breaks the ceiling on the photographs; the photographs' choice keeps it
+    assert j["renders_only"] == "loud" and j["in_sample"] == "quiet" and j["kept"] == "quiet"
+    assert j["figures"]["loro"]["f1"] < j["figures"]["renders_only"]["f1"]
+    assert j["trackers"]["threshold"]["loro"]["false_report_rate"] == 0.0
+
+
+def test_the_ceiling_comes_between_a_photograph_s_blindness_and_the_other_groups():
+    photo, synth = _frame("real", "p", "rig", STRIPE, STATES), _frame("synthetic", "s", "dim", STRIPE, STATES)
+    right, loud, nan = np.array([3.0, 3, 3, np.nan, np.nan]), np.array([3.0, 3, 3, 1, 1]), np.full(5, np.nan)
+
+    def tally(ceiling):
+        t = Tally(1, 3.0, ceiling)
+        t.add("loud", "threshold", photo, loud)  # reports on every stripe-less row of the photograph
+        t.add("loud", "threshold", synth, right)
+        t.add("quiet", "threshold", photo, right)
+        t.add("quiet", "threshold", synth, nan)  # blind on a plain synthetic frame
+        t.add("blind", "threshold", photo, nan)  # blind on the plain photograph
+        t.add("blind", "threshold", synth, right)
+        return t
+
+    scores = {"loud": 0.9, "quiet": 0.8, "blind": 0.95}
+    assert tally(None).eligible(scores, str) == {"loud": 0.9}
+    assert tally(0.1).eligible(scores, str) == {"quiet": 0.8}
+    assert tally(0.1).eligible(scores, str, photographs=False) == {"loud": 0.9, "blind": 0.95}

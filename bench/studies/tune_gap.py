@@ -241,6 +241,7 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
+    ceiling = summary.get("max_false_rate")
     k1 = _gap_label(chosen["off_rel"], chosen["switch_rows"], chosen.get("level_quantile"))
     k2 = _rule_label(chosen["k_sigma"], chosen["max_gap"], chosen["min_run"])
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
@@ -255,7 +256,7 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
         print(f"{stage.split(':')[0]} ({what}): chosen {key} (objective {scores[key]:.4f}; best five: "
               + ", ".join(f"{kk} {v:.4f}" for kk, v in best) + ")")
         print("\n".join(figure_lines(summary["figures"][stage])))
-        print("\n".join(judged_lines(summary["photographs"][stage])))
+        print("\n".join(judged_lines(summary["photographs"][stage], ceiling)))
     print("\n".join(ceiling_lines(summary)))
     print(f"{out / 'tune_gap.csv'}")
     return 0

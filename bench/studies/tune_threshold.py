@@ -494,6 +494,7 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     from bench.studies.tuning import judged_lines, run_study
 
     profile, out, (chosen, summary, _) = run_study(load_profile, run, profile, out, quiet)
+    ceiling = summary.get("max_false_rate")
 
     def top(stage):
         best = sorted(summary[stage].items(), key=lambda kv: -kv[1])[:5]
@@ -503,24 +504,24 @@ def study(*, profile=DEFAULT_PROFILE, out=DEFAULT_OUT, quiet: bool = False) -> i
     print(f"frames: {summary['n_frames']}; objective: the mean over groups of F1 over rows")
     print(f"stage 1: chosen {key1} (objective {summary['stage1'][key1]:.4f}; best five: {top('stage1')})")
     print("\n".join(figure_lines(summary["figures"]["stage1"])))
-    print("\n".join(judged_lines(summary["photographs"]["stage1"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage1"], ceiling)))
     print("stage 2: chosen com_bg frac = {:g} (mean |error| of hits, px: {})".format(
         chosen["frac"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage2_mae_px"].items())))
     st = chosen["steger"]
     key3 = _key(st["k_sigma"], st["prominence"], st["min_run"])
     print(f"stage 3: chosen steger {key3} (objective {summary['stage3'][key3]:.4f}; best five: {top('stage3')})")
     print("\n".join(figure_lines(summary["figures"]["stage3"])))
-    print("\n".join(judged_lines(summary["photographs"]["stage3"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage3"], ceiling)))
     print("stage 4: chosen colour rule = {} (objective: {})".format(
         chosen["colour_rule"], ", ".join(f"{kk} {v:.4f}" for kk, v in summary["stage4"].items())))
     print("\n".join(figure_lines(summary["figures"]["stage4"])))
-    print("\n".join(judged_lines(summary["photographs"]["stage4"])))
+    print("\n".join(judged_lines(summary["photographs"]["stage4"], ceiling)))
     for n, test in chosen.get("stripe_test", {}).items():
         key5, sc5 = stripe_key(test), summary["stage5"][n]
         print(f"stage 5 ({n}): chosen {key5} (objective {sc5[key5]:.4f}; all: "
               + ", ".join(f"{kk} {v:.4f}" for kk, v in sc5.items()) + ")")
         print("\n".join(figure_lines(summary["figures"][f"stage5:{n}"])))
-        print("\n".join(judged_lines(summary["photographs"][f"stage5:{n}"])))
+        print("\n".join(judged_lines(summary["photographs"][f"stage5:{n}"], ceiling)))
     for stage, names in summary["unavoidable_blind_photographs"].items():
         print(f"{stage}: every setting goes blind on a plain photograph: {', '.join(names)}")
     print("\n".join(ceiling_lines(summary)))

@@ -416,9 +416,10 @@ class Tally:
         return out
 
 
-def judged_lines(judged: dict) -> list[str]:
+def judged_lines(judged: dict, max_false_rate: float | None = None) -> list[str]:
     """What a stage's :meth:`Tally.judge` found, in a few lines: the photographs' F1 / false-report rate under the
-    choice made with all of them, leave one rig out, and under the renders' choice, and which was kept."""
+    choice made with all of them, leave one rig out, and under the renders' choice, and which was kept (with the
+    procedure's false-report ceiling, ``max_false_rate``: whether the ceiling decided it)."""
     if not judged.get("figures"):
         return [f"  on the photographs: fewer than two rigs, not judged leave one rig out; kept {judged['kept']}"]
     f = judged["figures"]
@@ -430,7 +431,15 @@ def judged_lines(judged: dict) -> list[str]:
     folds = ("every fold chose the same" if not moved else
              f"{len(moved)} of {len(judged['by_rig'])} folds chose otherwise: "
              + "; ".join(f"without {r}: {c}" for r, c in moved.items()))
-    verdict = ("the photographs improve on the renders' choice: kept the choice made with them"
+    def quiet(k):
+        return max_false_rate is None or not any(v[k]["false_report_rate"] > max_false_rate
+                                                 for v in judged.get("trackers", {}).values())
+
+    by_ceiling = (quiet("loro") and not quiet("renders_only") and f["loro"]["f1"] <= f["renders_only"]["f1"])
+    verdict = ("leave one rig out the photographs' choice keeps every tracker within the false-report ceiling and the "
+               "renders' choice does not: kept the choice made with them"
+               if by_ceiling and judged["kept"] == judged["in_sample"] != judged["renders_only"] else
+               "the photographs improve on the renders' choice: kept the choice made with them"
                if judged["kept"] == judged["in_sample"] and judged["in_sample"] != judged["renders_only"] else
                "the renders' choice is the same" if judged["in_sample"] == judged["renders_only"] else
                "the photographs do not improve on the renders' choice leave one rig out: kept the renders' choice")

@@ -9,8 +9,9 @@ import pytest
 from bench.cli import main
 from bench.store.realset import SHIPPED
 from bench.studies.loro import fold_settings, parse_setting
+from trackers.threshold import DEFAULT_MIN_RUN
 
-FAMILY = "k_sigma=4,prominence=1.1,min_run=5,width_ratio=4"  # the committed defaults of the threshold family
+FAMILY = f"k_sigma=4,prominence=1.1,min_run={DEFAULT_MIN_RUN},width_ratio=4"  # the threshold family's defaults
 BLIND = "k_sigma=400,prominence=1.1,min_run=5,width_ratio=4"  # a setting that reports (almost) nothing
 RENDERS = "k_sigma=6,prominence=1.1,min_run=5,width_ratio=4"  # a choice the renders alone made
 

@@ -213,6 +213,9 @@ def test_judge_puts_the_false_report_ceiling_before_f1():
     assert j["renders_only"] == "loud" and j["in_sample"] == "quiet" and j["kept"] == "quiet"
     assert j["figures"]["loro"]["f1"] < j["figures"]["renders_only"]["f1"]
     assert j["trackers"]["threshold"]["loro"]["false_report_rate"] == 0.0
+    # the procedure's lines say that the ceiling, not F1, kept the photographs' choice
+    assert "within the false-report ceiling" in judged_lines(j, 0.1)[1]
+    assert "within the false-report ceiling" not in " ".join(judged_lines(plain, None))
 
 
 def test_the_ceiling_comes_between_a_photograph_s_blindness_and_the_other_groups():

@@ -366,9 +366,9 @@ class Tally:
             ``renders_only`` (chosen without any photograph: the plain baseline), ``kept`` (``in_sample`` where its
             leave-one-rig-out F1 on the photographs beats the renders-only choice's, else ``renders_only``: the
             photographs must earn their say; with a ceiling (:attr:`max_false_rate`), keeping every tracker within it
-            on the photographs, leave one rig out, comes before F1), and ``figures`` and, per tracker, ``trackers``: the photographs'
-            :func:`bench.evaluate.outcomes.detection_figures` under each (``loro``: each rig under its fold's
-            choice, pooled). Without photographs (none in the tally), ``kept`` is the one choice made.
+            on the photographs, leave one rig out, comes before F1), and ``figures`` and, per tracker,
+            ``trackers``: the photographs' :func:`bench.evaluate.outcomes.detection_figures` under each (``loro``:
+            each rig under its fold's choice, pooled). Without photographs (none in the tally), ``kept`` is the one choice made.
         """
         from bench.evaluate.loro import choose_by_fold
 

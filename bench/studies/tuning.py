@@ -54,8 +54,8 @@ import numpy as np
 from bench.evaluate.outcomes import COUNT_KEYS, detection_figures, outcome_counts, row_outcomes, truth_states
 
 __all__ = ["TuningFrame", "GROUPS", "EASY_ARGMAX", "synthetic_frames", "real_frames", "rendered_frames",
-           "frame_counts", "objective", "group_figures", "counts_record", "Tally", "judged_lines", "run_study",
-           "RECORD_FIELDS", "write_records"]
+           "frame_counts", "objective", "group_figures", "counts_record", "Tally", "within_ceiling", "judged_lines",
+           "run_study", "RECORD_FIELDS", "write_records"]
 
 #: The groups of tuning frames, in the order they are reported.
 GROUPS = ("synthetic", "renders", "real")
@@ -368,7 +368,8 @@ class Tally:
             photographs must earn their say; with a ceiling (:attr:`max_false_rate`), keeping every tracker within it
             on the photographs, leave one rig out, comes before F1), and ``figures`` and, per tracker,
             ``trackers``: the photographs' :func:`bench.evaluate.outcomes.detection_figures` under each (``loro``:
-            each rig under its fold's choice, pooled). Without photographs (none in the tally), ``kept`` is the one choice made.
+            each rig under its fold's choice, pooled). Without photographs (none in the tally), ``kept`` is the
+            one choice made.
         """
         from bench.evaluate.loro import choose_by_fold
 
@@ -391,11 +392,9 @@ class Tally:
         figs = figures()
         trackers = sorted({t for _, t, g, _ in self.counts if g == "real"})
         per = {t: figures(t) for t in trackers}
-        ceiling = self.max_false_rate
 
         def rank(k):  # within the ceiling first (every tracker), then F1
-            quiet = ceiling is None or not any(per[t][k]["false_report_rate"] > ceiling for t in trackers)
-            return (quiet, figs[k]["f1"])
+            return (within_ceiling(per, k, self.max_false_rate), figs[k]["f1"])
 
         better = rank("loro") > rank("renders_only")
         return {"in_sample": fc.in_sample, "by_rig": fc.by_rig, "renders_only": only,
@@ -416,6 +415,22 @@ class Tally:
         return out
 
 
+def within_ceiling(per_tracker: dict, which: str, max_false_rate: float | None) -> bool:
+    """Whether every tracker's false-report rate on the photographs under ``which`` (``in_sample``, ``loro`` or
+    ``renders_only``; ``per_tracker``: tracker -> :meth:`Tally.judge`'s figures) is within ``max_false_rate``
+    (always, without a ceiling; a NaN rate, no stripe-less row, is within it).
+
+    Examples
+    --------
+    >>> within_ceiling({"a": {"loro": {"false_report_rate": 0.05}}}, "loro", 0.1)
+    True
+    >>> within_ceiling({"a": {"loro": {"false_report_rate": 0.2}}}, "loro", 0.1)
+    False
+    """
+    return max_false_rate is None or not any(v[which]["false_report_rate"] > max_false_rate
+                                             for v in per_tracker.values())
+
+
 def judged_lines(judged: dict, max_false_rate: float | None = None) -> list[str]:
     """What a stage's :meth:`Tally.judge` found, in a few lines: the photographs' F1 / false-report rate under the
     choice made with all of them, leave one rig out, and under the renders' choice, and which was kept (with the
@@ -431,11 +446,9 @@ def judged_lines(judged: dict, max_false_rate: float | None = None) -> list[str]
     folds = ("every fold chose the same" if not moved else
              f"{len(moved)} of {len(judged['by_rig'])} folds chose otherwise: "
              + "; ".join(f"without {r}: {c}" for r, c in moved.items()))
-    def quiet(k):
-        return max_false_rate is None or not any(v[k]["false_report_rate"] > max_false_rate
-                                                 for v in judged.get("trackers", {}).values())
-
-    by_ceiling = (quiet("loro") and not quiet("renders_only") and f["loro"]["f1"] <= f["renders_only"]["f1"])
+    per = judged.get("trackers", {})
+    by_ceiling = (within_ceiling(per, "loro", max_false_rate) and f["loro"]["f1"] <= f["renders_only"]["f1"]
+                  and not within_ceiling(per, "renders_only", max_false_rate))
     verdict = ("leave one rig out the photographs' choice keeps every tracker within the false-report ceiling and the "
                "renders' choice does not: kept the choice made with them"
                if by_ceiling and judged["kept"] == judged["in_sample"] != judged["renders_only"] else

@@ -25,6 +25,11 @@ a stripe unless one of these says no (each test can be turned off):
 *laser-off* (where a laser-off frame is given)
     the peak's contrast in the laser-off frame is below ``off_ratio`` of its contrast in the
     laser-on frame: light that is there with the laser off is not the laser;
+*level*
+    the peak's contrast is at least ``level_min`` of the frame's stripe contrast, the median contrast of
+    the same strongest rows the width is measured on: along its own path the laser is the brightest
+    light, so a peak far dimmer than the stripe's strong rows (a poster, a lit wall in a dark room, the
+    room beyond where the stripe ends) is not it. Not asked by default (None);
 *continuity*
     at least ``continuity_min`` of the ``continuity_rows`` rows on either side hold a peak that
     passes the tests above and lies within ``continuity_px`` px per row of this one: a stripe is a
@@ -53,7 +58,7 @@ __all__ = ["StripeTest", "StripeAnswer", "StripeSettings", "ask", "colour_eviden
            "as_test", "answer"]
 
 #: The bits of :attr:`StripeAnswer.reasons`: which test said no.
-REASONS = {"width": 1, "ridge": 2, "colour": 4, "off": 8, "continuity": 16}
+REASONS = {"width": 1, "ridge": 2, "colour": 4, "off": 8, "continuity": 16, "level": 32}
 
 
 @dataclass(frozen=True)
@@ -95,6 +100,9 @@ class StripeTest:
     continuity_px : float, default 3.0
         Largest column change per row between two peaks in line, px (> 0): a stripe tilted up to
         about 70 degrees from the vertical stays in line, as in the threshold family's chain.
+    level_min : float or None, default None
+        Least contrast of a stripe's peak, as a fraction of the frame's stripe contrast (the median
+        contrast of the rows the stripe width is measured on), in [0, 1]. None: not asked.
 
     Examples
     --------
@@ -115,6 +123,7 @@ class StripeTest:
     continuity_rows: int | None = 8
     continuity_min: int = 4
     continuity_px: float = 3.0
+    level_min: float | None = None
 
     def __post_init__(self):
         def real(name, lo, hi=None, optional=True, lo_open=False):
@@ -143,6 +152,7 @@ class StripeTest:
         integer("continuity_rows", 1, True)
         integer("continuity_min", 1, False)
         real("continuity_px", 0, optional=False, lo_open=True)
+        real("level_min", 0, 1)
         if self.continuity_rows is not None and self.continuity_min > 2 * self.continuity_rows:
             raise ValueError(f"`continuity_min` must be at most 2 * continuity_rows ({2 * self.continuity_rows}), "
                              f"got {self.continuity_min!r}")
@@ -234,6 +244,9 @@ class StripeAnswer:
     stripe_width_px : float
         The frame's stripe width (a low quantile of the runs of its strongest rows in line), px; NaN if
         no row was asked.
+    stripe_contrast : float
+        The frame's stripe contrast (the median contrast of those rows), the frame's units; NaN if no
+        row was asked.
     """
 
     yes: np.ndarray
@@ -245,6 +258,7 @@ class StripeAnswer:
     off: np.ndarray
     reasons: np.ndarray
     stripe_width_px: float
+    stripe_contrast: float = float("nan")
 
     def said_no(self, test: str) -> np.ndarray:
         """Rows where the test ``test`` (a key of :data:`REASONS`) said no, (H,) bool."""
@@ -344,7 +358,7 @@ def ask(settings: StripeTest, frame: np.ndarray, columns, *, image=None, backgro
     width = np.where(asked, hi - lo + 1, 0).astype(np.int64)
     positive = asked & (contrast > 0)
     reasons = np.where(asked & ~positive, REASONS["ridge"], 0).astype(np.int64)  # no peak at all: not a ridge
-    ref = float("nan")
+    ref = level_ref = float("nan")
     if positive.any():
         measured = positive
         if s.continuity_rows is not None:  # the stripe's rows: peaks in line (isolated noise peaks are 1 px wide)
@@ -357,6 +371,7 @@ def ask(settings: StripeTest, frame: np.ndarray, columns, *, image=None, backgro
         n = max(1, int(math.ceil(s.strong_frac * c.size)))
         strongest = c >= np.sort(c)[c.size - n]  # ties all in: the same rows whichever way the frame is turned
         ref = float(np.quantile(width[measured][strongest], s.width_quantile, method="lower"))
+        level_ref = float(np.median(c[strongest]))
     flank = np.full(H, np.nan)
     if positive.any():
         _flanks(f, np.where(positive, peak, -1), contrast, level, ref, flank)
@@ -364,6 +379,8 @@ def ask(settings: StripeTest, frame: np.ndarray, columns, *, image=None, backgro
         reasons |= np.where(positive & (width > s.width_ratio * ref), REASONS["width"], 0)
     if s.flank_level is not None and positive.any():
         reasons |= np.where(positive & ~(flank <= s.flank_level), REASONS["ridge"], 0)
+    if s.level_min is not None and positive.any():
+        reasons |= np.where(positive & (contrast < s.level_min * level_ref), REASONS["level"], 0)
     col_ev = np.full(H, np.nan)
     if colour is not None:
         _window_max(np.asarray(colour, np.float64), peak, lo, hi, col_ev)
@@ -382,7 +399,7 @@ def ask(settings: StripeTest, frame: np.ndarray, columns, *, image=None, backgro
                     int(s.continuity_min), float(s.continuity_px), line)
         reasons |= np.where(local & ~line, REASONS["continuity"], 0)
     yes = asked & (reasons == 0)
-    return StripeAnswer(yes, asked, contrast, width, flank, col_ev, off, reasons.astype(np.int64), ref)
+    return StripeAnswer(yes, asked, contrast, width, flank, col_ev, off, reasons.astype(np.int64), ref, level_ref)
 
 
 def answer(stripe_test, frame, columns, *, image=None, background=None, colour=None) -> StripeAnswer | None:

@@ -173,6 +173,30 @@ def test_rows_without_a_column_are_not_asked_and_the_answer_is_flip_and_dtype_in
     np.testing.assert_array_equal(_ask(u8, cols).yes, _ask(u8.astype(np.float64), cols).yes)
 
 
+def test_a_dim_ridge_is_not_the_stripe_where_the_level_is_asked():
+    on, _ = _scene()
+    rows = slice(0, 25)  # rows with no stripe: a poster's ridge in a dark room, a tenth as bright as the stripe
+    on[rows] = 10.0 + np.random.default_rng(1).normal(0.0, 1.5, (25, W))
+    on[rows] += stripe_profile(np.full(25, 110.0), W, 1.2, 15.0)
+    shape_only = StripeTest(continuity_rows=None)
+    assert _ask(on, settings=shape_only).yes.all()  # a ridge of the stripe's width: the shape tests pass it
+    a = _ask(on, settings=StripeTest(continuity_rows=None, level_min=0.3))
+    assert not a.yes[rows].any() and a.said_no("level")[rows].all()
+    assert a.yes[25:].all() and not a.said_no("level")[25:].any()
+    assert 130.0 < a.stripe_contrast < 160.0  # the stripe's rows, the strongest half of the rows asked
+    # a level below the ridge's share passes it: the test compares with the stripe's own rows
+    assert _ask(on, settings=StripeTest(continuity_rows=None, level_min=0.05)).yes.all()
+
+
+def test_the_level_is_not_asked_by_default_and_is_checked():
+    assert StripeTest().level_min is None and as_test({}).level_min is None
+    assert StripeTest(level_min=0.3).label() == "level_min=0.3"
+    with pytest.raises(ValueError, match="`level_min` must be None or a number in \\[0, 1\\]"):
+        StripeTest(level_min=1.5)
+    f = np.zeros((4, 6))
+    assert np.isnan(ask(StripeTest(level_min=0.3), f, np.full(4, np.nan)).stripe_contrast)
+
+
 def test_settings_are_checked_and_read_from_a_table():
     assert as_test(None) is None and as_test({}) == StripeTest()
     assert as_test({"colour_min": None}).colour_min is None

@@ -6,19 +6,23 @@ A setting is a registered tracker ``name`` built with ``params`` and reported as
 (``--trackers``) a comma-separated list of either. Every value is checked: the
 parameters by the tracker itself (:meth:`trackers.Tracker.validate_params`, with
 its ``parameter_constraints``), the setting's own keys with the same constraint
-types (:mod:`bench.config.checks`).
+types (:mod:`bench.config.checks`). TOML has no null: a parameter given as
+``"none"`` is None (:data:`NONE`, :func:`with_nulls`).
 """
 
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
-from bench.config.checks import Bool, Choice, Real, require
+from bench.config.checks import Bool, Choice, Real, accepts, require
 from bench.errors import ConfigError
 
-__all__ = ["TrackerSpec", "LABEL_CHARS", "parse_trackers", "parse_trackers_arg", "TIMEOUT"]
+__all__ = ["TrackerSpec", "LABEL_CHARS", "parse_trackers", "parse_trackers_arg", "TIMEOUT", "NONE", "with_nulls"]
+
+#: The string that stands for None in a tracker's parameters (TOML has no null), as in the tuning profiles.
+NONE = "none"
 
 
 @dataclass(frozen=True)
@@ -70,6 +74,32 @@ LABEL_CHARS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ012
 TIMEOUT = Real(low=0, low_open=True, high=86400)
 
 
+def with_nulls(params: dict, constraints: dict) -> dict:
+    """``params`` with :data:`NONE` read as None: a value ``"none"``, and ``"none"`` among a table's values (the
+    stripe question's settings), unless the parameter's constraint (``constraints``: name -> a
+    :mod:`trackers` constraint) accepts the value as given.
+
+    Examples
+    --------
+    >>> from trackers import Choice, Real
+    >>> with_nulls({"width_ratio": "none", "stripe_test": {"colour_min": "none", "level_min": 0.15}, "mode": "none"},
+    ...            {"width_ratio": Real(low=1, optional=True), "mode": Choice(frozenset({"none", "all"}))})
+    {'width_ratio': None, 'stripe_test': {'colour_min': None, 'level_min': 0.15}, 'mode': 'none'}
+    """
+    def null(v):
+        if isinstance(v, str) and v == NONE:
+            return None
+        if isinstance(v, dict):
+            return {k: null(x) for k, x in v.items()}
+        return v
+
+    out = {}
+    for k, v in params.items():
+        c = constraints.get(k)
+        out[k] = v if c is not None and accepts(c, v) else null(v)
+    return out
+
+
 def _tracker_spec(path: str, value, registered: list[str], build: bool = True) -> TrackerSpec:
     if isinstance(value, str):
         spec = TrackerSpec(value, value, {})
@@ -104,6 +134,14 @@ def _tracker_spec(path: str, value, registered: list[str], build: bool = True) -
         raise ConfigError(f"`{path}` names unknown tracker {spec.name!r}; available: {', '.join(registered)}")
     if not build:  # a saved configuration: its trackers were built and checked when it ran
         return spec
+    if spec.params:
+        import trackers
+
+        try:  # the constraints of its parameters, where its defaults build
+            constraints = getattr(trackers.make(spec.name), "parameter_constraints", {})
+        except Exception:  # noqa: BLE001 - a tracker that needs parameters: the check below names the problem
+            constraints = {}
+        spec = replace(spec, params=with_nulls(spec.params, constraints))
     try:
         tracker = spec.make()
     except TypeError:

@@ -254,3 +254,28 @@ def test_the_paper_profile_reads_without_dp_three_ways():
     cols = cfg.make_trackers()["argmax"].track(img).columns
     assert not np.isnan(cols).any() and np.array_equal(cols, np.round(cols))
     assert (img[np.arange(40), cols.astype(int)] == img.max(axis=1)).all()
+
+
+def test_none_in_a_trackers_params_is_none():
+    import numpy as np
+
+    import trackers
+    from bench.config import parse_trackers_arg
+
+    level_alone = ('{label = "lv", name = "dp8", params = {stripe_test = {width_ratio = "none", flank_level = "none", '
+                   'colour_min = "none", off_ratio = "none", continuity_rows = "none", level_min = 0.15}}}')
+    lv, wide = parse_trackers_arg(level_alone + ', {label = "w", name = "threshold", params = {width_ratio = "none"}}')
+    assert lv.params["stripe_test"] == {"width_ratio": None, "flank_level": None, "colour_min": None,
+                                        "off_ratio": None, "continuity_rows": None, "level_min": 0.15}
+    assert wide.make().width_ratio is None and wide.to_value()["params"] == {"width_ratio": None}
+    # the same tracker as one built with None: the same columns on a frame
+    rng = np.random.default_rng(0)
+    frame = rng.normal(20.0, 2.0, (40, 60))
+    frame[:, 30] += 120.0
+    frame[:10, 5] += 15.0  # a dim ridge in the top rows: the level test says no to it
+    built = trackers.make("dp8", stripe_test={**{k: None for k in ("width_ratio", "flank_level", "colour_min",
+                                                                 "off_ratio", "continuity_rows")}, "level_min": 0.15})
+    np.testing.assert_array_equal(lv.make().track(frame).columns, built.track(frame).columns)
+    # a parameter that cannot be None is still refused, naming it
+    with pytest.raises(ConfigError, match="`k_sigma` must be"):
+        parse_trackers_arg('{label = "x", name = "threshold", params = {k_sigma = "none"}}')

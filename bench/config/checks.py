@@ -32,7 +32,10 @@ from trackers import Bool, Choice, Int, Real
 
 from bench.errors import ConfigError
 
-__all__ = ["accepts", "describe", "require", "Bool", "Choice", "Int", "Real"]
+__all__ = ["accepts", "describe", "require", "Bool", "Choice", "Int", "Real", "NONE"]
+
+#: The string that stands for None in a configuration, a profile and a tracker's parameters (TOML has no null).
+NONE = "none"
 
 
 def accepts(constraint, value) -> bool:

@@ -7,7 +7,7 @@ A setting is a registered tracker ``name`` built with ``params`` and reported as
 parameters by the tracker itself (:meth:`trackers.Tracker.validate_params`, with
 its ``parameter_constraints``), the setting's own keys with the same constraint
 types (:mod:`bench.config.checks`). TOML has no null: a parameter given as
-``"none"`` is None (:data:`NONE`, :func:`with_nulls`).
+``"none"`` is None (:data:`bench.config.checks.NONE`, :func:`with_nulls`).
 """
 
 from __future__ import annotations
@@ -16,13 +16,10 @@ import tomllib
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from bench.config.checks import Bool, Choice, Real, accepts, require
+from bench.config.checks import NONE, Bool, Choice, Real, accepts, require
 from bench.errors import ConfigError
 
-__all__ = ["TrackerSpec", "LABEL_CHARS", "parse_trackers", "parse_trackers_arg", "TIMEOUT", "NONE", "with_nulls"]
-
-#: The string that stands for None in a tracker's parameters (TOML has no null), as in the tuning profiles.
-NONE = "none"
+__all__ = ["TrackerSpec", "LABEL_CHARS", "parse_trackers", "parse_trackers_arg", "TIMEOUT", "with_nulls"]
 
 
 @dataclass(frozen=True)
@@ -75,8 +72,8 @@ TIMEOUT = Real(low=0, low_open=True, high=86400)
 
 
 def with_nulls(params: dict, constraints: dict) -> dict:
-    """``params`` with :data:`NONE` read as None: a value ``"none"``, and ``"none"`` among a table's values (the
-    stripe question's settings), unless the parameter's constraint (``constraints``: name -> a
+    """``params`` with :data:`bench.config.checks.NONE` read as None: a value ``"none"``, and ``"none"`` among a
+    table's values (the stripe question's settings), unless the parameter's constraint (``constraints``: name -> a
     :mod:`trackers` constraint) accepts the value as given.
 
     Examples

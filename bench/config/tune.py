@@ -40,7 +40,7 @@ from __future__ import annotations
 import pathlib
 from dataclasses import dataclass, field
 
-from bench.config.checks import Bool, Choice, Int, Real, accepts, describe, require
+from bench.config.checks import NONE, Bool, Choice, Int, Real, accepts, describe, require
 from bench.config.limits import check_scene
 from bench.config.loading import read_toml
 from bench.config.schema import RENDER_KEYS, scene_override_keys
@@ -378,12 +378,12 @@ def stripe_stage(data) -> tuple[list[str], list]:
               f"got {tests!r}")
     out = []
     for i, t in enumerate(tests):
-        if t == "none":
+        if t == NONE:
             out.append(None)
             continue
         if not isinstance(t, dict):
             _fail(f"`stripe_tests[{i}]` must be 'none' or a table of stripe-question settings, got {t!r}")
-        value = {k: (None if v == "none" else v) for k, v in t.items()}
+        value = {k: (None if v == NONE else v) for k, v in t.items()}
         try:
             as_test(value)
         except ValueError as exc:
@@ -405,9 +405,9 @@ def _none_grid(data, key, constraint: Real | Int, cast, what: str):
     limit), distinct; ``what`` names the values in the message."""
     vals = data[key]
     if (not isinstance(vals, list) or not vals or len(set(map(str, vals))) != len(vals)
-            or not all(v == "none" or accepts(constraint, v) for v in vals)):
+            or not all(v == NONE or accepts(constraint, v) for v in vals)):
         _fail(f"`{key}` must list distinct {what} or 'none', got {vals!r}")
-    return [None if v == "none" else cast(v) for v in vals]
+    return [None if v == NONE else cast(v) for v in vals]
 
 
 def _none_int_grid(data, key, constraint: Int):
